@@ -1,0 +1,42 @@
+// atmosh/io/study.hpp — error-against-run-time tables (the toolkit's standard
+// way of reporting any approximate method against an exact reference).
+//
+// Writes <stem>.csv with columns
+//   method, setting, error_max_rel, error_rms_rel, time_s [, extra columns...]
+// and <stem>.png, a log-log plot of error_max_rel against time_s, one series per
+// method. Error and time names may be renamed (e.g. error_max_deg) via the spec.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "atmosh/io/provenance.hpp"
+
+namespace atmosh::io {
+
+struct StudyRow {
+  std::string method;
+  std::string setting;
+  double error_max = 0.0;
+  double error_rms = 0.0;
+  double time_s = 0.0;
+  std::vector<double> extras;  // values of StudySpec::extra_columns
+};
+
+struct StudySpec {
+  std::string title;
+  std::string error_max_column = "error_max_rel";
+  std::string error_rms_column = "error_rms_rel";
+  std::string error_axis_label = "max relative error";
+  std::string time_column = "time_s";
+  std::string time_axis_label = "run time [s]";
+  std::vector<std::string> extra_columns;
+};
+
+// Writes stem + ".csv" and stem + ".png"; returns the two paths.
+std::vector<std::filesystem::path> write_study(const std::filesystem::path& stem, const StudySpec& spec,
+                                               const std::vector<StudyRow>& rows,
+                                               const Provenance& provenance);
+
+}  // namespace atmosh::io

@@ -1,0 +1,75 @@
+// atmosh/scene/scene.hpp — scene files (TOML, version 1) and the pass plan.
+//
+// A scene names an atmosphere (tables [planet], [rayleigh], [mie], [ozone],
+// [spectrum] — a constituent whose table is absent is left out), where the sun is
+// (an [observer] with place and UTC time, or a [sun] with elevation/azimuth in
+// degrees), and its outputs ([[output]] entries). The full schema with units and
+// ranges is in docs/scene-format.md.
+//
+// Validation is strict: an unknown key, a wrong type or an out-of-range value
+// throws atmosh::InputError whose message starts with the key's path, e.g.
+//   "scene.toml: mie.scale_height_m = -5: must be > 0".
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "atmosh/atmo/spec.hpp"
+
+namespace atmosh::scene {
+
+struct Observer {
+  double latitude_deg = 0.0;    // geodetic, WGS84, [-90, 90]
+  double longitude_deg = 0.0;   // east positive, [-180, 180]
+  double height_m = 0.0;        // above the WGS84 ellipsoid
+  std::string time_utc;         // ISO 8601 (offsets accepted)
+};
+
+struct SunOverride {
+  double elevation_deg = 30.0;  // geometric elevation, [-90, 90]
+  double azimuth_deg = 180.0;   // from north towards east, [0, 360)
+};
+
+struct Output {
+  std::string kind;             // "sky-image", "sun-track", "optical-depth", "sh-coefficients", ...
+  std::string file;
+  std::string projection = "equirect";   // sky-image: equirect | fisheye
+  std::array<int, 2> size{256, 128};     // sky-image: width, height in pixels
+  int bands = 0;                         // sh-coefficients: number of SH bands (0 = not used)
+  bool spectral = false;                 // sky-image: write per-wavelength channels
+};
+
+struct Scene {
+  int version = 1;
+  std::string source = "<built-in>";  // file name, for messages
+  atmo::AtmosphereSpec atmosphere;
+  std::optional<Observer> observer;
+  std::optional<SunOverride> sun;
+  std::vector<Output> outputs;
+};
+
+// Parses and validates TOML text; source_name prefixes error messages.
+Scene parse_scene(std::string_view toml_text, const std::string& source_name);
+// Reads and parses a file; InputError if it cannot be read.
+Scene load_scene(const std::filesystem::path& file);
+// The built-in default scene (TOML text embedded in the binary).
+std::string_view default_scene_toml();
+Scene default_scene();
+// Writes a scene back as TOML in the same schema (parse(to_toml(s)) == s).
+std::string to_toml(const Scene& scene);
+
+// One step of work a scene may need, and whether this scene needs it.
+struct Pass {
+  std::string name;     // e.g. "optical-depth-lut:mie"
+  bool needed = false;
+  std::string reason;   // why it runs, or why it is left out
+};
+// The passes derived from the scene's outputs: constituents, tables, wavelengths,
+// SH bands, sun position. Passes not needed are listed with the reason.
+std::vector<Pass> plan(const Scene& scene);
+
+}  // namespace atmosh::scene

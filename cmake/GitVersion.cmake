@@ -1,0 +1,21 @@
+# Writes OUTPUT (a .cpp defining the version strings) from `git describe`.
+execute_process(COMMAND git -C "${SOURCE_DIR}" rev-parse --short=12 HEAD
+  OUTPUT_VARIABLE _commit OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET RESULT_VARIABLE _rc)
+if(NOT _rc EQUAL 0 OR _commit STREQUAL "")
+  set(_commit "unknown")
+else()
+  execute_process(COMMAND git -C "${SOURCE_DIR}" status --porcelain --untracked-files=no
+    OUTPUT_VARIABLE _dirty OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+  if(NOT _dirty STREQUAL "")
+    set(_commit "${_commit}-dirty")
+  endif()
+endif()
+set(_text "// Generated at build time by cmake/GitVersion.cmake.\nnamespace atmosh::io::detail {\nextern const char* const kVersion = \"${VERSION}\";\nextern const char* const kGitCommit = \"${_commit}\";\n}\n")
+if(EXISTS "${OUTPUT}")
+  file(READ "${OUTPUT}" _old)
+else()
+  set(_old "")
+endif()
+if(NOT _old STREQUAL _text)
+  file(WRITE "${OUTPUT}" "${_text}")
+endif()

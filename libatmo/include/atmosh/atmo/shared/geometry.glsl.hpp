@@ -1,0 +1,166 @@
+// atmosh/atmo/shared/geometry.glsl.hpp — ray geometry in a spherical atmosphere,
+// density profiles and phase functions, written once for the CPU and the GPU.
+//
+// The code between ATMOSH_GLSL_BEGIN and ATMOSH_GLSL_END is in the common subset
+// of C++ with GLM and GLSL: only `real` scalars, glm:: functions that GLSL has
+// under the same name, no std::, no recursion, no pointers. A shader gets it by
+// pasting that block after `#define real float` (or double), `#define
+// ATMOSH_FN` and deleting every "glm::" qualifier. The CPU reference uses real =
+// double.
+//
+// Geometry conventions (all lengths in metres, angles as cosines):
+//   r   distance of a point from the planet centre;
+//   mu  cosine of the zenith angle of a ray direction at that point (mu = 1 is
+//       straight up, mu = 0 horizontal, mu = -1 straight down);
+//   s   distance travelled along the ray from its origin (s >= 0);
+//   R   ground radius, T top-of-atmosphere radius (R < T).
+// The radius along the ray is r(s) = sqrt((s + r mu)^2 + r_t^2) with the
+// tangent radius r_t = r sqrt(1 - mu^2); this form (rather than
+// sqrt(r^2 + 2 r mu s + s^2)) keeps full relative precision near the tangent
+// point. Discriminants are formed as differences of products that do not cancel
+// catastrophically for grazing rays and are clamped at 0 against rounding.
+//
+// Phase functions are normalised to 1 over the sphere (per steradian) and take
+// cos_theta = cosine of the scattering angle between the direction the light
+// travelled before scattering and the direction after it: cos_theta = 1 is
+// exact forward scattering (for a sky seen along view direction v with the sun
+// in direction l, both unit vectors pointing away from the observer,
+// cos_theta = dot(v, l)). A positive g means forward-peaked.
+//
+// Accuracy: every function is exact up to rounding in the real type (a few ulp,
+// except the tent density, which is exact, and the distances, whose absolute
+// error is ~1e-16 * r for double).
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace atmosh::atmo::shared {
+
+using real = double;
+#define ATMOSH_FN inline
+
+// ATMOSH_GLSL_BEGIN
+
+// 1/(4 pi), 3/(16 pi), 3/(8 pi).
+ATMOSH_FN real inv_four_pi() { return real(0.079577471545947667884); }
+
+// Squared tangent radius r^2 (1 - mu^2), computed as r^2 (1 - mu)(1 + mu).
+ATMOSH_FN real tangent_radius_sq(real r, real mu) {
+  return glm::max(r * r * ((real(1) - mu) * (real(1) + mu)), real(0));
+}
+
+// Distance along the ray from its origin to the tangent (closest-approach)
+// point; negative when the tangent point lies behind the origin (mu > 0).
+ATMOSH_FN real tangent_distance(real r, real mu) { return -r * mu; }
+
+// Radius at distance s along the ray (see header comment for the stable form).
+ATMOSH_FN real radius_along(real r, real mu, real s) {
+  real d = s + r * mu;
+  return glm::sqrt(d * d + tangent_radius_sq(r, mu));
+}
+
+// Cosine of the zenith angle of the ray at distance s (radius rs = radius_along).
+ATMOSH_FN real mu_along(real r, real mu, real s, real rs) {
+  return glm::clamp((r * mu + s) / rs, real(-1), real(1));
+}
+
+// Discriminant r^2 (mu^2 - 1) + k^2 for a sphere of radius k, written as
+// (k - r)(k + r) + r^2 mu^2 so that no large terms cancel when r ~ k.
+ATMOSH_FN real sphere_discriminant(real r, real mu, real k) {
+  return (k - r) * (k + r) + r * r * mu * mu;
+}
+
+// True when the ray from radius r (r >= R) with cosine mu meets the ground.
+ATMOSH_FN bool ray_hits_ground(real r, real mu, real R) {
+  return mu < real(0) && sphere_discriminant(r, mu, R) >= real(0);
+}
+
+// Distance to the ground along a ray that hits it (ray_hits_ground is true).
+// Uses the conjugate form ((r - R)(r + R)) / (-r mu + sqrt(disc)) so that the
+// distance stays accurate when the origin is just above the ground.
+ATMOSH_FN real distance_to_ground(real r, real mu, real R) {
+  real disc = glm::max(sphere_discriminant(r, mu, R), real(0));
+  real den = -r * mu + glm::sqrt(disc);
+  real num = glm::max((r - R) * (r + R), real(0));
+  return den > real(0) ? num / den : real(0);
+}
+
+// Distance to the top of the atmosphere (radius T) for an origin inside it
+// (r <= T); 0 on the top looking outward.
+ATMOSH_FN real distance_to_top(real r, real mu, real T) {
+  real disc = glm::max(sphere_discriminant(r, mu, T), real(0));
+  real q = glm::sqrt(disc);
+  real num = glm::max((T - r) * (T + r), real(0));
+  // mu >= 0: -r mu + q cancels, use num / (r mu + q).
+  return mu >= real(0) ? ((r * mu + q) > real(0) ? num / (r * mu + q) : real(0)) : -r * mu + q;
+}
+
+// Distance at which a ray from outside (r > T) enters the sphere of radius T;
+// negative when it misses (then the ray never enters the atmosphere).
+ATMOSH_FN real distance_to_top_from_outside(real r, real mu, real T) {
+  real disc = sphere_discriminant(r, mu, T);
+  if (disc < real(0) || mu >= real(0)) return real(-1);
+  return (r - T) * (r + T) / (-r * mu + glm::sqrt(disc));
+}
+
+// Cosine of the zenith angle of the horizon (the ray grazing the ground) seen
+// from radius r >= R: -sqrt(1 - (R/r)^2).
+ATMOSH_FN real mu_horizon(real r, real R) {
+  return -glm::sqrt(glm::max((r - R) * (r + R), real(0))) / r;
+}
+
+// ---- density profiles (relative density, dimensionless, of altitude h [m]) ----
+
+ATMOSH_FN real density_exponential(real h, real scale_height) {
+  return glm::exp(-h / scale_height);
+}
+
+// 0 below bottom and above top, 1 at peak, linear in between.
+ATMOSH_FN real density_tent(real h, real bottom, real peak, real top) {
+  if (h <= bottom || h >= top) return real(0);
+  if (h <= peak) return (h - bottom) / (peak - bottom);
+  return (top - h) / (top - peak);
+}
+
+// ---- phase functions [1/sr], cos_theta as defined in the header comment ----
+
+// Rayleigh with depolarisation factor rho_n (Chandrasekhar 1950, sec. 18):
+// gamma = rho_n / (2 - rho_n), p = 3 / (16 pi (1 + 2 gamma)) (1 + 3 gamma + (1 - gamma) mu^2).
+ATMOSH_FN real phase_rayleigh(real cos_theta, real depolarization) {
+  real gamma = depolarization / (real(2) - depolarization);
+  return real(3) / (real(16) * real(3.14159265358979323846) * (real(1) + real(2) * gamma)) *
+         (real(1) + real(3) * gamma + (real(1) - gamma) * cos_theta * cos_theta);
+}
+
+// Henyey & Greenstein (1941): (1 - g^2) / (4 pi (1 + g^2 - 2 g mu)^{3/2}); the
+// denominator is formed as (1 - g)^2 + 2 g (1 - mu), free of cancellation near
+// mu = 1, g -> 1 (and (1 + g)^2 - 2 g (1 + mu) for g < 0).
+ATMOSH_FN real hg_denominator(real cos_theta, real g) {
+  return g >= real(0) ? (real(1) - g) * (real(1) - g) + real(2) * g * (real(1) - cos_theta)
+                      : (real(1) + g) * (real(1) + g) - real(2) * g * (real(1) + cos_theta);
+}
+
+ATMOSH_FN real phase_hg(real cos_theta, real g) {
+  real d = hg_denominator(cos_theta, g);
+  return inv_four_pi() * (real(1) - g) * (real(1) + g) / (d * glm::sqrt(d));
+}
+
+// Cornette & Shanks (1992), eq. (4):
+// 3 (1 - g^2) (1 + mu^2) / (8 pi (2 + g^2) (1 + g^2 - 2 g mu)^{3/2}).
+// g is a shape parameter, not the mean cosine.
+ATMOSH_FN real phase_cornette_shanks(real cos_theta, real g) {
+  real d = hg_denominator(cos_theta, g);
+  return real(3) / (real(8) * real(3.14159265358979323846)) * (real(1) - g) * (real(1) + g) *
+         (real(1) + cos_theta * cos_theta) / ((real(2) + g * g) * d * glm::sqrt(d));
+}
+
+// Two-lobe Henyey-Greenstein: w HG(g1) + (1 - w) HG(g2).
+ATMOSH_FN real phase_double_hg(real cos_theta, real g1, real g2, real w) {
+  return w * phase_hg(cos_theta, g1) + (real(1) - w) * phase_hg(cos_theta, g2);
+}
+
+// ATMOSH_GLSL_END
+
+#undef ATMOSH_FN
+
+}  // namespace atmosh::atmo::shared

@@ -1,0 +1,57 @@
+// atmosh/sh/fast.hpp — straight-line SH evaluation for low bands (1..8), float or double.
+//
+// Same convention as basis.hpp (real, orthonormal, Condon–Shortley, index l(l+1)+m).
+// The code is generated (scripts/gen_sh_fast.py, after Sloan 2013, JCGT 2(2)): per
+// order m a polynomial in z times Re/Im (x + i y)^m, constants to 20 digits.
+// The direction MUST be of unit length (no normalisation, no checks: this is the
+// inner-loop path; use atmosh::sh::evaluate for checked input).
+//
+// Accuracy (tested against the general recurrence of basis.hpp): <= 1e-14 relative
+// to the band's scale sqrt((2l+1)/(4 pi)) in double, <= 1e-6 in float.
+// The batch form takes structure-of-arrays input and writes out[i * stride + k]
+// (coefficient-major), which compilers auto-vectorise over k.
+#pragma once
+
+#include <cstddef>
+
+#include "atmosh/sh/fast_generated.hpp"
+
+namespace atmosh::sh {
+
+constexpr int kFastMaxBands = 8;
+
+/// Y_0..Y_{bands^2-1} at a unit direction; 1 <= bands <= 8 (returns false otherwise).
+template <class T>
+inline bool evaluate_fast(int bands, T x, T y, T z, T* out) {
+  switch (bands) {
+    case 1: generated::eval_1(x, y, z, out); return true;
+    case 2: generated::eval_2(x, y, z, out); return true;
+    case 3: generated::eval_3(x, y, z, out); return true;
+    case 4: generated::eval_4(x, y, z, out); return true;
+    case 5: generated::eval_5(x, y, z, out); return true;
+    case 6: generated::eval_6(x, y, z, out); return true;
+    case 7: generated::eval_7(x, y, z, out); return true;
+    case 8: generated::eval_8(x, y, z, out); return true;
+    default: return false;
+  }
+}
+
+/// n unit directions (xs, ys, zs); out[i * stride + k] for coefficient i of direction k
+/// (stride >= n). 1 <= bands <= 8 (returns false otherwise).
+template <class T>
+inline bool evaluate_fast_batch(int bands, std::size_t n, const T* xs, const T* ys, const T* zs, T* out,
+                                std::size_t stride) {
+  switch (bands) {
+    case 1: generated::eval_batch_1(n, xs, ys, zs, out, stride); return true;
+    case 2: generated::eval_batch_2(n, xs, ys, zs, out, stride); return true;
+    case 3: generated::eval_batch_3(n, xs, ys, zs, out, stride); return true;
+    case 4: generated::eval_batch_4(n, xs, ys, zs, out, stride); return true;
+    case 5: generated::eval_batch_5(n, xs, ys, zs, out, stride); return true;
+    case 6: generated::eval_batch_6(n, xs, ys, zs, out, stride); return true;
+    case 7: generated::eval_batch_7(n, xs, ys, zs, out, stride); return true;
+    case 8: generated::eval_batch_8(n, xs, ys, zs, out, stride); return true;
+    default: return false;
+  }
+}
+
+}  // namespace atmosh::sh

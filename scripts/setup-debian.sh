@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs every build and test dependency of atmosh from Debian 12 packages.
+# Idempotent: packages already present are skipped by apt. Run as root.
+set -euo pipefail
+PKGS=(
+  build-essential cmake ninja-build ccache git pkg-config
+  clang libclang-rt-14-dev
+  libglm-dev
+  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
+  libopenexr-dev
+  libgeographiclib-dev
+  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
