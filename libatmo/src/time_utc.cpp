@@ -96,26 +96,36 @@ CalendarTime calendar_from_julian_day(double jd) {
 }
 
 std::string format_iso8601_utc(double jd_utc, int decimals) {
-  if (!std::isfinite(jd_utc)) return "invalid";
+  if (!std::isfinite(jd_utc) || std::fabs(jd_utc) > 1e9) return "invalid";
   if (decimals < 0) decimals = 0;
   if (decimals > 6) decimals = 6;
-  // Round to the requested precision first so that 59.9996 s never prints as 60.
-  const double unit = std::pow(10.0, -decimals) / 86400.0;
-  const double rounded = std::round((jd_utc - kJdUnixEpoch) / unit) * unit + kJdUnixEpoch;
-  const CalendarTime c = calendar_from_julian_day(rounded);
-  char year[32];
-  if (c.year >= 0 && c.year <= 9999)
-    std::snprintf(year, sizeof year, "%04d", c.year);
-  else
-    std::snprintf(year, sizeof year, "%+05d", c.year);
-  char buf[96];
-  if (decimals == 0) {
-    std::snprintf(buf, sizeof buf, "%s-%02d-%02dT%02d:%02d:%02dZ", year, c.month, c.day, c.hour, c.minute,
-                  static_cast<int>(std::lround(std::floor(c.second + 1e-7))));
-  } else {
-    std::snprintf(buf, sizeof buf, "%s-%02d-%02dT%02d:%02d:%0*.*fZ", year, c.month, c.day, c.hour, c.minute,
-                  decimals + 3, decimals, c.second);
+  // Count whole units of 10^-decimals s since 1970 once, then split with integer
+  // arithmetic, so rounding can never produce a seconds field of 60.
+  std::int64_t per_s = 1;
+  for (int i = 0; i < decimals; ++i) per_s *= 10;
+  const std::int64_t per_day = 86400 * per_s;
+  const auto units = static_cast<std::int64_t>(std::llround((jd_utc - kJdUnixEpoch) * 86400.0 * static_cast<double>(per_s)));
+  std::int64_t days = units / per_day, rem = units % per_day;
+  if (rem < 0) {
+    rem += per_day;
+    days -= 1;
   }
+  std::int64_t y;
+  int m, d;
+  civil_from_days(days, y, m, d);
+  const std::int64_t secs = rem / per_s, frac = rem % per_s;
+  char year[32];
+  if (y >= 0 && y <= 9999)
+    std::snprintf(year, sizeof year, "%04lld", static_cast<long long>(y));
+  else
+    std::snprintf(year, sizeof year, "%+05lld", static_cast<long long>(y));
+  char buf[112];
+  const int hh = static_cast<int>(secs / 3600), mm = static_cast<int>((secs / 60) % 60), ss = static_cast<int>(secs % 60);
+  if (decimals == 0)
+    std::snprintf(buf, sizeof buf, "%s-%02d-%02dT%02d:%02d:%02dZ", year, m, d, hh, mm, ss);
+  else
+    std::snprintf(buf, sizeof buf, "%s-%02d-%02dT%02d:%02d:%02d.%0*lldZ", year, m, d, hh, mm, ss, decimals,
+                  static_cast<long long>(frac));
   return buf;
 }
 
@@ -219,13 +229,17 @@ ParsedTime parse_iso8601(const std::string& text) {
 
 void require_sun_year_range(double jd_utc, const std::string& what) {
   if (!std::isfinite(jd_utc)) throw InputError(what + ": not a finite time");
-  const double lo = julian_day(CalendarTime{kMinSunYear, 1, 1, 0, 0, 0.0});
-  const double hi = julian_day(CalendarTime{kMaxSunYear + 1, 1, 1, 0, 0, 0.0});
-  if (jd_utc < lo || jd_utc >= hi) {
+  if (!sun_year_in_range(jd_utc)) {
     const CalendarTime c = calendar_from_julian_day(jd_utc);
     throw InputError(what + ": UTC year " + std::to_string(c.year) +
                      " is outside the supported range -2000..6000");
   }
+}
+
+bool sun_year_in_range(double jd_utc) {
+  static const double lo = julian_day(CalendarTime{kMinSunYear, 1, 1, 0, 0, 0.0});
+  static const double hi = julian_day(CalendarTime{kMaxSunYear + 1, 1, 1, 0, 0, 0.0});
+  return jd_utc >= lo && jd_utc < hi;
 }
 
 double decimal_year(double jd_utc) {

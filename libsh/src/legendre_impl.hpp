@@ -11,7 +11,8 @@ namespace atmosh::sh::detail {
 constexpr int kScaleExp = 600;                   // rescale step, powers of two
 inline const double kScaleUp = std::ldexp(1.0, kScaleExp);
 inline const double kScaleDown = std::ldexp(1.0, -kScaleExp);
-inline const double kSmall = std::ldexp(1.0, -kScaleExp);  // below: rescale mantissa
+inline const double kSmall = std::ldexp(1.0, -800);  // below: rescale mantissa
+inline const double kFold = std::ldexp(1.0, 100);    // above (exp < 0): fold into exp
 
 /// Extended-range number mant * 2^exp (exp <= 0, multiple of kScaleExp).
 struct XNum {
@@ -64,7 +65,7 @@ inline void legendre_column(int bands, int m, double x, XNum pmm, const double* 
     double p = a[k] * x * p1 - b[k] * p2;
     p2 = p1;
     p1 = p;
-    if (std::abs(p1) > kScaleUp) {
+    if (std::abs(p1) > kFold) {
       p1 *= kScaleDown;
       p2 *= kScaleDown;
       e += kScaleExp;

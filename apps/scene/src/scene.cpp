@@ -312,7 +312,43 @@ Scene parse_table(const toml::table& root, const std::string& src) {
 
 }  // namespace
 
-Scene parse_scene(std::string_view text, const std::string& source_name) {
+std::string override_value_string(const Override& o) {
+  return std::visit(
+      [](const auto& v) -> std::string {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, std::string>) return v;
+        else if constexpr (std::is_same_v<T, double>) return fmt_num(v);
+        else return std::to_string(v);
+      },
+      o.value);
+}
+
+namespace {
+void apply_override(toml::table& root, const Override& o, const std::string& src) {
+  std::vector<std::string> parts;
+  std::stringstream ss(o.key);
+  for (std::string part; std::getline(ss, part, '.');) {
+    if (part.empty()) throw InputError(src + ": override key '" + o.key + "' is malformed");
+    parts.push_back(part);
+  }
+  if (parts.empty()) throw InputError(src + ": empty override key");
+  if (parts[0] == "sun") root.erase("observer");
+  if (parts[0] == "observer") root.erase("sun");
+  toml::table* t = &root;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    toml::node* n = t->get(parts[i]);
+    if (!n) {
+      t->insert(parts[i], toml::table{});
+      n = t->get(parts[i]);
+    }
+    t = n->as_table();
+    if (!t) throw InputError(src + ": override key '" + o.key + "': '" + parts[i] + "' is not a table");
+  }
+  std::visit([&](const auto& v) { t->insert_or_assign(parts.back(), v); }, o.value);
+}
+}  // namespace
+
+Scene parse_scene(std::string_view text, const std::string& source_name, const std::vector<Override>& overrides) {
   toml::table root;
   try {
     root = toml::parse(text, source_name);
@@ -322,6 +358,7 @@ Scene parse_scene(std::string_view text, const std::string& source_name) {
     throw InputError(source_name + ":" + std::to_string(e.source().begin.line) + ":" +
                      std::to_string(e.source().begin.column) + ": TOML syntax error: " + d);
   }
+  for (const auto& o : overrides) apply_override(root, o, source_name);
   return parse_table(root, source_name);
 }
 

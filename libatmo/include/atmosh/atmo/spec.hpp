@@ -92,9 +92,11 @@ struct OzoneSpec {
 };
 
 struct SpectrumSpec {
-  double from_nm = 380.0;
-  double to_nm = 780.0;
-  int count = 16;  // wavelengths at bin centres of count equal bins
+  double from_nm = 360.0;
+  double to_nm = 830.0;
+  int count = 47;  // wavelengths at bin centres of count equal bins (10 nm bins by default)
+  // When not empty, these wavelengths [nm] are used instead of from/to/count.
+  std::vector<double> wavelengths_nm;
 };
 
 struct AtmosphereSpec {

@@ -70,6 +70,8 @@ double decimal_year(double jd_utc);
 
 // Throws InputError unless the UTC year of jd_utc is within -2000..6000.
 void require_sun_year_range(double jd_utc, const std::string& what);
+// True when the UTC year of jd_utc is within -2000..6000 (no allocation).
+bool sun_year_in_range(double jd_utc);
 
 // Durations: "90" or "90s", "10min", "1.5h", "2d" -> seconds (> 0, finite).
 // Throws InputError naming the text otherwise.

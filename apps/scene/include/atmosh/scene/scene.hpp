@@ -16,6 +16,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <cstdint>
+#include <variant>
 #include <vector>
 
 #include "atmosh/atmo/spec.hpp"
@@ -52,8 +54,21 @@ struct Scene {
   std::vector<Output> outputs;
 };
 
-// Parses and validates TOML text; source_name prefixes error messages.
-Scene parse_scene(std::string_view toml_text, const std::string& source_name);
+// One scene parameter set by its dotted key path, e.g. {"mie.scattering_per_m",
+// 8e-6} or {"spectrum.count", int64_t{32}}. Missing tables are created (so
+// "mie.angstrom" adds a default [mie] when the scene has none). Setting a "sun.*"
+// key removes an [observer] table and vice versa, so that a sweep over sun
+// elevation works on a scene that places the sun by time.
+struct Override {
+  std::string key;
+  std::variant<double, std::int64_t, std::string> value;
+};
+std::string override_value_string(const Override& o);
+
+// Parses and validates TOML text; source_name prefixes error messages. Overrides
+// are applied before validation, so a bad override is reported by its key.
+Scene parse_scene(std::string_view toml_text, const std::string& source_name,
+                  const std::vector<Override>& overrides = {});
 // Reads and parses a file; InputError if it cannot be read.
 Scene load_scene(const std::filesystem::path& file);
 // The built-in default scene (TOML text embedded in the binary).

@@ -1,0 +1,77 @@
+// atmosh/scene/sweep.hpp — declarative parameter sweeps over scenes.
+//
+// A sweep file (TOML, version 1) names a base scene and parameters, each a dotted
+// scene key with its values:
+//
+//   version = 1
+//   scene = "base.toml"          # relative to the sweep file; default: built-in scene
+//   mode = "grid"                # "grid" (cartesian product) or "zip" (i-th values together)
+//   [[parameter]]
+//   key = "sun.elevation_deg"
+//   values = [0.0, 2.0, 5.0]     # or: from = 0, to = 10, step = 2   (or count = 6)
+//   [[parameter]]
+//   key = "mie.scattering_per_m"
+//   values = [2e-6, 4e-6, 8e-6]
+//
+// Points are numbered 0..N-1 in a fixed order (last parameter fastest). Each point's
+// scene is validated up front, so a bad value fails before any work (exit 2 with
+// the key). Results: one tidy CSV, a row per point: `point`, one column per
+// parameter key, the evaluator's named outputs, `time_s`.
+//
+// Resumable: each finished point is appended (and fsync'ed) to a journal beside the
+// output; `resume` skips the points the journal holds and drops a torn last line,
+// so no row is lost or duplicated after a kill. Shardable: shard k of n takes the
+// points with index % n == k - 1; `merge_sweep` joins shard files and checks that
+// every point appears exactly once.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "atmosh/scene/scene.hpp"
+
+namespace atmosh::scene {
+
+struct SweepSpec {
+  std::string source;                       // sweep file name
+  std::string base_scene_text;              // TOML of the base scene
+  std::string base_scene_source;
+  std::vector<std::string> keys;            // parameter keys, in file order
+  std::vector<std::vector<Override>> points;
+};
+
+SweepSpec load_sweep(const std::filesystem::path& file);
+SweepSpec parse_sweep(std::string_view toml_text, const std::string& source_name,
+                      const std::filesystem::path& base_dir);
+
+// Named outputs of one point, in a fixed order (the same for every point).
+using SweepOutputs = std::vector<std::pair<std::string, double>>;
+using SweepEvaluator = std::function<SweepOutputs(const Scene&)>;
+
+struct SweepOptions {
+  std::filesystem::path out_dir;
+  bool resume = false;
+  int shard = 1, shards = 1;   // shard k of n, 1-based
+  int threads = 1;
+};
+
+struct SweepResult {
+  std::filesystem::path csv;
+  int points_total = 0;      // in the whole sweep
+  int points_in_shard = 0;
+  int points_resumed = 0;    // taken from the journal
+  int points_computed = 0;
+};
+
+// Evaluates the points (in parallel when threads > 1); the evaluator must be
+// thread-safe. Output: out_dir/sweep.csv, or sweep.shard-K-of-N.csv for shards.
+SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const SweepOptions& opt);
+
+// Joins shard CSVs into one, sorted by point; InputError if a point is missing,
+// duplicated, or the files come from different sweeps.
+void merge_sweep(const std::vector<std::filesystem::path>& inputs, const std::filesystem::path& output);
+
+}  // namespace atmosh::scene

@@ -1,0 +1,122 @@
+#include "atmosh/atmo/density.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/error.hpp"
+
+namespace atmosh::atmo {
+
+namespace {
+std::string num(double v) {
+  std::ostringstream o;
+  o.precision(10);
+  o << v;
+  return o.str();
+}
+}  // namespace
+
+DensityProfile::DensityProfile(const DensityProfileSpec& spec, const std::string& key) : spec_(spec) {
+  using K = DensityProfileSpec::Kind;
+  switch (spec.kind) {
+    case K::Exponential:
+      if (!std::isfinite(spec.scale_height_m) || spec.scale_height_m <= 0.0)
+        throw InputError(key + ".scale_height_m = " + num(spec.scale_height_m) + ": must be > 0");
+      break;
+    case K::Tent:
+      if (!std::isfinite(spec.bottom_m) || !std::isfinite(spec.peak_m) || !std::isfinite(spec.top_m) ||
+          !(spec.bottom_m < spec.peak_m && spec.peak_m < spec.top_m))
+        throw InputError(key + ": tent needs bottom_m < peak_m < top_m (got " + num(spec.bottom_m) + ", " +
+                         num(spec.peak_m) + ", " + num(spec.top_m) + ")");
+      kinks_ = {spec.bottom_m, spec.peak_m, spec.top_m};
+      break;
+    case K::Tabulated: {
+      if (spec.altitude_m.size() < 2 || spec.altitude_m.size() != spec.value.size())
+        throw InputError(key + ": tabulated profile needs >= 2 (altitude_m, value) pairs of equal length");
+      for (std::size_t i = 0; i < spec.altitude_m.size(); ++i) {
+        if (!std::isfinite(spec.altitude_m[i]) || (i > 0 && !(spec.altitude_m[i] > spec.altitude_m[i - 1])))
+          throw InputError(key + ".altitude_m[" + std::to_string(i) + "] = " + num(spec.altitude_m[i]) +
+                           ": must be finite and increasing");
+        if (!std::isfinite(spec.value[i]) || spec.value[i] < 0.0)
+          throw InputError(key + ".value[" + std::to_string(i) + "] = " + num(spec.value[i]) +
+                           ": density must be finite and >= 0");
+      }
+      kinks_ = spec.altitude_m;
+      break;
+    }
+  }
+}
+
+double DensityProfile::operator()(double h) const {
+  using K = DensityProfileSpec::Kind;
+  switch (spec_.kind) {
+    case K::Exponential:
+      return shared::density_exponential(h, spec_.scale_height_m);
+    case K::Tent:
+      return shared::density_tent(h, spec_.bottom_m, spec_.peak_m, spec_.top_m);
+    case K::Tabulated: {
+      const auto& a = spec_.altitude_m;
+      if (h < a.front() || h > a.back()) return 0.0;
+      auto it = std::upper_bound(a.begin(), a.end(), h);
+      std::size_t i = it == a.end() ? a.size() - 1 : static_cast<std::size_t>(it - a.begin());
+      if (i == 0) i = 1;
+      double t = (h - a[i - 1]) / (a[i] - a[i - 1]);
+      return spec_.value[i - 1] + t * (spec_.value[i] - spec_.value[i - 1]);
+    }
+  }
+  return 0.0;
+}
+
+bool DensityProfile::positive_on(double top_m) const {
+  using K = DensityProfileSpec::Kind;
+  switch (spec_.kind) {
+    case K::Exponential:
+      return true;
+    case K::Tent:
+      return false;
+    case K::Tabulated:
+      if (spec_.altitude_m.front() > 0.0 || spec_.altitude_m.back() < top_m) return false;
+      for (double v : spec_.value)
+        if (!(v > 0.0)) return false;
+      return true;
+  }
+  return false;
+}
+
+double DensityProfile::vertical_column(double h0, double h1) const {
+  using K = DensityProfileSpec::Kind;
+  if (!(h1 > h0)) return 0.0;
+  switch (spec_.kind) {
+    case K::Exponential: {
+      double H = spec_.scale_height_m;
+      // H (e^{-h0/H} - e^{-h1/H}) = H e^{-h0/H} (1 - e^{-(h1-h0)/H})
+      return -H * std::exp(-h0 / H) * std::expm1(-(h1 - h0) / H);
+    }
+    case K::Tent:
+    case K::Tabulated: {
+      // Exact trapezoid integral of the piecewise linear function, split at nodes.
+      std::vector<double> pts{h0};
+      for (double k : kinks_)
+        if (k > h0 && k < h1) pts.push_back(k);
+      pts.push_back(h1);
+      double sum = 0.0;
+      for (std::size_t i = 1; i < pts.size(); ++i)
+        sum += 0.5 * (pts[i] - pts[i - 1]) * ((*this)(pts[i - 1]) + (*this)(pts[i]));
+      return sum;
+    }
+  }
+  return 0.0;
+}
+
+double DensityProfile::feature_length() const {
+  using K = DensityProfileSpec::Kind;
+  if (spec_.kind == K::Exponential) return spec_.scale_height_m;
+  double m = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 1; i < kinks_.size(); ++i) m = std::min(m, kinks_[i] - kinks_[i - 1]);
+  return m;
+}
+
+}  // namespace atmosh::atmo

@@ -1,0 +1,384 @@
+#include "atmosh/atmo/optical_depth.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "atmosh/atmo/integrate.hpp"
+#include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/error.hpp"
+#include "atmosh/sh/quadrature.hpp"
+
+namespace atmosh::atmo {
+
+namespace sg = shared;
+
+namespace {
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+void check_ray(double r, double mu) {
+  if (!std::isfinite(r) || r <= 0.0) throw InputError("ray origin radius " + num(r) + " m: must be finite and > 0");
+  if (!std::isfinite(mu) || mu < -1.0 - 1e-12 || mu > 1.0 + 1e-12)
+    throw InputError("ray cos(zenith) " + num(mu) + ": must be in [-1, 1]");
+}
+
+// Adds the distances (in (0, L)) at which the ray crosses the sphere of radius rho.
+void add_crossings(double r, double mu, double L, double rho, std::vector<double>& pts) {
+  double rt = std::sqrt(sg::tangent_radius_sq(r, mu));
+  if (rho < rt) return;
+  double q = std::sqrt((rho - rt) * (rho + rt));
+  double s1 = -r * mu - q, s2 = -r * mu + q;
+  if (s1 > 0.0 && s1 < L) pts.push_back(s1);
+  if (s2 > 0.0 && s2 < L) pts.push_back(s2);
+}
+}  // namespace
+
+double optical_depth(const Coefficients& k, const glm::dvec3& column) { return glm::dot(k.extinction, column); }
+
+double transmittance(double tau) {
+  if (std::isnan(tau)) return 0.0;
+  if (tau > 745.2) return 0.0;  // exp underflows below the smallest subnormal: exactly 0
+  return std::exp(-tau);
+}
+
+// ---------------------------------------------------------------- reference
+
+OpticalDepthReference::OpticalDepthReference(const Atmosphere& atmosphere, ReferenceOptions options)
+    : atm_(atmosphere), opt_(options) {
+  if (!(opt_.rel_tol > 0.0) || !(opt_.abs_tol_fraction > 0.0) || opt_.max_intervals < 1)
+    throw InputError("reference options: tolerances must be > 0 and max_intervals >= 1");
+  glm::dvec3 v = atm_.vertical_column();
+  for (int c = 0; c < 3; ++c) abs_tol_[c] = std::max(v[c] * opt_.abs_tol_fraction, 1e-300);
+}
+
+RayColumn OpticalDepthReference::column(double r, double mu, double length) const {
+  check_ray(r, mu);
+  if (std::isnan(length)) throw InputError("ray length is NaN");
+  mu = std::clamp(mu, -1.0, 1.0);
+  const double R = atm_.ground_radius(), T = atm_.top_radius();
+  RayColumn out;
+  if (r > T) {
+    double s0 = sg::distance_to_top_from_outside(r, mu, T);
+    if (s0 < 0.0) return out;  // misses the atmosphere
+    mu = std::clamp((r * mu + s0) / T, -1.0, 1.0);
+    r = T;
+    if (length >= 0.0) {
+      length -= s0;
+      if (length <= 0.0) return out;
+    }
+  }
+  if (r < R) {
+    if (r < R * (1.0 - 1e-9)) throw InputError("ray origin radius " + num(r) + " m: below the ground");
+    r = R;
+  }
+  bool hits = sg::ray_hits_ground(r, mu, R);
+  double L = hits ? sg::distance_to_ground(r, mu, R) : sg::distance_to_top(r, mu, T);
+  if (length >= 0.0 && length < L) {
+    L = length;
+    hits = false;
+  }
+  out.hits_ground = hits;
+  out.length_m = L;
+  if (!(L > 0.0)) return out;
+
+  std::vector<double> pts;
+  double st = sg::tangent_distance(r, mu);
+  bool tangent_inside = st > 0.0 && st < L;
+  if (tangent_inside) pts.push_back(st);
+  for (double k : atm_.kinks()) add_crossings(r, mu, L, R + k, pts);
+  double h_low = tangent_inside ? std::sqrt(sg::tangent_radius_sq(r, mu)) - R
+                                : std::min(r, sg::radius_along(r, mu, L)) - R;
+  h_low = std::max(h_low, 0.0);
+  for (int c = 0; c < 3; ++c) {
+    if (!atm_.has(c) || atm_.profile(c).kind() != DensityProfileSpec::Kind::Exponential) continue;
+    double H = atm_.profile(c).spec().scale_height_m;
+    for (double f : {0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0}) add_crossings(r, mu, L, R + h_low + f * H, pts);
+  }
+  auto f = [&](double s) { return atm_.density(sg::radius_along(r, mu, s) - R); };
+  auto q = integrate_adaptive<glm::dvec3>(f, 0.0, L, pts, abs_tol_, opt_.rel_tol, opt_.max_intervals);
+  out.column = q.value;
+  out.error = q.error;
+  out.evaluations = q.evaluations;
+  out.converged = q.converged;
+  return out;
+}
+
+// ---------------------------------------------------------------- lookup tables
+
+OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions options)
+    : atm_(atmosphere), opt_(options) {
+  if (opt_.shells < 4 || opt_.shells > 4096)
+    throw InputError("lut shells = " + std::to_string(opt_.shells) + ": must be in [4, 4096]");
+  if (opt_.view_directions < 4 || opt_.view_directions > 65536)
+    throw InputError("lut view_directions = " + std::to_string(opt_.view_directions) + ": must be in [4, 65536]");
+  if (opt_.sun_directions < 4 || opt_.sun_directions > 65536)
+    throw InputError("lut sun_directions = " + std::to_string(opt_.sun_directions) + ": must be in [4, 65536]");
+  if (!std::isfinite(opt_.uniform_share) || opt_.uniform_share < 0.0)
+    throw InputError("lut uniform_share = " + num(opt_.uniform_share) + ": must be >= 0");
+  if (opt_.gauss_points < 2 || opt_.gauss_points > 64)
+    throw InputError("lut gauss_points = " + std::to_string(opt_.gauss_points) + ": must be in [2, 64]");
+  auto t0 = std::chrono::steady_clock::now();
+  R_ = atm_.ground_radius();
+  T_ = atm_.top_radius();
+  Hh_ = std::sqrt((T_ - R_) * (T_ + R_));
+  const double top = atm_.top_altitude();
+  glm::dvec3 vc = atm_.vertical_column();
+  int n_present = 0;
+  for (int c = 0; c < 3; ++c) {
+    present_[c] = atm_.has(c) && vc[c] > 0.0;
+    n_present += present_[c];
+    log_encoded_[c] = present_[c] && atm_.profile(c).positive_on(top);
+  }
+  double u = (n_present == 0 && opt_.uniform_share == 0.0) ? 1.0 : opt_.uniform_share;
+  auto mass = [&](double h) {
+    double m = 0.0;
+    for (int c = 0; c < 3; ++c)
+      if (present_[c]) m += atm_.profile(c).vertical_column(0.0, h) / vc[c];
+    m += u * std::sqrt(h * (2.0 * R_ + h)) / Hh_;
+    return m / (n_present + u);
+  };
+  const int S = opt_.shells;
+  radii_.assign(S, R_);
+  radii_.back() = T_;
+  for (int k = 1; k < S - 1; ++k) {
+    double target = static_cast<double>(k) / (S - 1), lo = 0.0, hi = top;
+    for (int it = 0; it < 200 && hi - lo > 1e-9 * top; ++it) {
+      double mid = 0.5 * (lo + hi);
+      (mass(mid) < target ? lo : hi) = mid;
+    }
+    radii_[k] = R_ + 0.5 * (lo + hi);
+  }
+  for (int k = 1; k < S; ++k)  // strictly increasing even for degenerate inputs
+    radii_[k] = std::max(radii_[k], radii_[k - 1] + 1e-6 * top / S);
+  radii_.back() = T_;
+  rho_.resize(S);
+  for (int k = 0; k < S; ++k) rho_[k] = std::sqrt(std::max(0.0, (radii_[k] - R_) * (radii_[k] + R_)));
+  lagrange_den_.assign(static_cast<std::size_t>(S - 3) * 4, 1.0);
+  for (int w = 0; w + 3 < S; ++w)
+    for (int i = 0; i < 4; ++i) {
+      double d = 1.0;
+      for (int j = 0; j < 4; ++j)
+        if (j != i) d *= rho_[w + i] - rho_[w + j];
+      lagrange_den_[w * 4 + i] = 1.0 / d;
+    }
+  crossing_radii_ = radii_;
+  for (double k : atm_.kinks()) crossing_radii_.push_back(R_ + k);
+  std::sort(crossing_radii_.begin(), crossing_radii_.end());
+  auto gl = sh::gauss_legendre(opt_.gauss_points);
+  for (std::size_t i = 0; i < gl.nodes.size(); ++i) {
+    gl_x_.push_back(0.5 * (gl.nodes[i] + 1.0));
+    gl_w_.push_back(0.5 * gl.weights[i]);
+  }
+  fill(view_up_, opt_.view_directions, false);
+  fill(view_ground_, opt_.view_directions, true);
+  fill(sun_up_, opt_.sun_directions, false);
+  build_time_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::size_t OpticalDepthLut::table_bytes() const {
+  return (view_up_.v.size() + view_ground_.v.size() + sun_up_.v.size()) * sizeof(double);
+}
+
+glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
+  glm::dvec3 sum(0.0);
+  if (!(L > 0.0)) return sum;
+  std::vector<double> pts;
+  pts.reserve(2 * crossing_radii_.size() + 3);
+  pts.push_back(0.0);
+  double st = sg::tangent_distance(r, mu);
+  if (st > 0.0 && st < L) pts.push_back(st);
+  double rt = std::sqrt(sg::tangent_radius_sq(r, mu));
+  for (double rho : crossing_radii_) {
+    if (rho < rt) continue;
+    double q = std::sqrt((rho - rt) * (rho + rt));
+    double s1 = -r * mu - q, s2 = -r * mu + q;
+    if (s1 > 0.0 && s1 < L) pts.push_back(s1);
+    if (s2 > 0.0 && s2 < L) pts.push_back(s2);
+  }
+  pts.push_back(L);
+  std::sort(pts.begin(), pts.end());
+  // Smallest relevant scale height at altitude h: exponentials whose density
+  // there is not negligible (> 1e-15).
+  auto scale_at = [&](double h) {
+    double H = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 3; ++c) {
+      if (!present_[c] || atm_.profile(c).kind() != DensityProfileSpec::Kind::Exponential) continue;
+      double Hc = atm_.profile(c).spec().scale_height_m;
+      if (h < 34.5 * Hc) H = std::min(H, Hc);
+    }
+    return H;
+  };
+  const int n = static_cast<int>(gl_x_.size());
+  for (std::size_t i = 1; i < pts.size(); ++i) {
+    double a = pts[i - 1], b = pts[i];
+    if (!(b > a)) continue;
+    double ra = sg::radius_along(r, mu, a), rb = sg::radius_along(r, mu, b);
+    double H = scale_at(std::min(ra, rb) - R_);
+    int m = std::isfinite(H) ? std::max(1, static_cast<int>(std::ceil(std::abs(rb - ra) / (1.5 * H)))) : 1;
+    m = std::min(m, 64);
+    double h = (b - a) / m;
+    for (int p = 0; p < m; ++p) {
+      double lo = a + p * h;
+      for (int g = 0; g < n; ++g) {
+        double s = lo + gl_x_[g] * h;
+        sum += (gl_w_[g] * h) * atm_.density(sg::radius_along(r, mu, s) - R_);
+      }
+    }
+  }
+  return sum;
+}
+
+glm::dvec3 OpticalDepthLut::encode(const glm::dvec3& mean) const {
+  glm::dvec3 e;
+  for (int c = 0; c < 3; ++c) e[c] = log_encoded_[c] ? std::log(std::max(mean[c], 1e-300)) : mean[c];
+  return e;
+}
+
+glm::dvec3 OpticalDepthLut::decode(const glm::dvec3& v) const {
+  glm::dvec3 d;
+  for (int c = 0; c < 3; ++c) d[c] = log_encoded_[c] ? std::exp(v[c]) : std::max(v[c], 0.0);
+  return d;
+}
+
+void OpticalDepthLut::fill(Table& t, int n, bool ground) {
+  const int S = opt_.shells;
+  t.n = n;
+  t.ground = ground;
+  t.v.assign(static_cast<std::size_t>(S) * n * 3, 0.0);
+  for (int k = 0; k < S; ++k) {
+    double r = radii_[k], rho = rho_[k];
+    glm::dvec3 at_r = atm_.density(r - R_);
+    for (int j = 0; j < n; ++j) {
+      double x = static_cast<double>(j) / (n - 1);
+      glm::dvec3 mean;
+      if (!ground) {
+        double dmin = T_ - r, dmax = rho + Hh_;
+        double d = dmin + x * (dmax - dmin);
+        if (d <= 0.0) {
+          mean = at_r;
+        } else {
+          double mu = std::clamp(((T_ - r) * (T_ + r) - d * d) / (2.0 * r * d), -1.0, 1.0);
+          mean = build_column(r, mu, d) / d;
+        }
+      } else {
+        double dmin = r - R_, dmax = rho;
+        double d = dmin + x * (dmax - dmin);
+        if (d <= 0.0) {
+          mean = at_r;
+        } else {
+          double mu = std::clamp(-(rho * rho + d * d) / (2.0 * r * d), -1.0, 1.0);
+          mean = build_column(r, mu, d) / d;
+        }
+      }
+      glm::dvec3 e = encode(mean);
+      double* dst = &t.v[(static_cast<std::size_t>(k) * n + j) * 3];
+      dst[0] = e[0];
+      dst[1] = e[1];
+      dst[2] = e[2];
+    }
+  }
+}
+
+double OpticalDepthLut::x_up(double r, double mu, double& d) const {
+  double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
+  d = sg::distance_to_top(r, mu, T_);
+  double dmin = T_ - r, dmax = rho + Hh_;
+  return dmax > dmin ? std::clamp((d - dmin) / (dmax - dmin), 0.0, 1.0) : 0.0;
+}
+
+double OpticalDepthLut::x_ground(double r, double mu, double& d) const {
+  double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
+  d = sg::distance_to_ground(r, mu, R_);
+  double dmin = r - R_, dmax = rho;
+  return dmax > dmin ? std::clamp((d - dmin) / (dmax - dmin), 0.0, 1.0) : 0.0;
+}
+
+glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double r, double x) const {
+  const int S = opt_.shells, n = t.n;
+  double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
+  int k = static_cast<int>(std::upper_bound(rho_.begin(), rho_.end(), rho) - rho_.begin()) - 1;
+  int w = std::clamp(k - 1, 0, S - 4);
+  double lw[4];
+  for (int i = 0; i < 4; ++i) {
+    double p = lagrange_den_[w * 4 + i];
+    for (int j = 0; j < 4; ++j)
+      if (j != i) p *= rho - rho_[w + j];
+    lw[i] = p;
+  }
+  double fx = x * (n - 1);
+  int j = std::clamp(static_cast<int>(fx), 0, n - 2);
+  int jw = std::clamp(j - 1, 0, n - 4);
+  double p = fx - jw;
+  double xw[4] = {-(p - 1.0) * (p - 2.0) * (p - 3.0) / 6.0, p * (p - 2.0) * (p - 3.0) / 2.0,
+                  -p * (p - 1.0) * (p - 3.0) / 2.0, p * (p - 1.0) * (p - 2.0) / 6.0};
+  glm::dvec3 acc(0.0);
+  for (int i = 0; i < 4; ++i) {
+    const double* row = &t.v[(static_cast<std::size_t>(w + i) * n + jw) * 3];
+    glm::dvec3 inner(0.0);
+    for (int m = 0; m < 4; ++m) inner += xw[m] * glm::dvec3(row[3 * m], row[3 * m + 1], row[3 * m + 2]);
+    acc += lw[i] * inner;
+  }
+  return acc;
+}
+
+LutColumn OpticalDepthLut::lookup(const Table& up, const Table* ground, double r, double mu) const {
+  LutColumn out;
+  if (r > T_) {
+    double s0 = sg::distance_to_top_from_outside(r, mu, T_);
+    if (s0 < 0.0) return out;
+    mu = std::clamp((r * mu + s0) / T_, -1.0, 1.0);
+    r = T_;
+  }
+  r = std::max(r, R_);
+  if (sg::ray_hits_ground(r, mu, R_)) {
+    out.hits_ground = true;
+    if (!ground) return out;
+    double d;
+    double x = x_ground(r, mu, d);
+    out.column = decode(interpolate(*ground, r, x)) * d;
+    return out;
+  }
+  double d;
+  double x = x_up(r, mu, d);
+  out.column = decode(interpolate(up, r, x)) * d;
+  return out;
+}
+
+LutColumn OpticalDepthLut::view(double r, double mu) const { return lookup(view_up_, &view_ground_, r, mu); }
+LutColumn OpticalDepthLut::sun(double r, double mu) const { return lookup(sun_up_, nullptr, r, mu); }
+
+double OpticalDepthLut::estimate_max_rel_error() const {
+  double worst = 0.0;
+  glm::dvec3 vc = atm_.vertical_column();
+  auto rel = [&](const glm::dvec3& a, const glm::dvec3& b) {
+    double e = 0.0;
+    for (int c = 0; c < 3; ++c)
+      if (present_[c]) e = std::max(e, std::abs(a[c] - b[c]) / std::max(std::abs(b[c]), 1e-9 * vc[c]));
+    return e;
+  };
+  const int S = opt_.shells;
+  for (int k = 1; k < S - 1; k += 2) {
+    // mid-shell radius (in rho), mid-direction samples
+    double rho = 0.5 * (rho_[k] + rho_[k + 1]);
+    double r = std::sqrt(rho * rho + R_ * R_);
+    for (int j = 0; j + 1 < opt_.view_directions; j += 3) {
+      double x = (j + 0.5) / (opt_.view_directions - 1);
+      double dmin = T_ - r, dmax = rho + Hh_, d = dmin + x * (dmax - dmin);
+      double mu = std::clamp(((T_ - r) * (T_ + r) - d * d) / (2.0 * r * d), -1.0, 1.0);
+      worst = std::max(worst, rel(view(r, mu).column, build_column(r, mu, sg::distance_to_top(r, mu, T_))));
+      double dg = (r - R_) + x * (rho - (r - R_));
+      double mug = std::clamp(-(rho * rho + dg * dg) / (2.0 * r * dg), -1.0, 1.0);
+      if (sg::ray_hits_ground(r, mug, R_))
+        worst = std::max(worst, rel(view(r, mug).column, build_column(r, mug, sg::distance_to_ground(r, mug, R_))));
+    }
+  }
+  return worst;
+}
+
+}  // namespace atmosh::atmo

@@ -1,0 +1,602 @@
+// Gauss–Legendre grid analysis/synthesis: FFT in longitude, scaled Legendre
+// recurrences in latitude, vectorised over blocks of ring pairs.
+#include "atmosh/sh/transform.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <thread>
+
+#include "atmosh/error.hpp"
+#include "atmosh/sh/basis.hpp"
+#include "atmosh/sh/quadrature.hpp"
+#include "legendre_impl.hpp"
+
+namespace atmosh::sh {
+
+namespace detail {
+
+int resolve_threads(int threads) {
+  if (threads < 0) throw InputError("threads must be >= 0, got " + std::to_string(threads));
+  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return threads;
+}
+
+namespace {
+template <class F>
+void parallel_for_m(int bands, int threads, F&& body) {
+  // interleaved distribution of m (column cost ~ bands - m)
+  if (threads <= 1 || bands < 8) {
+    body(0, 1);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back([&, t] { body(t, threads); });
+  body(0, threads);
+  for (auto& th : pool) th.join();
+}
+
+constexpr int B = 8;  // lanes (ring pairs) per block
+
+struct Pairs {
+  std::vector<int> north, south;  // south = -1: no partner
+  std::vector<double> x, u;       // of the north ring
+};
+
+Pairs make_pairs(int nrings, const double* cos_t, const double* sin_t, bool symmetric) {
+  Pairs p;
+  if (symmetric) {
+    for (int r = 0; r < (nrings + 1) / 2; ++r) {
+      const int s = nrings - 1 - r;
+      p.north.push_back(r);
+      p.south.push_back(s == r ? -1 : s);
+    }
+  } else {
+    for (int r = 0; r < nrings; ++r) {
+      p.north.push_back(r);
+      p.south.push_back(-1);
+    }
+  }
+  const int np = static_cast<int>(p.north.size());
+  const int padded = (np + B - 1) / B * B;
+  p.x.assign(padded, 0.0);
+  p.u.assign(padded, 1.0);
+  for (int k = 0; k < np; ++k) {
+    p.x[k] = cos_t[p.north[k]];
+    p.u[k] = sin_t[p.north[k]];
+  }
+  return p;
+}
+
+// Sectoral extended-range values for every m and lane: mant[m * padded + k], exp[...].
+void sectorals(int bands, const Pairs& p, const LegendreTable& t, std::vector<double>& mant,
+               std::vector<int>& ex) {
+  const std::size_t padded = p.x.size();
+  mant.assign(static_cast<std::size_t>(bands) * padded, 0.0);
+  ex.assign(static_cast<std::size_t>(bands) * padded, 0);
+  for (std::size_t k = 0; k < padded; ++k) {
+    XNum v{1.0 / std::sqrt(4.0 * std::numbers::pi), 0};
+    mant[k] = v.mant;
+    for (int m = 1; m < bands; ++m) {
+      v = next_sectoral(v, t.sectoral()[m], p.u[k]);
+      mant[m * padded + k] = v.mant;
+      ex[m * padded + k] = v.exp;
+    }
+  }
+}
+}  // namespace
+
+
+// ---- vectorised column kernels -------------------------------------------------
+// V holds one value per ring pair of a block; GCC lowers it to the widest vectors the
+// target has (SSE2 by default; the AVX2/FMA clone is picked at run time on x86-64).
+typedef double V __attribute__((vector_size(B * sizeof(double))));
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+#define ATMOSH_SH_CLONES __attribute__((target_clones("arch=x86-64-v3", "default"), optimize("fp-contract=fast")))
+#else
+#define ATMOSH_SH_CLONES
+#endif
+
+
+// Runs the column recurrence for l = l0..bands-1 (l0 >= m+2) from p2 = Pbar_l0-2,m and
+// p1 = Pbar_l0-1,m, accumulating Pbar_lm * (E if l+m even else O) into acc[l - m].
+ATMOSH_SH_CLONES
+static void analysis_run(int bands, int m, int l0, const double* a, const double* b, const V& xr, const V& p2r,
+                         const V& p1r, const V& Ecr, const V& Esr, const V& Ocr, const V& Osr, V* accC, V* accS) {
+  const V x = xr, Ec = Ecr, Es = Esr, Oc = Ocr, Os = Osr;
+  V p2 = p2r, p1 = p1r;
+  int l = l0;
+  std::size_t ti = tri_index(l, m);
+  if (l < bands && ((l - m) & 1)) {
+    const V pa = a[ti] * x * p1 - b[ti] * p2;
+    accC[l - m] += pa * Oc;
+    accS[l - m] += pa * Os;
+    p2 = p1;
+    p1 = pa;
+    ti += l + 1;
+    ++l;
+  }
+  for (; l + 1 < bands; l += 2) {
+    const double a0 = a[ti], b0 = b[ti];
+    const double a1 = a[ti + l + 1], b1 = b[ti + l + 1];
+    const V pa = a0 * x * p1 - b0 * p2;
+    const V pb = a1 * x * pa - b1 * p1;
+    V* cc = accC + (l - m);
+    V* sc = accS + (l - m);
+    cc[0] += pa * Ec;
+    sc[0] += pa * Es;
+    cc[1] += pb * Oc;
+    sc[1] += pb * Os;
+    p2 = pa;
+    p1 = pb;
+    ti += 2 * l + 3;
+  }
+  if (l < bands) {
+    const V pa = a[ti] * x * p1 - b[ti] * p2;
+    accC[l - m] += pa * Ec;
+    accS[l - m] += pa * Es;
+  }
+}
+
+// Even/odd parity sums over l = l0..bands-1 of Pbar_lm(x) c_l,+-m (added to E*, O*).
+ATMOSH_SH_CLONES
+static void synthesis_run(int bands, int m, int l0, const double* a, const double* b, const double* coeffs,
+                          const V& xr, const V& p2r, const V& p1r, V& Ec, V& Es, V& Oc, V& Os) {
+  const V x = xr;
+  V p2 = p2r, p1 = p1r;
+  int l = l0;
+  std::size_t ti = tri_index(l, m);
+  if (l < bands && ((l - m) & 1)) {
+    const int i0 = l * (l + 1);
+    const V pa = a[ti] * x * p1 - b[ti] * p2;
+    Oc += pa * coeffs[i0 + m];
+    Os += pa * coeffs[i0 - m];
+    p2 = p1;
+    p1 = pa;
+    ti += l + 1;
+    ++l;
+  }
+  V ec = Ec, es = Es, oc = Oc, os = Os;
+  for (; l + 1 < bands; l += 2) {
+    const double a0 = a[ti], b0 = b[ti];
+    const double a1 = a[ti + l + 1], b1 = b[ti + l + 1];
+    const int i0 = l * (l + 1), i1 = (l + 1) * (l + 2);
+    const V pa = a0 * x * p1 - b0 * p2;
+    const V pb = a1 * x * pa - b1 * p1;
+    ec += pa * coeffs[i0 + m];
+    es += pa * coeffs[i0 - m];
+    oc += pb * coeffs[i1 + m];
+    os += pb * coeffs[i1 - m];
+    p2 = pa;
+    p1 = pb;
+    ti += 2 * l + 3;
+  }
+  if (l < bands) {
+    const int i0 = l * (l + 1);
+    const V pa = a[ti] * x * p1 - b[ti] * p2;
+    ec += pa * coeffs[i0 + m];
+    es += pa * coeffs[i0 - m];
+  }
+  Ec = ec;
+  Es = es;
+  Oc = oc;
+  Os = os;
+}
+
+// Scalar start of a block whose sectoral values need the extended range. Each lane
+// advances (values below 2^-500 are dropped: they cannot change a double result) until
+// every lane is in the plain range; calls out(k, l, value) for l < returned lstar, and
+// leaves p2/p1 = Pbar_lstar-2, Pbar_lstar-1 (lstar >= m+2, or bands).
+template <class Out>
+static int extended_start(int bands, int m, const double* a, const double* b, const V& x, const double* mant,
+                          const int* ex, V& p2v, V& p1v, Out&& out) {
+  double P2[B], P1[B];
+  int E[B], Lk[B];
+  int lstar = m + 2;
+  for (int k = 0; k < B; ++k) {
+    double p2 = mant[k];
+    int e = ex[k];
+    if (e == 0) out(k, m, p2);
+    double p1 = std::sqrt(2.0 * m + 3.0) * x[k] * p2;
+    if (e == 0 && m + 1 < bands) out(k, m + 1, p1);
+    int l = m + 2;
+    std::size_t ti = tri_index(l, m);
+    for (; l < bands && e < 0; ++l) {
+      const double p = a[ti] * x[k] * p1 - b[ti] * p2;
+      p2 = p1;
+      p1 = p;
+      if (std::abs(p1) > 0x1p+100) {
+        p1 *= kScaleDown;
+        p2 *= kScaleDown;
+        e += kScaleExp;
+      }
+      if (e == 0) out(k, l, p1);
+      ti += l + 1;
+    }
+    P2[k] = p2;
+    P1[k] = p1;
+    E[k] = e;
+    Lk[k] = l;
+    lstar = std::max(lstar, l);
+  }
+  for (int k = 0; k < B; ++k) {
+    double p2 = P2[k], p1 = P1[k];
+    std::size_t ti = tri_index(Lk[k], m);
+    for (int l = Lk[k]; l < lstar; ++l) {
+      const double p = a[ti] * x[k] * p1 - b[ti] * p2;
+      p2 = p1;
+      p1 = p;
+      if (E[k] == 0) out(k, l, p1);
+      ti += l + 1;
+    }
+    p2v[k] = E[k] == 0 ? p2 : 0.0;
+    p1v[k] = E[k] == 0 ? p1 : 0.0;
+  }
+  return lstar;
+}
+
+void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
+                       const double* fourier, bool symmetric, double* coeffs, int threads) {
+  threads = resolve_threads(threads);
+  const auto table = legendre_table(bands);
+  const double* a = table->a();
+  const double* b = table->b();
+  const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
+  const int padded = static_cast<int>(pr.x.size());
+  const int np = static_cast<int>(pr.north.size());
+  std::vector<double> smant;
+  std::vector<int> sexp;
+  sectorals(bands, pr, *table, smant, sexp);
+
+  parallel_for_m(bands, threads, [&](int t0, int step) {
+    std::vector<V> accC(bands), accS(bands);
+    for (int m = t0; m < bands; m += step) {
+      const int nl = bands - m;
+      std::fill(accC.begin(), accC.begin() + nl, V{});
+      std::fill(accS.begin(), accS.begin() + nl, V{});
+      for (int blk = 0; blk < padded; blk += B) {
+        bool plain = true;
+        V Ec, Es, Oc, Os, x, p2, p1;
+        const double* mant = smant.data() + static_cast<std::size_t>(m) * padded + blk;
+        const int* ex = sexp.data() + static_cast<std::size_t>(m) * padded + blk;
+        for (int k = 0; k < B; ++k) {
+          const int q = blk + k;
+          double nc = 0, ns = 0, sc = 0, ss = 0;
+          if (q < np) {
+            const double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
+            nc = fn[0];
+            ns = fn[1];
+            if (pr.south[q] >= 0) {
+              const double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
+              sc = fs[0];
+              ss = fs[1];
+            }
+          }
+          Ec[k] = nc + sc;
+          Es[k] = ns + ss;
+          Oc[k] = nc - sc;
+          Os[k] = ns - ss;
+          x[k] = pr.x[q];
+          p2[k] = mant[k];
+          if (ex[k] != 0) plain = false;
+        }
+        int l0 = m + 2;
+        if (plain) {
+          accC[0] += p2 * Ec;
+          accS[0] += p2 * Es;
+          p1 = std::sqrt(2.0 * m + 3.0) * x * p2;
+          if (m + 1 < bands) {
+            accC[1] += p1 * Oc;
+            accS[1] += p1 * Os;
+          }
+        } else {
+          l0 = extended_start(bands, m, a, b, x, mant, ex, p2, p1, [&](int k, int l, double v) {
+            const bool odd = ((l + m) & 1) != 0;
+            accC[l - m][k] += v * (odd ? Oc[k] : Ec[k]);
+            accS[l - m][k] += v * (odd ? Os[k] : Es[k]);
+          });
+        }
+        if (l0 < bands) analysis_run(bands, m, l0, a, b, x, p2, p1, Ec, Es, Oc, Os, accC.data(), accS.data());
+      }
+      for (int l = m; l < bands; ++l) {
+        double sc = 0, ss = 0;
+        for (int k = 0; k < B; ++k) {
+          sc += accC[l - m][k];
+          ss += accS[l - m][k];
+        }
+        coeffs[sh_index(l, m)] += sc;
+        if (m > 0) coeffs[sh_index(l, -m)] += ss;
+      }
+    }
+  });
+}
+
+void legendre_synthesis(int bands, int nrings, const double* cos_t, const double* sin_t,
+                        const double* coeffs, bool symmetric, double* fourier, int threads) {
+  threads = resolve_threads(threads);
+  const auto table = legendre_table(bands);
+  const double* a = table->a();
+  const double* b = table->b();
+  const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
+  const int padded = static_cast<int>(pr.x.size());
+  const int np = static_cast<int>(pr.north.size());
+  std::vector<double> smant;
+  std::vector<int> sexp;
+  sectorals(bands, pr, *table, smant, sexp);
+
+  parallel_for_m(bands, threads, [&](int t0, int step) {
+    for (int m = t0; m < bands; m += step) {
+      const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
+      for (int blk = 0; blk < padded; blk += B) {
+        bool plain = true;
+        V x, p2, p1, Ec{}, Es{}, Oc{}, Os{};
+        const double* mant = smant.data() + static_cast<std::size_t>(m) * padded + blk;
+        const int* ex = sexp.data() + static_cast<std::size_t>(m) * padded + blk;
+        for (int k = 0; k < B; ++k) {
+          x[k] = pr.x[blk + k];
+          p2[k] = mant[k];
+          if (ex[k] != 0) plain = false;
+        }
+        int l0 = m + 2;
+        if (plain) {
+          Ec += p2 * coeffs[sh_index(m, m)];
+          Es += p2 * coeffs[sh_index(m, -m)];
+          p1 = std::sqrt(2.0 * m + 3.0) * x * p2;
+          if (m + 1 < bands) {
+            Oc += p1 * coeffs[sh_index(m + 1, m)];
+            Os += p1 * coeffs[sh_index(m + 1, -m)];
+          }
+        } else {
+          l0 = extended_start(bands, m, a, b, x, mant, ex, p2, p1, [&](int k, int l, double v) {
+            const int i = l * (l + 1);
+            if ((l + m) & 1) {
+              Oc[k] += v * coeffs[i + m];
+              Os[k] += v * coeffs[i - m];
+            } else {
+              Ec[k] += v * coeffs[i + m];
+              Es[k] += v * coeffs[i - m];
+            }
+          });
+        }
+        if (l0 < bands) synthesis_run(bands, m, l0, a, b, coeffs, x, p2, p1, Ec, Es, Oc, Os);
+        for (int k = 0; k < B; ++k) {
+          const int q = blk + k;
+          if (q >= np) break;
+          double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
+          fn[0] = scale * (Ec[k] + Oc[k]);
+          fn[1] = m > 0 ? scale * (Es[k] + Os[k]) : 0.0;
+          if (pr.south[q] >= 0) {
+            double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
+            fs[0] = scale * (Ec[k] - Oc[k]);
+            fs[1] = m > 0 ? scale * (Es[k] - Os[k]) : 0.0;
+          }
+        }
+      }
+    }
+  });
+}
+
+void fft(double* re, double* im, int n, int sign) {
+  // bit reversal
+  for (int i = 1, j = 0; i < n; ++i) {
+    int bit = n >> 1;
+    for (; j & bit; bit >>= 1) j ^= bit;
+    j ^= bit;
+    if (i < j) {
+      std::swap(re[i], re[j]);
+      std::swap(im[i], im[j]);
+    }
+  }
+  thread_local std::vector<double> tw_re, tw_im;  // e^{-2 pi i k / n}, k < n/2
+  if (static_cast<int>(tw_re.size()) != n / 2) {
+    tw_re.resize(n / 2);
+    tw_im.resize(n / 2);
+    for (int k = 0; k < n / 2; ++k) {
+      tw_re[k] = std::cos(2.0 * std::numbers::pi * k / n);
+      tw_im[k] = -std::sin(2.0 * std::numbers::pi * k / n);
+    }
+  }
+  for (int len = 2; len <= n; len <<= 1) {
+    const int half = len >> 1;
+    const int stride = n / len;
+    for (int i = 0; i < n; i += len) {
+      for (int k = 0; k < half; ++k) {
+        const double wr = tw_re[k * stride], wi = -sign * tw_im[k * stride];
+        const double xr = re[i + k + half] * wr - im[i + k + half] * wi;
+        const double xi = re[i + k + half] * wi + im[i + k + half] * wr;
+        re[i + k + half] = re[i + k] - xr;
+        im[i + k + half] = im[i + k] - xi;
+        re[i + k] += xr;
+        im[i + k] += xi;
+      }
+    }
+  }
+}
+
+}  // namespace detail
+
+namespace {
+bool is_pow2(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+// Ring sums a_m = sum_j f_j cos(m p_j), b_m = sum_j f_j sin(m p_j) for m < bands,
+// two rings at a time (second may be null).
+void ring_fourier(int bands, int nphi, const double* f1, const double* f2, double* out1, double* out2,
+                  std::vector<double>& re, std::vector<double>& im, const std::vector<double>& costab,
+                  const std::vector<double>& sintab) {
+  if (is_pow2(nphi)) {
+    re.assign(f1, f1 + nphi);
+    if (f2)
+      im.assign(f2, f2 + nphi);
+    else
+      im.assign(nphi, 0.0);
+    detail::fft(re.data(), im.data(), nphi, -1);
+    for (int m = 0; m < bands; ++m) {
+      const int mm = (nphi - m) % nphi;
+      // F1 = (Z[m] + conj Z[-m]) / 2 ; F2 = (Z[m] - conj Z[-m]) / (2i)
+      const double f1r = 0.5 * (re[m] + re[mm]), f1i = 0.5 * (im[m] - im[mm]);
+      const double f2r = 0.5 * (im[m] + im[mm]), f2i = -0.5 * (re[m] - re[mm]);
+      out1[2 * m] = f1r;
+      out1[2 * m + 1] = -f1i;
+      if (out2) {
+        out2[2 * m] = f2r;
+        out2[2 * m + 1] = -f2i;
+      }
+    }
+    return;
+  }
+  for (int pass = 0; pass < 2; ++pass) {
+    const double* f = pass == 0 ? f1 : f2;
+    double* o = pass == 0 ? out1 : out2;
+    if (!f) continue;
+    for (int m = 0; m < bands; ++m) {
+      double sc = 0, ss = 0;
+      long long idx = 0;
+      for (int j = 0; j < nphi; ++j) {
+        sc += f[j] * costab[idx];
+        ss += f[j] * sintab[idx];
+        idx += m;
+        if (idx >= nphi) idx -= nphi;
+      }
+      o[2 * m] = sc;
+      o[2 * m + 1] = ss;
+    }
+  }
+}
+}  // namespace
+
+double GaussGrid::phi(int j) const { return 2.0 * std::numbers::pi * j / nphi; }
+
+GaussGrid gauss_grid(int bands, int nlat, int nphi) {
+  check_bands(bands, "gauss_grid");
+  if (nlat == 0) nlat = bands;
+  if (nphi == 0) {
+    nphi = 1;
+    while (nphi < 2 * bands - 1) nphi <<= 1;
+  }
+  if (nlat < bands) throw InputError("gauss_grid: nlat must be >= bands, got " + std::to_string(nlat));
+  if (nphi < 2 * bands - 1) throw InputError("gauss_grid: nphi must be >= 2*bands-1, got " + std::to_string(nphi));
+  GaussGrid g;
+  g.bands = bands;
+  g.nlat = nlat;
+  g.nphi = nphi;
+  const GaussLegendre gl = gauss_legendre(nlat);
+  g.cos_t.resize(nlat);
+  g.sin_t.resize(nlat);
+  g.weights.resize(nlat);
+  for (int i = 0; i < nlat; ++i) {
+    const double x = gl.nodes[nlat - 1 - i];
+    g.cos_t[i] = x;
+    g.sin_t[i] = std::sqrt((1.0 - x) * (1.0 + x));
+    g.weights[i] = gl.weights[nlat - 1 - i];
+  }
+  return g;
+}
+
+std::vector<double> analyse(const GaussGrid& g, const double* values, int threads) {
+  if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
+    throw InputError("analyse: grid is not initialised (use gauss_grid)");
+  threads = detail::resolve_threads(threads);
+  const int L = g.bands, n = g.nphi;
+  std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
+  std::vector<double> costab(n), sintab(n);
+  for (int j = 0; j < n; ++j) {
+    costab[j] = std::cos(2.0 * std::numbers::pi * j / n);
+    sintab[j] = std::sin(2.0 * std::numbers::pi * j / n);
+  }
+  const int npairs = (g.nlat + 1) / 2;
+  auto work = [&](int t0, int step) {
+    std::vector<double> re, im;
+    for (int p = t0; p < npairs; p += step) {
+      const int s = g.nlat - 1 - p;
+      ring_fourier(L, n, values + static_cast<std::size_t>(p) * n,
+                   s != p ? values + static_cast<std::size_t>(s) * n : nullptr, four.data() + static_cast<std::size_t>(p) * L * 2,
+                   s != p ? four.data() + static_cast<std::size_t>(s) * L * 2 : nullptr, re, im, costab, sintab);
+    }
+  };
+  if (threads <= 1) {
+    work(0, 1);
+  } else {
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work, t, threads);
+    work(0, threads);
+    for (auto& th : pool) th.join();
+  }
+  const double dphi = 2.0 * std::numbers::pi / n;
+  for (int r = 0; r < g.nlat; ++r) {
+    for (int m = 0; m < L; ++m) {
+      const double f = g.weights[r] * dphi * (m > 0 ? std::numbers::sqrt2 : 1.0);
+      four[(static_cast<std::size_t>(r) * L + m) * 2] *= f;
+      four[(static_cast<std::size_t>(r) * L + m) * 2 + 1] *= (m > 0 ? f : 0.0);
+    }
+  }
+  std::vector<double> c(sh_count(L), 0.0);
+  detail::legendre_analysis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), four.data(), true, c.data(), threads);
+  return c;
+}
+
+std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int threads) {
+  if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
+    throw InputError("synthesise: grid is not initialised (use gauss_grid)");
+  threads = detail::resolve_threads(threads);
+  const int L = g.bands, n = g.nphi;
+  std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
+  detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four.data(), threads);
+  std::vector<double> out(static_cast<std::size_t>(g.nlat) * n, 0.0);
+  const int npairs = (g.nlat + 1) / 2;
+  auto work = [&](int t0, int step) {
+    std::vector<double> re(n), im(n);
+    for (int p = t0; p < npairs; p += step) {
+      const int s = g.nlat - 1 - p;
+      const double* fn = four.data() + static_cast<std::size_t>(p) * L * 2;
+      const double* fs = s != p ? four.data() + static_cast<std::size_t>(s) * L * 2 : nullptr;
+      if (is_pow2(n)) {
+        std::fill(re.begin(), re.end(), 0.0);
+        std::fill(im.begin(), im.end(), 0.0);
+        // Z[k] = F_N[k] + i F_S[k]; F[m] = (C - iS)/2, F[-m] = (C + iS)/2, F[0] = C
+        for (int m = 0; m < L; ++m) {
+          const double cn = fn[2 * m], sn = fn[2 * m + 1];
+          const double cs = fs ? fs[2 * m] : 0.0, ss = fs ? fs[2 * m + 1] : 0.0;
+          if (m == 0) {
+            re[0] += cn;
+            im[0] += cs;
+            continue;
+          }
+          // F_N[m] = (cn - i sn)/2 ; i F_S[m] = i (cs - i ss)/2 = (ss + i cs)/2
+          re[m] += 0.5 * (cn + ss);
+          im[m] += 0.5 * (-sn + cs);
+          // F_N[-m] = (cn + i sn)/2 ; i F_S[-m] = i (cs + i ss)/2 = (-ss + i cs)/2
+          re[n - m] += 0.5 * (cn - ss);
+          im[n - m] += 0.5 * (sn + cs);
+        }
+        detail::fft(re.data(), im.data(), n, +1);
+        std::copy(re.begin(), re.end(), out.begin() + static_cast<std::size_t>(p) * n);
+        if (fs) std::copy(im.begin(), im.end(), out.begin() + static_cast<std::size_t>(s) * n);
+      } else {
+        for (int pass = 0; pass < 2; ++pass) {
+          const double* f = pass == 0 ? fn : fs;
+          if (!f) continue;
+          double* o = out.data() + static_cast<std::size_t>(pass == 0 ? p : s) * n;
+          for (int j = 0; j < n; ++j) {
+            double v = 0;
+            const double ph = 2.0 * std::numbers::pi * j / n;
+            for (int m = 0; m < L; ++m) v += f[2 * m] * std::cos(m * ph) + f[2 * m + 1] * std::sin(m * ph);
+            o[j] = v;
+          }
+        }
+      }
+    }
+  };
+  if (threads <= 1) {
+    work(0, 1);
+  } else {
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work, t, threads);
+    work(0, threads);
+    for (auto& th : pool) th.join();
+  }
+  return out;
+}
+
+}  // namespace atmosh::sh

@@ -1,0 +1,115 @@
+// CLI contract: --help/--version, exit codes, one-line errors, JSON, and the main
+// job end to end (a quick version of `atmosh demo`) with the files it announces.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <filesystem>
+
+#include "atmosh/io/csv.hpp"
+#include "atmosh/io/exr.hpp"
+#include "run_cli.hpp"
+
+using atmosh::test::count_lines;
+using atmosh::test::run_cli;
+namespace fs = std::filesystem;
+
+TEST(Cli, HelpAndVersion) {
+  auto r = run_cli("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("spherical-harmonic"), std::string::npos);
+  EXPECT_NE(r.out.find("demo"), std::string::npos);
+  r = run_cli("--version");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("git"), std::string::npos);
+  for (const char* sub : {"plan --help", "scene show --help", "demo --help", "gpu info --help"}) {
+    r = run_cli(sub);
+    EXPECT_EQ(r.exit_code, 0) << sub;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+  }
+}
+
+TEST(Cli, BadInputExitsTwoWithOneLine) {
+  for (const char* args : {"", "no-such-command", "plan /nonexistent.toml", "plan --bogus-flag",
+                           "scene check /nonexistent.toml"}) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("atmosh: error: ", 0), 0u) << r.err;
+  }
+  const fs::path bad = fs::temp_directory_path() / "atmosh_bad_scene.toml";
+  std::ofstream(bad) << "version = 1\n[mie]\nscale_height_m = \"tall\"\n";
+  const auto r = run_cli("scene check '" + bad.string() + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("mie.scale_height_m"), std::string::npos) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1);
+}
+
+TEST(Cli, SceneShowIsAValidScene) {
+  const auto r = run_cli("scene show");
+  ASSERT_EQ(r.exit_code, 0);
+  const fs::path f = fs::temp_directory_path() / "atmosh_shown_scene.toml";
+  std::ofstream(f) << r.out;
+  EXPECT_EQ(run_cli("scene check '" + f.string() + "'").exit_code, 0);
+  EXPECT_EQ(run_cli("scene show --normalized").exit_code, 0);
+}
+
+TEST(Cli, PlanJson) {
+  const auto r = run_cli("plan --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("passes"));
+  EXPECT_GT(j["passes"].size(), 3u);
+  for (const auto& p : j["passes"]) {
+    EXPECT_TRUE(p.contains("pass") && p.contains("needed") && p.contains("reason"));
+  }
+}
+
+TEST(Cli, GpuInfoAnswersWithOrWithoutDevice) {
+  const auto r = run_cli("gpu info --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("available"));
+  if (j["available"].get<bool>()) {
+    EXPECT_NE(j["gl_version"].get<std::string>().find("4."), std::string::npos);
+  }
+}
+
+// The main job, small and fast: every announced file exists and is readable.
+TEST(Cli, DemoQuickEndToEnd) {
+  const fs::path out = fs::temp_directory_path() / ("atmosh_demo_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const auto r = run_cli("demo --quick -o '" + out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find(out.string()), std::string::npos) << "does not say where the results are";
+  ASSERT_TRUE(fs::exists(out / "MANIFEST.txt"));
+  std::ifstream m(out / "MANIFEST.txt");
+  std::string line;
+  int csv = 0, exr = 0, png = 0;
+  while (std::getline(m, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const fs::path f = out / line;
+    ASSERT_TRUE(fs::exists(f)) << f;
+    EXPECT_GT(fs::file_size(f), 0u) << f;
+    const auto ext = f.extension().string();
+    if (ext == ".csv") {
+      const auto c = atmosh::io::read_csv(f);
+      EXPECT_TRUE(c.provenance.count("git_commit")) << f;
+      ++csv;
+    } else if (ext == ".exr") {
+      const auto e = atmosh::io::read_exr(f);
+      EXPECT_GT(e.width * e.height, 0) << f;
+      ++exr;
+    } else if (ext == ".png") {
+      EXPECT_FALSE(cv::imread(f.string()).empty()) << f;
+      ++png;
+    }
+  }
+  EXPECT_GE(csv, 1);
+  EXPECT_GE(exr, 1);
+  EXPECT_GE(png, 1);
+  // No temporaries left behind.
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+}

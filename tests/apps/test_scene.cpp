@@ -1,0 +1,96 @@
+// Scene files: the built-in scene, strict validation with key paths, TOML round trip, plan.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "atmosh/error.hpp"
+#include "atmosh/scene/scene.hpp"
+
+using namespace atmosh::scene;
+
+namespace {
+// Expects parse failure whose message names `key`.
+void expect_bad(const std::string& toml, const std::string& key) {
+  try {
+    parse_scene(toml, "t.toml");
+    ADD_FAILURE() << "accepted:\n" << toml;
+  } catch (const atmosh::InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(key), std::string::npos) << "message '" << msg << "' does not name " << key;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "message is not one line: " << msg;
+    EXPECT_EQ(msg.rfind("t.toml", 0), 0u) << msg;
+  }
+}
+const Pass& find(const std::vector<Pass>& ps, const std::string& name) {
+  auto it = std::find_if(ps.begin(), ps.end(), [&](const Pass& p) { return p.name == name; });
+  if (it == ps.end()) throw std::runtime_error("no pass " + name);
+  return *it;
+}
+}  // namespace
+
+TEST(Scene, DefaultSceneParsesWithAllConstituents) {
+  const Scene s = default_scene();
+  ASSERT_TRUE(s.atmosphere.rayleigh && s.atmosphere.mie && s.atmosphere.ozone);
+  EXPECT_DOUBLE_EQ(s.atmosphere.planet.radius_m, 6360e3);
+  EXPECT_DOUBLE_EQ(s.atmosphere.mie->profile.scale_height_m, 1200.0);
+  EXPECT_EQ(s.atmosphere.mie->phase.model, atmosh::atmo::PhaseSpec::Model::CornetteShanks);
+  ASSERT_TRUE(s.observer.has_value());
+  EXPECT_DOUBLE_EQ(s.observer->latitude_deg, 48.8566);
+  EXPECT_EQ(s.atmosphere.spectrum.count, 16);
+  EXPECT_FALSE(s.outputs.empty());
+}
+
+TEST(Scene, TomlRoundTripIsExact) {
+  const Scene a = default_scene();
+  const Scene b = parse_scene(to_toml(a), "roundtrip.toml");
+  EXPECT_EQ(to_toml(a), to_toml(b));
+  EXPECT_EQ(b.atmosphere.mie->scattering_per_m, a.atmosphere.mie->scattering_per_m);
+  EXPECT_EQ(b.atmosphere.ozone->profile.peak_m, a.atmosphere.ozone->profile.peak_m);
+}
+
+TEST(Scene, OmittedTablesLeaveConstituentsOut) {
+  const Scene s = parse_scene("version = 1\n[rayleigh]\nscale_height_m = 8000\n[sun]\nelevation_deg = 5\n"
+                              "[[output]]\nkind = \"sky-image\"\nfile = \"a.exr\"\n",
+                              "t.toml");
+  EXPECT_TRUE(s.atmosphere.rayleigh.has_value());
+  EXPECT_FALSE(s.atmosphere.mie.has_value());
+  EXPECT_FALSE(s.atmosphere.ozone.has_value());
+  const auto ps = plan(s);
+  EXPECT_TRUE(find(ps, "constituent:rayleigh").needed);
+  EXPECT_FALSE(find(ps, "constituent:mie").needed);
+  EXPECT_NE(find(ps, "constituent:mie").reason.find("[mie]"), std::string::npos);
+  EXPECT_FALSE(find(ps, "constituent:ozone").needed);
+  EXPECT_FALSE(find(ps, "sun-position").needed);  // [sun] gives the direction directly
+  EXPECT_TRUE(find(ps, "sky-radiance:single-scattering").needed);
+  EXPECT_FALSE(find(ps, "sh-projection").needed);
+}
+
+TEST(Scene, PlanWithoutSkyOutputsSkipsTables) {
+  const Scene s = parse_scene(
+      "version = 1\n[rayleigh]\n[[output]]\nkind = \"sh-coefficients\"\nbands = 5\nfile = \"c.csv\"\n", "t.toml");
+  const auto ps = plan(s);
+  EXPECT_FALSE(find(ps, "optical-depth-lut:view").needed);
+  EXPECT_FALSE(find(ps, "constituent:rayleigh").needed);
+  EXPECT_TRUE(find(ps, "sh-projection").needed);
+  EXPECT_NE(find(ps, "sh-projection").reason.find("25 coefficients"), std::string::npos);
+}
+
+TEST(Scene, ValidationNamesTheKey) {
+  expect_bad("", "version");
+  expect_bad("version = 2", "version");
+  expect_bad("version = 1\nfoo = 3", "foo");
+  expect_bad("version = 1\n[mie]\nscale_heigth_m = 3", "mie.scale_heigth_m");
+  expect_bad("version = 1\n[mie]\nscale_height_m = \"tall\"", "mie.scale_height_m");
+  expect_bad("version = 1\n[mie]\nscale_height_m = nan", "mie.scale_height_m");
+  expect_bad("version = 1\n[mie]\nphase = { model = \"lorentz\" }", "mie.phase.model");
+  expect_bad("version = 1\n[ozone]\nprofile = { model = \"tent\", bottom = 3 }", "ozone.profile.bottom");
+  expect_bad("version = 1\n[observer]\nlatitude_deg = 91\ntime_utc = \"2026-01-01T00:00:00Z\"", "observer.latitude_deg");
+  expect_bad("version = 1\n[observer]\nlatitude_deg = 10", "observer.time_utc");
+  expect_bad("version = 1\n[sun]\nazimuth_deg = 360", "sun.azimuth_deg");
+  expect_bad("version = 1\n[spectrum]\ncount = 0", "spectrum.count");
+  expect_bad("version = 1\n[[output]]\nkind = \"hologram\"\nfile = \"x\"", "output[0].kind");
+  expect_bad("version = 1\n[[output]]\nkind = \"sky-image\"\nfile = \"x\"\nsize = [0, 3]", "output[0].size");
+  expect_bad("version = 1\n[[output]]\nkind = \"sky-image\"", "output[0].file");
+  expect_bad("version = 1\n[observer]\ntime_utc = \"2026-01-01T00:00:00Z\"\n[sun]\nelevation_deg = 3", "sun");
+  expect_bad("version = 1\n[mie\n", "TOML syntax error");
+}
