@@ -23,6 +23,22 @@ void require(bool ok, const std::string& key, double value, const std::string& w
   if (!ok) throw InputError(key + " = " + num(value) + ": " + what);
 }
 
+DensityProfileSpec exponential_profile(double H) {
+  DensityProfileSpec p;
+  p.kind = DensityProfileSpec::Kind::Exponential;
+  p.scale_height_m = H;
+  return p;
+}
+
+DensityProfileSpec tent_profile(double bottom, double peak, double top) {
+  DensityProfileSpec p;
+  p.kind = DensityProfileSpec::Kind::Tent;
+  p.bottom_m = bottom;
+  p.peak_m = peak;
+  p.top_m = top;
+  return p;
+}
+
 void validate_phase(const PhaseSpec& p, const std::string& key) {
   using M = PhaseSpec::Model;
   switch (p.model) {
@@ -183,7 +199,7 @@ AtmosphereSpec preset(std::string_view name) {
     m.scattering_per_m = 0.9 * 0.1 / 1200.0;  // aerosol optical depth 0.1 at 550 nm
     m.reference_nm = 550.0;
     m.angstrom = 1.3;
-    m.profile = DensityProfileSpec{DensityProfileSpec::Kind::Exponential, 1200.0};
+    m.profile = exponential_profile(1200.0);
     m.phase = PhaseSpec{};
     m.phase.model = PhaseSpec::Model::CornetteShanks;
     m.phase.g = 0.8;
@@ -197,7 +213,7 @@ AtmosphereSpec preset(std::string_view name) {
     r.model = RayleighSpec::Model::Coefficients;
     r.scattering_per_m = 1.24062e-6;
     r.reference_nm = 1000.0;
-    r.profile = DensityProfileSpec{DensityProfileSpec::Kind::Exponential, 8000.0};
+    r.profile = exponential_profile(8000.0);
     r.phase = PhaseSpec{};
     r.phase.model = PhaseSpec::Model::Rayleigh;
     r.phase.depolarization = 0.0;
@@ -207,7 +223,7 @@ AtmosphereSpec preset(std::string_view name) {
     m.scattering_per_m = 5.328e-3 / 1200.0 * 0.9;
     m.reference_nm = 550.0;
     m.angstrom = 0.0;
-    m.profile = DensityProfileSpec{DensityProfileSpec::Kind::Exponential, 1200.0};
+    m.profile = exponential_profile(1200.0);
     m.phase = PhaseSpec{};
     m.phase.model = PhaseSpec::Model::CornetteShanks;
     m.phase.g = 0.8;
@@ -221,7 +237,7 @@ AtmosphereSpec preset(std::string_view name) {
     r.model = RayleighSpec::Model::Coefficients;
     r.scattering_per_m = 2.0e-5;
     r.reference_nm = 550.0;
-    r.profile = DensityProfileSpec{DensityProfileSpec::Kind::Exponential, 2000.0};
+    r.profile = exponential_profile(2000.0);
     r.phase = PhaseSpec{};
     r.phase.model = PhaseSpec::Model::Rayleigh;
     s.rayleigh = r;
@@ -229,14 +245,14 @@ AtmosphereSpec preset(std::string_view name) {
     m.scattering_per_m = 1.0e-5;
     m.single_scattering_albedo = 0.95;
     m.angstrom = 1.0;
-    m.profile = DensityProfileSpec{DensityProfileSpec::Kind::Exponential, 500.0};
+    m.profile = exponential_profile(500.0);
     m.phase = PhaseSpec{};
     m.phase.model = PhaseSpec::Model::HenyeyGreenstein;
     m.phase.g = 0.7;
     s.mie = m;
     OzoneSpec o;
     o.column_du = 100.0;
-    o.profile = DensityProfileSpec{DensityProfileSpec::Kind::Tent, 0.0, 4e3, 8e3, 12e3};
+    o.profile = tent_profile(4e3, 8e3, 12e3);
     s.ozone = o;
     s.spectrum.count = 8;
     return s;

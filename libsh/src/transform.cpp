@@ -3,6 +3,7 @@
 #include "atmosh/sh/transform.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -100,43 +101,70 @@ typedef double V __attribute__((vector_size(B * sizeof(double))));
 #endif
 
 
+// Native-width halves of a lane block (two 4-double vectors: one AVX register each).
+typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
+static_assert(B == 8, "kernels below are written for 8 lanes");
+static inline V4 lo(const V& v) { return V4{v[0], v[1], v[2], v[3]}; }
+static inline V4 hi(const V& v) { return V4{v[4], v[5], v[6], v[7]}; }
+
 // Runs the column recurrence for l = l0..bands-1 (l0 >= m+2) from p2 = Pbar_l0-2,m and
 // p1 = Pbar_l0-1,m, accumulating Pbar_lm * (E if l+m even else O) into acc[l - m].
 ATMOSH_SH_CLONES
 static void analysis_run(int bands, int m, int l0, const double* a, const double* b, const V& xr, const V& p2r,
                          const V& p1r, const V& Ecr, const V& Esr, const V& Ocr, const V& Osr, V* accC, V* accS) {
-  const V x = xr, Ec = Ecr, Es = Esr, Oc = Ocr, Os = Osr;
-  V p2 = p2r, p1 = p1r;
+  const V4 x0 = lo(xr), x1 = hi(xr);
+  const V4 Ec0 = lo(Ecr), Ec1 = hi(Ecr), Es0 = lo(Esr), Es1 = hi(Esr);
+  const V4 Oc0 = lo(Ocr), Oc1 = hi(Ocr), Os0 = lo(Osr), Os1 = hi(Osr);
+  V4 p20 = lo(p2r), p21 = hi(p2r), p10 = lo(p1r), p11 = hi(p1r);
+  V4* C = reinterpret_cast<V4*>(accC);  // acc[l - m] = C[2(l-m)], C[2(l-m)+1]
+  V4* S = reinterpret_cast<V4*>(accS);
   int l = l0;
   std::size_t ti = tri_index(l, m);
   if (l < bands && ((l - m) & 1)) {
-    const V pa = a[ti] * x * p1 - b[ti] * p2;
-    accC[l - m] += pa * Oc;
-    accS[l - m] += pa * Os;
-    p2 = p1;
-    p1 = pa;
+    const V4 pa0 = a[ti] * x0 * p10 - b[ti] * p20;
+    const V4 pa1 = a[ti] * x1 * p11 - b[ti] * p21;
+    const int j = 2 * (l - m);
+    C[j] += pa0 * Oc0;
+    C[j + 1] += pa1 * Oc1;
+    S[j] += pa0 * Os0;
+    S[j + 1] += pa1 * Os1;
+    p20 = p10;
+    p21 = p11;
+    p10 = pa0;
+    p11 = pa1;
     ti += l + 1;
     ++l;
   }
   for (; l + 1 < bands; l += 2) {
     const double a0 = a[ti], b0 = b[ti];
     const double a1 = a[ti + l + 1], b1 = b[ti + l + 1];
-    const V pa = a0 * x * p1 - b0 * p2;
-    const V pb = a1 * x * pa - b1 * p1;
-    V* cc = accC + (l - m);
-    V* sc = accS + (l - m);
-    cc[0] += pa * Ec;
-    sc[0] += pa * Es;
-    cc[1] += pb * Oc;
-    sc[1] += pb * Os;
-    p2 = pa;
-    p1 = pb;
+    const V4 pa0 = a0 * x0 * p10 - b0 * p20;
+    const V4 pa1 = a0 * x1 * p11 - b0 * p21;
+    const V4 pb0 = a1 * x0 * pa0 - b1 * p10;
+    const V4 pb1 = a1 * x1 * pa1 - b1 * p11;
+    const int j = 2 * (l - m);
+    C[j] += pa0 * Ec0;
+    C[j + 1] += pa1 * Ec1;
+    S[j] += pa0 * Es0;
+    S[j + 1] += pa1 * Es1;
+    C[j + 2] += pb0 * Oc0;
+    C[j + 3] += pb1 * Oc1;
+    S[j + 2] += pb0 * Os0;
+    S[j + 3] += pb1 * Os1;
+    p20 = pa0;
+    p21 = pa1;
+    p10 = pb0;
+    p11 = pb1;
     ti += 2 * l + 3;
   }
   if (l < bands) {
-    const V pa = a[ti] * x * p1 - b[ti] * p2;
-    accC[l - m] += pa * Ec;
-    accS[l - m] += pa * Es;
+    const V4 pa0 = a[ti] * x0 * p10 - b[ti] * p20;
+    const V4 pa1 = a[ti] * x1 * p11 - b[ti] * p21;
+    const int j = 2 * (l - m);
+    C[j] += pa0 * Ec0;
+    C[j + 1] += pa1 * Ec1;
+    S[j] += pa0 * Es0;
+    S[j + 1] += pa1 * Es1;
   }
 }
 
@@ -144,45 +172,69 @@ static void analysis_run(int bands, int m, int l0, const double* a, const double
 ATMOSH_SH_CLONES
 static void synthesis_run(int bands, int m, int l0, const double* a, const double* b, const double* coeffs,
                           const V& xr, const V& p2r, const V& p1r, V& Ec, V& Es, V& Oc, V& Os) {
-  const V x = xr;
-  V p2 = p2r, p1 = p1r;
+  const V4 x0 = lo(xr), x1 = hi(xr);
+  V4 p20 = lo(p2r), p21 = hi(p2r), p10 = lo(p1r), p11 = hi(p1r);
+  V4 ec0 = lo(Ec), ec1 = hi(Ec), es0 = lo(Es), es1 = hi(Es), oc0 = lo(Oc), oc1 = hi(Oc), os0 = lo(Os),
+     os1 = hi(Os);
   int l = l0;
   std::size_t ti = tri_index(l, m);
   if (l < bands && ((l - m) & 1)) {
     const int i0 = l * (l + 1);
-    const V pa = a[ti] * x * p1 - b[ti] * p2;
-    Oc += pa * coeffs[i0 + m];
-    Os += pa * coeffs[i0 - m];
-    p2 = p1;
-    p1 = pa;
+    const V4 pa0 = a[ti] * x0 * p10 - b[ti] * p20;
+    const V4 pa1 = a[ti] * x1 * p11 - b[ti] * p21;
+    oc0 += pa0 * coeffs[i0 + m];
+    oc1 += pa1 * coeffs[i0 + m];
+    os0 += pa0 * coeffs[i0 - m];
+    os1 += pa1 * coeffs[i0 - m];
+    p20 = p10;
+    p21 = p11;
+    p10 = pa0;
+    p11 = pa1;
     ti += l + 1;
     ++l;
   }
-  V ec = Ec, es = Es, oc = Oc, os = Os;
   for (; l + 1 < bands; l += 2) {
     const double a0 = a[ti], b0 = b[ti];
     const double a1 = a[ti + l + 1], b1 = b[ti + l + 1];
     const int i0 = l * (l + 1), i1 = (l + 1) * (l + 2);
-    const V pa = a0 * x * p1 - b0 * p2;
-    const V pb = a1 * x * pa - b1 * p1;
-    ec += pa * coeffs[i0 + m];
-    es += pa * coeffs[i0 - m];
-    oc += pb * coeffs[i1 + m];
-    os += pb * coeffs[i1 - m];
-    p2 = pa;
-    p1 = pb;
+    const double c0c = coeffs[i0 + m], c0s = coeffs[i0 - m], c1c = coeffs[i1 + m], c1s = coeffs[i1 - m];
+    const V4 pa0 = a0 * x0 * p10 - b0 * p20;
+    const V4 pa1 = a0 * x1 * p11 - b0 * p21;
+    const V4 pb0 = a1 * x0 * pa0 - b1 * p10;
+    const V4 pb1 = a1 * x1 * pa1 - b1 * p11;
+    ec0 += pa0 * c0c;
+    ec1 += pa1 * c0c;
+    es0 += pa0 * c0s;
+    es1 += pa1 * c0s;
+    oc0 += pb0 * c1c;
+    oc1 += pb1 * c1c;
+    os0 += pb0 * c1s;
+    os1 += pb1 * c1s;
+    p20 = pa0;
+    p21 = pa1;
+    p10 = pb0;
+    p11 = pb1;
     ti += 2 * l + 3;
   }
   if (l < bands) {
     const int i0 = l * (l + 1);
-    const V pa = a[ti] * x * p1 - b[ti] * p2;
-    ec += pa * coeffs[i0 + m];
-    es += pa * coeffs[i0 - m];
+    const V4 pa0 = a[ti] * x0 * p10 - b[ti] * p20;
+    const V4 pa1 = a[ti] * x1 * p11 - b[ti] * p21;
+    ec0 += pa0 * coeffs[i0 + m];
+    ec1 += pa1 * coeffs[i0 + m];
+    es0 += pa0 * coeffs[i0 - m];
+    es1 += pa1 * coeffs[i0 - m];
   }
-  Ec = ec;
-  Es = es;
-  Oc = oc;
-  Os = os;
+  for (int k = 0; k < 4; ++k) {
+    Ec[k] = ec0[k];
+    Ec[k + 4] = ec1[k];
+    Es[k] = es0[k];
+    Es[k + 4] = es1[k];
+    Oc[k] = oc0[k];
+    Oc[k + 4] = oc1[k];
+    Os[k] = os0[k];
+    Os[k + 4] = os1[k];
+  }
 }
 
 // Scalar start of a block whose sectoral values need the extended range. Each lane
@@ -251,11 +303,11 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
   sectorals(bands, pr, *table, smant, sexp);
 
   parallel_for_m(bands, threads, [&](int t0, int step) {
-    std::vector<V> accC(bands), accS(bands);
+    // (not std::vector: GCC drops the vector attribute, and thus the alignment, in template arguments)
+    std::unique_ptr<V[]> accC(new V[bands]), accS(new V[bands]);
     for (int m = t0; m < bands; m += step) {
       const int nl = bands - m;
-      std::fill(accC.begin(), accC.begin() + nl, V{});
-      std::fill(accS.begin(), accS.begin() + nl, V{});
+      for (int i = 0; i < nl; ++i) accC[i] = accS[i] = V{};
       for (int blk = 0; blk < padded; blk += B) {
         bool plain = true;
         V Ec, Es, Oc, Os, x, p2, p1;
@@ -298,7 +350,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
             accS[l - m][k] += v * (odd ? Os[k] : Es[k]);
           });
         }
-        if (l0 < bands) analysis_run(bands, m, l0, a, b, x, p2, p1, Ec, Es, Oc, Os, accC.data(), accS.data());
+        if (l0 < bands) analysis_run(bands, m, l0, a, b, x, p2, p1, Ec, Es, Oc, Os, accC.get(), accS.get());
       }
       for (int l = m; l < bands; ++l) {
         double sc = 0, ss = 0;

@@ -1,0 +1,65 @@
+// Sun-position timings. Targets (issue 4): SPA <= 2 µs per evaluation; the fast
+// algorithm (Grena 2012 #5) >= 10x faster than SPA at <= 0.003° error (its error
+// is measured by `atmosh sun accuracy`, not here).
+#include <benchmark/benchmark.h>
+
+#include "atmosh/atmo/sun_fast.hpp"
+#include "atmosh/atmo/sun_position.hpp"
+#include "atmosh/atmo/sun_spa.hpp"
+#include "atmosh/atmo/time_utc.hpp"
+
+using namespace atmosh::atmo;
+
+namespace {
+const double kJd0 = 2460390.0;  // 2024-03-20T12:00Z
+
+void BM_SpaPosition(benchmark::State& st) {
+  SpaInput in;
+  in.latitude_deg = 48.85;
+  in.longitude_deg = 2.35;
+  in.delta_t_s = 69.0;
+  double k = 0;
+  for (auto _ : st) {
+    in.jd_utc = kJd0 + 0.0137 * k;
+    k = k < 1000 ? k + 1 : 0;
+    benchmark::DoNotOptimize(spa_compute(in).azimuth_deg);
+  }
+}
+BENCHMARK(BM_SpaPosition);
+
+void BM_SpaGeocentricOnly(benchmark::State& st) {
+  double k = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(spa_geocentric(kJd0 + 0.0137 * k, 69.0).alpha_deg);
+    k = k < 1000 ? k + 1 : 0;
+  }
+}
+BENCHMARK(BM_SpaGeocentricOnly);
+
+template <int Variant>
+void BM_Grena(benchmark::State& st) {
+  double k = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(grena_position(Variant, kJd0 + 0.0137 * k, 69.0, 48.85, 2.35).azimuth_deg);
+    k = k < 1000 ? k + 1 : 0;
+  }
+}
+BENCHMARK(BM_Grena<5>)->Name("BM_FastGrena5");
+BENCHMARK(BM_Grena<3>)->Name("BM_Grena3");
+BENCHMARK(BM_Grena<1>)->Name("BM_Grena1");
+
+void BM_SunPositionFullSpa(benchmark::State& st) {  // public API with rise/transit/set
+  SunQuery q;
+  q.latitude_deg = 48.85;
+  q.longitude_deg = 2.35;
+  q.delta_t_s = 69.0;
+  q.rise_transit_set = st.range(0) != 0;
+  double k = 0;
+  for (auto _ : st) {
+    q.jd_utc = kJd0 + 0.0137 * k;
+    k = k < 1000 ? k + 1 : 0;
+    benchmark::DoNotOptimize(sun_position(q).azimuth_deg);
+  }
+}
+BENCHMARK(BM_SunPositionFullSpa)->Arg(0)->Arg(1);
+}  // namespace

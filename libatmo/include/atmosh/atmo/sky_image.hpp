@@ -1,0 +1,75 @@
+// atmosh/atmo/sky_image.hpp — sky images and summaries from a SkyIntegrator.
+//
+// Projections (observer's East-North-Up frame):
+//   * Equirect: pixel column x -> azimuth (x + 0.5) / W * 360 deg from north
+//     towards east (north at the left edge, east a quarter across); row y ->
+//     elevation 90 - (y + 0.5) / H * 180 deg (zenith at the top, nadir at the
+//     bottom).
+//   * Fisheye: the upper hemisphere in an azimuthal equidistant (angular)
+//     projection seen from below, as an all-sky camera looking up: zenith at the
+//     centre, the horizon on the inscribed circle, north up and east to the
+//     LEFT. Pixels outside the circle are masked (0).
+// Radiance channels: spectral radiance [W m^-2 sr^-1 nm^-1] per wavelength,
+// CIE XYZ with Y = luminance [cd/m^2] (SpectralToXyz, piecewise-linear), and
+// linear sRGB (D65) on the same scale.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "atmosh/atmo/colour.hpp"
+#include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/sky.hpp"
+
+namespace atmosh::atmo {
+
+enum class SkyProjection { Equirect, Fisheye };
+SkyProjection parse_sky_projection(const std::string& name);  // InputError if unknown
+
+// Direction through the centre of pixel (x, y); false when outside the fisheye disc.
+bool sky_pixel_direction(SkyProjection p, int width, int height, int x, int y, glm::dvec3& dir);
+
+// Solar irradiance at 1 AU averaged over the bin each wavelength of
+// spectrum_wavelengths(spectrum) stands for (equal bins, or for explicit lists the
+// cells between midpoints, clipped to the solar table): Fraunhofer lines make point
+// values noisy.
+SolarSpectrum solar_spectrum_for_bins(const SpectrumSpec& spectrum);
+
+struct SkyImage {
+  int width = 0, height = 0;
+  std::vector<double> wavelengths_nm;
+  std::vector<float> spectral;           // [(y * width + x) * n_wavelengths + i], if kept
+  std::vector<float> X, Y, Z, R, G, B;   // planar, row 0 at the top
+  std::vector<std::uint8_t> valid;       // 0 outside the fisheye disc
+  double seconds = 0;                    // wall time of the render
+  long rays = 0;
+};
+
+// Renders with `threads` worker threads (0 = hardware concurrency).
+SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int width, int height, double altitude_m,
+                    const glm::dvec3& sun, bool keep_spectral, int threads = 0);
+
+// Colour of the sky in one direction.
+struct SkyColour {
+  Xyz xyz;       // Y in cd/m^2
+  Rgb srgb;      // linear sRGB, same scale
+};
+SkyColour sky_colour(const SkyIntegrator& sky, const SpectralToXyz& cmf, double altitude_m, const glm::dvec3& view,
+                     const glm::dvec3& sun);
+
+// The numbers a study or sweep reports for one sky.
+struct SkySummary {
+  SkyColour zenith;
+  SkyColour horizon_toward_sun;  // view elevation `horizon_elevation_deg`, sun's azimuth
+  SkyColour horizon_away;        // same elevation, opposite azimuth
+  Xyz sun_transmitted;           // XYZ of the transmitted solar irradiance (W m^-2 weighted; Y in lux)
+  Chromaticity sun_chromaticity; // of the transmitted direct sunlight
+  double sun_transmittance_550 = 0;  // direct-beam transmittance nearest 550 nm
+};
+SkySummary summarize_sky(const SkyIntegrator& sky, double altitude_m, const glm::dvec3& sun,
+                         double horizon_elevation_deg = 1.0);
+
+}  // namespace atmosh::atmo

@@ -1,0 +1,151 @@
+#include "atmosh/atmo/sky_image.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "atmosh/atmo/observer.hpp"
+#include "atmosh/error.hpp"
+
+namespace atmosh::atmo {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+SkyProjection parse_sky_projection(const std::string& name) {
+  if (name == "equirect") return SkyProjection::Equirect;
+  if (name == "fisheye") return SkyProjection::Fisheye;
+  throw InputError("projection '" + name + "' is not one of equirect, fisheye");
+}
+
+bool sky_pixel_direction(SkyProjection p, int w, int h, int x, int y, glm::dvec3& dir) {
+  if (p == SkyProjection::Equirect) {
+    const double az = (x + 0.5) / w * 360.0;
+    const double el = 90.0 - (y + 0.5) / h * 180.0;
+    dir = sun_direction_enu(90.0 - el, az);
+    return true;
+  }
+  // Fisheye: u to the right, v up, in [-1, 1] over the inscribed disc.
+  const double size = std::min(w, h);
+  const double u = (x + 0.5 - 0.5 * w) / (0.5 * size), v = (0.5 * h - (y + 0.5)) / (0.5 * size);
+  const double rr = std::sqrt(u * u + v * v);
+  if (rr > 1.0) return false;
+  const double zenith = rr * 90.0;
+  // North up, east to the left (looking up from below).
+  const double az = std::atan2(-u, v) * 180.0 / kPi;
+  dir = sun_direction_enu(zenith, az < 0 ? az + 360.0 : az);
+  return true;
+}
+
+SolarSpectrum solar_spectrum_for_bins(const SpectrumSpec& s) {
+  const std::vector<double> w = spectrum_wavelengths(s);
+  SolarSpectrum e(w.size());
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    double lo, hi;
+    if (s.wavelengths_nm.empty()) {
+      const double bin = (s.to_nm - s.from_nm) / s.count;
+      lo = w[i] - 0.5 * bin;
+      hi = w[i] + 0.5 * bin;
+    } else {
+      lo = i > 0 ? 0.5 * (w[i - 1] + w[i]) : w[i] - (w.size() > 1 ? 0.5 * (w[1] - w[0]) : 0.5);
+      hi = i + 1 < w.size() ? 0.5 * (w[i] + w[i + 1]) : w[i] + (w.size() > 1 ? 0.5 * (w[i] - w[i - 1]) : 0.5);
+    }
+    lo = std::clamp(lo, kSolarSpectrumFirstNm, kSolarSpectrumLastNm);
+    hi = std::clamp(hi, kSolarSpectrumFirstNm, kSolarSpectrumLastNm);
+    e[i] = hi > lo ? solar_irradiance_toa_mean(lo, hi) : solar_irradiance_toa(std::clamp(w[i], kSolarSpectrumFirstNm, kSolarSpectrumLastNm));
+  }
+  return e;
+}
+
+SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int width, int height, double altitude_m,
+                    const glm::dvec3& sun, bool keep_spectral, int threads) {
+  if (width < 1 || height < 1 || width > 65536 || height > 65536)
+    throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  const auto t0 = std::chrono::steady_clock::now();
+  SkyImage img;
+  img.width = width;
+  img.height = height;
+  img.wavelengths_nm = sky.atmosphere().wavelengths_nm();
+  const std::size_t n = static_cast<std::size_t>(width) * height, nw = img.wavelengths_nm.size();
+  for (auto* c : {&img.X, &img.Y, &img.Z, &img.R, &img.G, &img.B}) c->assign(n, 0.0f);
+  img.valid.assign(n, 0);
+  if (keep_spectral) img.spectral.assign(n * nw, 0.0f);
+  const SpectralToXyz cmf(img.wavelengths_nm);
+  // Validate the inputs once, on this thread, so errors are not thrown from workers.
+  {
+    glm::dvec3 d;
+    sky_pixel_direction(projection, width, height, width / 2, height / 2, d);
+    (void)sky.radiance(altitude_m, glm::dvec3(0, 0, 1), sun);
+  }
+  std::atomic<int> next_row{0};
+  std::atomic<long> rays{0};
+  auto worker = [&] {
+    std::vector<double> L(nw);
+    for (int y; (y = next_row.fetch_add(1)) < height;) {
+      for (int x = 0; x < width; ++x) {
+        glm::dvec3 dir;
+        if (!sky_pixel_direction(projection, width, height, x, y, dir)) continue;
+        const std::size_t p = static_cast<std::size_t>(y) * width + x;
+        sky.radiance(altitude_m, dir, sun, L.data());
+        ++rays;
+        const Xyz c = cmf(L);
+        const Rgb rgb = linear_srgb_from_xyz(c);
+        img.X[p] = static_cast<float>(c.X);
+        img.Y[p] = static_cast<float>(c.Y);
+        img.Z[p] = static_cast<float>(c.Z);
+        img.R[p] = static_cast<float>(rgb.r);
+        img.G[p] = static_cast<float>(rgb.g);
+        img.B[p] = static_cast<float>(rgb.b);
+        img.valid[p] = 1;
+        if (keep_spectral)
+          for (std::size_t i = 0; i < nw; ++i) img.spectral[p * nw + i] = static_cast<float>(L[i]);
+      }
+    }
+  };
+  int nt = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  nt = std::min(nt, height);
+  std::vector<std::thread> pool;
+  for (int i = 1; i < nt; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  img.rays = rays.load();
+  img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return img;
+}
+
+SkyColour sky_colour(const SkyIntegrator& sky, const SpectralToXyz& cmf, double altitude_m, const glm::dvec3& view,
+                     const glm::dvec3& sun) {
+  const auto L = sky.radiance(altitude_m, view, sun);
+  SkyColour c;
+  c.xyz = cmf(L);
+  c.srgb = linear_srgb_from_xyz(c.xyz);
+  return c;
+}
+
+SkySummary summarize_sky(const SkyIntegrator& sky, double altitude_m, const glm::dvec3& sun,
+                         double horizon_elevation_deg) {
+  const SpectralToXyz cmf(sky.atmosphere().wavelengths_nm());
+  SkySummary s;
+  const double sun_az = std::atan2(sun.x, sun.y) * 180.0 / kPi;
+  s.zenith = sky_colour(sky, cmf, altitude_m, glm::dvec3(0, 0, 1), sun);
+  s.horizon_toward_sun =
+      sky_colour(sky, cmf, altitude_m, sun_direction_enu(90.0 - horizon_elevation_deg, sun_az), sun);
+  s.horizon_away = sky_colour(sky, cmf, altitude_m, sun_direction_enu(90.0 - horizon_elevation_deg, sun_az + 180.0), sun);
+  const auto t = sky.sun_transmittance(altitude_m, sun);
+  std::vector<double> e(t.size());
+  const double d2 = sky.options().sun_distance_au * sky.options().sun_distance_au;
+  for (std::size_t i = 0; i < t.size(); ++i) e[i] = sky.solar()[i] / d2 * t[i];
+  s.sun_transmitted = cmf(e);
+  s.sun_chromaticity = xy_chromaticity(s.sun_transmitted);
+  const auto& wl = sky.atmosphere().wavelengths_nm();
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < wl.size(); ++i)
+    if (std::fabs(wl[i] - 550.0) < std::fabs(wl[best] - 550.0)) best = i;
+  s.sun_transmittance_550 = t.empty() ? 0.0 : t[best];
+  return s;
+}
+
+}  // namespace atmosh::atmo
