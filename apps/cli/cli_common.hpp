@@ -43,10 +43,12 @@ void register_sh_commands(CLI::App& app);      // sh project|eval|rotate|irradia
 void register_sun_commands(CLI::App& app);     // sun (single time, ranges, accuracy)
 void register_atmo_commands(CLI::App& app);    // optical-depth, phase, stability, converge lut
 void register_gpu_commands(CLI::App& app);     // gpu info
+void register_sky_commands(CLI::App& app);     // sky, study, sweep, converge sky
 
 // Parts of the main job, run in this order by `atmosh demo`.
 void demo_sun(DemoContext& ctx);
 void demo_atmo(DemoContext& ctx);
 void demo_sh(DemoContext& ctx);
+void demo_sky(DemoContext& ctx);
 
 }  // namespace atmosh::cli

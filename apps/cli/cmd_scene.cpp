@@ -86,6 +86,7 @@ void register_scene_commands(CLI::App& app) {
       ctx.written.push_back(ctx.out_dir / "plan.csv");
       demo_sun(ctx);
       demo_atmo(ctx);
+      demo_sky(ctx);
       demo_sh(ctx);
       std::string manifest = "# atmosh demo results (" + std::string(quick ? "quick" : "full") + " run)\n";
       for (const auto& f : ctx.written) manifest += f.lexically_relative(ctx.out_dir).string() + "\n";

@@ -134,6 +134,12 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     present_[c] = atm_.has(c) && vc[c] > 0.0;
     n_present += present_[c];
     log_encoded_[c] = present_[c] && atm_.profile(c).positive_on(top);
+    has_kinks_ = has_kinks_ || (present_[c] && !log_encoded_[c]);
+    support_top_[c] = top;
+    if (present_[c] && !log_encoded_[c]) {
+      const auto& ks = atm_.profile(c).kinks();
+      if (!ks.empty() && atm_.profile(c)(ks.back() + 1e-9 * top) == 0.0 && atm_.profile(c)(top) == 0.0) support_top_[c] = ks.back();
+    }
   }
   double u = (n_present == 0 && opt_.uniform_share == 0.0) ? 1.0 : opt_.uniform_share;
   auto mass = [&](double h) {
@@ -154,19 +160,55 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     }
     radii_[k] = R_ + 0.5 * (lo + hi);
   }
-  for (int k = 1; k < S; ++k)  // strictly increasing even for degenerate inputs
-    radii_[k] = std::max(radii_[k], radii_[k - 1] + 1e-6 * top / S);
+  // Every profile kink inside the atmosphere becomes an extra shell, so that no
+  // shell interval contains a kink (interpolation of kinked profiles stays inside
+  // a smooth region, see interpolate()).
+  for (int c = 0; c < 3; ++c)
+    if (present_[c] && !log_encoded_[c])
+      for (double kink : atm_.profile(c).kinks())
+        if (kink > 0.0 && kink < top) radii_.push_back(R_ + kink);
+  std::sort(radii_.begin(), radii_.end());
+  radii_.erase(std::unique(radii_.begin(), radii_.end(), [&](double x, double y) { return std::abs(x - y) < 1e-6 * top; }),
+               radii_.end());
   radii_.back() = T_;
-  rho_.resize(S);
-  for (int k = 0; k < S; ++k) rho_[k] = std::sqrt(std::max(0.0, (radii_[k] - R_) * (radii_[k] + R_)));
-  lagrange_den_.assign(static_cast<std::size_t>(S - 3) * 4, 1.0);
-  for (int w = 0; w + 3 < S; ++w)
+  const int S2 = static_cast<int>(radii_.size());
+  rho_.resize(S2);
+  for (int k = 0; k < S2; ++k) rho_[k] = std::sqrt(std::max(0.0, (radii_[k] - R_) * (radii_[k] + R_)));
+  lagrange_den_.assign(static_cast<std::size_t>(S2 - 3) * 4, 1.0);
+  for (int w = 0; w + 3 < S2; ++w)
     for (int i = 0; i < 4; ++i) {
       double d = 1.0;
       for (int j = 0; j < 4; ++j)
         if (j != i) d *= rho_[w + i] - rho_[w + j];
       lagrange_den_[w * 4 + i] = 1.0 / d;
     }
+  region_.assign(S2, 0);
+  for (int k = 1; k < S2; ++k) {
+    bool kink_at_k = false;
+    for (int c = 0; c < 3; ++c)
+      if (present_[c] && !log_encoded_[c])
+        for (double kink : atm_.profile(c).kinks()) kink_at_k = kink_at_k || std::abs(radii_[k - 1] - (R_ + kink)) < 1e-6;
+    region_[k] = region_[k - 1] + (kink_at_k ? 1 : 0);
+  }
+  kink_windows_.assign(S2 - 1, KinkWindow{});
+  for (int kk = 0; kk + 1 < S2; ++kk) {
+    int lo = kk, hi = kk + 1, reg = region_[kk + 1];
+    while (hi - lo < 3) {
+      bool grew = false;
+      if (lo > 0 && region_[lo] == reg) { --lo; grew = true; }
+      if (hi - lo < 3 && hi + 1 < S2 && region_[hi + 1] == reg) { ++hi; grew = true; }
+      if (!grew) break;
+    }
+    KinkWindow& kw = kink_windows_[kk];
+    kw.lo = lo;
+    kw.count = hi - lo + 1;
+    for (int i = 0; i < kw.count; ++i) {
+      double d = 1.0;
+      for (int j = 0; j < kw.count; ++j)
+        if (j != i) d *= rho_[lo + i] - rho_[lo + j];
+      kw.inv_den[i] = 1.0 / d;
+    }
+  }
   crossing_radii_ = radii_;
   for (double k : atm_.kinks()) crossing_radii_.push_back(R_ + k);
   std::sort(crossing_radii_.begin(), crossing_radii_.end());
@@ -247,7 +289,7 @@ glm::dvec3 OpticalDepthLut::decode(const glm::dvec3& v) const {
 }
 
 void OpticalDepthLut::fill(Table& t, int n, bool ground) {
-  const int S = opt_.shells;
+  const int S = static_cast<int>(radii_.size());
   t.n = n;
   t.ground = ground;
   t.v.assign(static_cast<std::size_t>(S) * n * 3, 0.0);
@@ -300,7 +342,7 @@ double OpticalDepthLut::x_ground(double r, double mu, double& d) const {
 }
 
 glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double r, double x) const {
-  const int S = opt_.shells, n = t.n;
+  const int S = static_cast<int>(radii_.size()), n = t.n;
   double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
   int k = static_cast<int>(std::upper_bound(rho_.begin(), rho_.end(), rho) - rho_.begin()) - 1;
   int w = std::clamp(k - 1, 0, S - 4);
@@ -324,11 +366,35 @@ glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double r, double x) cons
     for (int m = 0; m < 4; ++m) inner += xw[m] * glm::dvec3(row[3 * m], row[3 * m + 1], row[3 * m + 2]);
     acc += lw[i] * inner;
   }
+  if (has_kinks_) {
+    // Profiles with kinks: Lagrange in rho only over shells of the same smooth
+    // region (between kinks), of degree <= 3 (window and inverse denominators
+    // precomputed per shell interval).
+    int kk = std::clamp(k, 0, S - 2);
+    const KinkWindow& kw = kink_windows_[kk];
+    double li[4];
+    for (int i = 0; i < kw.count; ++i) {
+      double p = kw.inv_den[i];
+      for (int j = 0; j < kw.count; ++j)
+        if (j != i) p *= rho - rho_[kw.lo + j];
+      li[i] = p;
+    }
+    for (int c = 0; c < 3; ++c) {
+      if (log_encoded_[c] || !present_[c]) continue;
+      double v = 0.0;
+      for (int i = 0; i < kw.count; ++i) {
+        const double* row = &t.v[(static_cast<std::size_t>(kw.lo + i) * n + jw) * 3];
+        v += li[i] * (xw[0] * row[c] + xw[1] * row[3 + c] + xw[2] * row[6 + c] + xw[3] * row[9 + c]);
+      }
+      acc[c] = v;
+    }
+  }
   return acc;
 }
 
 LutColumn OpticalDepthLut::lookup(const Table& up, const Table* ground, double r, double mu) const {
   LutColumn out;
+  mu = std::clamp(mu, -1.0, 1.0);
   if (r > T_) {
     double s0 = sg::distance_to_top_from_outside(r, mu, T_);
     if (s0 < 0.0) return out;
@@ -347,6 +413,13 @@ LutColumn OpticalDepthLut::lookup(const Table& up, const Table* ground, double r
   double d;
   double x = x_up(r, mu, d);
   out.column = decode(interpolate(up, r, x)) * d;
+  if (has_kinks_) {
+    // A ray that stays above the top of a profile with compact support has an
+    // exactly zero column of it (removes interpolation ringing across the kink).
+    double h_min = (mu < 0.0 ? std::sqrt(sg::tangent_radius_sq(r, mu)) : r) - R_;
+    for (int c = 0; c < 3; ++c)
+      if (present_[c] && !log_encoded_[c] && h_min >= support_top_[c]) out.column[c] = 0.0;
+  }
   return out;
 }
 
@@ -355,14 +428,13 @@ LutColumn OpticalDepthLut::sun(double r, double mu) const { return lookup(sun_up
 
 double OpticalDepthLut::estimate_max_rel_error() const {
   double worst = 0.0;
-  glm::dvec3 vc = atm_.vertical_column();
+  const auto& wl = atm_.wavelengths_nm();
+  Coefficients kc = atm_.coefficients_at(wl.empty() ? 550.0 : wl[wl.size() / 2]);
   auto rel = [&](const glm::dvec3& a, const glm::dvec3& b) {
-    double e = 0.0;
-    for (int c = 0; c < 3; ++c)
-      if (present_[c]) e = std::max(e, std::abs(a[c] - b[c]) / std::max(std::abs(b[c]), 1e-9 * vc[c]));
-    return e;
+    double ta = optical_depth(kc, a), tb = optical_depth(kc, b);
+    return tb > 0.0 ? std::abs(ta - tb) / tb : std::abs(ta);
   };
-  const int S = opt_.shells;
+  const int S = static_cast<int>(radii_.size());
   for (int k = 1; k < S - 1; k += 2) {
     // mid-shell radius (in rho), mid-direction samples
     double rho = 0.5 * (rho_[k] + rho_[k + 1]);

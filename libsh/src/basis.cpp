@@ -64,6 +64,17 @@ void legendre_normalized(int bands, double cos_t, double sin_t, double* out) {
   }
 }
 
+void legendre_column(int bands, int m, double cos_t, double sin_t, double* out) {
+  check_bands(bands, "legendre_column");
+  if (m < 0 || m >= bands) throw InputError("legendre_column: m = " + std::to_string(m) + " out of range");
+  if (!std::isfinite(cos_t) || !std::isfinite(sin_t))
+    throw InputError("legendre_column: cos/sin of the polar angle is not finite");
+  const auto table = legendre_table(bands);
+  detail::XNum pmm{1.0 / std::sqrt(4.0 * std::numbers::pi), 0};
+  for (int k = 1; k <= m; ++k) pmm = detail::next_sectoral(pmm, table->sectoral()[k], sin_t);
+  detail::legendre_column(bands, m, cos_t, pmm, table->a(), table->b(), [&](int l, double v) { out[l - m] = v; });
+}
+
 namespace {
 void evaluate_unit(int bands, const glm::dvec3& d, double* out, const LegendreTable& table) {
   const double rho = std::sqrt(d.x * d.x + d.y * d.y);

@@ -2,6 +2,9 @@
 // recurrences in latitude, vectorised over blocks of ring pairs.
 #include "atmosh/sh/transform.hpp"
 
+// Internal vector helpers never cross a library boundary: the ABI note does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 #include <algorithm>
 #include <memory>
 #include <cmath>

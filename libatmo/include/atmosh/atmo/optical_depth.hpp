@@ -39,7 +39,9 @@
 // to the ground (d_min = r - R, d_max = rho): uniform in x, it resolves grazing
 // and tangent rays. Stored value: the mean relative density X_c / d, as its
 // logarithm for profiles positive everywhere, linear otherwise (tents). Lookup:
-// cubic Lagrange in x (4 samples) and in rho across 4 neighbouring shells.
+// cubic Lagrange in x (4 samples) and in rho across 4 neighbouring shells (for
+// profiles with kinks — tents — shells are snapped onto the kinks and the rho
+// interpolation uses only shells of the same kink-free region, degree <= 3).
 // Table entries are computed with fixed Gauss-Legendre rules on the pieces
 // between shell, kink and tangent crossings (each piece spanning at most 1.5
 // times the smallest relevant scale height in altitude), ~1e-9 relative.
@@ -94,8 +96,8 @@ struct LutOptions {
   int shells = 32;            // S >= 4
   int view_directions = 64;   // per branch (sky / ground), >= 4
   int sun_directions = 64;    // >= 4
-  double uniform_share = 1.0; // weight of rho-uniform placement vs one constituent's optical mass
-  int gauss_points = 6;       // per piece when building
+  double uniform_share = 2.0; // weight of rho-uniform placement vs one constituent's optical mass
+  int gauss_points = 4;       // per piece when building
 };
 
 struct LutColumn {
@@ -117,7 +119,8 @@ class OpticalDepthLut {
   const LutOptions& options() const { return opt_; }
   double build_time_s() const { return build_time_s_; }
   std::size_t table_bytes() const;
-  // Max relative error of the columns at midpoints between table samples on
+  // Max relative error of the total optical depth (middle wavelength of the
+  // atmosphere's grid) at midpoints between table samples on
   // a subset of shells and directions, against fresh build-quality integrals:
   // an a-posteriori estimate (costs ~ a build; not part of build_time_s).
   double estimate_max_rel_error() const;
@@ -145,6 +148,14 @@ class OpticalDepthLut {
   std::vector<double> lagrange_den_;    // [shell window start][4] denominators
   std::array<bool, 3> log_encoded_{};
   std::array<bool, 3> present_{};
+  bool has_kinks_ = false;
+  std::array<double, 3> support_top_{};  // altitude above which a kinked profile is 0
+  struct KinkWindow {
+    int lo = 0, count = 0;
+    double inv_den[4] = {1, 1, 1, 1};
+  };
+  std::vector<KinkWindow> kink_windows_;
+  std::vector<int> region_;  // index of the smooth region (between kinks) each shell interval ends in
   std::vector<double> gl_x_, gl_w_;
   Table view_up_, view_ground_, sun_up_;
   double build_time_s_ = 0.0;

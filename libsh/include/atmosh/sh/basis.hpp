@@ -72,6 +72,10 @@ std::shared_ptr<const LegendreTable> legendre_table(int bands);
 /// near the poles keep full accuracy.
 void legendre_normalized(int bands, double cos_t, double sin_t, double* out);
 
+/// One column: Pbar_lm(cos t) for l = m..bands-1 into out[l - m] (size bands - m).
+/// O(m + bands) — for tests and zonal/sectoral work at very high band.
+void legendre_column(int bands, int m, double cos_t, double sin_t, double* out);
+
 /// Y_i(dir) for the bands^2 coefficients, into out (size bands^2).
 void evaluate(int bands, const glm::dvec3& dir, double* out);
 std::vector<double> evaluate(int bands, const glm::dvec3& dir);

@@ -1,0 +1,564 @@
+// atmosh sky, atmosh study sun-elevation|day, atmosh sweep [merge], atmosh converge sky.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "atmosh/atmo/observer.hpp"
+#include "atmosh/atmo/sun_series.hpp"
+#include "atmosh/atmo/time_utc.hpp"
+#include "atmosh/error.hpp"
+#include "atmosh/io/csv.hpp"
+#include "atmosh/io/plot.hpp"
+#include "atmosh/io/study.hpp"
+#include "atmosh/scene/sweep.hpp"
+#include "cli_common.hpp"
+#include "sky_common.hpp"
+
+namespace atmosh::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace atmosh::atmo;
+
+struct QualityOptions {
+  int shells = 32, segments = 16, samples = 2, threads = 0;
+  SkyOptions sky() const {
+    SkyOptions o;
+    o.lut.shells = shells;
+    o.segments = segments;
+    o.samples_per_segment = samples;
+    return o;
+  }
+};
+
+void add_quality_options(CLI::App* c, QualityOptions& q) {
+  c->add_option("--shells", q.shells, "Shells of the optical-depth tables")->capture_default_str();
+  c->add_option("--segments", q.segments, "Shells that cut each view ray")->capture_default_str();
+  c->add_option("--samples", q.samples, "Gauss-Legendre points per view-ray piece")->capture_default_str();
+  c->add_option("--threads", q.threads, "Worker threads (0 = all cores)")->capture_default_str();
+}
+
+scene::Scene load_or_default(const std::string& file) {
+  return file.empty() ? scene::default_scene() : scene::load_scene(file);
+}
+
+nlohmann::json rgb_json(const Rgb& c) { return nlohmann::json::array({c.r, c.g, c.b}); }
+
+// ---------------------------------------------------------------- atmosh sky
+struct SkyCmd {
+  std::string scene_file, time, projection = "equirect", size = "512x256", output, png;
+  std::optional<double> lat, lon, sun_elevation;
+  double height = 0.0, sun_azimuth = 180.0;
+  bool spectral = false, json = false;
+  QualityOptions q;
+};
+
+SunPlacement resolve_sun(const SkyCmd& c, const scene::Scene& s) {
+  const bool place = c.lat || c.lon || !c.time.empty();
+  if (place && c.sun_elevation) throw InputError("give either --lat/--lon/--time or --sun-elevation, not both");
+  if (place) {
+    if (!c.lat || !c.lon || c.time.empty()) throw InputError("--lat, --lon and --time go together");
+    return sun_from_place(require_range(*c.lat, -90, 90, "--lat"), require_range(*c.lon, -180, 180, "--lon"),
+                          require_range(c.height, -500, 1e8, "--height"), c.time);
+  }
+  if (c.sun_elevation) {
+    SunPlacement p;
+    p.elevation_deg = require_range(*c.sun_elevation, -90, 90, "--sun-elevation");
+    p.azimuth_deg = require_range(c.sun_azimuth, -360, 360, "--sun-azimuth");
+    p.observer_height_m = require_range(c.height, -500, 1e8, "--height");
+    return p;
+  }
+  return sun_of_scene(s);
+}
+
+void run_sky(const SkyCmd& c) {
+  if (c.output.empty()) throw InputError("-o is required (the EXR file to write)");
+  const auto s = load_or_default(c.scene_file);
+  const SunPlacement sun = resolve_sun(c, s);
+  const auto proj = parse_sky_projection(c.projection);
+  const auto size = parse_size(c.size, "--size");
+  const auto model = make_sky_model(s, c.q.sky(), sun.distance_au);
+  const double h = std::max(sun.observer_height_m, 0.0);
+  const SkyImage img = render_sky(*model->sky, proj, size[0], size[1], h, sun.direction(), c.spectral, c.q.threads);
+  const auto prov = sky_provenance(*model, sun);
+  const double exposure = write_sky_image(img, c.output, c.png, prov, c.projection, sun);
+  const SkySummary sm = summarize_sky(*model->sky, h, sun.direction());
+  if (c.json) {
+    nlohmann::json j = {{"exr", c.output},
+                        {"png", c.png.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.png)},
+                        {"sun_elevation_deg", sun.elevation_deg},
+                        {"sun_azimuth_deg", sun.azimuth_deg},
+                        {"zenith_luminance_cd_m2", sm.zenith.xyz.Y},
+                        {"zenith_srgb", rgb_json(sm.zenith.srgb)},
+                        {"zenith_xy", {xy_chromaticity(sm.zenith.xyz).x, xy_chromaticity(sm.zenith.xyz).y}},
+                        {"horizon_srgb", rgb_json(sm.horizon_toward_sun.srgb)},
+                        {"horizon_luminance_cd_m2", sm.horizon_toward_sun.xyz.Y},
+                        {"horizon_away_srgb", rgb_json(sm.horizon_away.srgb)},
+                        {"srgb_units", "linear sRGB (D65), scaled so that Y is luminance in cd/m^2"},
+                        {"exposure", exposure},
+                        {"rays", img.rays},
+                        {"render_time_s", img.seconds},
+                        {"table_build_time_s", model->build_time_s},
+                        {"rays_per_s", img.seconds > 0 ? img.rays / img.seconds : 0.0}};
+    if (sun.spa) j["apparent_sun_elevation_deg"] = sun.spa->apparent_elevation_deg;
+    print_json(j);
+  } else {
+    std::cout << "sky: " << c.output << (c.png.empty() ? "" : " and " + c.png) << " (" << img.rays << " rays in "
+              << img.seconds << " s; sun " << sun.describe() << "; zenith " << sm.zenith.xyz.Y << " cd/m^2)\n";
+  }
+}
+
+// ---------------------------------------------------------- studies (shared)
+const std::vector<std::string> kStudyColumns = {
+    "zenith_luminance_cd_m2", "zenith_x", "zenith_y", "zenith_r", "zenith_g", "zenith_b",
+    "horizon_sun_luminance_cd_m2", "horizon_sun_x", "horizon_sun_y", "horizon_sun_r", "horizon_sun_g", "horizon_sun_b",
+    "horizon_away_luminance_cd_m2", "horizon_away_x", "horizon_away_y", "sun_x", "sun_y",
+    "sun_direct_normal_illuminance_lux", "sun_transmittance_550nm"};
+
+std::vector<double> study_values(const SkySummary& m) {
+  const auto z = xy_chromaticity(m.zenith.xyz), hs = xy_chromaticity(m.horizon_toward_sun.xyz),
+             ha = xy_chromaticity(m.horizon_away.xyz);
+  return {m.zenith.xyz.Y, z.x, z.y, m.zenith.srgb.r, m.zenith.srgb.g, m.zenith.srgb.b,
+          m.horizon_toward_sun.xyz.Y, hs.x, hs.y, m.horizon_toward_sun.srgb.r, m.horizon_toward_sun.srgb.g,
+          m.horizon_toward_sun.srgb.b, m.horizon_away.xyz.Y, ha.x, ha.y, m.sun_chromaticity.x, m.sun_chromaticity.y,
+          m.sun_transmitted.Y, m.sun_transmittance_550};
+}
+
+void study_plots(const fs::path& dir, const std::string& xname, const std::string& xlabel, const std::vector<double>& x,
+                 const std::vector<SkySummary>& rows, const std::vector<std::string>& labels, std::vector<fs::path>& written) {
+  std::vector<io::Swatch> hz, zn;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    hz.push_back({display_colour(rows[i].horizon_toward_sun.srgb), labels[i]});
+    zn.push_back({display_colour(rows[i].zenith.srgb), labels[i]});
+  }
+  io::write_swatch_png(dir / "horizon_colour.png", "horizon toward the sun (1 deg up): colour against " + xname, hz);
+  io::write_swatch_png(dir / "zenith_colour.png", "zenith: colour against " + xname, zn);
+  io::PlotSpec p;
+  p.title = "Sky luminance against " + xname;
+  p.x_label = xlabel;
+  p.y_label = "luminance [cd/m^2]";
+  p.log_y = true;
+  io::Series a{"zenith", x, {}}, b{"horizon toward sun", x, {}}, c{"horizon away from sun", x, {}};
+  for (const auto& r : rows) {
+    a.y.push_back(r.zenith.xyz.Y);
+    b.y.push_back(r.horizon_toward_sun.xyz.Y);
+    c.y.push_back(r.horizon_away.xyz.Y);
+  }
+  p.series = {a, b, c};
+  io::write_plot_png(dir / "luminance.png", p);
+  io::PlotSpec q;
+  q.title = "Chromaticity x against " + xname + " (larger = redder)";
+  q.x_label = xlabel;
+  q.y_label = "CIE 1931 x";
+  io::Series qa{"zenith", x, {}}, qb{"horizon toward sun", x, {}}, qc{"direct sunlight", x, {}};
+  for (const auto& r : rows) {
+    qa.y.push_back(xy_chromaticity(r.zenith.xyz).x);
+    qb.y.push_back(xy_chromaticity(r.horizon_toward_sun.xyz).x);
+    qc.y.push_back(r.sun_transmitted.Y > 0 ? r.sun_chromaticity.x : std::nan(""));
+  }
+  q.series = {qa, qb, qc};
+  io::write_plot_png(dir / "chromaticity.png", q);
+  for (const char* f : {"horizon_colour.png", "zenith_colour.png", "luminance.png", "chromaticity.png"})
+    written.push_back(dir / f);
+}
+
+// ----------------------------------------------------- study sun-elevation
+struct ElevationStudy {
+  std::string scene_file, output;
+  double from = -18, to = 90, step = 1, azimuth = 180;
+  QualityOptions q;
+};
+
+std::vector<fs::path> run_elevation_study(const ElevationStudy& o) {
+  if (o.output.empty()) throw InputError("-o is required (output folder)");
+  require_range(o.from, -90, 90, "--from");
+  require_range(o.to, -90, 90, "--to");
+  if (!(o.step > 0)) throw InputError("--step " + io::format_double(o.step) + " must be > 0");
+  if (o.to < o.from) throw InputError("--to " + io::format_double(o.to) + " is below --from");
+  const auto s = load_or_default(o.scene_file);
+  const auto model = make_sky_model(s, o.q.sky(), 1.0);
+  const double h = s.observer ? std::max(s.observer->height_m, 0.0) : 0.0;
+  std::vector<double> elev;
+  for (double e = o.from; e <= o.to + 1e-9; e += o.step) elev.push_back(e);
+  std::vector<SkySummary> rows(elev.size());
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t i; (i = next.fetch_add(1)) < elev.size();)
+      rows[i] = summarize_sky(*model->sky, h, sun_direction_enu(90.0 - elev[i], o.azimuth));
+  };
+  std::vector<std::thread> pool;
+  const int nt = o.q.threads > 0 ? o.q.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  for (int i = 1; i < nt; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  std::vector<std::string> cols = {"sun_elevation_deg"};
+  cols.insert(cols.end(), kStudyColumns.begin(), kStudyColumns.end());
+  io::CsvTable t(cols);
+  std::vector<std::string> labels;
+  for (std::size_t i = 0; i < elev.size(); ++i) {
+    std::vector<io::CsvCell> r = {elev[i]};
+    for (double v : study_values(rows[i])) r.emplace_back(v);
+    t.add_row(std::move(r));
+    std::ostringstream l;
+    l << elev[i];
+    labels.push_back(l.str());
+  }
+  SunPlacement sun;
+  sun.azimuth_deg = o.azimuth;
+  sun.elevation_deg = std::nan("");
+  auto prov = sky_provenance(*model, sun);
+  prov.add("study", "sun elevation from " + io::format_double(o.from) + " to " + io::format_double(o.to) + " step " +
+                        io::format_double(o.step) + " deg");
+  prov.add("horizon", "view elevation 1 deg, at the sun's azimuth (toward) and opposite (away)");
+  prov.add("rgb_units", "linear sRGB (D65), scaled so that Y is luminance in cd/m^2");
+  const fs::path dir = o.output;
+  std::vector<fs::path> written = {dir / "sun_elevation.csv"};
+  t.write(written[0], prov);
+  study_plots(dir, "sun elevation", "sun elevation [deg]", elev, rows, labels, written);
+  return written;
+}
+
+// ------------------------------------------------------------- study day
+struct DayStudy {
+  std::string scene_file, date, step = "10min", output, frame_size = "128x64";
+  std::optional<double> lat, lon;
+  double height = 0;
+  bool frames = true;
+  QualityOptions q;
+};
+
+std::vector<fs::path> run_day_study(const DayStudy& o) {
+  if (o.output.empty()) throw InputError("-o is required (output folder)");
+  if (!o.lat || !o.lon) throw InputError("--lat and --lon are required");
+  if (o.date.size() != 10) throw InputError("--date '" + o.date + "' is not YYYY-MM-DD");
+  const double jd0 = parse_iso8601(o.date + "T00:00:00Z").jd_utc;
+  const double step_s = parse_duration_s(o.step);
+  const auto fsize = parse_size(o.frame_size, "--frame-size");
+  SunQuery base;
+  base.latitude_deg = require_range(*o.lat, -90, 90, "--lat");
+  base.longitude_deg = require_range(*o.lon, -180, 180, "--lon");
+  base.height_m = require_range(o.height, -500, 1e8, "--height");
+  const auto series = sun_series(base, jd0, jd0 + 1.0 - 1e-9, step_s, 100000);
+  const auto s = load_or_default(o.scene_file);
+  const auto model = make_sky_model(s, o.q.sky(), 1.0);
+  const double h = std::max(o.height, 0.0);
+  const fs::path dir = o.output;
+  std::vector<std::string> cols = {"time_utc", "sun_elevation_deg", "sun_azimuth_deg", "apparent_sun_elevation_deg"};
+  cols.insert(cols.end(), kStudyColumns.begin(), kStudyColumns.end());
+  io::CsvTable t(cols);
+  std::vector<SkySummary> rows;
+  std::vector<double> hours;
+  std::vector<std::string> labels;
+  std::vector<fs::path> written;
+  for (const auto& smp : series) {
+    const glm::dvec3 sun(smp.east, smp.north, smp.up);
+    const double d2 = smp.position.earth_sun_distance_au;
+    SkySummary m = summarize_sky(*model->sky, h, sun);
+    // Irradiance scales as 1/d^2 (the model was built for 1 AU).
+    for (auto* c : {&m.zenith, &m.horizon_toward_sun, &m.horizon_away}) {
+      const double f = 1.0 / (d2 * d2);
+      c->xyz = {c->xyz.X * f, c->xyz.Y * f, c->xyz.Z * f};
+      c->srgb = {c->srgb.r * f, c->srgb.g * f, c->srgb.b * f};
+    }
+    m.sun_transmitted.Y /= d2 * d2;
+    const std::string ts = format_iso8601_utc(smp.jd_utc);
+    std::vector<io::CsvCell> r = {ts, smp.position.elevation_deg, smp.position.azimuth_deg,
+                                  smp.position.apparent_elevation_deg};
+    for (double v : study_values(m)) r.emplace_back(v);
+    t.add_row(std::move(r));
+    rows.push_back(m);
+    hours.push_back((smp.jd_utc - jd0) * 24.0);
+    labels.push_back(ts.substr(11, 5));
+    if (o.frames) {
+      SunPlacement sp;
+      sp.elevation_deg = smp.position.elevation_deg;
+      sp.azimuth_deg = smp.position.azimuth_deg;
+      sp.distance_au = d2;
+      sp.observer_height_m = h;
+      const SkyImage img = render_sky(*model->sky, SkyProjection::Equirect, fsize[0], fsize[1], h, sun, false, o.q.threads);
+      SkyImage scaled = img;
+      const float f = static_cast<float>(1.0 / (d2 * d2));
+      for (auto* c : {&scaled.R, &scaled.G, &scaled.B, &scaled.X, &scaled.Y, &scaled.Z})
+        for (auto& v : *c) v *= f;
+      std::string stamp = ts.substr(11, 5);
+      stamp.erase(std::remove(stamp.begin(), stamp.end(), ':'), stamp.end());
+      const fs::path exr = dir / "frames" / ("sky_" + stamp + "Z.exr");
+      auto prov = sky_provenance(*model, sp);
+      prov.add("time_utc", ts);
+      write_sky_image(scaled, exr, {}, prov, "equirect", sp);
+      written.push_back(exr);
+    }
+  }
+  SunPlacement sp;
+  sp.elevation_deg = std::nan("");
+  auto prov = sky_provenance(*model, sp);
+  prov.add("latitude_deg", base.latitude_deg).add("longitude_deg", base.longitude_deg).add("height_m", base.height_m);
+  prov.add("date_utc", o.date).add("step", o.step);
+  prov.add("sun", "NREL SPA, geometric elevation drives the sky; apparent elevation reported");
+  written.insert(written.begin(), dir / "day.csv");
+  t.write(dir / "day.csv", prov);
+  study_plots(dir, "UTC time on " + o.date, "hours since " + o.date + " 00:00 UTC", hours, rows, labels, written);
+  return written;
+}
+
+// ------------------------------------------------------------------ sweep
+scene::SweepOutputs sweep_point(const scene::Scene& s, const QualityOptions& q) {
+  const SunPlacement sun = sun_of_scene(s);
+  const auto m = make_sky_model(s, q.sky(), sun.distance_au);
+  const SkySummary sm = summarize_sky(*m->sky, std::max(sun.observer_height_m, 0.0), sun.direction());
+  scene::SweepOutputs out = {{"sun_elevation_deg", sun.elevation_deg}, {"sun_azimuth_deg", sun.azimuth_deg}};
+  const auto v = study_values(sm);
+  for (std::size_t i = 0; i < v.size(); ++i) out.emplace_back(kStudyColumns[i], v[i]);
+  out.emplace_back("table_build_time_s", m->build_time_s);
+  return out;
+}
+
+// --------------------------------------------------------- converge sky
+struct ConvergeSky {
+  std::string scene_file, output = "sky_convergence";
+  bool quick = false;
+  int threads = 0;
+};
+
+std::vector<fs::path> run_converge_sky(const ConvergeSky& o) {
+  auto s = load_or_default(o.scene_file);
+  const Atmosphere atm(s.atmosphere);
+  const SolarSpectrum solar = solar_spectrum_for_bins(s.atmosphere.spectrum);
+  const SkyReference ref(atm, solar);
+  struct Ray {
+    double sun_el, view_el, rel_az;
+    std::vector<double> L;
+  };
+  std::vector<Ray> rays;
+  const std::vector<double> suns = o.quick ? std::vector<double>{0, 10} : std::vector<double>{0, 2, 5, 10, 30, 60};
+  const std::vector<double> views = o.quick ? std::vector<double>{1, 30, 90} : std::vector<double>{0.5, 1, 2, 5, 10, 20, 45, 90};
+  const std::vector<double> azs = o.quick ? std::vector<double>{0, 180} : std::vector<double>{0, 45, 90, 180};
+  for (double se : suns)
+    for (double ve : views)
+      for (double az : azs) {
+        if (ve == 90 && az != azs.front()) continue;
+        rays.push_back({se, ve, az, {}});
+      }
+  // Reference, in parallel.
+  const auto t0 = std::chrono::steady_clock::now();
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t i; (i = next.fetch_add(1)) < rays.size();)
+      rays[i].L = ref.radiance(0.0, sun_direction_enu(90 - rays[i].view_el, rays[i].rel_az),
+                               sun_direction_enu(90 - rays[i].sun_el, 0.0)).radiance;
+  };
+  const int nt = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int i = 1; i < nt; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  const double ref_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  struct Setting {
+    int shells, segments, samples;
+  };
+  std::vector<Setting> settings;
+  if (o.quick)
+    settings = {{16, 4, 1}, {32, 8, 2}, {32, 16, 2}};
+  else
+    for (int sh : {16, 32, 64})
+      for (int seg : {4, 8, 16, 24})
+        for (int q : {1, 2, 3, 4})
+          if (seg < sh) settings.push_back({sh, seg, q});
+  std::vector<io::StudyRow> out;
+  for (const auto& st : settings) {
+    SkyOptions so;
+    so.lut.shells = st.shells;
+    so.segments = st.segments;
+    so.samples_per_segment = st.samples;
+    const auto b0 = std::chrono::steady_clock::now();
+    const SkyIntegrator sky(atm, solar, so);
+    const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - b0).count();
+    std::vector<double> L(solar.size());
+    double emax = 0, esum = 0;
+    long n = 0;
+    // Time the rays over enough repetitions for a stable per-ray figure.
+    const int reps = o.quick ? 3 : 20;
+    const auto r0 = std::chrono::steady_clock::now();
+    for (int rep = 0; rep < reps; ++rep)
+      for (const auto& r : rays) {
+        sky.radiance(0.0, sun_direction_enu(90 - r.view_el, r.rel_az), sun_direction_enu(90 - r.sun_el, 0.0), L.data());
+        if (rep > 0) continue;
+        const double peak = *std::max_element(r.L.begin(), r.L.end());
+        for (std::size_t i = 0; i < L.size(); ++i)
+          if (r.L[i] > 1e-6 * peak) {
+            const double e = std::fabs(L[i] - r.L[i]) / r.L[i];
+            emax = std::max(emax, e);
+            esum += e * e;
+            ++n;
+          }
+      }
+    const double per_ray = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count() / (reps * rays.size());
+    std::ostringstream name;
+    name << "shells=" << st.shells << " segments=" << st.segments << " samples=" << st.samples;
+    out.push_back({"nishita-lut q=" + std::to_string(st.samples), name.str(), emax, n ? std::sqrt(esum / n) : 0.0,
+                   build + per_ray * 1024.0 * 512.0,
+                   {double(st.shells), double(st.segments), double(st.samples), build, per_ray, ref_time / rays.size()}});
+  }
+  io::StudySpec spec;
+  spec.title = "Single-scattering sky: error vs run time (1024x512 image, " + std::to_string(solar.size()) + " wavelengths)";
+  spec.time_axis_label = "run time for a 1024x512 image incl. table build, one core [s]";
+  spec.error_axis_label = "max relative error of spectral radiance";
+  spec.extra_columns = {"shells", "segments", "samples_per_segment", "build_time_s", "time_per_ray_s", "reference_time_per_ray_s"};
+  auto prov = io::Provenance::current();
+  prov.add("scene", s.source);
+  prov.add("rays", static_cast<double>(rays.size()));
+  prov.add("directions", "view elevations x azimuths relative to the sun x sun elevations >= 0; error over wavelengths "
+                         "where the reference exceeds 1e-6 of its maximum");
+  prov.add("reference", "adaptive Gauss-Kronrod over the view ray, exact optical depths, rel tol 1e-6");
+  prov.add("time_s", "table build + 524288 rays x measured time per ray (single thread)");
+  return io::write_study(fs::path(o.output), spec, out, prov);
+}
+
+}  // namespace
+
+void register_sky_commands(CLI::App& app) {
+  {
+    static SkyCmd c;
+    auto* s = app.add_subcommand("sky", "Render the single-scattering sky (EXR, tone-mapped PNG, JSON summary)");
+    s->add_option("--scene", c.scene_file, "Scene file (default: built-in scene)");
+    s->add_option("--lat", c.lat, "Observer latitude [deg]");
+    s->add_option("--lon", c.lon, "Observer longitude [deg, east positive]");
+    s->add_option("--height", c.height, "Observer height [m]")->capture_default_str();
+    s->add_option("--time", c.time, "UTC time, ISO 8601 (sun from NREL SPA)");
+    s->add_option("--sun-elevation", c.sun_elevation, "Sun elevation [deg] instead of place and time");
+    s->add_option("--sun-azimuth", c.sun_azimuth, "Sun azimuth [deg from north towards east]")->capture_default_str();
+    s->add_option("--projection", c.projection, "equirect or fisheye")->capture_default_str();
+    s->add_option("--size", c.size, "Image size WxH")->capture_default_str();
+    s->add_option("-o,--output", c.output, "EXR file to write")->required();
+    s->add_option("--png", c.png, "Tone-mapped PNG to write");
+    s->add_flag("--spectral", c.spectral, "Add one channel per wavelength (L_<nm>nm)");
+    s->add_flag("--json", c.json, "Print a JSON summary");
+    add_quality_options(s, c.q);
+    s->callback([] { run_sky(c); });
+  }
+  auto* study = app.add_subcommand("study", "Sky colour against sun elevation or time of day")->require_subcommand(1);
+  {
+    static ElevationStudy o;
+    auto* s = study->add_subcommand("sun-elevation", "Zenith and horizon colour and luminance against sun elevation");
+    s->add_option("--scene", o.scene_file, "Scene file (default: built-in scene)");
+    s->add_option("--from", o.from, "First sun elevation [deg]")->capture_default_str();
+    s->add_option("--to", o.to, "Last sun elevation [deg]")->capture_default_str();
+    s->add_option("--step", o.step, "Step [deg]")->capture_default_str();
+    s->add_option("--azimuth", o.azimuth, "Sun azimuth [deg]")->capture_default_str();
+    s->add_option("-o,--output", o.output, "Output folder")->required();
+    add_quality_options(s, o.q);
+    s->callback([] {
+      for (const auto& f : run_elevation_study(o)) std::cout << f.string() << "\n";
+    });
+  }
+  {
+    static DayStudy o;
+    auto* s = study->add_subcommand("day", "Sky colour through a day at a place (sun from NREL SPA), with EXR frames");
+    s->add_option("--scene", o.scene_file, "Scene file (default: built-in scene)");
+    s->add_option("--lat", o.lat, "Latitude [deg]")->required();
+    s->add_option("--lon", o.lon, "Longitude [deg, east positive]")->required();
+    s->add_option("--height", o.height, "Height [m]")->capture_default_str();
+    s->add_option("--date", o.date, "UTC date YYYY-MM-DD")->required();
+    s->add_option("--step", o.step, "Time step (e.g. 10min, 1h)")->capture_default_str();
+    s->add_option("--frame-size", o.frame_size, "Size of the EXR frames WxH")->capture_default_str();
+    s->add_flag("!--no-frames", o.frames, "Skip the EXR frames");
+    s->add_option("-o,--output", o.output, "Output folder")->required();
+    add_quality_options(s, o.q);
+    s->callback([] {
+      for (const auto& f : run_day_study(o)) std::cout << f.string() << "\n";
+    });
+  }
+  {
+    auto* sw = app.add_subcommand("sweep", "Evaluate the sky over a grid or list of scene parameters (resumable, shardable)");
+    static std::string file, out, shard = "1/1";
+    static bool resume = false;
+    static QualityOptions q;
+    sw->add_option("sweep", file, "Sweep file (TOML)");
+    sw->add_option("-o,--output", out, "Output folder");
+    sw->add_flag("--resume", resume, "Skip points already in the journal of an interrupted run");
+    sw->add_option("--shard", shard, "Run shard k of N (k/N), merge later with `atmosh sweep merge`")->capture_default_str();
+    add_quality_options(sw, q);
+    static std::vector<std::string> merge_in;
+    static std::string merge_out;
+    auto* merge = sw->add_subcommand("merge", "Join shard CSVs of one sweep (checks every point appears once)");
+    merge->add_option("inputs", merge_in, "Shard CSV files")->required();
+    merge->add_option("-o,--output", merge_out, "Merged CSV")->required();
+    merge->callback([] {
+      std::vector<fs::path> in(merge_in.begin(), merge_in.end());
+      scene::merge_sweep(in, merge_out);
+      std::cout << "merged " << in.size() << " file(s) into " << merge_out << "\n";
+    });
+    sw->callback([sw] {
+      if (sw->got_subcommand("merge")) return;
+      if (file.empty()) throw InputError("a sweep file is required");
+      if (out.empty()) throw InputError("-o is required (output folder)");
+      scene::SweepOptions o;
+      o.out_dir = out;
+      o.resume = resume;
+      const auto slash = shard.find('/');
+      try {
+        if (slash == std::string::npos) throw std::invalid_argument("");
+        o.shard = std::stoi(shard.substr(0, slash));
+        o.shards = std::stoi(shard.substr(slash + 1));
+      } catch (const std::logic_error&) {
+        throw InputError("--shard '" + shard + "' is not k/N");
+      }
+      o.threads = q.threads > 0 ? q.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+      QualityOptions qq = q;
+      const auto spec = scene::load_sweep(file);
+      const auto r = scene::run_sweep(spec, [qq](const scene::Scene& s) { return sweep_point(s, qq); }, o);
+      std::cout << "sweep: " << r.points_in_shard << " point(s) of " << r.points_total << " in " << r.csv.string()
+                << " (" << r.points_resumed << " resumed, " << r.points_computed << " computed)\n";
+    });
+  }
+  {
+    static ConvergeSky o;
+    auto* c = app.get_subcommand("converge")->add_subcommand(
+        "sky", "Error of the fast sky integrator against the exact reference, against run time");
+    c->add_option("--scene", o.scene_file, "Scene file (default: built-in scene)");
+    c->add_option("-o,--output", o.output, "Output stem (writes STEM.csv and STEM.png)")->capture_default_str();
+    c->add_flag("--quick", o.quick, "Few rays and settings");
+    c->add_option("--threads", o.threads, "Threads for the reference (0 = all cores)");
+    c->callback([] {
+      for (const auto& f : run_converge_sky(o)) std::cout << f.string() << "\n";
+    });
+  }
+}
+
+void demo_sky(DemoContext& ctx) {
+  const auto s = scene::default_scene();
+  const SunPlacement sun = sun_of_scene(s);
+  QualityOptions q;
+  const auto model = make_sky_model(s, q.sky(), sun.distance_au);
+  for (const auto& out : s.outputs) {
+    if (out.kind != "sky-image") continue;
+    const int w = ctx.quick ? 64 : out.size[0], h = ctx.quick ? 32 : out.size[1];
+    const auto img = render_sky(*model->sky, parse_sky_projection(out.projection), w, h,
+                                std::max(sun.observer_height_m, 0.0), sun.direction(), out.spectral);
+    const fs::path exr = ctx.out_dir / out.file;
+    fs::path png = exr;
+    png.replace_extension(".png");
+    write_sky_image(img, exr, png, sky_provenance(*model, sun), out.projection, sun);
+    ctx.written.push_back(exr);
+    ctx.written.push_back(png);
+  }
+  ElevationStudy e;
+  e.output = (ctx.out_dir / "sun_elevation_study").string();
+  if (ctx.quick) {
+    e.from = -18;
+    e.to = 90;
+    e.step = 12;
+  }
+  for (const auto& f : run_elevation_study(e)) ctx.written.push_back(f);
+  ConvergeSky c;
+  c.quick = ctx.quick;
+  c.output = (ctx.out_dir / "sky_convergence").string();
+  for (const auto& f : run_converge_sky(c)) ctx.written.push_back(f);
+}
+
+}  // namespace atmosh::cli

@@ -1,0 +1,153 @@
+#include "sky_common.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "atmosh/atmo/observer.hpp"
+#include "atmosh/atmo/time_utc.hpp"
+#include "atmosh/error.hpp"
+#include "atmosh/io/atomic.hpp"
+#include "atmosh/io/exr.hpp"
+#include "atmosh/io/plot.hpp"
+
+namespace atmosh::cli {
+
+glm::dvec3 SunPlacement::direction() const { return atmo::sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
+
+std::string SunPlacement::describe() const {
+  std::ostringstream os;
+  os.precision(10);
+  os << "elevation " << elevation_deg << " deg, azimuth " << azimuth_deg << " deg";
+  if (spa) os << " (NREL SPA; apparent elevation " << spa->apparent_elevation_deg << " deg)";
+  return os.str();
+}
+
+SunPlacement sun_from_place(double lat, double lon, double height_m, const std::string& time_utc) {
+  atmo::SunQuery q;
+  q.jd_utc = atmo::parse_iso8601(time_utc).jd_utc;
+  q.latitude_deg = lat;
+  q.longitude_deg = lon;
+  q.height_m = height_m;
+  q.rise_transit_set = false;
+  SunPlacement p;
+  p.spa = atmo::sun_position(q);
+  p.elevation_deg = p.spa->elevation_deg;
+  p.azimuth_deg = p.spa->azimuth_deg;
+  p.distance_au = p.spa->earth_sun_distance_au;
+  p.observer_height_m = height_m;
+  return p;
+}
+
+SunPlacement sun_of_scene(const scene::Scene& s) {
+  if (s.observer)
+    return sun_from_place(s.observer->latitude_deg, s.observer->longitude_deg, s.observer->height_m,
+                          s.observer->time_utc);
+  if (s.sun) {
+    SunPlacement p;
+    p.elevation_deg = s.sun->elevation_deg;
+    p.azimuth_deg = s.sun->azimuth_deg;
+    return p;
+  }
+  throw InputError(s.source + ": the scene places no sun (give [observer] with time_utc, or [sun])");
+}
+
+std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const atmo::SkyOptions& options, double sun_distance_au) {
+  auto m = std::make_unique<SkyModel>();
+  m->scene = s;
+  const auto t0 = std::chrono::steady_clock::now();
+  m->atmosphere = std::make_unique<atmo::Atmosphere>(s.atmosphere);
+  atmo::SkyOptions o = options;
+  o.sun_distance_au = sun_distance_au;
+  m->sky = std::make_unique<atmo::SkyIntegrator>(*m->atmosphere, atmo::solar_spectrum_for_bins(s.atmosphere.spectrum), o);
+  m->build_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return m;
+}
+
+io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun) {
+  io::Provenance p = io::Provenance::current();
+  p.add("scene", m.scene.source);
+  p.add("atmosphere", m.scene.atmosphere.name);
+  const auto& a = m.scene.atmosphere;
+  p.add("constituents", std::string(a.rayleigh ? "rayleigh " : "") + (a.mie ? "mie " : "") + (a.ozone ? "ozone" : ""));
+  p.add("wavelengths", static_cast<double>(m.atmosphere->wavelengths_nm().size()));
+  p.add("sun_elevation_deg", sun.elevation_deg);
+  p.add("sun_azimuth_deg", sun.azimuth_deg);
+  p.add("earth_sun_distance_au", sun.distance_au);
+  p.add("observer_height_m", sun.observer_height_m);
+  const auto& o = m.sky->options();
+  p.add("lut_shells", static_cast<double>(o.lut.shells));
+  p.add("view_segments", static_cast<double>(o.segments));
+  p.add("samples_per_segment", static_cast<double>(o.samples_per_segment));
+  p.add("solar_spectrum", "ASTM G173-03 extraterrestrial, averaged over each wavelength bin");
+  p.add("colour", "CIE 1931 2-degree CMF, 683 lm/W, linear sRGB (D65)");
+  return p;
+}
+
+double write_sky_image(const atmo::SkyImage& img, const std::filesystem::path& exr, const std::filesystem::path& png,
+                       const io::Provenance& prov, const std::string& projection, const SunPlacement& sun) {
+  std::vector<std::string> ch = {"R", "G", "B", "X", "Y", "Z"};
+  const std::size_t nw = img.wavelengths_nm.size();
+  const bool spectral = !img.spectral.empty();
+  if (spectral)
+    for (double w : img.wavelengths_nm) {
+      std::ostringstream os;
+      os << "L_" << std::lround(w * 10) / 10.0 << "nm";
+      ch.push_back(os.str());
+    }
+  io::ExrImage e(img.width, img.height, ch);
+  e.channel("R").assign(img.R.begin(), img.R.end());
+  e.channel("G").assign(img.G.begin(), img.G.end());
+  e.channel("B").assign(img.B.begin(), img.B.end());
+  e.channel("X").assign(img.X.begin(), img.X.end());
+  e.channel("Y").assign(img.Y.begin(), img.Y.end());
+  e.channel("Z").assign(img.Z.begin(), img.Z.end());
+  if (spectral)
+    for (std::size_t i = 0; i < nw; ++i) {
+      auto& c = e.data[6 + i];
+      for (std::size_t p = 0; p < c.size(); ++p) c[p] = img.spectral[p * nw + i];
+    }
+  e.string_attributes["units"] =
+      "R,G,B: linear sRGB (D65) scaled so that Y is luminance in cd/m^2; X,Y,Z: CIE 1931 2-degree, Y in cd/m^2; "
+      "L_<nm>nm: spectral radiance in W m^-2 sr^-1 nm^-1";
+  e.string_attributes["projection"] = projection == "fisheye"
+                                          ? "fisheye: azimuthal equidistant, zenith at centre, north up, east left"
+                                          : "equirect: azimuth 0..360 deg from north towards east left to right, "
+                                            "elevation +90..-90 deg top to bottom";
+  e.string_attributes["sun"] = sun.describe();
+  e.float_attributes["sun_elevation_deg"] = static_cast<float>(sun.elevation_deg);
+  e.float_attributes["sun_azimuth_deg"] = static_cast<float>(sun.azimuth_deg);
+  io::write_exr(exr, e, prov);
+  double exposure = 1.0;
+  if (!png.empty()) {
+    std::vector<float> ys;
+    for (std::size_t p = 0; p < img.Y.size(); ++p)
+      if (img.valid[p] && img.Y[p] > 0) ys.push_back(img.Y[p]);
+    if (!ys.empty()) {
+      const std::size_t k = static_cast<std::size_t>(0.95 * (ys.size() - 1));
+      std::nth_element(ys.begin(), ys.begin() + static_cast<std::ptrdiff_t>(k), ys.end());
+      exposure = ys[k] > 0 ? 2.0 / ys[k] : 1.0;
+    }
+    io::write_tonemapped_png(png, img.width, img.height, img.R, img.G, img.B, exposure, "reinhard");
+    std::ostringstream js;
+    js.precision(17);
+    js << "{\n  \"tone_map\": \"reinhard v/(1+v) on linear sRGB, then the sRGB transfer curve\",\n"
+       << "  \"exposure\": " << exposure << ",\n"
+       << "  \"exposure_rule\": \"2 / (95th percentile of luminance Y in cd/m^2)\",\n"
+       << "  \"source\": \"" << exr.filename().string() << "\"\n}\n";
+    std::filesystem::path side = png;
+    side += ".json";
+    io::write_text_atomically(side, js.str());
+  }
+  return exposure;
+}
+
+std::array<double, 3> display_colour(const atmo::Rgb& c) {
+  const double m = std::max({c.r, c.g, c.b});
+  if (!(m > 0)) return {0, 0, 0};
+  return {atmo::srgb_encode(std::max(c.r, 0.0) / m), atmo::srgb_encode(std::max(c.g, 0.0) / m),
+          atmo::srgb_encode(std::max(c.b, 0.0) / m)};
+}
+
+}  // namespace atmosh::cli

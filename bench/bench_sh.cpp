@@ -1,0 +1,130 @@
+// Benchmarks of atmosh::sh (targets in docs/sh.md; run: build/bin/bench_sh).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "atmosh/sh/basis.hpp"
+#include "atmosh/sh/fast.hpp"
+#include "atmosh/sh/projection.hpp"
+#include "atmosh/sh/rotation.hpp"
+#include "atmosh/sh/transform.hpp"
+
+using namespace atmosh::sh;
+
+namespace {
+template <class T>
+struct Dirs {
+  std::vector<T> x, y, z;
+  explicit Dirs(std::size_t n) {
+    std::mt19937_64 rng(1);
+    std::normal_distribution<double> nd;
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::dvec3 d = glm::normalize(glm::dvec3(nd(rng), nd(rng), nd(rng)));
+      x.push_back(T(d.x));
+      y.push_back(T(d.y));
+      z.push_back(T(d.z));
+    }
+  }
+};
+
+template <class T>
+void BM_EvalFastBatch(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  const std::size_t n = 1024;
+  Dirs<T> d(n);
+  // stride padded off a multiple of 4 KiB: equal-offset streams would alias in L1
+  const std::size_t stride = n + 16;
+  std::vector<T> out(static_cast<std::size_t>(L) * L * stride);
+  for (auto _ : st) {
+    evaluate_fast_batch(L, n, d.x.data(), d.y.data(), d.z.data(), out.data(), stride);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  st.SetItemsProcessed(st.iterations() * n);  // directions
+}
+
+void BM_EvalGeneral(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  Dirs<double> d(256);
+  std::vector<double> out(sh_count(L));
+  std::size_t k = 0;
+  for (auto _ : st) {
+    evaluate(L, {d.x[k], d.y[k], d.z[k]}, out.data());
+    benchmark::DoNotOptimize(out.data());
+    k = (k + 1) & 255;
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+
+void BM_EvalGeneralFloat(benchmark::State& st) {
+  // general path in double, converted to float (the float use of high bands)
+  const int L = static_cast<int>(st.range(0));
+  Dirs<double> d(256);
+  std::vector<double> out(sh_count(L));
+  std::vector<float> outf(sh_count(L));
+  std::size_t k = 0;
+  for (auto _ : st) {
+    evaluate(L, {d.x[k], d.y[k], d.z[k]}, out.data());
+    for (int i = 0; i < sh_count(L); ++i) outf[i] = static_cast<float>(out[i]);
+    benchmark::DoNotOptimize(outf.data());
+    k = (k + 1) & 255;
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+
+void BM_CubeProject(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0)), N = 256;
+  CubeMap cube;
+  cube.size = N;
+  cube.channels = 1;
+  for (auto& f : cube.faces) f.assign(N * N, 1.0f);
+  for (auto _ : st) benchmark::DoNotOptimize(project_cube(cube, L));
+  st.SetItemsProcessed(st.iterations() * 6 * N * N);
+}
+
+void BM_RotationBuild(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  Rotation warm(L, EulerZYZ{0.1, 0.2, 0.3});  // fills the Ry(90) cache once
+  for (auto _ : st) benchmark::DoNotOptimize(Rotation(L, EulerZYZ{0.3, 1.9, 2.5}));
+}
+
+void BM_RotationApply(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  const Rotation R(L, EulerZYZ{0.3, 1.9, 2.5});
+  std::vector<double> in(sh_count(L), 0.5), out(sh_count(L));
+  R.apply(in.data(), out.data());
+  for (auto _ : st) {
+    R.apply(in.data(), out.data());
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+
+void BM_Analysis(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0)), threads = static_cast<int>(st.range(1));
+  const GaussGrid g = gauss_grid(L);
+  std::vector<double> c(sh_count(L), 0.01);
+  const auto f = synthesise(g, c.data());
+  for (auto _ : st) benchmark::DoNotOptimize(analyse(g, f.data(), threads));
+}
+
+void BM_Synthesis(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0)), threads = static_cast<int>(st.range(1));
+  const GaussGrid g = gauss_grid(L);
+  std::vector<double> c(sh_count(L), 0.01);
+  for (auto _ : st) benchmark::DoNotOptimize(synthesise(g, c.data(), threads));
+}
+}  // namespace
+
+BENCHMARK_TEMPLATE(BM_EvalFastBatch, float)->Arg(2)->Arg(4)->Arg(8);
+BENCHMARK_TEMPLATE(BM_EvalFastBatch, double)->Arg(2)->Arg(4)->Arg(8);
+BENCHMARK(BM_EvalGeneral)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Arg(64);
+BENCHMARK(BM_EvalGeneralFloat)->Arg(16)->Arg(64);
+BENCHMARK(BM_CubeProject)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RotationBuild)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RotationApply)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Analysis)->Args({256, 1})->Args({256, 2})->Args({1024, 1})->Args({1024, 2})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Synthesis)->Args({256, 1})->Args({1024, 1})->Unit(benchmark::kMillisecond);

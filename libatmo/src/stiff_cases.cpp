@@ -1,0 +1,166 @@
+#include "atmosh/atmo/stiff_cases.hpp"
+
+#include <cmath>
+#include <functional>
+
+#include "atmosh/atmo/chapman.hpp"
+#include "atmosh/atmo/integrate.hpp"
+#include "atmosh/atmo/optical_depth.hpp"
+#include "atmosh/atmo/phase.hpp"
+#include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/shared/geometry.glsl.hpp"
+
+namespace atmosh::atmo {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+AtmosphereSpec single_exponential(double H, double scattering = 1e-5) {
+  AtmosphereSpec s;
+  s.name = "single-exponential";
+  s.planet.radius_m = 6360e3;
+  s.planet.atmosphere_top_m = 60.0 * H;
+  RayleighSpec r;
+  r.model = RayleighSpec::Model::Coefficients;
+  r.scattering_per_m = scattering;
+  r.reference_nm = 550.0;
+  r.profile.kind = DensityProfileSpec::Kind::Exponential;
+  r.profile.scale_height_m = H;
+  s.rayleigh = r;
+  s.mie.reset();
+  s.ozone.reset();
+  return s;
+}
+
+StiffCase make(const std::string& name, const std::string& quantity, double value, double reference, double bound) {
+  StiffCase c{name, quantity, value, reference, 0.0, bound, false};
+  c.error = reference != 0.0 ? std::abs(value - reference) / std::abs(reference) : std::abs(value);
+  c.pass = std::isfinite(value) && std::isfinite(c.error) && c.error <= bound;
+  return c;
+}
+
+double sphere_integral(const std::function<double(double)>& f) {
+  std::vector<double> pts;
+  for (double t = 1e-6; t < 1.0; t *= 2.0) {
+    pts.push_back(t);
+    pts.push_back(kPi - t);
+  }
+  auto r = integrate_adaptive<double>([&](double th) { return f(std::cos(th)) * std::sin(th); }, 0.0, kPi, pts,
+                                      1e-300, 1e-13, 20000);
+  return 2.0 * kPi * r.value;
+}
+}  // namespace
+
+std::vector<StiffCase> run_stiff_cases(int lut_shells, int lut_directions) {
+  std::vector<StiffCase> out;
+  // Chapman cases: reference quadrature / (H e^{-h/H}) against the exact Chapman function.
+  struct ChCase {
+    const char* name;
+    double H, h, tangent_h;  // tangent_h < 0: horizontal ray (mu = 0)
+  };
+  const ChCase ch_cases[] = {
+      {"horizontal_sea_level_H8km", 8000.0, 0.0, -1.0},
+      {"horizontal_sea_level_H1.2km", 1200.0, 0.0, -1.0},
+      {"horizontal_at_10km_H8km", 8000.0, 10e3, -1.0},
+      {"horizontal_at_10km_H1.2km", 1200.0, 10e3, -1.0},
+      {"grazing_from_20km_tangent_100m_H8km", 8000.0, 20e3, 100.0},
+      {"grazing_from_10km_tangent_1m_H1.2km", 1200.0, 10e3, 1.0},
+      {"grazing_from_10km_tangent_1mm_H8km", 8000.0, 10e3, 1e-3},
+  };
+  for (const auto& cc : ch_cases) {
+    Atmosphere atm(single_exponential(cc.H));
+    OpticalDepthReference ref(atm);
+    double R = atm.ground_radius(), r = R + cc.h;
+    double mu = cc.tangent_h < 0.0 ? 0.0 : -std::sqrt(std::max(0.0, 1.0 - std::pow((R + cc.tangent_h) / r, 2.0)));
+    auto c = ref.column(r, mu);
+    double value = c.column[kRayleigh] / (cc.H * std::exp(-cc.h / cc.H));
+    out.push_back(make(cc.name, "Chapman value (column / vertical column)", value, chapman_exact(r / cc.H, mu), 1e-9));
+  }
+  // Ray into the planet: straight down from 1 km, closed form H (1 - e^{-1000/H}).
+  {
+    Atmosphere atm(single_exponential(8000.0));
+    OpticalDepthReference ref(atm);
+    auto c = ref.column(atm.ground_radius() + 1000.0, -1.0);
+    out.push_back(make("ray_hits_planet_nadir_from_1km", "column [m]", c.column[kRayleigh],
+                       8000.0 * -std::expm1(-1000.0 / 8000.0), 1e-12));
+    auto g = ref.column(atm.ground_radius() + 1000.0, shared::mu_horizon(atm.ground_radius() + 1000.0, atm.ground_radius()) - 1e-12);
+    out.push_back(make("ray_hits_planet_just_below_horizon", "column finite, > 0 [m]", g.column[kRayleigh] > 0.0 && g.hits_ground ? 1.0 : 0.0, 1.0, 0.0));
+  }
+  // Observer 500 km above the top looking through the limb (tangent 30 km):
+  // equals the column from the entry point.
+  {
+    Atmosphere atm(preset("earth-graphics"));
+    OpticalDepthReference ref(atm);
+    double R = atm.ground_radius(), T = atm.top_radius(), r = T + 500e3;
+    double mu = -std::sqrt(1.0 - std::pow((R + 30e3) / r, 2.0));
+    double s0 = shared::distance_to_top_from_outside(r, mu, T);
+    auto a = ref.column(r, mu), b = ref.column(T, (r * mu + s0) / T);
+    out.push_back(make("limb_from_500km_above_top", "rayleigh column [m]", a.column[kRayleigh], b.column[kRayleigh], 1e-12));
+  }
+  // Transmittance underflow: a dense aerosol (1e-2 /m, H = 1.2 km) seen
+  // horizontally at sea level has tau ~ 1e3: transmittance exactly 0, not NaN.
+  {
+    Atmosphere atm(single_exponential(1200.0, 1e-2));
+    OpticalDepthReference ref(atm);
+    auto c = ref.column(atm.ground_radius(), 0.0);
+    double tau = optical_depth(atm.coefficients_at(550.0), c.column);
+    double t = transmittance(tau);
+    out.push_back(make("transmittance_underflow_tau_" + std::to_string(static_cast<int>(tau)), "transmittance", t, 0.0, 0.0));
+    out.push_back(make("transmittance_of_infinite_depth", "transmittance", transmittance(INFINITY), 0.0, 0.0));
+  }
+  // Phase functions with g = +-0.999: normalisation by adaptive quadrature.
+  for (double g : {0.999, -0.999}) {
+    PhaseSpec s;
+    s.model = PhaseSpec::Model::HenyeyGreenstein;
+    s.g = g;
+    PhaseFunction p(s);
+    out.push_back(make("hg_normalisation_g" + std::string(g > 0 ? "+" : "-") + "0.999", "2 pi int p dmu",
+                       sphere_integral([&](double mu) { return p.value(mu); }), 1.0, 1e-10));
+    s.model = PhaseSpec::Model::CornetteShanks;
+    PhaseFunction q(s);
+    out.push_back(make("cornette_shanks_normalisation_g" + std::string(g > 0 ? "+" : "-") + "0.999", "2 pi int p dmu",
+                       sphere_integral([&](double mu) { return q.value(mu); }), 1.0, 1e-10));
+    out.push_back(make("hg_sampling_mean_g" + std::string(g > 0 ? "+" : "-") + "0.999", "mean of sampled cos",
+                       [&] {
+                         double m = 0.0;
+                         const int n = 100000;
+                         for (int i = 0; i < n; ++i) m += p.sample((i + 0.5) / n);
+                         return m / n;
+                       }(),
+                       g, 1e-4));
+  }
+  // Wavelengths at the ends of the grid: lambda^-4 law exactly, ozone finite.
+  {
+    Atmosphere atm(preset("earth-graphics"));
+    auto a = atm.coefficients_at(360.0), b = atm.coefficients_at(830.0);
+    out.push_back(make("rayleigh_ratio_360_830nm", "beta(360)/beta(830)", a.scattering[kRayleigh] / b.scattering[kRayleigh],
+                       std::pow(830.0 / 360.0, 4.0), 1e-12));
+    out.push_back(make("ozone_at_830nm_finite_positive", "ozone extinction > 0 [1/m]", b.extinction[kOzone] > 0.0 ? 1.0 : 0.0, 1.0, 0.0));
+  }
+  // LUT on grazing and tangent rays (earth-graphics) against the reference.
+  {
+    Atmosphere atm(preset("earth-graphics"));
+    OpticalDepthReference ref(atm);
+    LutOptions o;
+    o.shells = lut_shells;
+    o.view_directions = lut_directions;
+    o.sun_directions = lut_directions;
+    OpticalDepthLut lut(atm, o);
+    auto k = atm.coefficients_at(550.0);
+    double R = atm.ground_radius();
+    struct L { const char* name; double h, dmu; };
+    const L cases[] = {{"lut_horizontal_sea_level", 0.0, 0.0}, {"lut_tangent_1m_above_ground_from_5km", 5000.0, 1.0},
+                       {"lut_just_below_horizon_from_5km", 5000.0, -1e-9}, {"lut_horizontal_at_30km", 30000.0, -2.0}};
+    for (const auto& c : cases) {
+      double r = R + c.h, mu;
+      if (c.dmu == -2.0) mu = 0.0;
+      else if (c.dmu == 1.0) mu = -std::sqrt(1.0 - std::pow((R + 1.0) / r, 2.0));
+      else mu = shared::mu_horizon(r, R) + c.dmu;
+      double a = optical_depth(k, ref.column(r, mu).column), b = optical_depth(k, lut.view(r, mu).column);
+      out.push_back(make(c.name, "optical depth at 550 nm (LUT)", b, a, 1e-3));
+    }
+  }
+  return out;
+}
+
+}  // namespace atmosh::atmo

@@ -1,0 +1,238 @@
+// Single-scattering sky: closed forms, symmetry, reddening, leaving Mie out, the
+// stiff cases, and the fast integrator against the exact reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "atmosh/atmo/observer.hpp"
+#include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/sky.hpp"
+#include "atmosh/atmo/sky_image.hpp"
+#include "atmosh/error.hpp"
+
+using namespace atmosh::atmo;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Rayleigh-only (coefficients) + Mie, exponential profiles, no ozone: every
+// quantity of the closed forms below is elementary.
+AtmosphereSpec simple_spec(bool with_mie) {
+  AtmosphereSpec s;
+  s.name = "closed-form";
+  s.planet.radius_m = 6360e3;
+  s.planet.atmosphere_top_m = 100e3;
+  RayleighSpec r;
+  r.model = RayleighSpec::Model::Coefficients;
+  r.scattering_per_m = 13.558e-6;
+  r.reference_nm = 550.0;
+  r.profile = DensityProfileSpec::exponential(8000.0);
+  s.rayleigh = r;
+  if (with_mie) {
+    MieSpec m;
+    m.scattering_per_m = 3.996e-6;
+    m.single_scattering_albedo = 0.9;
+    m.profile = DensityProfileSpec::exponential(1200.0);
+    m.phase = PhaseSpec::of(PhaseSpec::Model::HenyeyGreenstein, 0.76);
+    s.mie = m;
+  } else {
+    s.mie.reset();
+  }
+  s.ozone.reset();
+  s.spectrum.wavelengths_nm.clear();
+  s.spectrum.from_nm = 400;
+  s.spectrum.to_nm = 700;
+  s.spectrum.count = 4;
+  return s;
+}
+
+glm::dvec3 dir(double elevation_deg, double azimuth_deg) { return sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
+
+double rel(double a, double b) { return std::fabs(a - b) / std::fabs(b); }
+
+}  // namespace
+
+// Sun overhead, looking up: every scattering point sees the whole vertical column
+// (view part + sun part), so L = E p(1) tau_s exp(-tau) exactly, with tau_s the
+// vertical scattering optical depth and tau the extinction one (both closed form
+// for exponential layers: beta H (1 - exp(-top/H))).
+TEST(Sky, ZenithWithSunOverheadMatchesClosedForm) {
+  const AtmosphereSpec spec = simple_spec(true);
+  const Atmosphere atm(spec);
+  const SolarSpectrum sun(4, 1.5);  // W m^-2 nm^-1
+  const SkyReference ref(atm, sun);
+  const SkyIntegrator fast(atm, sun);
+  const auto Lr = ref.radiance(0.0, {0, 0, 1}, {0, 0, 1});
+  const auto Lf = fast.radiance(0.0, {0, 0, 1}, {0, 0, 1});
+  const double top = spec.planet.atmosphere_top_m;
+  const double col_r = 8000.0 * (1 - std::exp(-top / 8000.0)), col_m = 1200.0 * (1 - std::exp(-top / 1200.0));
+  // Rayleigh phase at cos = 1 from PhaseFunction (its closed form is tested in the
+  // phase-function suite); HG forward value (1 - g^2) / (4 pi (1 - g)^3) written out here.
+  const double p_r = PhaseFunction(spec.rayleigh->phase).value(1.0);
+  const double g = 0.76, p_m = (1 - g * g) / (4 * kPi * std::pow(1 + g * g - 2 * g, 1.5));  // HG forward value
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double lam = atm.wavelengths_nm()[i];
+    const double sr = 13.558e-6 * std::pow(550.0 / lam, 4.0), sm = 3.996e-6;
+    const double tau_s_r = sr * col_r, tau_s_m = sm * col_m;
+    const double tau = tau_s_r + tau_s_m / 0.9;
+    const double expect = 1.5 * (p_r * tau_s_r + p_m * tau_s_m) * std::exp(-tau);
+    EXPECT_LT(rel(Lr.radiance[i], expect), 1e-6) << lam;
+    EXPECT_LT(rel(Lf[i], expect), 2e-4) << lam;
+  }
+}
+
+// Optically thin layer, sun overhead, looking at zenith angle theta: with tau << 1 the
+// radiance tends to E p(cos theta) tau_s / cos(theta) (plane-parallel limit; the
+// sphericity correction, about (H/R) tan^2(theta), is 1.3e-3 at 45 deg for H = 8 km).
+TEST(Sky, OpticallyThinLimit) {
+  AtmosphereSpec spec = simple_spec(false);
+  spec.rayleigh->scattering_per_m = 1e-9;  // tau ~ 8e-6
+  const Atmosphere atm(spec);
+  const SolarSpectrum sun(4, 1.0);
+  const SkyIntegrator fast(atm, sun);
+  const double col = 8000.0 * (1 - std::exp(-100e3 / 8000.0));
+  const PhaseFunction p(spec.rayleigh->phase);
+  for (double zen : {0.0, 30.0, 45.0}) {
+    const auto L = fast.radiance(0.0, dir(90 - zen, 0), {0, 0, 1});
+    for (std::size_t i = 0; i < 4; ++i) {
+      const double lam = atm.wavelengths_nm()[i];
+      const double tau_s = 1e-9 * std::pow(550.0 / lam, 4.0) * col;
+      const double mu = std::cos(zen * kPi / 180);
+      EXPECT_LT(rel(L[i], p.value(mu) * tau_s / mu), 2e-3) << "zenith " << zen << " lambda " << lam;
+    }
+  }
+}
+
+TEST(Sky, SymmetricAboutTheSunAzimuth) {
+  const Atmosphere atm(simple_spec(true));
+  const SkyIntegrator fast(atm, SolarSpectrum(4, 1.0));
+  const glm::dvec3 sun = dir(12.0, 140.0);
+  for (double d : {10.0, 45.0, 120.0})
+    for (double el : {2.0, 20.0, 60.0}) {
+      const auto a = fast.radiance(0.0, dir(el, 140.0 + d), sun), b = fast.radiance(0.0, dir(el, 140.0 - d), sun);
+      for (std::size_t i = 0; i < a.size(); ++i) EXPECT_LT(rel(a[i], b[i]), 1e-9) << d << " " << el;
+    }
+}
+
+// As the sun lowers, the horizon toward it reddens (CIE x grows) and the direct
+// sunlight too — on the physically based Earth, 16 wavelengths.
+TEST(Sky, HorizonReddensMonotonicallyAsTheSunSets) {
+  AtmosphereSpec spec = preset("earth-physical");
+  spec.spectrum.wavelengths_nm.clear();
+  spec.spectrum.from_nm = 380;
+  spec.spectrum.to_nm = 780;
+  spec.spectrum.count = 16;
+  const Atmosphere atm(spec);
+  const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
+  double prev_x = 0, prev_sun_x = 0;
+  for (double el = 40.0; el >= 0.0; el -= 5.0) {
+    const SkySummary s = summarize_sky(sky, 0.0, dir(el, 180.0));
+    const double x = xy_chromaticity(s.horizon_toward_sun.xyz).x;
+    EXPECT_GT(x, prev_x) << "sun elevation " << el;
+    EXPECT_GT(s.sun_chromaticity.x, prev_sun_x) << "sun elevation " << el;
+    prev_x = x;
+    prev_sun_x = s.sun_chromaticity.x;
+  }
+  // At sunset the horizon is orange-red: red dominates blue clearly.
+  const SkySummary s0 = summarize_sky(sky, 0.0, dir(0.0, 180.0));
+  EXPECT_GT(s0.horizon_toward_sun.srgb.r, 2.0 * s0.horizon_toward_sun.srgb.b);
+  // The zenith of a high sun is blue.
+  const SkySummary s60 = summarize_sky(sky, 0.0, dir(60.0, 180.0));
+  EXPECT_GT(s60.zenith.srgb.b, s60.zenith.srgb.r);
+}
+
+// Leaving [mie] out computes the same sky as Mie with zero scattering: exactly (to the
+// reference's tolerance) for the exact integral; within the fast path's error for
+// the tables, whose shells are placed by the constituents present.
+TEST(Sky, NoMieEqualsMieSetToZero) {
+  AtmosphereSpec zero = simple_spec(true);
+  zero.mie->scattering_per_m = 0.0;
+  const Atmosphere a(simple_spec(false)), b(zero);
+  EXPECT_FALSE(a.has(kMie));
+  const SkyReference ra(a, SolarSpectrum(4, 1.0)), rb(b, SolarSpectrum(4, 1.0));
+  const SkyIntegrator fa(a, SolarSpectrum(4, 1.0)), fb(b, SolarSpectrum(4, 1.0));
+  for (double el : {0.5, 10.0, 90.0}) {
+    const auto la = ra.radiance(0.0, dir(el, 30.0), dir(5.0, 0.0)), lb = rb.radiance(0.0, dir(el, 30.0), dir(5.0, 0.0));
+    const auto fa_ = fa.radiance(0.0, dir(el, 30.0), dir(5.0, 0.0)), fb_ = fb.radiance(0.0, dir(el, 30.0), dir(5.0, 0.0));
+    for (std::size_t i = 0; i < la.radiance.size(); ++i) {
+      EXPECT_LT(rel(la.radiance[i], lb.radiance[i]), 1e-8) << el;
+      EXPECT_LT(rel(fa_[i], fb_[i]), 1e-3) << el;
+    }
+  }
+}
+
+// Stiff and extreme cases: finite, non-negative, and physically right where known.
+TEST(Sky, StiffCasesAreFinite) {
+  AtmosphereSpec spec = preset("earth-physical");
+  const Atmosphere atm(spec);
+  const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
+  auto finite = [](const std::vector<double>& L) {
+    for (double v : L)
+      if (!std::isfinite(v) || v < 0) return false;
+    return true;
+  };
+  // Twilight down to -18 deg, all directions including below the horizon.
+  for (double sun_el : {-18.0, -12.0, -6.0, -0.5, 0.0})
+    for (double el : {-90.0, -10.0, -0.01, 0.0, 0.01, 5.0, 90.0})
+      EXPECT_TRUE(finite(sky.radiance(0.0, dir(el, 0.0), dir(sun_el, 0.0)))) << sun_el << " " << el;
+  // The zenith goes dark once the Earth's shadow is above the top of the atmosphere:
+  // shadow height R (1/cos(d) - 1) > 100 km for a depression d > 10.1 deg.
+  for (double v : sky.radiance(0.0, {0, 0, 1}, dir(-11.0, 0.0))) EXPECT_EQ(v, 0.0);
+  // Observer in space: looking through the limb is bright, looking past the planet is black.
+  const double h = 1000e3;
+  const double R = spec.planet.radius_m, T = R + spec.planet.atmosphere_top_m;
+  const double limb = -std::acos((R + 20e3) / (R + h)) * 180.0 / kPi;  // tangent altitude 20 km
+  const auto Ll = sky.radiance(h, dir(limb, 0.0), dir(0.0, 90.0));
+  EXPECT_TRUE(finite(Ll));
+  EXPECT_GT(Ll[10], 0.0);
+  const double miss = -std::acos(T / (R + h)) * 180.0 / kPi + 1.0;  // above the top's horizon
+  for (double v : sky.radiance(h, dir(miss, 0.0), dir(0.0, 90.0))) EXPECT_EQ(v, 0.0);
+  // Grazing rays from just above the ground and at the tangent of the top.
+  EXPECT_TRUE(finite(sky.radiance(1e-6, dir(0.0, 0.0), dir(10.0, 0.0))));
+  EXPECT_TRUE(finite(sky.radiance(100e3, dir(0.0, 0.0), dir(10.0, 0.0))));
+  // Huge optical depth: transmittance underflows to exactly 0, never NaN.
+  AtmosphereSpec thick = spec;
+  thick.mie->scattering_per_m *= 1e5;
+  const Atmosphere atm2(thick);
+  const SkyIntegrator sky2(atm2, solar_spectrum_for_bins(thick.spectrum));
+  EXPECT_TRUE(finite(sky2.radiance(0.0, dir(0.5, 0.0), dir(0.5, 180.0))));
+  for (double t : sky2.sun_transmittance(0.0, dir(5.0, 0.0))) EXPECT_EQ(t, 0.0);
+  // Forward-peaked phase functions g = +-0.999.
+  for (double g : {0.999, -0.999}) {
+    AtmosphereSpec pk = spec;
+    pk.mie->phase = PhaseSpec::of(PhaseSpec::Model::HenyeyGreenstein, g);
+    const Atmosphere a3(pk);
+    const SkyIntegrator s3(a3, solar_spectrum_for_bins(pk.spectrum));
+    EXPECT_TRUE(finite(s3.radiance(0.0, dir(20.0, 0.0), dir(20.0, 0.0))));
+    EXPECT_TRUE(finite(s3.radiance(0.0, dir(20.0, 180.0), dir(20.0, 0.0))));
+  }
+  EXPECT_THROW(sky.radiance(-10.0, {0, 0, 1}, {0, 0, 1}), atmosh::InputError);
+  EXPECT_THROW(sky.radiance(0.0, {0, 0, std::nan("")}, {0, 0, 1}), atmosh::InputError);
+  EXPECT_THROW(sky.radiance(0.0, {0, 0, 2}, {0, 0, 1}), atmosh::InputError);
+}
+
+// The fast integrator with default settings is within 1 % of the exact reference
+// for view directions above the horizon and sun elevations down to 0 deg (the
+// full sweep is `atmosh converge sky`).
+TEST(Sky, FastWithinOnePercentOfReference) {
+  AtmosphereSpec spec = preset("earth-physical");
+  spec.spectrum.wavelengths_nm.clear();
+  spec.spectrum.from_nm = 380;
+  spec.spectrum.to_nm = 780;
+  spec.spectrum.count = 8;
+  const Atmosphere atm(spec);
+  const SolarSpectrum e = solar_spectrum_for_bins(spec.spectrum);
+  const SkyIntegrator fast(atm, e);
+  SkyReferenceOptions ro;
+  ro.rel_tol = 1e-5;
+  const SkyReference ref(atm, e, ro);
+  for (double sun_el : {0.0, 8.0})
+    for (double el : {1.0, 30.0})
+      for (double az : {0.0, 180.0}) {
+        const auto r = ref.radiance(0.0, dir(el, az), dir(sun_el, 0.0));
+        const auto f = fast.radiance(0.0, dir(el, az), dir(sun_el, 0.0));
+        for (std::size_t i = 0; i < f.size(); ++i)
+          EXPECT_LT(rel(f[i], r.radiance[i]), 1e-2) << "sun " << sun_el << " view " << el << " az " << az;
+      }
+}

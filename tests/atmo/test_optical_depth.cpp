@@ -1,0 +1,183 @@
+// Exact optical-depth reference and Nishita lookup tables against closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "atmosh/atmo/chapman.hpp"
+#include "atmosh/atmo/optical_depth.hpp"
+#include "atmosh/atmo/ozone.hpp"
+#include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/error.hpp"
+
+using namespace atmosh::atmo;
+
+namespace {
+// A single exponential layer (scale height H) on an Earth-sized planet with the
+// top 60 scale heights up: truncation e^-60 ~ 1e-26 is far below the tolerance.
+AtmosphereSpec exponential_only(double H) {
+  AtmosphereSpec s;
+  s.planet.radius_m = 6360e3;
+  s.planet.atmosphere_top_m = 60.0 * H;
+  RayleighSpec r;
+  r.model = RayleighSpec::Model::Coefficients;
+  r.profile.kind = DensityProfileSpec::Kind::Exponential;
+  r.profile.scale_height_m = H;
+  s.rayleigh = r;
+  s.mie.reset();
+  s.ozone.reset();
+  return s;
+}
+}  // namespace
+
+// Vertical column of an exponential layer: H (1 - exp(-T/H)) exactly.
+TEST(OpticalDepthReference, VerticalExponentialLayer) {
+  auto spec = preset("earth-graphics");
+  Atmosphere atm(spec);
+  OpticalDepthReference ref(atm);
+  auto c = ref.column(atm.ground_radius(), 1.0);
+  EXPECT_NEAR(c.column[kRayleigh] / (8000.0 * -std::expm1(-60e3 / 8000.0)), 1.0, 1e-12);
+  EXPECT_NEAR(c.column[kMie] / (1200.0 * -std::expm1(-60e3 / 1200.0)), 1.0, 1e-12);
+  // Tent 10-25-40 km: area = peak * (40 - 10) km / 2 = 15 km.
+  EXPECT_NEAR(c.column[kOzone], 15000.0, 1e-8);
+  EXPECT_FALSE(c.hits_ground);
+  EXPECT_NEAR(c.length_m, 60e3, 1e-6);
+}
+
+// Adaptive reference against the exact Chapman function, H Ch(r/H, mu) e^{-h/H},
+// to 1e-10 relative, including the horizontal (Ch ~ 35 and ~ 91) and downward
+// rays that pass their tangent point above the ground.
+TEST(OpticalDepthReference, MatchesExactChapman) {
+  for (double H : {8000.0, 1200.0}) {
+    Atmosphere atm(exponential_only(H));
+    OpticalDepthReference ref(atm);
+    const double R = atm.ground_radius();
+    for (double h : {0.0, 1000.0, 5000.0, 20000.0})
+      for (double mu : {1.0, 0.8, 0.3, 0.05, 0.01, 0.0, -0.01, -0.03}) {
+        double r = R + h;
+        if (shared::ray_hits_ground(r, mu, R)) continue;
+        auto c = ref.column(r, mu);
+        double expect = H * std::exp(-h / H) * chapman_exact(r / H, mu);
+        EXPECT_NEAR(c.column[kRayleigh] / expect, 1.0, 1e-10) << H << " " << h << " " << mu;
+        EXPECT_LT(c.error[kRayleigh], 1e-10 * expect);
+      }
+  }
+}
+
+// Splitting a ray into pieces (each evaluated from its own origin) must give the
+// same column: the reference does not depend on how the path is cut.
+TEST(OpticalDepthReference, InvariantUnderSplitting) {
+  Atmosphere atm(preset("earth-graphics"));
+  OpticalDepthReference ref(atm);
+  const double R = atm.ground_radius();
+  for (double mu : {0.3, 0.0, -0.02}) {
+    double r0 = R + 2000.0;
+    auto whole = ref.column(r0, mu);
+    for (int n : {2, 5, 16}) {
+      glm::dvec3 sum(0.0);
+      double step = whole.length_m / n;
+      for (int i = 0; i < n; ++i) {
+        double s = i * step;
+        double rs = shared::radius_along(r0, mu, s);
+        double ms = shared::mu_along(r0, mu, s, rs);
+        sum += ref.column(rs, ms, step).column;
+      }
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], whole.column[c], 1e-10 * whole.column[c] + 1e-9) << n;
+    }
+  }
+}
+
+// Observer above the atmosphere: the column equals that from the entry point.
+TEST(OpticalDepthReference, ObserverAboveTheTopLooksThroughTheLimb) {
+  Atmosphere atm(preset("earth-graphics"));
+  OpticalDepthReference ref(atm);
+  const double R = atm.ground_radius(), T = atm.top_radius();
+  double r = T + 300e3, mu = -std::sqrt(1.0 - std::pow((R + 30e3) / r, 2.0));  // tangent at 30 km
+  auto c = ref.column(r, mu);
+  double s0 = shared::distance_to_top_from_outside(r, mu, T);
+  auto c2 = ref.column(T, (r * mu + s0) / T);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(c.column[k], c2.column[k], 1e-9 * c2.column[k]);
+  EXPECT_GT(c.column[kRayleigh], 0.0);
+  // A ray missing the atmosphere has zero column.
+  EXPECT_EQ(ref.column(r, 0.5).column[kRayleigh], 0.0);
+}
+
+TEST(OpticalDepthReference, RaysThatHitTheGround) {
+  Atmosphere atm(preset("earth-graphics"));
+  OpticalDepthReference ref(atm);
+  const double R = atm.ground_radius();
+  auto c = ref.column(R + 1000.0, -1.0);
+  EXPECT_TRUE(c.hits_ground);
+  EXPECT_NEAR(c.length_m, 1000.0, 1e-9);
+  // Straight down from 1 km: H (1 - e^{-1000/H}).
+  EXPECT_NEAR(c.column[kRayleigh], 8000.0 * -std::expm1(-1000.0 / 8000.0), 1e-9);
+  auto g = ref.column(R, -0.5);  // on the ground looking down: empty path
+  EXPECT_TRUE(g.hits_ground);
+  EXPECT_EQ(g.column[kRayleigh], 0.0);
+}
+
+TEST(OpticalDepthReference, BadInput) {
+  Atmosphere atm(preset("test-planet"));
+  OpticalDepthReference ref(atm);
+  EXPECT_THROW(ref.column(std::nan(""), 0.5), atmosh::InputError);
+  EXPECT_THROW(ref.column(atm.ground_radius() + 10.0, 1.5), atmosh::InputError);
+  EXPECT_THROW(ref.column(atm.ground_radius() - 100.0, 0.5), atmosh::InputError);
+}
+
+// Transmittance underflows to exactly 0, never NaN.
+TEST(OpticalDepth, TransmittanceUnderflowIsExactlyZero) {
+  EXPECT_EQ(transmittance(1e6), 0.0);
+  EXPECT_EQ(transmittance(std::numeric_limits<double>::infinity()), 0.0);
+  EXPECT_EQ(transmittance(std::nan("")), 0.0);
+  EXPECT_EQ(transmittance(0.0), 1.0);
+  EXPECT_GT(transmittance(700.0), 0.0);
+}
+
+// Ozone: the vertical optical depth equals column_du * DU * sigma.
+TEST(Atmosphere, OzoneColumnMatchesDobsonUnits) {
+  Atmosphere atm(preset("earth-graphics"));
+  OpticalDepthReference ref(atm);
+  auto c = ref.column(atm.ground_radius(), 1.0);
+  double tau = atm.coefficients_at(600.0).extinction[kOzone] * c.column[kOzone];
+  EXPECT_NEAR(tau / (300.0 * kDobsonUnitPerM2 * ozone_cross_section(600.0)), 1.0, 1e-10);
+}
+
+// LUT against the reference on the small test planet, including grazing rays,
+// tangent points just above the ground and rays that hit the ground.
+TEST(OpticalDepthLut, MatchesReferenceOnTestPlanet) {
+  Atmosphere atm(preset("test-planet"));
+  OpticalDepthReference ref(atm);
+  LutOptions o;
+  o.shells = 32;
+  o.view_directions = 64;
+  o.sun_directions = 64;
+  OpticalDepthLut lut(atm, o);
+  auto k = atm.coefficients_at(550.0);
+  const double R = atm.ground_radius(), T = atm.top_radius();
+  double worst = 0.0;
+  for (double h : {0.0, 10.0, 300.0, 2000.0, 8000.0, 15000.0, 19999.0}) {
+    double r = R + h, muh = shared::mu_horizon(r, R);
+    for (double mu : {1.0, 0.5, 0.1, 0.0, -0.3, -1.0, muh + 1e-7, muh - 1e-7, muh + 1e-3, muh - 1e-3}) {
+      if (mu < -1.0 || mu > 1.0) continue;
+      auto a = ref.column(r, mu);
+      auto b = lut.view(r, mu);
+      ASSERT_EQ(a.hits_ground, b.hits_ground) << h << " " << mu;
+      double ta = optical_depth(k, a.column), tb = optical_depth(k, b.column);
+      ASSERT_TRUE(std::isfinite(tb));
+      if (ta > 0.0) worst = std::max(worst, std::abs(tb - ta) / ta);
+    }
+  }
+  EXPECT_LT(worst, 2e-3);
+  // The sun table reports rays into the ground as blocked.
+  EXPECT_TRUE(lut.sun(R + 100.0, -0.5).hits_ground);
+  EXPECT_GT(lut.sun(R + 100.0, 0.5).column[kRayleigh], 0.0);
+  EXPECT_EQ(lut.view(T + 1e6, 1.0).column[kRayleigh], 0.0);
+}
+
+TEST(OpticalDepthLut, BadOptions) {
+  Atmosphere atm(preset("test-planet"));
+  LutOptions o;
+  o.shells = 2;
+  EXPECT_THROW(OpticalDepthLut(atm, o), atmosh::InputError);
+}

@@ -1,0 +1,129 @@
+// Phase functions: normalisation, mean cosine, sampling, moments, delta-M.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "atmosh/atmo/integrate.hpp"
+#include "atmosh/atmo/phase.hpp"
+#include "atmosh/error.hpp"
+
+using namespace atmosh::atmo;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+PhaseSpec make(PhaseSpec::Model m, double g, double g2 = -0.3, double w = 0.9) {
+  PhaseSpec s;
+  s.model = m;
+  s.g = g;
+  s.g2 = g2;
+  s.weight = w;
+  return s;
+}
+
+// 2 pi int f(mu) dmu by adaptive Gauss-Kronrod in theta, with breakpoints that
+// resolve forward/backward peaks of width ~ (1 - |g|).
+double sphere_integral(const std::function<double(double)>& f, std::vector<double> pts = {}) {
+  for (double t = 1e-6; t < 1.0; t *= 2.0) {
+    pts.push_back(t);
+    pts.push_back(kPi - t);
+  }
+  auto r = integrate_adaptive<double>([&](double th) { return f(std::cos(th)) * std::sin(th); }, 0.0, kPi, pts,
+                                      1e-300, 1e-13, 20000);
+  return 2.0 * kPi * r.value;
+}
+
+std::vector<PhaseSpec> all_models() {
+  std::vector<PhaseSpec> v;
+  auto ray = make(PhaseSpec::Model::Rayleigh, 0.0);
+  ray.depolarization = 0.0279;
+  v.push_back(ray);
+  for (double g : {0.0, 0.5, 0.9, 0.999, -0.999, -0.7}) {
+    v.push_back(make(PhaseSpec::Model::HenyeyGreenstein, g));
+    v.push_back(make(PhaseSpec::Model::CornetteShanks, g));
+  }
+  v.push_back(make(PhaseSpec::Model::DoubleHenyeyGreenstein, 0.9, -0.4, 0.8));
+  v.push_back(make(PhaseSpec::Model::DoubleHenyeyGreenstein, 0.999, -0.999, 0.5));
+  PhaseSpec t;
+  t.model = PhaseSpec::Model::Tabulated;
+  t.cos_theta = {-1.0, 0.0, 0.5, 1.0};
+  t.value = {1.0, 2.0, 5.0, 20.0};
+  v.push_back(t);
+  return v;
+}
+}  // namespace
+
+// Every model integrates to 1 over the sphere (to 1e-10), and its mean cosine
+// equals the quadrature of mu p.
+TEST(Phase, NormalisedAndMeanCosine) {
+  for (const auto& s : all_models()) {
+    PhaseFunction p(s);
+    std::vector<double> kinks;  // tabulated: split at the nodes (theta = acos(mu_i))
+    for (double c : s.cos_theta) kinks.push_back(std::acos(c));
+    EXPECT_NEAR(sphere_integral([&](double mu) { return p.value(mu); }, kinks), 1.0, 1e-10)
+        << static_cast<int>(s.model) << " g=" << s.g;
+    EXPECT_NEAR(sphere_integral([&](double mu) { return mu * p.value(mu); }, kinks), p.mean_cosine(), 1e-10)
+        << static_cast<int>(s.model) << " g=" << s.g;
+  }
+}
+
+// Cornette-Shanks mean cosine closed form 3g(4+g^2)/(5(2+g^2)) differs from g.
+TEST(Phase, CornetteShanksGIsNotTheMeanCosine) {
+  PhaseFunction p(make(PhaseSpec::Model::CornetteShanks, 0.8));
+  EXPECT_NEAR(p.mean_cosine(), 3 * 0.8 * (4 + 0.64) / (5 * 2.64), 1e-15);
+  EXPECT_GT(std::abs(p.mean_cosine() - 0.8), 0.01);
+  // Forward peak is at cos_theta = +1 for g > 0.
+  EXPECT_GT(p.value(1.0), p.value(-1.0));
+}
+
+// Sampling: the inverse-CDF map averaged over a fine uniform grid of u gives the
+// mean cosine (midpoint rule in u, error ~1e-6 for these smooth maps).
+TEST(Phase, SamplingReproducesMeanCosine) {
+  for (const auto& s : all_models()) {
+    PhaseFunction p(s);
+    const int n = 200000;
+    double m = 0.0;
+    for (int i = 0; i < n; ++i) {
+      double mu = p.sample((i + 0.5) / n);
+      ASSERT_TRUE(std::isfinite(mu));
+      ASSERT_LE(std::abs(mu), 1.0);
+      m += mu;
+    }
+    EXPECT_NEAR(m / n, p.mean_cosine(), 2e-4) << static_cast<int>(s.model) << " g=" << s.g;
+  }
+}
+
+// HG moments are g^l (closed form); the zonal projection of Cornette-Shanks gives
+// chi_0 = 1 and chi_1 = its closed-form mean cosine.
+TEST(Phase, LegendreMoments) {
+  PhaseFunction hg(make(PhaseSpec::Model::HenyeyGreenstein, 0.7));
+  auto m = hg.legendre_moments(8);
+  for (int l = 0; l < 8; ++l) EXPECT_NEAR(m.chi[l], std::pow(0.7, l), 1e-14);
+  PhaseFunction cs(make(PhaseSpec::Model::CornetteShanks, 0.7));
+  auto c = cs.legendre_moments(8);
+  EXPECT_NEAR(c.chi[0], 1.0, 1e-12);
+  EXPECT_NEAR(c.chi[1], cs.mean_cosine(), 1e-12);
+  // Double HG: moments are w g1^l + (1-w) g2^l.
+  PhaseFunction d(make(PhaseSpec::Model::DoubleHenyeyGreenstein, 0.8, -0.3, 0.9));
+  auto dm = d.legendre_moments(6);
+  for (int l = 0; l < 6; ++l) EXPECT_NEAR(dm.chi[l], 0.9 * std::pow(0.8, l) + 0.1 * std::pow(-0.3, l), 1e-10);
+}
+
+// Delta-M for HG: f = g^n and truncated moments (g^l - g^n)/(1 - g^n).
+TEST(Phase, DeltaM) {
+  PhaseFunction hg(make(PhaseSpec::Model::HenyeyGreenstein, 0.999));
+  auto d = hg.delta_m(16);
+  EXPECT_NEAR(d.f, std::pow(0.999, 16), 1e-14);
+  EXPECT_NEAR(d.truncated[0], 1.0, 1e-12);
+  EXPECT_NEAR(d.truncated[1], (0.999 - d.f) / (1.0 - d.f), 1e-12);
+}
+
+TEST(Phase, ExtremeGStaysFinite) {
+  for (double g : {0.999, -0.999}) {
+    PhaseFunction p(make(PhaseSpec::Model::HenyeyGreenstein, g));
+    for (double mu : {-1.0, -0.5, 0.0, 0.999999, 1.0}) EXPECT_TRUE(std::isfinite(p.value(mu)));
+    // Peak value (1+|g|)/(4 pi (1-|g|)^2) (closed form at mu = sign(g)).
+    EXPECT_NEAR(p.value(g > 0 ? 1.0 : -1.0), (1 + 0.999) / (4 * kPi * 0.001 * 0.001), 1e-6 * 1.6e5);
+  }
+  EXPECT_THROW(PhaseFunction(make(PhaseSpec::Model::HenyeyGreenstein, 1.0)), atmosh::InputError);
+}

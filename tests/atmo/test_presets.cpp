@@ -1,0 +1,86 @@
+// Presets and validation of atmosphere parameters.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "atmosh/atmo/atmosphere.hpp"
+#include "atmosh/atmo/presets.hpp"
+#include "atmosh/error.hpp"
+
+using namespace atmosh::atmo;
+
+namespace {
+std::string message_of(const AtmosphereSpec& s) {
+  try {
+    validate(s);
+  } catch (const atmosh::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Presets, AllBuildAndValidate) {
+  for (const auto& n : preset_names()) {
+    auto s = preset(n);
+    EXPECT_NO_THROW(validate(s)) << n;
+    Atmosphere a(s);
+    EXPECT_FALSE(a.wavelengths_nm().empty());
+  }
+  try {
+    preset("mars");
+    FAIL();
+  } catch (const atmosh::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("earth-graphics"), std::string::npos);
+  }
+}
+
+// Default spectrum: 360-830 nm in 10 nm bins.
+TEST(Presets, DefaultSpectrum) {
+  auto w = spectrum_wavelengths(SpectrumSpec{});
+  ASSERT_EQ(w.size(), 47u);
+  EXPECT_DOUBLE_EQ(w.front(), 365.0);
+  EXPECT_DOUBLE_EQ(w.back(), 825.0);
+}
+
+// U.S. Standard Atmosphere 1976 density ratios (NOAA 1976, Table I): 0.33756 at
+// 11 km (0.41351 kg/m^3... ratio rho/rho0 at 10 km = 0.33756), 0.072674 at 20 km.
+TEST(Presets, UsStandard1976) {
+  auto p = us_standard_1976_profile(100e3, 500.0);
+  EXPECT_DOUBLE_EQ(p.value[0], 1.0);
+  EXPECT_NEAR(p.value[20], 0.33756, 2e-4);   // 10 km
+  EXPECT_NEAR(p.value[40], 0.072674, 1e-4);  // 20 km
+}
+
+TEST(Presets, ValidationNamesTheKey) {
+  auto s = preset("earth-graphics");
+  s.mie->scattering_per_m = -1.0;
+  EXPECT_NE(message_of(s).find("mie.scattering_per_m"), std::string::npos);
+  s = preset("earth-graphics");
+  s.planet.atmosphere_top_m = -5.0;
+  EXPECT_NE(message_of(s).find("planet.atmosphere_top_m"), std::string::npos);
+  s = preset("earth-graphics");
+  s.mie->profile.scale_height_m = std::nan("");
+  EXPECT_NE(message_of(s).find("mie.profile.scale_height_m"), std::string::npos);
+  s = preset("earth-graphics");
+  s.rayleigh->profile.scale_height_m = -5.0;
+  EXPECT_NE(message_of(s).find("rayleigh.profile.scale_height_m = -5"), std::string::npos);
+  s = preset("earth-graphics");
+  s.spectrum.wavelengths_nm = {300.0};
+  EXPECT_NE(message_of(s).find("spectrum.wavelengths_nm[0]"), std::string::npos);
+  s = preset("earth-graphics");
+  s.ozone->profile.peak_m = 50e3;
+  EXPECT_NE(message_of(s).find("ozone.profile"), std::string::npos);
+}
+
+// Leaving a constituent out removes it: zero coefficients.
+TEST(Presets, AbsentConstituentsAreZero) {
+  auto s = preset("earth-graphics");
+  s.mie.reset();
+  s.ozone.reset();
+  Atmosphere a(s);
+  EXPECT_FALSE(a.has(kMie));
+  auto k = a.coefficients_at(500.0);
+  EXPECT_EQ(k.extinction[kMie], 0.0);
+  EXPECT_EQ(k.extinction[kOzone], 0.0);
+}
