@@ -67,23 +67,8 @@ def main():
         "#pragma once",
         "",
         "#include <cstddef>",
-        "#include <cstring>",
         "",
         "namespace atmosh::sh::generated {",
-        "",
-        "// 32-byte vector of T (GCC/Clang vector extension; lowered to the target's SIMD).",
-        "template <class T>",
-        "struct VecOf;",
-        "template <>",
-        "struct VecOf<float> { typedef float type __attribute__((vector_size(32))); };",
-        "template <>",
-        "struct VecOf<double> { typedef double type __attribute__((vector_size(32))); };",
-        "template <class T>",
-        "using Vec = typename VecOf<T>::type;",
-        "template <class V, class T>",
-        "inline void vstore(T* p, const V& v) { std::memcpy(p, &v, sizeof(V)); }",
-        "template <class V, class T>",
-        "inline V vload(const T* p) { V v; std::memcpy(&v, p, sizeof(V)); return v; }",
         "",
     ]
     for L in range(1, MAX_BANDS + 1):
@@ -100,20 +85,12 @@ def main():
         lines.append("template <class T>")
         lines.append("inline void eval_batch_%d(std::size_t n, const T* __restrict xs, const T* __restrict ys,"
                      " const T* __restrict zs, T* __restrict out, std::size_t stride) {" % L)
-        lines.append("  using V = Vec<T>;")
-        lines.append("  constexpr std::size_t W = sizeof(V) / sizeof(T);")
-        lines.append("  std::size_t k = 0;")
-        lines.append("  for (; k + W <= n; k += W) {")
-        lines.append("    const V x = vload<V>(xs + k), y = vload<V>(ys + k), z = vload<V>(zs + k);")
+        lines.append("  for (std::size_t k = 0; k < n; ++k) {")
+        lines.append("    const T x = xs[k], y = ys[k], z = zs[k];")
         lines.append("    (void)x; (void)y; (void)z;")
-        lines.append("#define O(i, e) vstore(out + (i) * stride + k, V(e))")
-        lines += body(L, "    ", "V")
+        lines.append("#define O(i, e) out[(i) * stride + k] = (e)")
+        lines += body(L, "    ")
         lines.append("#undef O")
-        lines.append("  }")
-        lines.append("  for (; k < n; ++k) {")
-        lines.append("    T tmp[%d];" % (L * L))
-        lines.append("    eval_%d(xs[k], ys[k], zs[k], tmp);" % L)
-        lines.append("    for (int i = 0; i < %d; ++i) out[i * stride + k] = tmp[i];" % (L * L))
         lines.append("  }")
         lines.append("}")
         lines.append("")

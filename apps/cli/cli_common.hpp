@@ -17,6 +17,9 @@
 #include <string>
 #include <vector>
 
+#include "atmosh/atmo/spec.hpp"
+#include "atmosh/scene/scene.hpp"
+
 namespace atmosh::cli {
 
 void print_json(const nlohmann::json& j);
@@ -44,6 +47,22 @@ void register_sun_commands(CLI::App& app);     // sun (single time, ranges, accu
 void register_atmo_commands(CLI::App& app);    // optical-depth, phase, stability, converge lut
 void register_gpu_commands(CLI::App& app);     // gpu info
 void register_sky_commands(CLI::App& app);     // sky, study, sweep, converge sky
+
+// Writes <stem>.csv and <stem>.png: the sun (NREL SPA) over the UTC day that
+// contains time_utc, at a place, every step_s seconds.
+std::vector<std::filesystem::path> write_sun_track(double latitude_deg, double longitude_deg, double height_m,
+                                                   const std::string& time_utc, double step_s,
+                                                   const std::filesystem::path& stem);
+
+// Scene outputs computed by the atmosphere area (cmd_atmo.cpp): the LUT
+// convergence study (<stem>.csv/.png) and optical depth against zenith angle.
+std::vector<std::filesystem::path> write_lut_convergence(const atmo::AtmosphereSpec& spec,
+                                                         const std::filesystem::path& stem, bool quick);
+std::vector<std::filesystem::path> write_optical_depth_table(const atmo::AtmosphereSpec& spec,
+                                                             const std::filesystem::path& stem);
+// Computes exactly the outputs a scene lists (and the tables they need) into dir.
+void run_scene(const scene::Scene& scene, const std::filesystem::path& dir, bool quick,
+               std::vector<std::filesystem::path>& written);
 
 // Parts of the main job, run in this order by `atmosh demo`.
 void demo_sun(DemoContext& ctx);

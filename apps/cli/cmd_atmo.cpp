@@ -1,7 +1,385 @@
-// atmosh optical-depth, phase, stability, converge lut (placeholder).
+// atmosh optical-depth, phase, stability, converge lut; and the atmosphere part
+// of the main job (demo_atmo).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "atmosh/atmo/atmosphere.hpp"
+#include "atmosh/atmo/optical_depth.hpp"
+#include "atmosh/atmo/phase.hpp"
+#include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/atmo/stiff_cases.hpp"
+#include "atmosh/error.hpp"
+#include "atmosh/io/csv.hpp"
+#include "atmosh/io/plot.hpp"
+#include "atmosh/io/provenance.hpp"
+#include "atmosh/io/study.hpp"
+#include "atmosh/scene/scene.hpp"
 #include "cli_common.hpp"
 
 namespace atmosh::cli {
-void register_atmo_commands(CLI::App&) {}
-void demo_atmo(DemoContext&) {}
+namespace {
+
+using namespace atmosh::atmo;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+AtmosphereSpec load_atmosphere(const std::string& scene_file, const std::string& preset_name) {
+  if (!scene_file.empty() && !preset_name.empty()) throw InputError("--scene and --preset: give only one");
+  if (!scene_file.empty()) return scene::load_scene(scene_file).atmosphere;
+  return preset(preset_name.empty() ? "earth-graphics" : preset_name);
+}
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// ---- converge lut --------------------------------------------------------------
+
+struct Ray {
+  double r, mu;
+};
+
+// Rays for the study: altitudes from the ground to the top (including just
+// above the ground and just below the top), directions on a uniform grid in mu
+// plus grazing rays at 1e-9..3e-2 either side of the horizon and of mu = 0, and
+// rays whose tangent point lies 1 mm..1 km above the ground.
+std::vector<Ray> study_rays(const Atmosphere& atm) {
+  const double R = atm.ground_radius(), top = atm.top_altitude();
+  std::vector<Ray> rays;
+  std::vector<double> hs = {0.0, 1.0, 10.0, 100.0, 500.0, 1000.0, 2000.0, 5000.0, 10e3, 20e3, 35e3};
+  for (auto& f : {0.5, 0.8, 0.99, 0.99999}) hs.push_back(f * top);
+  for (double h : hs) {
+    if (h > top) continue;
+    double r = R + h, muh = shared::mu_horizon(r, R);
+    std::vector<double> mus;
+    for (int i = 0; i <= 40; ++i) mus.push_back(-1.0 + 2.0 * i / 40.0);
+    for (double e : {1e-9, 1e-7, 1e-5, 1e-3, 1e-2, 3e-2}) {
+      mus.insert(mus.end(), {muh + e, muh - e, e, -e});
+    }
+    for (double th : {1e-3, 1.0, 100.0, 1000.0})
+      if (r > R + th) mus.push_back(-std::sqrt(1.0 - std::pow((R + th) / r, 2.0)));
+    for (double mu : mus)
+      if (mu >= -1.0 && mu <= 1.0) rays.push_back({r, mu});
+  }
+  return rays;
+}
+
+std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::vector<int>& shells,
+                                       const std::vector<int>& directions, bool quick, const fs::path& stem) {
+  Atmosphere atm(spec);
+  OpticalDepthReference ref(atm);
+  auto rays = study_rays(atm);
+  auto k = atm.coefficients_at(550.0);
+  Coefficients ks = k;  // Rayleigh + Mie only (smooth profiles)
+  ks.extinction[kOzone] = 0.0;
+  std::vector<double> exact(rays.size()), exact_smooth(rays.size());
+  std::vector<bool> ground(rays.size());
+  double ref_err = 0.0;
+  auto t0 = Clock::now();
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    auto c = ref.column(rays[i].r, rays[i].mu);
+    exact[i] = optical_depth(k, c.column);
+    exact_smooth[i] = optical_depth(ks, c.column);
+    ground[i] = c.hits_ground;
+    if (exact[i] > 0.0) ref_err = std::max(ref_err, optical_depth(k, c.error) / exact[i]);
+  }
+  double ref_time = seconds_since(t0);
+  io::StudySpec ss;
+  ss.title = "Optical depth LUT (Nishita shells) vs exact reference, " + spec.name + ", 550 nm";
+  ss.extra_columns = {"shells", "directions", "rays", "build_time_s", "lookup_time_ns", "table_bytes",
+                      "flag_mismatches", "error_max_rel_rayleigh_mie"};
+  std::vector<io::StudyRow> rows;
+  rows.push_back({"reference", "adaptive G7-K15 (estimated error)", ref_err, ref_err, ref_time,
+                  {0, 0, double(rays.size()), 0.0, 1e9 * ref_time / rays.size(), 0, 0, ref_err}});
+  std::vector<std::pair<int, int>> settings;
+  if (quick) {
+    settings = {{16, 32}, {32, 64}};
+  } else {
+    for (int s : shells)
+      for (int d : directions) settings.push_back({s, d});
+  }
+  for (auto [s, d] : settings) {
+    LutOptions o;
+    o.shells = s;
+    o.view_directions = d;
+    o.sun_directions = d;
+    OpticalDepthLut lut(atm, o);
+    double emax = 0.0, esum = 0.0, emax_smooth = 0.0;
+    int n = 0, mismatches = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      auto c = lut.view(rays[i].r, rays[i].mu);
+      mismatches += c.hits_ground != ground[i];
+      if (exact_smooth[i] > 0.0)
+        emax_smooth = std::max(emax_smooth, std::abs(optical_depth(ks, c.column) - exact_smooth[i]) / exact_smooth[i]);
+      if (!(exact[i] > 0.0)) continue;
+      double e = std::abs(optical_depth(k, c.column) - exact[i]) / exact[i];
+      emax = std::max(emax, e);
+      esum += e * e;
+      ++n;
+    }
+    // Lookup timing: all rays, repeated to at least ~20 ms.
+    int reps = std::max(1, static_cast<int>(2e6 / rays.size()));
+    double sink = 0.0;
+    auto t1 = Clock::now();
+    for (int rep = 0; rep < reps; ++rep)
+      for (const auto& ray : rays) sink += lut.view(ray.r, ray.mu).column[kRayleigh];
+    double lookup_s = seconds_since(t1) / (double(reps) * rays.size());
+    if (sink == -1.0) std::printf(" ");
+    rows.push_back({"lut", std::to_string(s) + "x" + std::to_string(d), emax, std::sqrt(esum / std::max(n, 1)),
+                    lut.build_time_s() + lookup_s * rays.size(),
+                    {double(s), double(d), double(rays.size()), lut.build_time_s(), 1e9 * lookup_s,
+                     double(lut.table_bytes()), double(mismatches), emax_smooth}});
+  }
+  io::Provenance prov = io::Provenance::current();
+  prov.add("atmosphere", spec.name).add("wavelength_nm", 550.0);
+  prov.add("time_s", "lut: build time + per-lookup time x rays; reference: time of all rays");
+  prov.add("error", "relative error of the total optical depth at 550 nm over all rays (view table); "
+                    "error_max_rel_rayleigh_mie: the same without ozone");
+  prov.add("machine_note", "timings depend on the machine and its load");
+  return io::write_study(stem, ss, rows, prov);
+}
+
+std::vector<int> parse_int_list(const std::string& text, const std::string& what) {
+  std::vector<int> v;
+  for (double d : parse_list(text, what)) {
+    if (d != std::floor(d) || d < 4 || d > 4096) throw InputError(what + ": '" + text + "' must be integers in [4, 4096]");
+    v.push_back(static_cast<int>(d));
+  }
+  return v;
+}
+
+// ---- optical depth vs zenith (demo) -------------------------------------------------
+
+std::vector<fs::path> write_zenith_sweep(const AtmosphereSpec& spec, double altitude, const fs::path& stem) {
+  Atmosphere atm(spec);
+  OpticalDepthReference ref(atm);
+  OpticalDepthLut lut(atm);
+  auto k = atm.coefficients_at(550.0);
+  io::CsvTable t({"zenith_deg", "tau_reference", "tau_lut", "relative_error", "hits_ground"});
+  io::Series sr{"reference", {}, {}, io::Series::Style::Line}, sl{"LUT 32x64", {}, {}, io::Series::Style::Scatter};
+  for (int i = 0; i <= 360; ++i) {
+    double z = 0.5 * i;
+    double mu = std::cos(z * kDegToRad);
+    double r = atm.ground_radius() + altitude;
+    auto a = ref.column(r, mu);
+    auto b = lut.view(r, mu);
+    double ta = optical_depth(k, a.column), tb = optical_depth(k, b.column);
+    t.add_row({z, ta, tb, ta > 0.0 ? std::abs(tb - ta) / ta : 0.0, std::int64_t(a.hits_ground)});
+    sr.x.push_back(z);
+    sr.y.push_back(ta);
+    if (i % 4 == 0) {
+      sl.x.push_back(z);
+      sl.y.push_back(tb);
+    }
+  }
+  io::Provenance prov = io::Provenance::current();
+  prov.add("atmosphere", spec.name).add("altitude_m", altitude).add("wavelength_nm", 550.0);
+  fs::path csv = stem.string() + ".csv", png = stem.string() + ".png";
+  t.write(csv, prov);
+  io::PlotSpec ps;
+  ps.title = "Optical depth at 550 nm against zenith angle (" + spec.name + ", " + std::to_string(int(altitude)) + " m)";
+  ps.x_label = "zenith angle [deg]";
+  ps.y_label = "optical depth (total)";
+  ps.log_y = true;
+  ps.series = {sr, sl};
+  io::write_plot_png(png, ps);
+  return {csv, png};
+}
+
+}  // namespace
+
+void register_atmo_commands(CLI::App& app) {
+  // optical-depth
+  {
+    struct Opt {
+      std::string scene, preset, method = "reference";
+      double wavelength = 550.0, altitude = 0.0, zenith = 0.0;
+      bool json = false;
+    };
+    auto o = std::make_shared<Opt>();
+    CLI::App* c = app.add_subcommand("optical-depth", "Optical depth along a ray from an altitude at a zenith angle");
+    c->add_option("--scene", o->scene, "scene TOML file (its atmosphere)");
+    c->add_option("--preset", o->preset, "earth-physical | earth-graphics (default) | test-planet");
+    c->add_option("--wavelength", o->wavelength, "wavelength [nm]")->required();
+    c->add_option("--altitude", o->altitude, "altitude of the ray origin above the ground [m]")->required();
+    c->add_option("--zenith", o->zenith, "zenith angle of the ray [deg] (90 = horizontal, > 90 looks down)")->required();
+    c->add_option("--method", o->method, "reference | lut");
+    c->add_flag("--json", o->json, "print one JSON object");
+    c->callback([o] {
+      if (o->method != "reference" && o->method != "lut")
+        throw InputError("--method: '" + o->method + "' is not reference or lut");
+      double nm = require_range(o->wavelength, 1.0, 1e5, "--wavelength");
+      double zen = require_range(o->zenith, 0.0, 180.0, "--zenith");
+      double alt = require_range(o->altitude, -1e3, 1e9, "--altitude");
+      AtmosphereSpec spec = load_atmosphere(o->scene, o->preset);
+      spec.spectrum.wavelengths_nm = {nm};
+      if (spec.ozone && (nm < 360.0 || nm > 830.0))
+        throw InputError("--wavelength " + io::format_double(nm) + ": outside the ozone table (360-830 nm)");
+      Atmosphere atm(spec);
+      if (alt < 0.0) throw InputError("--altitude " + io::format_double(alt) + ": below the ground");
+      const double r = atm.ground_radius() + alt, mu = std::cos(zen * kDegToRad);
+      auto k = atm.coefficients(0);
+      glm::dvec3 col, err(0.0);
+      bool hits = false;
+      double rel_err = 0.0;
+      auto t0 = Clock::now();
+      if (o->method == "reference") {
+        OpticalDepthReference ref(atm);
+        auto c = ref.column(r, mu);
+        col = c.column;
+        err = c.error;
+        hits = c.hits_ground;
+      } else {
+        OpticalDepthLut lut(atm);
+        auto t1 = Clock::now();
+        auto c = lut.view(r, mu);
+        double lookup = seconds_since(t1);
+        (void)lookup;
+        col = c.column;
+        hits = c.hits_ground;
+        rel_err = -1.0;  // filled below
+      }
+      double time_s = seconds_since(t0);
+      glm::dvec3 tau = k.extinction * col;
+      double total = tau.x + tau.y + tau.z;
+      double error_estimate = std::abs(glm::dot(k.extinction, err));
+      if (rel_err < 0.0) {
+        // LUT: the documented bound for the default table (32 shells x 64
+        // directions, max relative error measured by `converge lut`) times total.
+        error_estimate = 1e-3 * total;
+      }
+      if (o->json) {
+        print_json({{"rayleigh", tau.x}, {"mie", tau.y}, {"ozone", tau.z}, {"total", total},
+                    {"transmittance", transmittance(total)}, {"method", o->method},
+                    {"error_estimate", error_estimate}, {"time_s", time_s}, {"hits_ground", hits},
+                    {"wavelength_nm", nm}, {"atmosphere", spec.name}});
+      } else {
+        std::printf("optical depth at %g nm, altitude %g m, zenith %g deg (%s, %s)%s\n", nm, alt, zen,
+                    spec.name.c_str(), o->method.c_str(), hits ? ", ray hits the ground" : "");
+        std::printf("  rayleigh %.12g\n  mie      %.12g\n  ozone    %.12g\n  total    %.12g (+- %.3g)\n"
+                    "  transmittance %.12g\n  time %.3g s\n",
+                    tau.x, tau.y, tau.z, total, error_estimate, transmittance(total), time_s);
+      }
+    });
+  }
+  // phase
+  {
+    struct Opt {
+      std::string model;
+      double g = 0.8, g2 = -0.3, weight = 0.9, depolarization = 0.0279, mu = 1.0;
+      bool json = false;
+    };
+    auto o = std::make_shared<Opt>();
+    CLI::App* c = app.add_subcommand("phase", "Phase function value [1/sr] and mean cosine");
+    c->add_option("--model", o->model, "rayleigh | hg | cornette-shanks | double-hg")->required();
+    c->add_option("--g", o->g, "asymmetry parameter (first lobe for double-hg)");
+    c->add_option("--g2", o->g2, "double-hg: second lobe");
+    c->add_option("--weight", o->weight, "double-hg: weight of the first lobe");
+    c->add_option("--depolarization", o->depolarization, "rayleigh: depolarisation factor");
+    c->add_option("--cos-theta", o->mu, "cosine of the scattering angle (1 = forward)")->required();
+    c->add_flag("--json", o->json, "print one JSON object");
+    c->callback([o] {
+      PhaseSpec s;
+      if (o->model == "rayleigh") s.model = PhaseSpec::Model::Rayleigh;
+      else if (o->model == "hg") s.model = PhaseSpec::Model::HenyeyGreenstein;
+      else if (o->model == "cornette-shanks") s.model = PhaseSpec::Model::CornetteShanks;
+      else if (o->model == "double-hg") s.model = PhaseSpec::Model::DoubleHenyeyGreenstein;
+      else throw InputError("--model: '" + o->model + "' is not rayleigh, hg, cornette-shanks or double-hg");
+      s.g = o->g;
+      s.g2 = o->g2;
+      s.weight = o->weight;
+      s.depolarization = o->depolarization;
+      double mu = require_range(o->mu, -1.0, 1.0, "--cos-theta");
+      PhaseFunction p(s, "--" + o->model);
+      if (o->json) {
+        print_json({{"value", p.value(mu)}, {"mean_cosine", p.mean_cosine()}, {"model", o->model}, {"cos_theta", mu}});
+      } else {
+        std::printf("%s phase at cos(theta) = %g: %.15g /sr, mean cosine %.15g\n", o->model.c_str(), mu, p.value(mu),
+                    p.mean_cosine());
+      }
+    });
+  }
+  // stability
+  {
+    struct Opt {
+      bool json = false;
+      std::string output;
+    };
+    auto o = std::make_shared<Opt>();
+    CLI::App* c = app.add_subcommand("stability", "Run the stiff/extreme-case suite; exit 1 if any case fails");
+    c->add_flag("--json", o->json, "print one JSON object");
+    c->add_option("-o,--output", o->output, "also write the table as CSV");
+    c->callback([o] {
+      auto cases = run_stiff_cases();
+      bool all = true;
+      for (const auto& k : cases) all = all && k.pass;
+      if (!o->output.empty()) {
+        io::CsvTable t({"case", "quantity", "value", "reference", "error", "bound", "pass"});
+        for (const auto& k : cases)
+          t.add_row({k.name, k.quantity, k.value, k.reference, k.error, k.bound, std::int64_t(k.pass)});
+        t.write(o->output, io::Provenance::current());
+      }
+      if (o->json) {
+        nlohmann::json arr = nlohmann::json::array();
+        for (const auto& k : cases)
+          arr.push_back({{"case", k.name}, {"quantity", k.quantity}, {"value", k.value}, {"reference", k.reference},
+                         {"error", k.error}, {"bound", k.bound}, {"pass", k.pass}});
+        print_json({{"cases", arr}, {"all_pass", all}});
+      } else {
+        std::printf("%-44s %22s %22s %10s %8s  %s\n", "case", "value", "reference", "error", "bound", "result");
+        for (const auto& k : cases)
+          std::printf("%-44s %22.15g %22.15g %10.2e %8.1e  %s\n", k.name.c_str(), k.value, k.reference, k.error,
+                      k.bound, k.pass ? "PASS" : "FAIL");
+        std::printf("%s\n", all ? "all cases pass" : "SOME CASES FAIL");
+      }
+      if (!all) throw CLI::RuntimeError(1);
+    });
+  }
+  // converge lut
+  if (CLI::App* conv = app.get_subcommand("converge")) {
+    struct Opt {
+      std::string scene, preset, stem = "lut_convergence", shells = "8,16,32,48,64", directions = "16,32,64,128";
+      bool quick = false;
+    };
+    auto o = std::make_shared<Opt>();
+    CLI::App* c = conv->add_subcommand("lut", "Optical-depth LUT: error against build + lookup time, sweeping shells and directions");
+    c->add_option("--scene", o->scene, "scene TOML file (its atmosphere)");
+    c->add_option("--preset", o->preset, "atmosphere preset (default earth-graphics)");
+    c->add_option("-o,--output", o->stem, "output stem: STEM.csv and STEM.png");
+    c->add_option("--shells", o->shells, "comma-separated shell counts");
+    c->add_option("--directions", o->directions, "comma-separated direction counts (per table branch)");
+    c->add_flag("--quick", o->quick, "two settings only");
+    c->callback([o] {
+      auto s = parse_int_list(o->shells, "--shells");
+      auto d = parse_int_list(o->directions, "--directions");
+      for (const auto& p : run_converge_lut(load_atmosphere(o->scene, o->preset), s, d, o->quick, o->stem))
+        std::printf("%s\n", p.c_str());
+    });
+  }
+}
+
+std::vector<fs::path> write_lut_convergence(const AtmosphereSpec& spec, const fs::path& stem, bool quick) {
+  return run_converge_lut(spec, {16, 32, 48, 64}, {32, 64, 128}, quick, stem);
+}
+
+std::vector<fs::path> write_optical_depth_table(const AtmosphereSpec& spec, const fs::path& stem) {
+  return write_zenith_sweep(spec, 1000.0, stem);
+}
+
+void demo_atmo(DemoContext& ctx) {
+  AtmosphereSpec spec = preset("earth-graphics");
+  std::vector<int> shells = {16, 32, 64}, dirs = {32, 64, 128};
+  for (const auto& p : run_converge_lut(spec, shells, dirs, ctx.quick, ctx.out_dir / "atmo_lut_convergence"))
+    ctx.written.push_back(p);
+  for (const auto& p : write_zenith_sweep(spec, 1000.0, ctx.out_dir / "atmo_optical_depth_vs_zenith"))
+    ctx.written.push_back(p);
+}
+
 }  // namespace atmosh::cli

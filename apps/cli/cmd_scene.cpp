@@ -2,6 +2,7 @@
 #include <chrono>
 #include <iostream>
 
+#include "atmosh/atmo/presets.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/io/csv.hpp"
@@ -20,11 +21,18 @@ void register_scene_commands(CLI::App& app) {
   auto* sc = app.add_subcommand("scene", "Show or check scene files (TOML, version 1)")->require_subcommand(1);
   {
     auto* show = sc->add_subcommand("show", "Print the built-in default scene (or a file, normalised) as TOML");
-    static std::string file;
+    static std::string file, preset_name;
     static bool normalised = false;
     show->add_option("file", file, "Scene file to print normalised (default: the built-in scene, verbatim)");
     show->add_flag("--normalized,--normalised", normalised, "Print every setting, defaults included");
+    show->add_option("--preset", preset_name, "Print a built-in atmosphere preset as a scene (earth-physical, ...)");
     show->callback([] {
+      if (!preset_name.empty()) {
+        scene::Scene s;
+        s.atmosphere = atmo::preset(preset_name);
+        std::cout << "# atmosphere preset '" << preset_name << "' in the scene schema\n" << scene::to_toml(s);
+        return;
+      }
       if (file.empty() && !normalised) {
         std::cout << scene::default_scene_toml();
         return;
@@ -65,6 +73,22 @@ void register_scene_commands(CLI::App& app) {
     });
   }
   {
+    auto* run = app.add_subcommand("run", "Compute exactly the outputs a scene lists (see `atmosh plan`)");
+    static std::string file, out;
+    static bool quick = false;
+    run->add_option("scene", file, "Scene file (default: the built-in scene)");
+    run->add_option("-o,--output", out, "Output folder")->required();
+    run->add_flag("--quick", quick, "Small images and coarse steps");
+    run->callback([] {
+      const auto s = scene_from(file);
+      std::vector<std::filesystem::path> written;
+      run_scene(s, out, quick, written);
+      for (const auto& p : scene::plan(s))
+        std::cout << (p.needed ? "  ran   " : "  skip  ") << p.name << ": " << p.reason << "\n";
+      for (const auto& f : written) std::cout << f.string() << "\n";
+    });
+  }
+  {
     auto* demo = app.add_subcommand("demo", "Main job: run everything the toolkit does on the built-in default scene");
     static std::string out = "results";
     static bool quick = false;
@@ -84,7 +108,8 @@ void register_scene_commands(CLI::App& app) {
       prov.add("scene", s.source);
       plan_csv.write(ctx.out_dir / "plan.csv", prov);
       ctx.written.push_back(ctx.out_dir / "plan.csv");
-      demo_sun(ctx);
+      run_scene(s, ctx.out_dir, ctx.quick, ctx.written);  // the scene's own outputs
+      demo_sun(ctx);                                     // then every study the toolkit has
       demo_atmo(ctx);
       demo_sky(ctx);
       demo_sh(ctx);

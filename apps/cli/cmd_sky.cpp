@@ -14,6 +14,7 @@
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/study.hpp"
 #include "atmosh/scene/sweep.hpp"
+#include "atmosh/sh/transform.hpp"
 #include "cli_common.hpp"
 #include "sky_common.hpp"
 
@@ -173,13 +174,13 @@ struct ElevationStudy {
   QualityOptions q;
 };
 
-std::vector<fs::path> run_elevation_study(const ElevationStudy& o) {
+std::vector<fs::path> run_elevation_study(const ElevationStudy& o, const scene::Scene* given = nullptr) {
   if (o.output.empty()) throw InputError("-o is required (output folder)");
   require_range(o.from, -90, 90, "--from");
   require_range(o.to, -90, 90, "--to");
   if (!(o.step > 0)) throw InputError("--step " + io::format_double(o.step) + " must be > 0");
   if (o.to < o.from) throw InputError("--to " + io::format_double(o.to) + " is below --from");
-  const auto s = load_or_default(o.scene_file);
+  const auto s = given ? *given : load_or_default(o.scene_file);
   const auto model = make_sky_model(s, o.q.sky(), 1.0);
   const double h = s.observer ? std::max(s.observer->height_m, 0.0) : 0.0;
   std::vector<double> elev;
@@ -530,31 +531,101 @@ void register_sky_commands(CLI::App& app) {
   }
 }
 
-void demo_sky(DemoContext& ctx) {
-  const auto s = scene::default_scene();
-  const SunPlacement sun = sun_of_scene(s);
-  QualityOptions q;
-  const auto model = make_sky_model(s, q.sky(), sun.distance_au);
+std::vector<fs::path> write_sky_sh(const SkyModel& model, const SunPlacement& sun, int bands, const fs::path& csv) {
+  // Sample the sky on a Gauss-Legendre grid four times denser than the band limit
+  // (the sky is not band-limited: the sun's aureole and the horizon), analyse each
+  // linear-sRGB channel. Frame: SH x = east, y = north, z = up (ENU).
+  const int nlat = std::max(4 * bands, 64);
+  const sh::GaussGrid grid = sh::gauss_grid(bands, nlat, 2 * nlat);
+  const SpectralToXyz cmf(model.atmosphere->wavelengths_nm());
+  const double h = std::max(sun.observer_height_m, 0.0);
+  std::vector<std::vector<double>> ch(3, std::vector<double>(static_cast<std::size_t>(grid.nlat) * grid.nphi));
+  std::atomic<int> next{0};
+  auto worker = [&] {
+    for (int i; (i = next.fetch_add(1)) < grid.nlat;)
+      for (int j = 0; j < grid.nphi; ++j) {
+        const double ph = grid.phi(j);
+        const glm::dvec3 d(grid.sin_t[i] * std::cos(ph), grid.sin_t[i] * std::sin(ph), grid.cos_t[i]);
+        const SkyColour c = sky_colour(*model.sky, cmf, h, glm::normalize(d), sun.direction());
+        const std::size_t k = static_cast<std::size_t>(i) * grid.nphi + j;
+        ch[0][k] = c.srgb.r;
+        ch[1][k] = c.srgb.g;
+        ch[2][k] = c.srgb.b;
+      }
+  };
+  std::vector<std::thread> pool;
+  const int nt = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  for (int t = 1; t < nt; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  std::vector<std::vector<double>> coeffs;
+  for (const auto& c : ch) coeffs.push_back(sh::analyse(grid, c.data()));
+  io::CsvTable t({"l", "m", "index", "r", "g", "b"});
+  for (int l = 0; l < bands; ++l)
+    for (int m = -l; m <= l; ++m) {
+      const int i = l * (l + 1) + m;
+      t.add_row({std::int64_t{l}, std::int64_t{m}, std::int64_t{i}, coeffs[0][static_cast<std::size_t>(i)],
+                 coeffs[1][static_cast<std::size_t>(i)], coeffs[2][static_cast<std::size_t>(i)]});
+    }
+  auto prov = sky_provenance(model, sun);
+  prov.add("sh", "real orthonormal SH with Condon-Shortley phase, index l(l+1)+m, " + std::to_string(bands) + " bands");
+  prov.add("sh_frame", "x = east, y = north, z = up (observer's ENU); phi from east towards north");
+  prov.add("sh_units", "coefficients of linear sRGB radiance (Y in cd/m^2) times sr");
+  prov.add("sh_projection", "Gauss-Legendre grid " + std::to_string(grid.nlat) + " x " + std::to_string(grid.nphi));
+  t.write(csv, prov);
+  return {csv};
+}
+
+void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vector<fs::path>& written) {
+  std::optional<SunPlacement> sun;
+  std::unique_ptr<SkyModel> model;
+  auto need_sky = [&]() -> const SkyModel& {
+    if (!model) {
+      sun = sun_of_scene(s);
+      model = make_sky_model(s, QualityOptions{}.sky(), sun->distance_au);
+    }
+    return *model;
+  };
   for (const auto& out : s.outputs) {
-    if (out.kind != "sky-image") continue;
-    const int w = ctx.quick ? 64 : out.size[0], h = ctx.quick ? 32 : out.size[1];
-    const auto img = render_sky(*model->sky, parse_sky_projection(out.projection), w, h,
-                                std::max(sun.observer_height_m, 0.0), sun.direction(), out.spectral);
-    const fs::path exr = ctx.out_dir / out.file;
-    fs::path png = exr;
-    png.replace_extension(".png");
-    write_sky_image(img, exr, png, sky_provenance(*model, sun), out.projection, sun);
-    ctx.written.push_back(exr);
-    ctx.written.push_back(png);
+    const fs::path file = dir / out.file;
+    fs::path stem = file;
+    stem.replace_extension();
+    if (out.kind == "sky-image") {
+      const SkyModel& m = need_sky();
+      const int w = quick ? std::min(64, out.size[0]) : out.size[0];
+      const int h = quick ? std::min(32, out.size[1]) : out.size[1];
+      const auto img = render_sky(*m.sky, parse_sky_projection(out.projection), w, h,
+                                  std::max(sun->observer_height_m, 0.0), sun->direction(), out.spectral);
+      fs::path png = file;
+      png.replace_extension(".png");
+      write_sky_image(img, file, png, sky_provenance(m, *sun), out.projection, *sun);
+      written.push_back(file);
+      written.push_back(png);
+    } else if (out.kind == "sh-coefficients") {
+      const SkyModel& m = need_sky();
+      for (const auto& f : write_sky_sh(m, *sun, out.bands > 0 ? out.bands : 3, file)) written.push_back(f);
+    } else if (out.kind == "sun-track") {
+      if (!s.observer) throw InputError(s.source + ": output '" + out.file + "' (sun-track) needs an [observer]");
+      const auto& o = *s.observer;
+      for (const auto& f : write_sun_track(o.latitude_deg, o.longitude_deg, o.height_m, o.time_utc,
+                                           quick ? 1800.0 : 600.0, stem))
+        written.push_back(f);
+    } else if (out.kind == "sun-elevation-study") {
+      ElevationStudy e;
+      e.output = stem.string();
+      e.step = quick ? 12 : 1;
+      for (const auto& f : run_elevation_study(e, &s)) written.push_back(f);
+    } else if (out.kind == "lut-convergence") {
+      for (const auto& f : write_lut_convergence(s.atmosphere, stem, quick)) written.push_back(f);
+    } else if (out.kind == "optical-depth") {
+      for (const auto& f : write_optical_depth_table(s.atmosphere, stem)) written.push_back(f);
+    } else {
+      throw InputError(s.source + ": output kind '" + out.kind + "' is not handled");
+    }
   }
-  ElevationStudy e;
-  e.output = (ctx.out_dir / "sun_elevation_study").string();
-  if (ctx.quick) {
-    e.from = -18;
-    e.to = 90;
-    e.step = 12;
-  }
-  for (const auto& f : run_elevation_study(e)) ctx.written.push_back(f);
+}
+
+void demo_sky(DemoContext& ctx) {
   ConvergeSky c;
   c.quick = ctx.quick;
   c.output = (ctx.out_dir / "sky_convergence").string();

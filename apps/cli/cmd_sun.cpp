@@ -4,6 +4,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -263,25 +264,33 @@ void register_sun_commands(CLI::App& app) {
   });
 }
 
-void demo_sun(DemoContext& ctx) {
-  // Default place and date: Paris (48.8566 N, 2.3522 E, 35 m) on the June
-  // solstice 2026, a full UTC day.
+std::vector<std::filesystem::path> write_sun_track(double latitude_deg, double longitude_deg, double height_m,
+                                                   const std::string& time_utc, double step_s,
+                                                   const std::filesystem::path& stem) {
   SunQuery q;
-  q.latitude_deg = 48.8566;
-  q.longitude_deg = 2.3522;
-  q.height_m = 35.0;
-  const double from = parse_iso8601("2026-06-21T00:00:00Z").jd_utc;
-  const double to = parse_iso8601("2026-06-22T00:00:00Z").jd_utc;
-  const double step = ctx.quick ? 1800.0 : 600.0;
-  const auto samples = sun_series(q, from, to, step);
+  q.latitude_deg = require_range(latitude_deg, -90.0, 90.0, "latitude_deg");
+  q.longitude_deg = require_range(longitude_deg, -180.0, 180.0, "longitude_deg");
+  q.height_m = height_m;
+  // The whole UTC day that contains the given time.
+  const double jd = parse_iso8601(time_utc).jd_utc;
+  const double from = std::floor(jd - 0.5) + 0.5, to = from + 1.0;
+  const auto samples = sun_series(q, from, to, step_s);
   io::Provenance prov = place_provenance(q);
-  prov.add("from_utc", format_iso8601_utc(from)).add("to_utc", format_iso8601_utc(to)).add("step_s", step);
-  const auto csv = ctx.out_dir / "sun_track.csv";
+  prov.add("from_utc", format_iso8601_utc(from)).add("to_utc", format_iso8601_utc(to)).add("step_s", step_s);
+  std::filesystem::path csv = stem, png = stem;
+  csv += ".csv";
+  png += ".png";
   series_table(samples).write(csv, prov);
-  ctx.written.push_back(csv);
-  const auto png = ctx.out_dir / "sun_track.png";
-  write_track_plot(png, samples, "Sun over Paris, 2026-06-21 (UTC), NREL SPA");
-  ctx.written.push_back(png);
+  std::ostringstream title;
+  title.precision(8);
+  title << "Sun at " << latitude_deg << " deg, " << longitude_deg << " deg on " << format_iso8601_utc(from).substr(0, 10)
+        << " (UTC), NREL SPA";
+  write_track_plot(png, samples, title.str());
+  return {csv, png};
+}
+
+void demo_sun(DemoContext& ctx) {
+  // (The sun track of the default scene is one of its outputs, written by run_scene.)
   const std::vector<double> lats = {-75.0, -45.0, 0.0, 30.0, 60.0, 85.0};
   for (const auto& p : write_accuracy(ctx.out_dir / "sun_accuracy", 2026, lats, ctx.quick ? 500 : 20000))
     ctx.written.push_back(p);

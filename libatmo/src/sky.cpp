@@ -86,10 +86,11 @@ void check_solar(const Atmosphere& atm, const SolarSpectrum& solar) {
 // degree-12 Taylor polynomial (truncation < 2e-17 relative), 2^-n assembled in the
 // exponent bits. Relative error ~2e-16 (measured against std::exp in tests).
 inline double exp_neg(double x) {
-  x = x < 700.0 ? x : 700.0;  // also maps +inf; NaN is not expected (inputs are finite sums)
+  const double xc = std::min(x, 700.0);  // also maps +inf; NaN is not expected (finite sums)
   // Round to nearest by the 1.5 * 2^52 shift (no libm call, vectorises).
-  const double n = (x * 1.4426950408889634 + 6755399441055744.0) - 6755399441055744.0;
-  const double r = (n * 0.6931471803691238 - x) + n * 1.9082149292705877e-10;  // -(x - n ln2)
+  constexpr double kShift = 6755399441055744.0;
+  const double n = (xc * 1.4426950408889634 + kShift) - kShift;
+  const double r = (n * 0.6931471803691238 - xc) + n * 1.9082149292705877e-10;  // -(x - n ln2)
   double p = 1.0 / 479001600.0;
   p = p * r + 1.0 / 39916800.0;
   p = p * r + 1.0 / 3628800.0;
@@ -103,8 +104,12 @@ inline double exp_neg(double x) {
   p = p * r + 0.5;
   p = p * r + 1.0;
   p = p * r + 1.0;
-  // 2^-n with n in [0, 1010]: build the double from its exponent field.
-  const std::int64_t bits = (1023 - static_cast<std::int64_t>(n)) << 52;
+  // 2^-n: the integer 1023 - n (in [13, 1023]) sits in the low mantissa bits of
+  // k + 1.5 * 2^52; shifting it into the exponent field is a 64-bit integer op.
+  const double k = (1023.0 - n) + kShift;
+  std::uint64_t bits;
+  std::memcpy(&bits, &k, sizeof bits);
+  bits <<= 52;
   double scale;
   std::memcpy(&scale, &bits, sizeof scale);
   return x < 700.0 ? p * scale : 0.0;
@@ -146,14 +151,14 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
   for (int i = 1; i < opt_.segments; ++i)  // ground and top are ray ends already
     cut_radii_.push_back(radii[static_cast<std::size_t>(std::lround(double(i) * (S - 1) / opt_.segments))]);
   const std::size_t n = atm_.wavelengths_nm().size();
-  ext_.resize(3 * n);
+  ext_.resize(3 * n);  // structure of arrays: [constituent][wavelength]
   sca_.resize(3 * n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& k = atm_.coefficients(i);
     for (int c = 0; c < 3; ++c) {
-      ext_[3 * i + c] = atm_.has(c) ? k.extinction[c] : 0.0;
-      ext_max_[c] = std::max(ext_max_[c], ext_[3 * i + c]);
-      sca_[3 * i + c] = atm_.has(c) ? k.scattering[c] : 0.0;
+      ext_[c * n + i] = atm_.has(c) ? k.extinction[c] : 0.0;
+      ext_max_[c] = std::max(ext_max_[c], ext_[c * n + i]);
+      sca_[c * n + i] = atm_.has(c) ? k.scattering[c] : 0.0;
     }
   }
 }
@@ -184,7 +189,20 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   };
 
   const LutColumn total = lut_->view(ray.r, ray.mu);
-  std::vector<double> acc(nw, 0.0);
+  double acc_small[64];
+  std::vector<double> acc_big;
+  double* acc = acc_small;
+  if (nw > 64) {
+    acc_big.assign(nw, 0.0);
+    acc = acc_big.data();
+  } else {
+    std::fill(acc_small, acc_small + nw, 0.0);
+  }
+  const double* er = ext_.data();
+  const double* em = er + nw;
+  const double* eo = em + nw;
+  const double* cr = sca_.data();
+  const double* cm = cr + nw;
   for (int k = 1; k < nc; ++k) {
     const double a0 = cuts[k - 1], b0 = cuts[k];
     if (!(b0 > a0)) continue;
@@ -206,12 +224,9 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
       const glm::dvec3 x = xv + to_sun.column;
       const glm::dvec3 rho = atm_.density(rs - R);
       const double sr = rho[kRayleigh] * p_ray * w, sm = rho[kMie] * p_mie * w;
-      for (std::size_t i = 0; i < nw; ++i) {
-        const double* e = &ext_[3 * i];
-        const double tau = e[0] * x[0] + e[1] * x[1] + e[2] * x[2];
-        const double* sc = &sca_[3 * i];
-        acc[i] += exp_neg(tau) * (sc[0] * sr + sc[1] * sm);
-      }
+      const double x0 = x[0], x1 = x[1], x2 = x[2];
+      for (std::size_t i = 0; i < nw; ++i)  // vectorised: structure-of-arrays, branch-free exp
+        acc[i] += exp_neg(er[i] * x0 + em[i] * x1 + eo[i] * x2) * (cr[i] * sr + cm[i] * sm);
     }
     }
   }
@@ -226,8 +241,8 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
       const LutColumn to_sun = lut_->sun(R, mus_g);
       if (!to_sun.hits_ground)
         for (std::size_t i = 0; i < nw; ++i) {
-          const double* e = &ext_[3 * i];
-          const double tau = glm::dot(glm::dvec3(e[0], e[1], e[2]), total.column + to_sun.column);
+          const glm::dvec3 xg = total.column + to_sun.column;
+          const double tau = er[i] * xg[0] + em[i] * xg[1] + eo[i] * xg[2];
           out[i] += albedo / kPi * solar_[i] * scale * mus_g * std::exp(-tau);
         }
     }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "atmosh/atmo/presets.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/scene/scene.hpp"
 
@@ -93,4 +94,28 @@ TEST(Scene, ValidationNamesTheKey) {
   expect_bad("version = 1\n[[output]]\nkind = \"sky-image\"", "output[0].file");
   expect_bad("version = 1\n[observer]\ntime_utc = \"2026-01-01T00:00:00Z\"\n[sun]\nelevation_deg = 3", "sun");
   expect_bad("version = 1\n[mie\n", "TOML syntax error");
+}
+
+TEST(Scene, PhysicalRangesNamedByKey) {
+  expect_bad("version = 1\n[mie]\nscale_height_m = -5", "mie.profile");
+  expect_bad("version = 1\n[planet]\natmosphere_top_m = -1", "planet.atmosphere_top_m");
+  expect_bad("version = 1\n[planet]\nradius_m = 0", "planet.radius_m");
+  expect_bad("version = 1\n[rayleigh]\npressure_pa = -3", "rayleigh.pressure_pa");
+  expect_bad("version = 1\n[mie]\nphase = { model = \"hg\", g = 1.5 }", "mie.phase.g");
+  expect_bad("version = 1\n[ozone]\ncolumn_du = -300", "ozone.column_du");
+  expect_bad("version = 1\n[spectrum]\nfrom_nm = 500\nto_nm = 400", "spectrum.to_nm");
+}
+
+// Presets and scene files share one schema: every preset written as TOML reads back
+// to the same TOML (and so to the same parameters).
+TEST(Scene, PresetsRoundTripThroughTheSceneSchema) {
+  for (const auto& name : atmosh::atmo::preset_names()) {
+    Scene s;
+    s.atmosphere = atmosh::atmo::preset(name);
+    const std::string t = to_toml(s);
+    const Scene back = parse_scene(t, name + ".toml");
+    EXPECT_EQ(to_toml(back), t) << name;
+    EXPECT_EQ(back.atmosphere.rayleigh.has_value(), s.atmosphere.rayleigh.has_value()) << name;
+    EXPECT_EQ(back.atmosphere.spectrum.wavelengths_nm, s.atmosphere.spectrum.wavelengths_nm) << name;
+  }
 }

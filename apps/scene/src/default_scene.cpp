@@ -156,8 +156,15 @@ std::string to_toml(const Scene& s) {
   if (a.ozone)
     os << "[ozone]\ncolumn_du = " << num(a.ozone->column_du) << "\nprofile = " << profile_toml(a.ozone->profile)
        << "\n\n";
-  os << "[spectrum]\nfrom_nm = " << num(a.spectrum.from_nm) << "\nto_nm = " << num(a.spectrum.to_nm)
-     << "\ncount = " << a.spectrum.count << "\n\n";
+  if (a.spectrum.wavelengths_nm.empty()) {
+    os << "[spectrum]\nfrom_nm = " << num(a.spectrum.from_nm) << "\nto_nm = " << num(a.spectrum.to_nm)
+       << "\ncount = " << a.spectrum.count << "\n\n";
+  } else {
+    os << "[spectrum]\nwavelengths_nm = [";
+    for (std::size_t i = 0; i < a.spectrum.wavelengths_nm.size(); ++i)
+      os << (i ? ", " : "") << num(a.spectrum.wavelengths_nm[i]);
+    os << "]\n\n";
+  }
   if (s.observer)
     os << "[observer]\nlatitude_deg = " << num(s.observer->latitude_deg) << "\nlongitude_deg = "
        << num(s.observer->longitude_deg) << "\nheight_m = " << num(s.observer->height_m)

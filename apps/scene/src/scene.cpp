@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "atmosh/atmo/presets.hpp"
 #include "atmosh/error.hpp"
 
 namespace atmosh::scene {
@@ -241,6 +242,9 @@ Scene parse_table(const toml::table& root, const std::string& src) {
       if (*c < 1 || *c > 4096) p.fail("count", std::to_string(*c) + " is out of range [1, 4096]");
       a.spectrum.count = static_cast<int>(*c);
     }
+    a.spectrum.wavelengths_nm = p.numbers("wavelengths_nm");
+    if (!a.spectrum.wavelengths_nm.empty() && (p.has("from_nm") || p.has("to_nm") || p.has("count")))
+      p.fail("wavelengths_nm", "give either wavelengths_nm or from_nm/to_nm/count, not both");
     p.finish();
   }
   if (const auto* t = r.table("observer")) {
@@ -307,6 +311,11 @@ Scene parse_table(const toml::table& root, const std::string& src) {
     }
   }
   r.finish();
+  try {
+    atmo::validate(s.atmosphere);  // physical ranges, named by key path
+  } catch (const InputError& e) {
+    throw InputError(src + ": " + e.what());
+  }
   return s;
 }
 

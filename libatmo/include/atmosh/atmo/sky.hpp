@@ -85,7 +85,7 @@ class SkyIntegrator {
   std::unique_ptr<OpticalDepthLut> lut_;
   std::vector<PhaseFunction> phase_;  // per present scattering constituent
   std::vector<double> gl_x_, gl_w_;
-  std::vector<double> ext_, sca_;     // [wavelength][3]
+  std::vector<double> ext_, sca_;     // [constituent][wavelength]
   std::vector<double> cut_radii_;     // shells that cut the view ray
   glm::dvec3 ext_max_{0.0};           // largest extinction per constituent over wavelengths
 };

@@ -9,7 +9,7 @@
 // Accuracy (tested against the general recurrence of basis.hpp): <= 1e-14 relative
 // to the band's scale sqrt((2l+1)/(4 pi)) in double, <= 1e-6 in float.
 // The batch form takes structure-of-arrays input and writes out[i * stride + k]
-// (coefficient-major), 32-byte SIMD over k (GCC/Clang vector extensions). Choose a
+// (coefficient-major), one straight-line loop body over k. Choose a
 // stride that is not a multiple of 4 KiB / sizeof(T): equal-offset output streams alias
 // in the L1 cache and cost 10-20x (measured, docs/sh.md).
 #pragma once

@@ -5,23 +5,8 @@
 #pragma once
 
 #include <cstddef>
-#include <cstring>
 
 namespace atmosh::sh::generated {
-
-// 32-byte vector of T (GCC/Clang vector extension; lowered to the target's SIMD).
-template <class T>
-struct VecOf;
-template <>
-struct VecOf<float> { typedef float type __attribute__((vector_size(32))); };
-template <>
-struct VecOf<double> { typedef double type __attribute__((vector_size(32))); };
-template <class T>
-using Vec = typename VecOf<T>::type;
-template <class V, class T>
-inline void vstore(T* p, const V& v) { std::memcpy(p, &v, sizeof(V)); }
-template <class V, class T>
-inline V vload(const T* p) { V v; std::memcpy(&v, p, sizeof(V)); return v; }
 
 /// 1 band(s): writes 1 values to out[0..0].
 template <class T>
@@ -36,21 +21,13 @@ inline void eval_1(T x, T y, T z, T* out) {
 /// 1 band(s) on n directions (structure of arrays); out[i * stride + k].
 template <class T>
 inline void eval_batch_1(std::size_t n, const T* __restrict xs, const T* __restrict ys, const T* __restrict zs, T* __restrict out, std::size_t stride) {
-  using V = Vec<T>;
-  constexpr std::size_t W = sizeof(V) / sizeof(T);
-  std::size_t k = 0;
-  for (; k + W <= n; k += W) {
-    const V x = vload<V>(xs + k), y = vload<V>(ys + k), z = vload<V>(zs + k);
+  for (std::size_t k = 0; k < n; ++k) {
+    const T x = xs[k], y = ys[k], z = zs[k];
     (void)x; (void)y; (void)z;
-#define O(i, e) vstore(out + (i) * stride + k, V(e))
-    const V q0_0 = V{} + T(2.82094791773878143474e-1);
+#define O(i, e) out[(i) * stride + k] = (e)
+    const T q0_0 = T{} + T(2.82094791773878143474e-1);
     O(0, q0_0);
 #undef O
-  }
-  for (; k < n; ++k) {
-    T tmp[1];
-    eval_1(xs[k], ys[k], zs[k], tmp);
-    for (int i = 0; i < 1; ++i) out[i * stride + k] = tmp[i];
   }
 }
 
@@ -73,27 +50,19 @@ inline void eval_2(T x, T y, T z, T* out) {
 /// 2 band(s) on n directions (structure of arrays); out[i * stride + k].
 template <class T>
 inline void eval_batch_2(std::size_t n, const T* __restrict xs, const T* __restrict ys, const T* __restrict zs, T* __restrict out, std::size_t stride) {
-  using V = Vec<T>;
-  constexpr std::size_t W = sizeof(V) / sizeof(T);
-  std::size_t k = 0;
-  for (; k + W <= n; k += W) {
-    const V x = vload<V>(xs + k), y = vload<V>(ys + k), z = vload<V>(zs + k);
+  for (std::size_t k = 0; k < n; ++k) {
+    const T x = xs[k], y = ys[k], z = zs[k];
     (void)x; (void)y; (void)z;
-#define O(i, e) vstore(out + (i) * stride + k, V(e))
-    const V q0_0 = V{} + T(2.82094791773878143474e-1);
-    const V q1_0 = T(4.88602511902919921586e-1) * z;
+#define O(i, e) out[(i) * stride + k] = (e)
+    const T q0_0 = T{} + T(2.82094791773878143474e-1);
+    const T q1_0 = T(4.88602511902919921586e-1) * z;
     O(0, q0_0);
     O(2, q1_0);
-    const V q1_1 = V{} + T(-4.88602511902919921586e-1);
-    const V c1 = x, s1 = y;
+    const T q1_1 = T{} + T(-4.88602511902919921586e-1);
+    const T c1 = x, s1 = y;
     O(3, q1_1 * c1);
     O(1, q1_1 * s1);
 #undef O
-  }
-  for (; k < n; ++k) {
-    T tmp[4];
-    eval_2(xs[k], ys[k], zs[k], tmp);
-    for (int i = 0; i < 4; ++i) out[i * stride + k] = tmp[i];
   }
 }
 
@@ -125,36 +94,28 @@ inline void eval_3(T x, T y, T z, T* out) {
 /// 3 band(s) on n directions (structure of arrays); out[i * stride + k].
 template <class T>
 inline void eval_batch_3(std::size_t n, const T* __restrict xs, const T* __restrict ys, const T* __restrict zs, T* __restrict out, std::size_t stride) {
-  using V = Vec<T>;
-  constexpr std::size_t W = sizeof(V) / sizeof(T);
-  std::size_t k = 0;
-  for (; k + W <= n; k += W) {
-    const V x = vload<V>(xs + k), y = vload<V>(ys + k), z = vload<V>(zs + k);
+  for (std::size_t k = 0; k < n; ++k) {
+    const T x = xs[k], y = ys[k], z = zs[k];
     (void)x; (void)y; (void)z;
-#define O(i, e) vstore(out + (i) * stride + k, V(e))
-    const V q0_0 = V{} + T(2.82094791773878143474e-1);
-    const V q1_0 = T(4.88602511902919921586e-1) * z;
-    const V q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
+#define O(i, e) out[(i) * stride + k] = (e)
+    const T q0_0 = T{} + T(2.82094791773878143474e-1);
+    const T q1_0 = T(4.88602511902919921586e-1) * z;
+    const T q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
     O(0, q0_0);
     O(2, q1_0);
     O(6, q2_0);
-    const V q1_1 = V{} + T(-4.88602511902919921586e-1);
-    const V q2_1 = T(-1.09254843059207907054e+0) * z;
-    const V c1 = x, s1 = y;
+    const T q1_1 = T{} + T(-4.88602511902919921586e-1);
+    const T q2_1 = T(-1.09254843059207907054e+0) * z;
+    const T c1 = x, s1 = y;
     O(3, q1_1 * c1);
     O(1, q1_1 * s1);
     O(7, q2_1 * c1);
     O(5, q2_1 * s1);
-    const V q2_2 = V{} + T(5.46274215296039535272e-1);
-    const V c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
+    const T q2_2 = T{} + T(5.46274215296039535272e-1);
+    const T c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
     O(8, q2_2 * c2);
     O(4, q2_2 * s2);
 #undef O
-  }
-  for (; k < n; ++k) {
-    T tmp[9];
-    eval_3(xs[k], ys[k], zs[k], tmp);
-    for (int i = 0; i < 9; ++i) out[i * stride + k] = tmp[i];
   }
 }
 
@@ -198,48 +159,40 @@ inline void eval_4(T x, T y, T z, T* out) {
 /// 4 band(s) on n directions (structure of arrays); out[i * stride + k].
 template <class T>
 inline void eval_batch_4(std::size_t n, const T* __restrict xs, const T* __restrict ys, const T* __restrict zs, T* __restrict out, std::size_t stride) {
-  using V = Vec<T>;
-  constexpr std::size_t W = sizeof(V) / sizeof(T);
-  std::size_t k = 0;
-  for (; k + W <= n; k += W) {
-    const V x = vload<V>(xs + k), y = vload<V>(ys + k), z = vload<V>(zs + k);
+  for (std::size_t k = 0; k < n; ++k) {
+    const T x = xs[k], y = ys[k], z = zs[k];
     (void)x; (void)y; (void)z;
-#define O(i, e) vstore(out + (i) * stride + k, V(e))
-    const V q0_0 = V{} + T(2.82094791773878143474e-1);
-    const V q1_0 = T(4.88602511902919921586e-1) * z;
-    const V q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
-    const V q3_0 = T(1.97202659436653868086e+0) * z * q2_0 - T(1.01835015443463111258e+0) * q1_0;
+#define O(i, e) out[(i) * stride + k] = (e)
+    const T q0_0 = T{} + T(2.82094791773878143474e-1);
+    const T q1_0 = T(4.88602511902919921586e-1) * z;
+    const T q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
+    const T q3_0 = T(1.97202659436653868086e+0) * z * q2_0 - T(1.01835015443463111258e+0) * q1_0;
     O(0, q0_0);
     O(2, q1_0);
     O(6, q2_0);
     O(12, q3_0);
-    const V q1_1 = V{} + T(-4.88602511902919921586e-1);
-    const V q2_1 = T(-1.09254843059207907054e+0) * z;
-    const V q3_1 = T(2.09165006633518886995e+0) * z * q2_1 - T(9.35414346693485346396e-1) * q1_1;
-    const V c1 = x, s1 = y;
+    const T q1_1 = T{} + T(-4.88602511902919921586e-1);
+    const T q2_1 = T(-1.09254843059207907054e+0) * z;
+    const T q3_1 = T(2.09165006633518886995e+0) * z * q2_1 - T(9.35414346693485346396e-1) * q1_1;
+    const T c1 = x, s1 = y;
     O(3, q1_1 * c1);
     O(1, q1_1 * s1);
     O(7, q2_1 * c1);
     O(5, q2_1 * s1);
     O(13, q3_1 * c1);
     O(11, q3_1 * s1);
-    const V q2_2 = V{} + T(5.46274215296039535272e-1);
-    const V q3_2 = T(1.44530572132027702769e+0) * z;
-    const V c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
+    const T q2_2 = T{} + T(5.46274215296039535272e-1);
+    const T q3_2 = T(1.44530572132027702769e+0) * z;
+    const T c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
     O(8, q2_2 * c2);
     O(4, q2_2 * s2);
     O(14, q3_2 * c2);
     O(10, q3_2 * s2);
-    const V q3_3 = V{} + T(-5.90043589926643510346e-1);
-    const V c3 = x * c2 - y * s2, s3 = x * s2 + y * c2;
+    const T q3_3 = T{} + T(-5.90043589926643510346e-1);
+    const T c3 = x * c2 - y * s2, s3 = x * s2 + y * c2;
     O(15, q3_3 * c3);
     O(9, q3_3 * s3);
 #undef O
-  }
-  for (; k < n; ++k) {
-    T tmp[16];
-    eval_4(xs[k], ys[k], zs[k], tmp);
-    for (int i = 0; i < 16; ++i) out[i * stride + k] = tmp[i];
   }
 }
 
@@ -298,28 +251,25 @@ inline void eval_5(T x, T y, T z, T* out) {
 /// 5 band(s) on n directions (structure of arrays); out[i * stride + k].
 template <class T>
 inline void eval_batch_5(std::size_t n, const T* __restrict xs, const T* __restrict ys, const T* __restrict zs, T* __restrict out, std::size_t stride) {
-  using V = Vec<T>;
-  constexpr std::size_t W = sizeof(V) / sizeof(T);
-  std::size_t k = 0;
-  for (; k + W <= n; k += W) {
-    const V x = vload<V>(xs + k), y = vload<V>(ys + k), z = vload<V>(zs + k);
+  for (std::size_t k = 0; k < n; ++k) {
+    const T x = xs[k], y = ys[k], z = zs[k];
     (void)x; (void)y; (void)z;
-#define O(i, e) vstore(out + (i) * stride + k, V(e))
-    const V q0_0 = V{} + T(2.82094791773878143474e-1);
-    const V q1_0 = T(4.88602511902919921586e-1) * z;
-    const V q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
-    const V q3_0 = T(1.97202659436653868086e+0) * z * q2_0 - T(1.01835015443463111258e+0) * q1_0;
-    const V q4_0 = T(1.98431348329844294288e+0) * z * q3_0 - T(1.00623058987490536338e+0) * q2_0;
+#define O(i, e) out[(i) * stride + k] = (e)
+    const T q0_0 = T{} + T(2.82094791773878143474e-1);
+    const T q1_0 = T(4.88602511902919921586e-1) * z;
+    const T q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
+    const T q3_0 = T(1.97202659436653868086e+0) * z * q2_0 - T(1.01835015443463111258e+0) * q1_0;
+    const T q4_0 = T(1.98431348329844294288e+0) * z * q3_0 - T(1.00623058987490536338e+0) * q2_0;
     O(0, q0_0);
     O(2, q1_0);
     O(6, q2_0);
     O(12, q3_0);
     O(20, q4_0);
-    const V q1_1 = V{} + T(-4.88602511902919921586e-1);
-    const V q2_1 = T(-1.09254843059207907054e+0) * z;
-    const V q3_1 = T(2.09165006633518886995e+0) * z * q2_1 - T(9.35414346693485346396e-1) * q1_1;
-    const V q4_1 = T(2.04939015319191967664e+0) * z * q3_1 - T(9.79795897113271239279e-1) * q2_1;
-    const V c1 = x, s1 = y;
+    const T q1_1 = T{} + T(-4.88602511902919921586e-1);
+    const T q2_1 = T(-1.09254843059207907054e+0) * z;
+    const T q3_1 = T(2.09165006633518886995e+0) * z * q2_1 - T(9.35414346693485346396e-1) * q1_1;
+    const T q4_1 = T(2.04939015319191967664e+0) * z * q3_1 - T(9.79795897113271239279e-1) * q2_1;
+    const T c1 = x, s1 = y;
     O(3, q1_1 * c1);
     O(1, q1_1 * s1);
     O(7, q2_1 * c1);
@@ -328,33 +278,28 @@ inline void eval_batch_5(std::size_t n, const T* __restrict xs, const T* __restr
     O(11, q3_1 * s1);
     O(21, q4_1 * c1);
     O(19, q4_1 * s1);
-    const V q2_2 = V{} + T(5.46274215296039535272e-1);
-    const V q3_2 = T(1.44530572132027702769e+0) * z;
-    const V q4_2 = T(2.29128784747792000329e+0) * z * q3_2 - T(8.66025403784438646764e-1) * q2_2;
-    const V c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
+    const T q2_2 = T{} + T(5.46274215296039535272e-1);
+    const T q3_2 = T(1.44530572132027702769e+0) * z;
+    const T q4_2 = T(2.29128784747792000329e+0) * z * q3_2 - T(8.66025403784438646764e-1) * q2_2;
+    const T c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
     O(8, q2_2 * c2);
     O(4, q2_2 * s2);
     O(14, q3_2 * c2);
     O(10, q3_2 * s2);
     O(22, q4_2 * c2);
     O(18, q4_2 * s2);
-    const V q3_3 = V{} + T(-5.90043589926643510346e-1);
-    const V q4_3 = T(-1.77013076977993053104e+0) * z;
-    const V c3 = x * c2 - y * s2, s3 = x * s2 + y * c2;
+    const T q3_3 = T{} + T(-5.90043589926643510346e-1);
+    const T q4_3 = T(-1.77013076977993053104e+0) * z;
+    const T c3 = x * c2 - y * s2, s3 = x * s2 + y * c2;
     O(15, q3_3 * c3);
     O(9, q3_3 * s3);
     O(23, q4_3 * c3);
     O(17, q4_3 * s3);
-    const V q4_4 = V{} + T(6.25835735449176134587e-1);
-    const V c4 = x * c3 - y * s3, s4 = x * s3 + y * c3;
+    const T q4_4 = T{} + T(6.25835735449176134587e-1);
+    const T c4 = x * c3 - y * s3, s4 = x * s3 + y * c3;
     O(24, q4_4 * c4);
     O(16, q4_4 * s4);
 #undef O
-  }
-  for (; k < n; ++k) {
-    T tmp[25];
-    eval_5(xs[k], ys[k], zs[k], tmp);
-    for (int i = 0; i < 25; ++i) out[i * stride + k] = tmp[i];
   }
 }
 
@@ -431,31 +376,28 @@ inline void eval_6(T x, T y, T z, T* out) {
 /// 6 band(s) on n directions (structure of arrays); out[i * stride + k].
 template <class T>
 inline void eval_batch_6(std::size_t n, const T* __restrict xs, const T* __restrict ys, const T* __restrict zs, T* __restrict out, std::size_t stride) {
-  using V = Vec<T>;
-  constexpr std::size_t W = sizeof(V) / sizeof(T);
-  std::size_t k = 0;
-  for (; k + W <= n; k += W) {
-    const V x = vload<V>(xs + k), y = vload<V>(ys + k), z = vload<V>(zs + k);
+  for (std::size_t k = 0; k < n; ++k) {
+    const T x = xs[k], y = ys[k], z = zs[k];
     (void)x; (void)y; (void)z;
-#define O(i, e) vstore(out + (i) * stride + k, V(e))
-    const V q0_0 = V{} + T(2.82094791773878143474e-1);
-    const V q1_0 = T(4.88602511902919921586e-1) * z;
-    const V q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
-    const V q3_0 = T(1.97202659436653868086e+0) * z * q2_0 - T(1.01835015443463111258e+0) * q1_0;
-    const V q4_0 = T(1.98431348329844294288e+0) * z * q3_0 - T(1.00623058987490536338e+0) * q2_0;
-    const V q5_0 = T(1.98997487421323990947e+0) * z * q4_0 - T(1.00285307284481394976e+0) * q3_0;
+#define O(i, e) out[(i) * stride + k] = (e)
+    const T q0_0 = T{} + T(2.82094791773878143474e-1);
+    const T q1_0 = T(4.88602511902919921586e-1) * z;
+    const T q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
+    const T q3_0 = T(1.97202659436653868086e+0) * z * q2_0 - T(1.01835015443463111258e+0) * q1_0;
+    const T q4_0 = T(1.98431348329844294288e+0) * z * q3_0 - T(1.00623058987490536338e+0) * q2_0;
+    const T q5_0 = T(1.98997487421323990947e+0) * z * q4_0 - T(1.00285307284481394976e+0) * q3_0;
     O(0, q0_0);
     O(2, q1_0);
     O(6, q2_0);
     O(12, q3_0);
     O(20, q4_0);
     O(30, q5_0);
-    const V q1_1 = V{} + T(-4.88602511902919921586e-1);
-    const V q2_1 = T(-1.09254843059207907054e+0) * z;
-    const V q3_1 = T(2.09165006633518886995e+0) * z * q2_1 - T(9.35414346693485346396e-1) * q1_1;
-    const V q4_1 = T(2.04939015319191967664e+0) * z * q3_1 - T(9.79795897113271239279e-1) * q2_1;
-    const V q5_1 = T(2.03100960115899009011e+0) * z * q4_1 - T(9.91031208965114853339e-1) * q3_1;
-    const V c1 = x, s1 = y;
+    const T q1_1 = T{} + T(-4.88602511902919921586e-1);
+    const T q2_1 = T(-1.09254843059207907054e+0) * z;
+    const T q3_1 = T(2.09165006633518886995e+0) * z * q2_1 - T(9.35414346693485346396e-1) * q1_1;
+    const T q4_1 = T(2.04939015319191967664e+0) * z * q3_1 - T(9.79795897113271239279e-1) * q2_1;
+    const T q5_1 = T(2.03100960115899009011e+0) * z * q4_1 - T(9.91031208965114853339e-1) * q3_1;
+    const T c1 = x, s1 = y;
     O(3, q1_1 * c1);
     O(1, q1_1 * s1);
     O(7, q2_1 * c1);
@@ -466,11 +408,11 @@ inline void eval_batch_6(std::size_t n, const T* __restrict xs, const T* __restr
     O(19, q4_1 * s1);
     O(31, q5_1 * c1);
     O(29, q5_1 * s1);
-    const V q2_2 = V{} + T(5.46274215296039535272e-1);
-    const V q3_2 = T(1.44530572132027702769e+0) * z;
-    const V q4_2 = T(2.29128784747792000329e+0) * z * q3_2 - T(8.66025403784438646764e-1) * q2_2;
-    const V q5_2 = T(2.17124059336723766167e+0) * z * q4_2 - T(9.47607082958685671176e-1) * q3_2;
-    const V c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
+    const T q2_2 = T{} + T(5.46274215296039535272e-1);
+    const T q3_2 = T(1.44530572132027702769e+0) * z;
+    const T q4_2 = T(2.29128784747792000329e+0) * z * q3_2 - T(8.66025403784438646764e-1) * q2_2;
+    const T q5_2 = T(2.17124059336723766167e+0) * z * q4_2 - T(9.47607082958685671176e-1) * q3_2;
+    const T c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
     O(8, q2_2 * c2);
     O(4, q2_2 * s2);
     O(14, q3_2 * c2);
@@ -479,33 +421,28 @@ inline void eval_batch_6(std::size_t n, const T* __restrict xs, const T* __restr
     O(18, q4_2 * s2);
     O(32, q5_2 * c2);
     O(28, q5_2 * s2);
-    const V q3_3 = V{} + T(-5.90043589926643510346e-1);
-    const V q4_3 = T(-1.77013076977993053104e+0) * z;
-    const V q5_3 = T(2.48746859276654988684e+0) * z * q4_3 - T(8.29156197588849962279e-1) * q3_3;
-    const V c3 = x * c2 - y * s2, s3 = x * s2 + y * c2;
+    const T q3_3 = T{} + T(-5.90043589926643510346e-1);
+    const T q4_3 = T(-1.77013076977993053104e+0) * z;
+    const T q5_3 = T(2.48746859276654988684e+0) * z * q4_3 - T(8.29156197588849962279e-1) * q3_3;
+    const T c3 = x * c2 - y * s2, s3 = x * s2 + y * c2;
     O(15, q3_3 * c3);
     O(9, q3_3 * s3);
     O(23, q4_3 * c3);
     O(17, q4_3 * s3);
     O(33, q5_3 * c3);
     O(27, q5_3 * s3);
-    const V q4_4 = V{} + T(6.25835735449176134587e-1);
-    const V q5_4 = T(2.07566231488104127900e+0) * z;
-    const V c4 = x * c3 - y * s3, s4 = x * s3 + y * c3;
+    const T q4_4 = T{} + T(6.25835735449176134587e-1);
+    const T q5_4 = T(2.07566231488104127900e+0) * z;
+    const T c4 = x * c3 - y * s3, s4 = x * s3 + y * c3;
     O(24, q4_4 * c4);
     O(16, q4_4 * s4);
     O(34, q5_4 * c4);
     O(26, q5_4 * s4);
-    const V q5_5 = V{} + T(-6.56382056840170102814e-1);
-    const V c5 = x * c4 - y * s4, s5 = x * s4 + y * c4;
+    const T q5_5 = T{} + T(-6.56382056840170102814e-1);
+    const T c5 = x * c4 - y * s4, s5 = x * s4 + y * c4;
     O(35, q5_5 * c5);
     O(25, q5_5 * s5);
 #undef O
-  }
-  for (; k < n; ++k) {
-    T tmp[36];
-    eval_6(xs[k], ys[k], zs[k], tmp);
-    for (int i = 0; i < 36; ++i) out[i * stride + k] = tmp[i];
   }
 }
 
@@ -603,20 +540,17 @@ inline void eval_7(T x, T y, T z, T* out) {
 /// 7 band(s) on n directions (structure of arrays); out[i * stride + k].
 template <class T>
 inline void eval_batch_7(std::size_t n, const T* __restrict xs, const T* __restrict ys, const T* __restrict zs, T* __restrict out, std::size_t stride) {
-  using V = Vec<T>;
-  constexpr std::size_t W = sizeof(V) / sizeof(T);
-  std::size_t k = 0;
-  for (; k + W <= n; k += W) {
-    const V x = vload<V>(xs + k), y = vload<V>(ys + k), z = vload<V>(zs + k);
+  for (std::size_t k = 0; k < n; ++k) {
+    const T x = xs[k], y = ys[k], z = zs[k];
     (void)x; (void)y; (void)z;
-#define O(i, e) vstore(out + (i) * stride + k, V(e))
-    const V q0_0 = V{} + T(2.82094791773878143474e-1);
-    const V q1_0 = T(4.88602511902919921586e-1) * z;
-    const V q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
-    const V q3_0 = T(1.97202659436653868086e+0) * z * q2_0 - T(1.01835015443463111258e+0) * q1_0;
-    const V q4_0 = T(1.98431348329844294288e+0) * z * q3_0 - T(1.00623058987490536338e+0) * q2_0;
-    const V q5_0 = T(1.98997487421323990947e+0) * z * q4_0 - T(1.00285307284481394976e+0) * q3_0;
-    const V q6_0 = T(1.99304345718356633685e+0) * z * q5_0 - T(1.00154202096221924809e+0) * q4_0;
+#define O(i, e) out[(i) * stride + k] = (e)
+    const T q0_0 = T{} + T(2.82094791773878143474e-1);
+    const T q1_0 = T(4.88602511902919921586e-1) * z;
+    const T q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
+    const T q3_0 = T(1.97202659436653868086e+0) * z * q2_0 - T(1.01835015443463111258e+0) * q1_0;
+    const T q4_0 = T(1.98431348329844294288e+0) * z * q3_0 - T(1.00623058987490536338e+0) * q2_0;
+    const T q5_0 = T(1.98997487421323990947e+0) * z * q4_0 - T(1.00285307284481394976e+0) * q3_0;
+    const T q6_0 = T(1.99304345718356633685e+0) * z * q5_0 - T(1.00154202096221924809e+0) * q4_0;
     O(0, q0_0);
     O(2, q1_0);
     O(6, q2_0);
@@ -624,13 +558,13 @@ inline void eval_batch_7(std::size_t n, const T* __restrict xs, const T* __restr
     O(20, q4_0);
     O(30, q5_0);
     O(42, q6_0);
-    const V q1_1 = V{} + T(-4.88602511902919921586e-1);
-    const V q2_1 = T(-1.09254843059207907054e+0) * z;
-    const V q3_1 = T(2.09165006633518886995e+0) * z * q2_1 - T(9.35414346693485346396e-1) * q1_1;
-    const V q4_1 = T(2.04939015319191967664e+0) * z * q3_1 - T(9.79795897113271239279e-1) * q2_1;
-    const V q5_1 = T(2.03100960115899009011e+0) * z * q4_1 - T(9.91031208965114853339e-1) * q3_1;
-    const V q6_1 = T(2.02131498923702777609e+0) * z * q5_1 - T(9.95226703056238577025e-1) * q4_1;
-    const V c1 = x, s1 = y;
+    const T q1_1 = T{} + T(-4.88602511902919921586e-1);
+    const T q2_1 = T(-1.09254843059207907054e+0) * z;
+    const T q3_1 = T(2.09165006633518886995e+0) * z * q2_1 - T(9.35414346693485346396e-1) * q1_1;
+    const T q4_1 = T(2.04939015319191967664e+0) * z * q3_1 - T(9.79795897113271239279e-1) * q2_1;
+    const T q5_1 = T(2.03100960115899009011e+0) * z * q4_1 - T(9.91031208965114853339e-1) * q3_1;
+    const T q6_1 = T(2.02131498923702777609e+0) * z * q5_1 - T(9.95226703056238577025e-1) * q4_1;
+    const T c1 = x, s1 = y;
     O(3, q1_1 * c1);
     O(1, q1_1 * s1);
     O(7, q2_1 * c1);
@@ -643,12 +577,12 @@ inline void eval_batch_7(std::size_t n, const T* __restrict xs, const T* __restr
     O(29, q5_1 * s1);
     O(43, q6_1 * c1);
     O(41, q6_1 * s1);
-    const V q2_2 = V{} + T(5.46274215296039535272e-1);
-    const V q3_2 = T(1.44530572132027702769e+0) * z;
-    const V q4_2 = T(2.29128784747792000329e+0) * z * q3_2 - T(8.66025403784438646764e-1) * q2_2;
-    const V q5_2 = T(2.17124059336723766167e+0) * z * q4_2 - T(9.47607082958685671176e-1) * q3_2;
-    const V q6_2 = T(2.11394181566097036227e+0) * z * q5_2 - T(9.73610120462326884222e-1) * q4_2;
-    const V c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
+    const T q2_2 = T{} + T(5.46274215296039535272e-1);
+    const T q3_2 = T(1.44530572132027702769e+0) * z;
+    const T q4_2 = T(2.29128784747792000329e+0) * z * q3_2 - T(8.66025403784438646764e-1) * q2_2;
+    const T q5_2 = T(2.17124059336723766167e+0) * z * q4_2 - T(9.47607082958685671176e-1) * q3_2;
+    const T q6_2 = T(2.11394181566097036227e+0) * z * q5_2 - T(9.73610120462326884222e-1) * q4_2;
+    const T c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
     O(8, q2_2 * c2);
     O(4, q2_2 * s2);
     O(14, q3_2 * c2);
@@ -659,11 +593,11 @@ inline void eval_batch_7(std::size_t n, const T* __restrict xs, const T* __restr
     O(28, q5_2 * s2);
     O(44, q6_2 * c2);
     O(40, q6_2 * s2);
-    const V q3_3 = V{} + T(-5.90043589926643510346e-1);
-    const V q4_3 = T(-1.77013076977993053104e+0) * z;
-    const V q5_3 = T(2.48746859276654988684e+0) * z * q4_3 - T(8.29156197588849962279e-1) * q3_3;
-    const V q6_3 = T(2.30136835302310879246e+0) * z * q5_3 - T(9.25184888651614549014e-1) * q4_3;
-    const V c3 = x * c2 - y * s2, s3 = x * s2 + y * c2;
+    const T q3_3 = T{} + T(-5.90043589926643510346e-1);
+    const T q4_3 = T(-1.77013076977993053104e+0) * z;
+    const T q5_3 = T(2.48746859276654988684e+0) * z * q4_3 - T(8.29156197588849962279e-1) * q3_3;
+    const T q6_3 = T(2.30136835302310879246e+0) * z * q5_3 - T(9.25184888651614549014e-1) * q4_3;
+    const T c3 = x * c2 - y * s2, s3 = x * s2 + y * c2;
     O(15, q3_3 * c3);
     O(9, q3_3 * s3);
     O(23, q4_3 * c3);
@@ -672,33 +606,28 @@ inline void eval_batch_7(std::size_t n, const T* __restrict xs, const T* __restr
     O(27, q5_3 * s3);
     O(45, q6_3 * c3);
     O(39, q6_3 * s3);
-    const V q4_4 = V{} + T(6.25835735449176134587e-1);
-    const V q5_4 = T(2.07566231488104127900e+0) * z;
-    const V q6_4 = T(2.67394839142418752854e+0) * z * q5_4 - T(8.06225774829854965237e-1) * q4_4;
-    const V c4 = x * c3 - y * s3, s4 = x * s3 + y * c3;
+    const T q4_4 = T{} + T(6.25835735449176134587e-1);
+    const T q5_4 = T(2.07566231488104127900e+0) * z;
+    const T q6_4 = T(2.67394839142418752854e+0) * z * q5_4 - T(8.06225774829854965237e-1) * q4_4;
+    const T c4 = x * c3 - y * s3, s4 = x * s3 + y * c3;
     O(24, q4_4 * c4);
     O(16, q4_4 * s4);
     O(34, q5_4 * c4);
     O(26, q5_4 * s4);
     O(46, q6_4 * c4);
     O(38, q6_4 * s4);
-    const V q5_5 = V{} + T(-6.56382056840170102814e-1);
-    const V q6_5 = T(-2.36661916223175203199e+0) * z;
-    const V c5 = x * c4 - y * s4, s5 = x * s4 + y * c4;
+    const T q5_5 = T{} + T(-6.56382056840170102814e-1);
+    const T q6_5 = T(-2.36661916223175203199e+0) * z;
+    const T c5 = x * c4 - y * s4, s5 = x * s4 + y * c4;
     O(35, q5_5 * c5);
     O(25, q5_5 * s5);
     O(47, q6_5 * c5);
     O(37, q6_5 * s5);
-    const V q6_6 = V{} + T(6.83184105191914321975e-1);
-    const V c6 = x * c5 - y * s5, s6 = x * s5 + y * c5;
+    const T q6_6 = T{} + T(6.83184105191914321975e-1);
+    const T c6 = x * c5 - y * s5, s6 = x * s5 + y * c5;
     O(48, q6_6 * c6);
     O(36, q6_6 * s6);
 #undef O
-  }
-  for (; k < n; ++k) {
-    T tmp[49];
-    eval_7(xs[k], ys[k], zs[k], tmp);
-    for (int i = 0; i < 49; ++i) out[i * stride + k] = tmp[i];
   }
 }
 
@@ -820,21 +749,18 @@ inline void eval_8(T x, T y, T z, T* out) {
 /// 8 band(s) on n directions (structure of arrays); out[i * stride + k].
 template <class T>
 inline void eval_batch_8(std::size_t n, const T* __restrict xs, const T* __restrict ys, const T* __restrict zs, T* __restrict out, std::size_t stride) {
-  using V = Vec<T>;
-  constexpr std::size_t W = sizeof(V) / sizeof(T);
-  std::size_t k = 0;
-  for (; k + W <= n; k += W) {
-    const V x = vload<V>(xs + k), y = vload<V>(ys + k), z = vload<V>(zs + k);
+  for (std::size_t k = 0; k < n; ++k) {
+    const T x = xs[k], y = ys[k], z = zs[k];
     (void)x; (void)y; (void)z;
-#define O(i, e) vstore(out + (i) * stride + k, V(e))
-    const V q0_0 = V{} + T(2.82094791773878143474e-1);
-    const V q1_0 = T(4.88602511902919921586e-1) * z;
-    const V q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
-    const V q3_0 = T(1.97202659436653868086e+0) * z * q2_0 - T(1.01835015443463111258e+0) * q1_0;
-    const V q4_0 = T(1.98431348329844294288e+0) * z * q3_0 - T(1.00623058987490536338e+0) * q2_0;
-    const V q5_0 = T(1.98997487421323990947e+0) * z * q4_0 - T(1.00285307284481394976e+0) * q3_0;
-    const V q6_0 = T(1.99304345718356633685e+0) * z * q5_0 - T(1.00154202096221924809e+0) * q4_0;
-    const V q7_0 = T(1.99489143482413445284e+0) * z * q6_0 - T(1.00092721392195810546e+0) * q5_0;
+#define O(i, e) out[(i) * stride + k] = (e)
+    const T q0_0 = T{} + T(2.82094791773878143474e-1);
+    const T q1_0 = T(4.88602511902919921586e-1) * z;
+    const T q2_0 = T(1.93649167310370844259e+0) * z * q1_0 - T(1.11803398874989484820e+0) * q0_0;
+    const T q3_0 = T(1.97202659436653868086e+0) * z * q2_0 - T(1.01835015443463111258e+0) * q1_0;
+    const T q4_0 = T(1.98431348329844294288e+0) * z * q3_0 - T(1.00623058987490536338e+0) * q2_0;
+    const T q5_0 = T(1.98997487421323990947e+0) * z * q4_0 - T(1.00285307284481394976e+0) * q3_0;
+    const T q6_0 = T(1.99304345718356633685e+0) * z * q5_0 - T(1.00154202096221924809e+0) * q4_0;
+    const T q7_0 = T(1.99489143482413445284e+0) * z * q6_0 - T(1.00092721392195810546e+0) * q5_0;
     O(0, q0_0);
     O(2, q1_0);
     O(6, q2_0);
@@ -843,14 +769,14 @@ inline void eval_batch_8(std::size_t n, const T* __restrict xs, const T* __restr
     O(30, q5_0);
     O(42, q6_0);
     O(56, q7_0);
-    const V q1_1 = V{} + T(-4.88602511902919921586e-1);
-    const V q2_1 = T(-1.09254843059207907054e+0) * z;
-    const V q3_1 = T(2.09165006633518886995e+0) * z * q2_1 - T(9.35414346693485346396e-1) * q1_1;
-    const V q4_1 = T(2.04939015319191967664e+0) * z * q3_1 - T(9.79795897113271239279e-1) * q2_1;
-    const V q5_1 = T(2.03100960115899009011e+0) * z * q4_1 - T(9.91031208965114853339e-1) * q3_1;
-    const V q6_1 = T(2.02131498923702777609e+0) * z * q5_1 - T(9.95226703056238577025e-1) * q4_1;
-    const V q7_1 = T(2.01556443707463741309e+0) * z * q6_1 - T(9.97155044021832052319e-1) * q5_1;
-    const V c1 = x, s1 = y;
+    const T q1_1 = T{} + T(-4.88602511902919921586e-1);
+    const T q2_1 = T(-1.09254843059207907054e+0) * z;
+    const T q3_1 = T(2.09165006633518886995e+0) * z * q2_1 - T(9.35414346693485346396e-1) * q1_1;
+    const T q4_1 = T(2.04939015319191967664e+0) * z * q3_1 - T(9.79795897113271239279e-1) * q2_1;
+    const T q5_1 = T(2.03100960115899009011e+0) * z * q4_1 - T(9.91031208965114853339e-1) * q3_1;
+    const T q6_1 = T(2.02131498923702777609e+0) * z * q5_1 - T(9.95226703056238577025e-1) * q4_1;
+    const T q7_1 = T(2.01556443707463741309e+0) * z * q6_1 - T(9.97155044021832052319e-1) * q5_1;
+    const T c1 = x, s1 = y;
     O(3, q1_1 * c1);
     O(1, q1_1 * s1);
     O(7, q2_1 * c1);
@@ -865,13 +791,13 @@ inline void eval_batch_8(std::size_t n, const T* __restrict xs, const T* __restr
     O(41, q6_1 * s1);
     O(57, q7_1 * c1);
     O(55, q7_1 * s1);
-    const V q2_2 = V{} + T(5.46274215296039535272e-1);
-    const V q3_2 = T(1.44530572132027702769e+0) * z;
-    const V q4_2 = T(2.29128784747792000329e+0) * z * q3_2 - T(8.66025403784438646764e-1) * q2_2;
-    const V q5_2 = T(2.17124059336723766167e+0) * z * q4_2 - T(9.47607082958685671176e-1) * q3_2;
-    const V q6_2 = T(2.11394181566097036227e+0) * z * q5_2 - T(9.73610120462326884222e-1) * q4_2;
-    const V q7_2 = T(2.08166599946613273528e+0) * z * q6_2 - T(9.84731927834661861874e-1) * q5_2;
-    const V c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
+    const T q2_2 = T{} + T(5.46274215296039535272e-1);
+    const T q3_2 = T(1.44530572132027702769e+0) * z;
+    const T q4_2 = T(2.29128784747792000329e+0) * z * q3_2 - T(8.66025403784438646764e-1) * q2_2;
+    const T q5_2 = T(2.17124059336723766167e+0) * z * q4_2 - T(9.47607082958685671176e-1) * q3_2;
+    const T q6_2 = T(2.11394181566097036227e+0) * z * q5_2 - T(9.73610120462326884222e-1) * q4_2;
+    const T q7_2 = T(2.08166599946613273528e+0) * z * q6_2 - T(9.84731927834661861874e-1) * q5_2;
+    const T c2 = x * c1 - y * s1, s2 = x * s1 + y * c1;
     O(8, q2_2 * c2);
     O(4, q2_2 * s2);
     O(14, q3_2 * c2);
@@ -884,12 +810,12 @@ inline void eval_batch_8(std::size_t n, const T* __restrict xs, const T* __restr
     O(40, q6_2 * s2);
     O(58, q7_2 * c2);
     O(54, q7_2 * s2);
-    const V q3_3 = V{} + T(-5.90043589926643510346e-1);
-    const V q4_3 = T(-1.77013076977993053104e+0) * z;
-    const V q5_3 = T(2.48746859276654988684e+0) * z * q4_3 - T(8.29156197588849962279e-1) * q3_3;
-    const V q6_3 = T(2.30136835302310879246e+0) * z * q5_3 - T(9.25184888651614549014e-1) * q4_3;
-    const V q7_3 = T(2.20794021658196171369e+0) * z * q6_3 - T(9.59403223600246954343e-1) * q5_3;
-    const V c3 = x * c2 - y * s2, s3 = x * s2 + y * c2;
+    const T q3_3 = T{} + T(-5.90043589926643510346e-1);
+    const T q4_3 = T(-1.77013076977993053104e+0) * z;
+    const T q5_3 = T(2.48746859276654988684e+0) * z * q4_3 - T(8.29156197588849962279e-1) * q3_3;
+    const T q6_3 = T(2.30136835302310879246e+0) * z * q5_3 - T(9.25184888651614549014e-1) * q4_3;
+    const T q7_3 = T(2.20794021658196171369e+0) * z * q6_3 - T(9.59403223600246954343e-1) * q5_3;
+    const T c3 = x * c2 - y * s2, s3 = x * s2 + y * c2;
     O(15, q3_3 * c3);
     O(9, q3_3 * s3);
     O(23, q4_3 * c3);
@@ -900,11 +826,11 @@ inline void eval_batch_8(std::size_t n, const T* __restrict xs, const T* __restr
     O(39, q6_3 * s3);
     O(59, q7_3 * c3);
     O(53, q7_3 * s3);
-    const V q4_4 = V{} + T(6.25835735449176134587e-1);
-    const V q5_4 = T(2.07566231488104127900e+0) * z;
-    const V q6_4 = T(2.67394839142418752854e+0) * z * q5_4 - T(8.06225774829854965237e-1) * q4_4;
-    const V q7_4 = T(2.43086217402198866231e+0) * z * q6_4 - T(9.09090909090909090909e-1) * q5_4;
-    const V c4 = x * c3 - y * s3, s4 = x * s3 + y * c3;
+    const T q4_4 = T{} + T(6.25835735449176134587e-1);
+    const T q5_4 = T(2.07566231488104127900e+0) * z;
+    const T q6_4 = T(2.67394839142418752854e+0) * z * q5_4 - T(8.06225774829854965237e-1) * q4_4;
+    const T q7_4 = T(2.43086217402198866231e+0) * z * q6_4 - T(9.09090909090909090909e-1) * q5_4;
+    const T c4 = x * c3 - y * s3, s4 = x * s3 + y * c3;
     O(24, q4_4 * c4);
     O(16, q4_4 * s4);
     O(34, q5_4 * c4);
@@ -913,33 +839,28 @@ inline void eval_batch_8(std::size_t n, const T* __restrict xs, const T* __restr
     O(38, q6_4 * s4);
     O(60, q7_4 * c4);
     O(52, q7_4 * s4);
-    const V q5_5 = V{} + T(-6.56382056840170102814e-1);
-    const V q6_5 = T(-2.36661916223175203199e+0) * z;
-    const V q7_5 = T(2.85043856274784494784e+0) * z * q6_5 - T(7.90569415042094833000e-1) * q5_5;
-    const V c5 = x * c4 - y * s4, s5 = x * s4 + y * c4;
+    const T q5_5 = T{} + T(-6.56382056840170102814e-1);
+    const T q6_5 = T(-2.36661916223175203199e+0) * z;
+    const T q7_5 = T(2.85043856274784494784e+0) * z * q6_5 - T(7.90569415042094833000e-1) * q5_5;
+    const T c5 = x * c4 - y * s4, s5 = x * s4 + y * c4;
     O(35, q5_5 * c5);
     O(25, q5_5 * s5);
     O(47, q6_5 * c5);
     O(37, q6_5 * s5);
     O(61, q7_5 * c5);
     O(51, q7_5 * s5);
-    const V q6_6 = V{} + T(6.83184105191914321975e-1);
-    const V q7_6 = T(2.64596066180190022197e+0) * z;
-    const V c6 = x * c5 - y * s5, s6 = x * s5 + y * c5;
+    const T q6_6 = T{} + T(6.83184105191914321975e-1);
+    const T q7_6 = T(2.64596066180190022197e+0) * z;
+    const T c6 = x * c5 - y * s5, s6 = x * s5 + y * c5;
     O(48, q6_6 * c6);
     O(36, q6_6 * s6);
     O(62, q7_6 * c6);
     O(50, q7_6 * s6);
-    const V q7_7 = V{} + T(-7.07162732524596178226e-1);
-    const V c7 = x * c6 - y * s6, s7 = x * s6 + y * c6;
+    const T q7_7 = T{} + T(-7.07162732524596178226e-1);
+    const T c7 = x * c6 - y * s6, s7 = x * s6 + y * c6;
     O(63, q7_7 * c7);
     O(49, q7_7 * s7);
 #undef O
-  }
-  for (; k < n; ++k) {
-    T tmp[64];
-    eval_8(xs[k], ys[k], zs[k], tmp);
-    for (int i = 0; i < 64; ++i) out[i * stride + k] = tmp[i];
   }
 }
 

@@ -1,0 +1,71 @@
+// Benchmarks of the atmosphere core: LUT build and lookup (targets: build
+// <= 50 ms, lookup <= 20 ns), exact reference per ray, phase evaluation.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+#include "atmosh/atmo/optical_depth.hpp"
+#include "atmosh/atmo/phase.hpp"
+#include "atmosh/atmo/presets.hpp"
+
+using namespace atmosh::atmo;
+
+static void BM_LutBuild(benchmark::State& st) {
+  Atmosphere atm(preset("earth-graphics"));
+  LutOptions o;
+  o.shells = static_cast<int>(st.range(0));
+  o.view_directions = o.sun_directions = static_cast<int>(st.range(1));
+  for (auto _ : st) {
+    OpticalDepthLut lut(atm, o);
+    benchmark::DoNotOptimize(lut.table_bytes());
+  }
+}
+BENCHMARK(BM_LutBuild)->Args({32, 32})->Args({32, 64})->Args({64, 128})->Unit(benchmark::kMillisecond);
+
+static void BM_LutLookupView(benchmark::State& st) {
+  Atmosphere atm(preset("earth-graphics"));
+  OpticalDepthLut lut(atm);
+  const double R = atm.ground_radius();
+  int i = 0;
+  for (auto _ : st) {
+    double mu = -1.0 + 2.0 * ((i * 7919) % 1000) / 1000.0;
+    auto c = lut.view(R + 100.0 * (i % 500), mu);
+    benchmark::DoNotOptimize(c);
+    ++i;
+  }
+}
+BENCHMARK(BM_LutLookupView);
+
+static void BM_LutLookupSun(benchmark::State& st) {
+  Atmosphere atm(preset("earth-graphics"));
+  OpticalDepthLut lut(atm);
+  const double R = atm.ground_radius();
+  int i = 0;
+  for (auto _ : st) {
+    double mu = ((i * 7919) % 1000) / 1000.0;
+    auto c = lut.sun(R + 100.0 * (i % 500), mu);
+    benchmark::DoNotOptimize(c);
+    ++i;
+  }
+}
+BENCHMARK(BM_LutLookupSun);
+
+static void BM_ReferenceHorizontal(benchmark::State& st) {
+  Atmosphere atm(preset(st.range(0) ? "earth-physical" : "earth-graphics"));
+  OpticalDepthReference ref(atm);
+  for (auto _ : st) benchmark::DoNotOptimize(ref.column(atm.ground_radius() + 10.0, 0.0));
+}
+BENCHMARK(BM_ReferenceHorizontal)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+static void BM_PhaseCornetteShanks(benchmark::State& st) {
+  PhaseSpec s;
+  s.model = PhaseSpec::Model::CornetteShanks;
+  s.g = 0.8;
+  PhaseFunction p(s);
+  double mu = -1.0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(p.value(mu));
+    mu = mu > 1.0 ? -1.0 : mu + 1e-3;
+  }
+}
+BENCHMARK(BM_PhaseCornetteShanks);

@@ -1,0 +1,77 @@
+// Sky benchmarks: time per view ray of the single-scattering integrator (16 and
+// 40 wavelengths), table build, a whole image with 1 and 2 threads, and the exact
+// reference. Run: build/bin/bench_sky
+#include <benchmark/benchmark.h>
+
+#include "atmosh/atmo/observer.hpp"
+#include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/sky.hpp"
+#include "atmosh/atmo/sky_image.hpp"
+
+using namespace atmosh::atmo;
+
+namespace {
+AtmosphereSpec spec_with(int wavelengths) {
+  AtmosphereSpec s = preset("earth-physical");
+  s.spectrum.wavelengths_nm.clear();
+  s.spectrum.from_nm = 380;
+  s.spectrum.to_nm = 780;
+  s.spectrum.count = wavelengths;
+  return s;
+}
+}  // namespace
+
+// One view ray, directions cycling over the upper hemisphere, sun at 20 deg.
+static void BM_SkyRay(benchmark::State& st) {
+  const AtmosphereSpec spec = spec_with(static_cast<int>(st.range(0)));
+  const Atmosphere atm(spec);
+  const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
+  const glm::dvec3 sun = sun_direction_enu(70.0, 180.0);
+  std::vector<double> L(atm.wavelengths_nm().size());
+  int i = 0;
+  for (auto _ : st) {
+    const glm::dvec3 v = sun_direction_enu((i % 89) + 0.5, (i * 37) % 360);
+    sky.radiance(0.0, v, sun, L.data());
+    benchmark::DoNotOptimize(L.data());
+    ++i;
+  }
+  st.SetItemsProcessed(st.iterations());
+  st.SetLabel("rays; " + std::to_string(L.size()) + " wavelengths");
+}
+BENCHMARK(BM_SkyRay)->Arg(16)->Arg(40);
+
+static void BM_SkyTables(benchmark::State& st) {
+  const AtmosphereSpec spec = spec_with(16);
+  const Atmosphere atm(spec);
+  const auto solar = solar_spectrum_for_bins(spec.spectrum);
+  for (auto _ : st) {
+    SkyIntegrator sky(atm, solar);
+    benchmark::DoNotOptimize(&sky);
+  }
+}
+BENCHMARK(BM_SkyTables)->Unit(benchmark::kMillisecond);
+
+// A 256x128 equirect image, 16 wavelengths, 1 and 2 threads (scaling).
+static void BM_SkyImage(benchmark::State& st) {
+  const AtmosphereSpec spec = spec_with(16);
+  const Atmosphere atm(spec);
+  const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
+  for (auto _ : st) {
+    auto img = render_sky(sky, SkyProjection::Equirect, 256, 128, 0.0, sun_direction_enu(70.0, 180.0), false,
+                          static_cast<int>(st.range(0)));
+    benchmark::DoNotOptimize(img.R.data());
+  }
+  st.SetItemsProcessed(st.iterations() * 256 * 128);
+}
+BENCHMARK(BM_SkyImage)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_SkyReferenceRay(benchmark::State& st) {
+  const AtmosphereSpec spec = spec_with(16);
+  const Atmosphere atm(spec);
+  const SkyReference ref(atm, solar_spectrum_for_bins(spec.spectrum));
+  for (auto _ : st) {
+    auto r = ref.radiance(0.0, sun_direction_enu(80.0, 30.0), sun_direction_enu(70.0, 180.0));
+    benchmark::DoNotOptimize(r.radiance.data());
+  }
+}
+BENCHMARK(BM_SkyReferenceRay)->Unit(benchmark::kMillisecond)->Iterations(3);
