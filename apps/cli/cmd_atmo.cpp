@@ -146,6 +146,13 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
   return io::write_study(stem, ss, rows, prov);
 }
 
+void write_stability_csv(const std::vector<StiffCase>& cases, const fs::path& file) {
+  io::CsvTable t({"case", "quantity", "value", "reference", "error", "bound", "pass"});
+  for (const auto& k : cases)
+    t.add_row({k.name, k.quantity, k.value, k.reference, k.error, k.bound, std::int64_t(k.pass)});
+  t.write(file, io::Provenance::current());
+}
+
 std::vector<int> parse_int_list(const std::string& text, const std::string& what) {
   std::vector<int> v;
   for (double d : parse_list(text, what)) {
@@ -320,12 +327,7 @@ void register_atmo_commands(CLI::App& app) {
       auto cases = run_stiff_cases();
       bool all = true;
       for (const auto& k : cases) all = all && k.pass;
-      if (!o->output.empty()) {
-        io::CsvTable t({"case", "quantity", "value", "reference", "error", "bound", "pass"});
-        for (const auto& k : cases)
-          t.add_row({k.name, k.quantity, k.value, k.reference, k.error, k.bound, std::int64_t(k.pass)});
-        t.write(o->output, io::Provenance::current());
-      }
+      if (!o->output.empty()) write_stability_csv(cases, o->output);
       if (o->json) {
         nlohmann::json arr = nlohmann::json::array();
         for (const auto& k : cases)
@@ -374,12 +376,16 @@ std::vector<fs::path> write_optical_depth_table(const AtmosphereSpec& spec, cons
 }
 
 void demo_atmo(DemoContext& ctx) {
-  AtmosphereSpec spec = preset("earth-graphics");
-  std::vector<int> shells = {16, 32, 64}, dirs = {32, 64, 128};
-  for (const auto& p : run_converge_lut(spec, shells, dirs, ctx.quick, ctx.out_dir / "atmo_lut_convergence"))
+  // (The default scene's LUT convergence study is one of its outputs, run by run_scene.)
+  const auto s = scene::default_scene();
+  for (const auto& p : write_zenith_sweep(s.atmosphere, 1000.0, ctx.out_dir / "optical_depth_vs_zenith"))
     ctx.written.push_back(p);
-  for (const auto& p : write_zenith_sweep(spec, 1000.0, ctx.out_dir / "atmo_optical_depth_vs_zenith"))
-    ctx.written.push_back(p);
+  // The stiff and extreme cases, with their bounds.
+  const auto cases = run_stiff_cases();
+  write_stability_csv(cases, ctx.out_dir / "stability.csv");
+  ctx.written.push_back(ctx.out_dir / "stability.csv");
+  for (const auto& k : cases)
+    if (!k.pass) throw std::runtime_error("stiff case '" + k.name + "' fails its bound");
 }
 
 }  // namespace atmosh::cli

@@ -14,6 +14,7 @@
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/study.hpp"
 #include "atmosh/scene/sweep.hpp"
+#include "atmosh/sh/convolution.hpp"
 #include "atmosh/sh/transform.hpp"
 #include "cli_common.hpp"
 #include "sky_common.hpp"
@@ -573,7 +574,38 @@ std::vector<fs::path> write_sky_sh(const SkyModel& model, const SunPlacement& su
   prov.add("sh_units", "coefficients of linear sRGB radiance (Y in cd/m^2) times sr");
   prov.add("sh_projection", "Gauss-Legendre grid " + std::to_string(grid.nlat) + " x " + std::to_string(grid.nphi));
   t.write(csv, prov);
-  return {csv};
+  // Band energy (rotation-invariant power per band) of the luminance-like green channel and all three.
+  fs::path stem = csv;
+  stem.replace_extension();
+  const fs::path bcsv = stem.string() + "_bands.csv", bpng = stem.string() + "_bands.png";
+  io::CsvTable bt({"l", "energy_r", "energy_g", "energy_b", "cumulative_fraction_g"});
+  std::vector<std::vector<double>> e;
+  for (const auto& c : coeffs) e.push_back(sh::band_energy(c, bands));
+  const auto cum = sh::cumulative_energy_fraction(e[1]);
+  io::PlotSpec p;
+  p.title = "Band energy of the sky's SH (linear sRGB channels)";
+  p.x_label = "band l";
+  p.y_label = "energy sum_m c_lm^2 [(cd/m^2 sr)^2]";
+  p.log_y = true;
+  const char* names[] = {"red", "green", "blue"};
+  const std::array<double, 3> cols[] = {{0.85, 0.2, 0.2}, {0.2, 0.65, 0.2}, {0.2, 0.3, 0.85}};
+  for (int c = 0; c < 3; ++c) {
+    io::Series sr;
+    sr.label = names[c];
+    sr.color = cols[c];
+    for (int l = 0; l < bands; ++l) {
+      sr.x.push_back(l);
+      sr.y.push_back(e[static_cast<std::size_t>(c)][static_cast<std::size_t>(l)]);
+    }
+    p.series.push_back(sr);
+  }
+  for (int l = 0; l < bands; ++l) {
+    const auto L = static_cast<std::size_t>(l);
+    bt.add_row({std::int64_t{l}, e[0][L], e[1][L], e[2][L], cum[L]});
+  }
+  bt.write(bcsv, prov);
+  io::write_plot_png(bpng, p);
+  return {csv, bcsv, bpng};
 }
 
 void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vector<fs::path>& written) {

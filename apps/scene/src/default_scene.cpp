@@ -59,6 +59,10 @@ kind = "lut-convergence"
 file = "lut_convergence.csv"
 
 [[output]]
+kind = "sun-elevation-study"
+file = "sun_elevation_study"
+
+[[output]]
 kind = "sh-coefficients"
 bands = 8
 file = "sky_sh.csv"
