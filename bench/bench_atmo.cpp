@@ -50,6 +50,20 @@ static void BM_LutLookupSun(benchmark::State& st) {
 }
 BENCHMARK(BM_LutLookupSun);
 
+// Closed-form column of the ozone tent alone (rays as in BM_LutLookupView).
+static void BM_TentColumnClosedForm(benchmark::State& st) {
+  Atmosphere atm(preset("earth-graphics"));
+  PiecewiseLinearColumn col(atm.profile(kOzone), atm.ground_radius());
+  const double R = atm.ground_radius();
+  int i = 0;
+  for (auto _ : st) {
+    double mu = -1.0 + 2.0 * ((i * 7919) % 1000) / 1000.0;
+    benchmark::DoNotOptimize(col(R + 100.0 * (i % 500), mu, 3e5));
+    ++i;
+  }
+}
+BENCHMARK(BM_TentColumnClosedForm);
+
 static void BM_ReferenceHorizontal(benchmark::State& st) {
   Atmosphere atm(preset(st.range(0) ? "earth-physical" : "earth-graphics"));
   OpticalDepthReference ref(atm);

@@ -47,6 +47,96 @@ double transmittance(double tau) {
   return std::exp(-tau);
 }
 
+// ---------------------------------------------------------------- piecewise-linear column
+
+PiecewiseLinearColumn::PiecewiseLinearColumn(const DensityProfile& profile, double ground_radius) {
+  if (!std::isfinite(ground_radius) || ground_radius <= 0.0)
+    throw InputError("ground radius " + num(ground_radius) + " m: must be finite and > 0");
+  const auto& spec = profile.spec();
+  std::vector<double> h, v;
+  switch (profile.kind()) {
+    case DensityProfileSpec::Kind::Tent:
+      h = {spec.bottom_m, spec.peak_m, spec.top_m};
+      v = {0.0, 1.0, 0.0};
+      break;
+    case DensityProfileSpec::Kind::Tabulated:
+      h = spec.altitude_m;
+      v = spec.value;
+      break;
+    default:
+      throw InputError("closed-form column: the profile is exponential, not piecewise linear");
+  }
+  radius_.resize(h.size());
+  for (std::size_t i = 0; i < h.size(); ++i) radius_[i] = ground_radius + h[i];
+  value_ = v;
+  slope_.assign(h.size(), 0.0);
+  for (std::size_t i = 0; i + 1 < h.size(); ++i) slope_[i] = (v[i + 1] - v[i]) / (h[i + 1] - h[i]);
+}
+
+double PiecewiseLinearColumn::operator()(double r, double mu, double length) const {
+  if (!(length > 0.0) || radius_.empty()) return 0.0;
+  const int n = static_cast<int>(radius_.size());
+  const double c2 = sg::tangent_radius_sq(r, mu);
+  const double u0 = r * mu, u1 = u0 + length;
+  // Lowest radius on the ray: the tangent radius if the tangent point (u = 0)
+  // is on it, else an end. A ray entirely above the last node or below the
+  // first has no column.
+  const double r1sq = u1 * u1 + c2;
+  const double rmin_sq = (u0 < 0.0 && u1 > 0.0) ? c2 : std::min(r * r, r1sq);
+  const double rmax_sq = std::max(r * r, r1sq);
+  if (rmin_sq >= radius_[n - 1] * radius_[n - 1] || rmax_sq <= radius_[0] * radius_[0]) return 0.0;
+  double ua = u0, ra = r, sum = 0.0;
+  // Node interval of the current position: idx = number of nodes below it (0:
+  // below the profile, n: above it; the density is 0 there). Coming from
+  // u = -infinity (radius infinite) idx = n; crossing node k inward sets idx = k,
+  // outward idx = k + 1, so breakpoints before the origin just set the state.
+  int idx = n;
+  bool done = false;
+  auto piece = [&](double ub, double rb) {
+    sum += sg::linear_piece_column(ua, ub, ra, rb, c2, value_[idx - 1], slope_[idx - 1], radius_[idx - 1]);
+  };
+  // Breakpoint at u with radius ru; the interval after it is idx_after.
+  auto cross = [&](double u, double ru, int idx_after) {
+    if (u >= u1) {
+      if (idx > 0 && idx < n) piece(u1, std::sqrt(r1sq));
+      done = true;
+      return;
+    }
+    if (u > ua) {
+      if (idx > 0 && idx < n) piece(u, ru);
+      ua = u;
+      ra = ru;
+    }
+    idx = idx_after;
+  };
+  // Crossings of node spheres (q_k = sqrt(R_k^2 - r_t^2) grows with k): inward
+  // at u = -q_k from the outermost node, the tangent point, outward at +q_k.
+  constexpr int kStack = 32;
+  double q_stack[kStack];
+  std::vector<double> q_heap;
+  double* q = q_stack;
+  if (n > kStack) {
+    q_heap.resize(n);
+    q = q_heap.data();
+  }
+  int first = n;  // innermost node sphere the ray's line crosses
+  for (int k = n - 1; k >= 0; --k) {
+    double D = sg::sphere_discriminant(r, mu, radius_[k]);
+    if (!(D > 0.0)) break;  // D grows with the node radius
+    q[k] = std::sqrt(D);
+    first = k;
+  }
+  if (u0 < 0.0) {
+    for (int k = n - 1; k >= first && !done; --k) cross(-q[k], radius_[k], k);
+    if (!done) cross(0.0, std::sqrt(c2), idx);
+  } else {
+    idx = first;  // state at the tangent point (behind the origin)
+  }
+  for (int k = first; k < n && !done; ++k) cross(q[k], radius_[k], k + 1);
+  if (!done && idx > 0 && idx < n) piece(u1, std::sqrt(r1sq));
+  return sum;
+}
+
 // ---------------------------------------------------------------- reference
 
 OpticalDepthReference::OpticalDepthReference(const Atmosphere& atmosphere, ReferenceOptions options)
@@ -123,6 +213,8 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     throw InputError("lut uniform_share = " + num(opt_.uniform_share) + ": must be >= 0");
   if (opt_.gauss_points < 2 || opt_.gauss_points > 64)
     throw InputError("lut gauss_points = " + std::to_string(opt_.gauss_points) + ": must be in [2, 64]");
+  if (opt_.analytic_max_nodes < 0)
+    throw InputError("lut analytic_max_nodes = " + std::to_string(opt_.analytic_max_nodes) + ": must be >= 0");
   auto t0 = std::chrono::steady_clock::now();
   R_ = atm_.ground_radius();
   T_ = atm_.top_radius();
@@ -132,6 +224,16 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
   int n_present = 0;
   for (int c = 0; c < 3; ++c) {
     present_[c] = atm_.has(c) && vc[c] > 0.0;
+    // Piecewise-linear profiles with few nodes: closed-form column at lookup;
+    // they take no part in shell placement or kink handling of the tables.
+    const auto& prof = atm_.profile(c);
+    analytic_[c] = present_[c] && prof.kind() != DensityProfileSpec::Kind::Exponential &&
+                   static_cast<int>(prof.kinks().size()) <= opt_.analytic_max_nodes;
+    if (analytic_[c]) {
+      linear_[c] = PiecewiseLinearColumn(prof, R_);
+      present_[c] = false;
+      continue;
+    }
     n_present += present_[c];
     log_encoded_[c] = present_[c] && atm_.profile(c).positive_on(top);
     has_kinks_ = has_kinks_ || (present_[c] && !log_encoded_[c]);
@@ -408,11 +510,15 @@ LutColumn OpticalDepthLut::lookup(const Table& up, const Table* ground, double r
     double d;
     double x = x_ground(r, mu, d);
     out.column = decode(interpolate(*ground, r, x)) * d;
+    for (int c = 0; c < 3; ++c)
+      if (analytic_[c]) out.column[c] = linear_[c](r, mu, d);
     return out;
   }
   double d;
   double x = x_up(r, mu, d);
   out.column = decode(interpolate(up, r, x)) * d;
+  for (int c = 0; c < 3; ++c)
+    if (analytic_[c]) out.column[c] = linear_[c](r, mu, d);
   if (has_kinks_) {
     // A ray that stays above the top of a profile with compact support has an
     // exactly zero column of it (removes interpolation ringing across the kink).

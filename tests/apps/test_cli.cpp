@@ -109,6 +109,22 @@ TEST(Cli, DemoQuickEndToEnd) {
   EXPECT_GE(csv, 1);
   EXPECT_GE(exr, 1);
   EXPECT_GE(png, 1);
+  // The figure notebook reads only files that the main job writes.
+  {
+    std::ifstream nbf(std::string(ATMOSH_SOURCE_DIR) + "/notebooks_export/figures.ipynb");
+    ASSERT_TRUE(nbf.good());
+    const auto nb = nlohmann::json::parse(nbf);
+    std::string files_line;
+    for (const auto& cell : nb["cells"])
+      for (const auto& src : cell["source"]) {
+        const std::string l = src.get<std::string>();
+        if (l.rfind("FILES = [", 0) == 0) files_line = l.substr(8);
+      }
+    ASSERT_FALSE(files_line.empty());
+    const auto files = nlohmann::json::parse(files_line);
+    EXPECT_GT(files.size(), 5u);
+    for (const auto& f : files) EXPECT_TRUE(fs::exists(out / f.get<std::string>())) << f;
+  }
   // No temporaries left behind.
   for (const auto& e : fs::recursive_directory_iterator(out))
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();

@@ -1,0 +1,149 @@
+// CLI contract of the area subcommands: JSON keys, closed-form values through the
+// command line, exit code 2 with one line for bad input, and `run` computing only
+// the outputs a scene lists.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "atmosh/io/csv.hpp"
+#include "atmosh/io/exr.hpp"
+#include "run_cli.hpp"
+
+using atmosh::test::count_lines;
+using atmosh::test::run_cli;
+namespace fs = std::filesystem;
+
+namespace {
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("atmosh_cli_areas_" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+void expect_bad(const std::string& args, const std::string& names) {
+  const auto r = run_cli(args);
+  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << args << "\n" << r.err;
+  EXPECT_NE(r.err.find(names), std::string::npos) << args << ": '" << r.err << "' does not name " << names;
+}
+}  // namespace
+
+TEST(CliAreas, PhaseJsonMatchesClosedForm) {
+  // Henyey-Greenstein: p(mu) = (1 - g^2) / (4 pi (1 + g^2 - 2 g mu)^1.5), mean cosine g.
+  const auto r = run_cli("phase --model hg --g 0.5 --cos-theta 0.25 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const double expect = 0.75 / (4 * M_PI * std::pow(1.25 - 0.25, 1.5));
+  EXPECT_NEAR(j["value"].get<double>(), expect, 1e-14);
+  EXPECT_NEAR(j["mean_cosine"].get<double>(), 0.5, 1e-14);
+  expect_bad("phase --model hg --g 1.5 --cos-theta 0 --json", "1.5");
+  expect_bad("phase --model lorentz --cos-theta 0 --json", "lorentz");
+}
+
+TEST(CliAreas, OpticalDepthJsonContract) {
+  const auto r = run_cli("optical-depth --preset earth-graphics --wavelength 550 --altitude 0 --zenith 0 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* k : {"rayleigh", "mie", "ozone", "total", "transmittance", "method", "error_estimate", "time_s"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  const double total = j["rayleigh"].get<double>() + j["mie"].get<double>() + j["ozone"].get<double>();
+  EXPECT_NEAR(j["total"].get<double>(), total, 1e-15);
+  EXPECT_NEAR(j["transmittance"].get<double>(), std::exp(-total), 1e-15);
+  // A scene without Mie and ozone reports 0 for them.
+  const fs::path d = scratch("od");
+  std::ofstream(d / "r.toml") << "version = 1\n[rayleigh]\nscale_height_m = 8000\n";
+  const auto r2 = run_cli("optical-depth --scene '" + (d / "r.toml").string() +
+                          "' --wavelength 550 --altitude 0 --zenith 60 --method lut --json");
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  const auto j2 = nlohmann::json::parse(r2.out);
+  EXPECT_EQ(j2["mie"].get<double>(), 0.0);
+  EXPECT_EQ(j2["ozone"].get<double>(), 0.0);
+  EXPECT_GT(j2["rayleigh"].get<double>(), 0.0);
+  expect_bad("optical-depth --wavelength nan --altitude 0 --zenith 0 --json", "wavelength");
+  expect_bad("optical-depth --preset nowhere --wavelength 550 --altitude 0 --zenith 0", "nowhere");
+}
+
+TEST(CliAreas, ShProjectEvalRoundTripAndBadInput) {
+  const fs::path d = scratch("sh");
+  // A constant radiance image c: its only coefficient is c00 = c sqrt(4 pi), and the
+  // reconstruction anywhere is c.
+  {
+    atmosh::io::ExrImage img(64, 32, {"R", "G", "B"});
+    for (auto& ch : img.data) std::fill(ch.begin(), ch.end(), 2.5f);
+    atmosh::io::write_exr(d / "const.exr", img, {});
+  }
+  auto r = run_cli("sh project '" + (d / "const.exr").string() + "' --bands 3 --method quadrature -o '" +
+                   (d / "c.csv").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto c = atmosh::io::read_csv(d / "c.csv");
+  EXPECT_NEAR(c.number(0, c.column("r")), 2.5 * std::sqrt(4 * M_PI), 1e-4);
+  r = run_cli("sh eval '" + (d / "c.csv").string() + "' --dir 0.3,-0.2,0.9 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("2.5"), std::string::npos) << r.out;
+  expect_bad("sh eval '" + (d / "c.csv").string() + "' --dir nan,0,1 --json", "nan");
+  expect_bad("sh project '" + (d / "const.exr").string() + "' --bands 0 -o '" + (d / "x.csv").string() + "'", "0");
+  expect_bad("sh project '" + (d / "missing.exr").string() + "' --bands 3 -o '" + (d / "x.csv").string() + "'",
+             "missing.exr");
+  std::ofstream(d / "bad.csv") << "l,m\n0\n";
+  expect_bad("sh eval '" + (d / "bad.csv").string() + "' --dir 0,0,1 --json", "bad.csv");
+}
+
+TEST(CliAreas, SkyJsonAndBadInput) {
+  const fs::path d = scratch("sky");
+  const auto r = run_cli("sky --sun-elevation 30 --size 16x8 -o '" + (d / "s.exr").string() + "' --png '" +
+                         (d / "s.png").string() + "' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* k : {"zenith_luminance_cd_m2", "zenith_srgb", "horizon_srgb", "exposure", "rays_per_s"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_GT(j["zenith_luminance_cd_m2"].get<double>(), 0.0);
+  // A clear daytime zenith is blue: b > r in linear sRGB.
+  EXPECT_GT(j["zenith_srgb"][2].get<double>(), j["zenith_srgb"][0].get<double>());
+  const auto img = atmosh::io::read_exr(d / "s.exr");
+  for (const char* ch : {"R", "G", "B", "X", "Y", "Z"}) EXPECT_GE(img.find_channel(ch), 0) << ch;
+  EXPECT_TRUE(fs::exists(d / "s.png.json"));  // tone-map operator and exposure
+  expect_bad("sky --sun-elevation 30 --size 0x8 -o '" + (d / "b.exr").string() + "'", "--size");
+  expect_bad("sky --sun-elevation 30 --lat 3 --lon 4 --time 2026-01-01T00:00Z -o '" + (d / "b.exr").string() + "'",
+             "--sun-elevation");
+  expect_bad("sky --sun-elevation 95 -o '" + (d / "b.exr").string() + "'", "--sun-elevation");
+  expect_bad("sky --sun-elevation 5 --projection mercator -o '" + (d / "b.exr").string() + "'", "mercator");
+  EXPECT_FALSE(fs::exists(d / "b.exr"));
+}
+
+TEST(CliAreas, SweepWritesOneRowPerPointAndRejectsBadShard) {
+  const fs::path d = scratch("sweep");
+  std::ofstream(d / "s.toml") << "version = 1\n[[parameter]]\nkey = \"sun.elevation_deg\"\nvalues = [5.0, 40.0]\n"
+                                 "[[parameter]]\nkey = \"spectrum.count\"\nvalues = [8]\n";
+  const auto r = run_cli("sweep '" + (d / "s.toml").string() + "' -o '" + (d / "out").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto c = atmosh::io::read_csv(d / "out" / "sweep.csv");
+  ASSERT_EQ(c.rows.size(), 2u);
+  // The zenith is brighter with the sun at 40 deg than at 5 deg.
+  const auto z = c.column("zenith_luminance_cd_m2");
+  EXPECT_GT(c.number(1, z), c.number(0, z));
+  expect_bad("sweep '" + (d / "s.toml").string() + "' -o '" + (d / "out2").string() + "' --shard 3/2", "3/2");
+  std::ofstream(d / "bad.toml") << "version = 1\n[[parameter]]\nkey = \"mie.single_scattering_albedo\"\nvalues = [2.0]\n";
+  expect_bad("sweep '" + (d / "bad.toml").string() + "' -o '" + (d / "out3").string() + "'",
+             "mie.single_scattering_albedo");
+}
+
+// A scene lists only a sun track: `run` computes that and nothing else (no sky, no
+// tables), and `plan` says so.
+TEST(CliAreas, RunComputesOnlyTheListedOutputs) {
+  const fs::path d = scratch("run");
+  std::ofstream(d / "sun.toml") << "version = 1\n[rayleigh]\n[observer]\nlatitude_deg = 60\nlongitude_deg = 10\n"
+                                   "time_utc = \"2026-03-20T12:00:00Z\"\n[[output]]\nkind = \"sun-track\"\n"
+                                   "file = \"track.csv\"\n";
+  const auto r = run_cli("run '" + (d / "sun.toml").string() + "' -o '" + (d / "out").string() + "' --quick");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(d / "out")) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"track.csv", "track.png"}));
+  EXPECT_NE(r.out.find("skip  optical-depth-lut:view"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("skip  constituent:mie"), std::string::npos) << r.out;
+}
