@@ -23,6 +23,8 @@ std::vector<std::filesystem::path> write_study(const std::filesystem::path& stem
     if (!by_method.count(r.method)) {
       order.push_back(r.method);
       by_method[r.method].label = r.method;
+      // Settings vary in more than one parameter: points, not a misleading polyline.
+      by_method[r.method].style = Series::Style::Scatter;
     }
     by_method[r.method].x.push_back(r.time_s);
     by_method[r.method].y.push_back(r.error_max);

@@ -3,8 +3,8 @@
 //
 // Writes <stem>.csv with columns
 //   method, setting, error_max_rel, error_rms_rel, time_s [, extra columns...]
-// and <stem>.png, a log-log plot of error_max_rel against time_s, one series per
-// method. Error and time names may be renamed (e.g. error_max_deg) via the spec.
+// and <stem>.png, a log-log scatter plot of error_max_rel against time_s, one
+// colour per method. Error and time names may be renamed (e.g. error_max_deg) via the spec.
 #pragma once
 
 #include <filesystem>

@@ -123,29 +123,41 @@ ATMOSH_FN real density_tent(real h, real bottom, real peak, real top) {
 }
 
 // ---- closed-form column of a profile linear in radius along a ray piece ----
-//
+
+// log(1 + x) for x > -1, accurate also for tiny x without a log1p (which GLSL
+// lacks): log(w) x / (w - 1) with w = 1 + x rounded (Goldberg 1991, "What every
+// computer scientist should know about floating-point arithmetic", Theorem 4).
+ATMOSH_FN real log1p_accurate(real x) {
+  real w = real(1) + x;
+  return (w == real(1)) ? x : glm::log(w) * x / (w - real(1));
+}
+
 // With u = s + r mu the radius along the ray is sqrt(u^2 + c_sq) (c_sq = tangent
 // radius squared). On a piece [ua, ub] that does not contain the tangent point
 // in its interior (ua * ub >= 0) and on which the density is v0 + slope (r - r0),
 // the column is v0 (ub - ua) + slope (I - r0 (ub - ua)) with
 //   I = integral sqrt(u^2 + c^2) du = [u r + c^2 asinh(u / c)] / 2 |_ua^ub.
-// Both differences are formed without cancellation:
-//   ub rb - ua ra = (ub - ua) (m + v^2 / m),  m = (ra + rb)/2, v = (ua + ub)/2,
-//   asinh(ub/c) - asinh(ua/c) = asinh((ub - ua)(ub + ua) / (ub ra + ua rb))
-// (from sinh(x - y) = sinh x cosh y - cosh x sinh y), which stays finite as
-// c -> 0 (vertical rays: the c^2 term vanishes). ra, rb are the radii at ua, ub
-// (pass the exact shell radius where the piece ends on a sphere). The only
-// rounding beyond a few ulp is in I - r0 (ub - ua), an absolute error ~1e-16 r0
-// (ub - ua) |slope|: the same as evaluating the density at the altitude r - R.
+// Both differences are formed without cancellation (m = (ra + rb)/2,
+// t = (ua + ub) / (2 m)):
+//   ub rb - ua ra = (ub - ua) m (1 + t^2)            (rb - ra = (ub - ua) t),
+//   asinh(ub/c) - asinh(ua/c) = log((|u_f| + r_f) / (|u_n| + r_n))
+//                             = log1p((ub - ua)(1 + |t|) / (|u_n| + r_n))
+// with n / f the ends nearer to / farther from the tangent point; this stays
+// finite as c -> 0 (vertical rays: the c^2 term vanishes). ra, rb are the radii
+// at ua, ub (pass the exact node radius where the piece ends on a sphere). The
+// only rounding beyond a few ulp is in I - r0 (ub - ua), an absolute error
+// ~1e-16 r0 (ub - ua) |slope|: the same as evaluating the density at the
+// rounded altitude r - R, which every quadrature of the profile does too.
 ATMOSH_FN real linear_piece_column(real ua, real ub, real ra, real rb, real c_sq, real v0, real slope, real r0) {
   real du = ub - ua;
   if (!(du > real(0))) return real(0);
   real m = real(0.5) * (ra + rb);
-  real v = real(0.5) * (ua + ub);
-  real den = ub * ra + ua * rb;
-  real dasinh = (den != real(0)) ? glm::asinh(du * (ua + ub) / den) : real(0);
-  real lin = (m > real(0)) ? du * (m + v * v / m) : real(0);
-  real integral_r = real(0.5) * (lin + ((c_sq > real(0)) ? c_sq * dasinh : real(0)));
+  if (!(m > real(0))) return v0 * du;
+  real t = real(0.5) * (ua + ub) / m;
+  real near_sum = (ua >= real(0)) ? ua + ra : rb - ub;
+  real dasinh = (c_sq > real(0) && near_sum > real(0))
+                    ? log1p_accurate(du * (real(1) + glm::abs(t)) / near_sum) : real(0);
+  real integral_r = real(0.5) * (du * m * (real(1) + t * t) + c_sq * dasinh);
   return v0 * du + slope * (integral_r - r0 * du);
 }
 
