@@ -26,6 +26,10 @@ if(NOT ATMOSH_DEPENDENCIES_LIBS_ONLY)
   find_package(nlohmann_json CONFIG REQUIRED)
   find_package(fmt CONFIG REQUIRED)
   find_package(Threads REQUIRED)
+  # Precomputed radiance transfer (apps/prt): ray casting and mesh input.
+  find_package(embree 3 CONFIG REQUIRED)
+  find_package(tinyobjloader CONFIG REQUIRED)
+  find_package(assimp CONFIG REQUIRED)
   # Debian's OpenCVConfig.cmake lives in the all-modules libopencv-dev; we need
   # three modules only, so locate them directly.
   find_path(ATMOSH_OPENCV_INCLUDE_DIR opencv2/core.hpp PATH_SUFFIXES opencv4 REQUIRED)

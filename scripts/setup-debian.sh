@@ -12,6 +12,7 @@ PKGS=(
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libembree-dev libtinyobjloader-dev libassimp-dev
 )
 missing=()
 for p in "${PKGS[@]}"; do

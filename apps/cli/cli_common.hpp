@@ -47,6 +47,7 @@ void register_sun_commands(CLI::App& app);     // sun (single time, ranges, accu
 void register_atmo_commands(CLI::App& app);    // optical-depth, phase, stability, converge lut
 void register_gpu_commands(CLI::App& app);     // gpu info
 void register_sky_commands(CLI::App& app);     // sky, study, sweep, converge sky
+void register_prt_commands(CLI::App& app);     // prt bake|relight|converge
 
 // Writes <stem>.csv and <stem>.png: the sun (NREL SPA) over the UTC day that
 // contains time_utc, at a place, every step_s seconds.
@@ -69,5 +70,6 @@ void demo_sun(DemoContext& ctx);
 void demo_atmo(DemoContext& ctx);
 void demo_sh(DemoContext& ctx);
 void demo_sky(DemoContext& ctx);
+void demo_prt(DemoContext& ctx);
 
 }  // namespace atmosh::cli

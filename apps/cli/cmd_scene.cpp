@@ -113,6 +113,7 @@ void register_scene_commands(CLI::App& app) {
       demo_atmo(ctx);
       demo_sky(ctx);
       demo_sh(ctx);
+      demo_prt(ctx);
       std::string manifest = "# atmosh demo results (" + std::string(quick ? "quick" : "full") + " run)\n";
       for (const auto& f : ctx.written) manifest += f.lexically_relative(ctx.out_dir).string() + "\n";
       io::write_text_atomically(ctx.out_dir / "MANIFEST.txt", manifest);

@@ -18,6 +18,9 @@
 #include "atmosh/sh/transform.hpp"
 #include "cli_common.hpp"
 #include "sky_common.hpp"
+#ifdef ATMOSH_HAVE_GPU
+#include "atmosh/gpu/sky.hpp"
+#endif
 
 namespace atmosh::cli {
 
@@ -52,7 +55,7 @@ nlohmann::json rgb_json(const Rgb& c) { return nlohmann::json::array({c.r, c.g, 
 
 // ---------------------------------------------------------------- atmosh sky
 struct SkyCmd {
-  std::string scene_file, time, projection = "equirect", size = "512x256", output, png;
+  std::string scene_file, time, projection = "equirect", size = "512x256", output, png, device = "cpu";
   std::optional<double> lat, lon, sun_elevation;
   double height = 0.0, sun_azimuth = 180.0;
   bool spectral = false, json = false;
@@ -85,8 +88,33 @@ void run_sky(const SkyCmd& c) {
   const auto size = parse_size(c.size, "--size");
   const auto model = make_sky_model(s, c.q.sky(), sun.distance_au);
   const double h = std::max(sun.observer_height_m, 0.0);
-  const SkyImage img = render_sky(*model->sky, proj, size[0], size[1], h, sun.direction(), c.spectral, c.q.threads);
-  const auto prov = sky_provenance(*model, sun);
+  if (c.device != "cpu" && c.device != "gpu" && c.device != "auto")
+    throw InputError("--device " + c.device + ": must be cpu, gpu or auto");
+  // --device gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line notice.
+  std::string used = "cpu";
+  std::optional<SkyImage> gpu_img;
+  if (c.device != "cpu") {
+#ifdef ATMOSH_HAVE_GPU
+    try {
+      gpu_img = gpu::render_sky(*model->sky, proj, size[0], size[1], h, sun.direction(), c.spectral);
+      used = "gpu";
+    } catch (const gpu::Unavailable& e) {
+      if (c.device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
+      std::cerr << "atmosh: no GPU (" << e.what() << "); rendering on the CPU\n";
+    } catch (const gpu::Unsupported& e) {
+      if (c.device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
+      std::cerr << "atmosh: " << e.what() << " is not supported on the GPU; rendering on the CPU\n";
+    }
+#else
+    if (c.device == "gpu") throw std::runtime_error("--device gpu: atmosh was built without ATMOSH_WITH_GPU");
+    std::cerr << "atmosh: built without GPU support; rendering on the CPU\n";
+#endif
+  }
+  const SkyImage img =
+      gpu_img ? std::move(*gpu_img)
+              : render_sky(*model->sky, proj, size[0], size[1], h, sun.direction(), c.spectral, c.q.threads);
+  auto prov = sky_provenance(*model, sun);
+  prov.add("device", used);
   const double exposure = write_sky_image(img, c.output, c.png, prov, c.projection, sun);
   const SkySummary sm = summarize_sky(*model->sky, h, sun.direction());
   if (c.json) {
@@ -103,6 +131,7 @@ void run_sky(const SkyCmd& c) {
                         {"srgb_units", "linear sRGB (D65), scaled so that Y is luminance in cd/m^2"},
                         {"exposure", exposure},
                         {"rays", img.rays},
+                        {"device", used},
                         {"render_time_s", img.seconds},
                         {"table_build_time_s", model->build_time_s},
                         {"rays_per_s", img.seconds > 0 ? img.rays / img.seconds : 0.0}};
@@ -440,6 +469,8 @@ void register_sky_commands(CLI::App& app) {
     s->add_option("--png", c.png, "Tone-mapped PNG to write");
     s->add_flag("--spectral", c.spectral, "Add one channel per wavelength (L_<nm>nm)");
     s->add_flag("--json", c.json, "Print a JSON summary");
+    s->add_option("--device", c.device, "cpu, gpu or auto (GPU if a headless EGL device exists, else CPU)")
+        ->capture_default_str();
     add_quality_options(s, c.q);
     s->callback([] { run_sky(c); });
   }

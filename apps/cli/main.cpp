@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   atmosh::cli::register_sh_commands(app);
   atmosh::cli::register_gpu_commands(app);
   atmosh::cli::register_sky_commands(app);
+  atmosh::cli::register_prt_commands(app);
 
   try {
     app.parse(argc, argv);

@@ -8,6 +8,7 @@
 
 #include "atmosh/atmo/integrate.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/sh/quadrature.hpp"
 
@@ -433,14 +434,14 @@ double OpticalDepthLut::x_up(double r, double mu, double& d) const {
   double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
   d = sg::distance_to_top(r, mu, T_);
   double dmin = T_ - r, dmax = rho + Hh_;
-  return dmax > dmin ? std::clamp((d - dmin) / (dmax - dmin), 0.0, 1.0) : 0.0;
+  return sg::lut_x(d, dmin, dmax);
 }
 
 double OpticalDepthLut::x_ground(double r, double mu, double& d) const {
   double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
   d = sg::distance_to_ground(r, mu, R_);
   double dmin = r - R_, dmax = rho;
-  return dmax > dmin ? std::clamp((d - dmin) / (dmax - dmin), 0.0, 1.0) : 0.0;
+  return sg::lut_x(d, dmin, dmax);
 }
 
 glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double r, double x) const {
@@ -459,8 +460,8 @@ glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double r, double x) cons
   int j = std::clamp(static_cast<int>(fx), 0, n - 2);
   int jw = std::clamp(j - 1, 0, n - 4);
   double p = fx - jw;
-  double xw[4] = {-(p - 1.0) * (p - 2.0) * (p - 3.0) / 6.0, p * (p - 2.0) * (p - 3.0) / 2.0,
-                  -p * (p - 1.0) * (p - 3.0) / 2.0, p * (p - 1.0) * (p - 2.0) / 6.0};
+  double xw[4];
+  for (int m = 0; m < 4; ++m) xw[m] = sg::lagrange_cubic_weight(p, m);
   glm::dvec3 acc(0.0);
   for (int i = 0; i < 4; ++i) {
     const double* row = &t.v[(static_cast<std::size_t>(w + i) * n + jw) * 3];

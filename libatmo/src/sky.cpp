@@ -9,6 +9,7 @@
 
 #include "atmosh/atmo/integrate.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/sh/quadrature.hpp"
 
@@ -215,7 +216,7 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
       const double s = mid + half * gl_x_[q];
       const double w = half * gl_w_[q];
       const double rs = sg::radius_along(ray.r, ray.mu, s);
-      const double mus = glm::clamp((ray.r * ray.mu_s + s * ray.nu) / rs, -1.0, 1.0);
+      const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, s, rs);
       const LutColumn to_sun = lut_->sun(rs, mus);
       if (to_sun.hits_ground) continue;  // in the Earth's shadow
       const double mu_p = sg::mu_along(ray.r, ray.mu, s, rs);
@@ -236,7 +237,7 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   const double albedo = atm_.spec().planet.ground_albedo;
   if (ray.ground && albedo > 0) {
     const double rg = sg::radius_along(ray.r, ray.mu, ray.s_end);
-    const double mus_g = glm::clamp((ray.r * ray.mu_s + ray.s_end * ray.nu) / rg, -1.0, 1.0);
+    const double mus_g = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, ray.s_end, rg);
     if (mus_g > 0) {
       const LutColumn to_sun = lut_->sun(R, mus_g);
       if (!to_sun.hits_ground)
@@ -297,7 +298,7 @@ SkyReferenceResult SkyReference::radiance(double altitude_m, const glm::dvec3& v
     if (it != cache.end()) return it->second;
     Node n;
     const double rs = sg::radius_along(ray.r, ray.mu, s);
-    const double mus = glm::clamp((ray.r * ray.mu_s + s * ray.nu) / rs, -1.0, 1.0);
+    const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, s, rs);
     const RayColumn sunc = od_.column(rs, mus);
     if (sunc.hits_ground) {
       n.shadow = true;
@@ -350,7 +351,7 @@ SkyReferenceResult SkyReference::radiance(double altitude_m, const glm::dvec3& v
   const double albedo = atm_.spec().planet.ground_albedo;
   if (ray.ground && albedo > 0) {
     const double rg = sg::radius_along(ray.r, ray.mu, ray.s_end);
-    const double mus_g = glm::clamp((ray.r * ray.mu_s + ray.s_end * ray.nu) / rg, -1.0, 1.0);
+    const double mus_g = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, ray.s_end, rg);
     if (mus_g > 0) {
       const RayColumn sunc = od_.column(R, mus_g);
       if (!sunc.hits_ground) {

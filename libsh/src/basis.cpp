@@ -2,11 +2,13 @@
 #include "atmosh/sh/basis.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <mutex>
 #include <numbers>
 #include <string>
 
 #include "atmosh/error.hpp"
+#include "clones.hpp"
 #include "legendre_impl.hpp"
 
 namespace atmosh::sh {
@@ -76,7 +78,8 @@ void legendre_column(int bands, int m, double cos_t, double sin_t, double* out) 
 }
 
 namespace {
-void evaluate_unit(int bands, const glm::dvec3& d, double* out, const LegendreTable& table) {
+// Column-by-column evaluation (any band; handles the extended-range sectoral terms).
+void evaluate_unit_columns(int bands, const glm::dvec3& d, double* out, const LegendreTable& table) {
   const double rho = std::sqrt(d.x * d.x + d.y * d.y);
   const double ct = d.z, st = rho;
   double c1 = 1.0, s1 = 0.0;  // cos p, sin p
@@ -103,13 +106,174 @@ void evaluate_unit(int bands, const glm::dvec3& d, double* out, const LegendreTa
     });
   }
 }
+
+// Row-by-row evaluation for bands <= kRowBands: one pass of the same column recurrence,
+// run over all orders m of band l at once (independent lanes, no serial dependency
+// inside a band, vectorised), cos/sin(m p) by complex multiplication (no trig per m).
+// Rows need a_lm, b_lm for m <= l-1 (a_{l,l-1} = sqrt(2l+1), b_{l,l-1} = 0 by the same
+// formula), stored row-contiguous at tri_index(l, m).
+constexpr int kRowBands = 128;
+constexpr int kRowMinBands = 10;
+constexpr int kRowStride = kRowBands + 4;  // row l at l * kRowStride, zero-padded past m = l-1
+
+struct RowTable {
+  std::vector<double> a, b;
+  double s[kRowBands];
+  RowTable() : a(static_cast<std::size_t>(kRowBands) * kRowStride, 0.0), b(a) {
+    s[0] = 0.0;
+    for (int m = 1; m < kRowBands; ++m) s[m] = std::sqrt((2.0 * m + 1.0) / (2.0 * m));
+    for (int l = 1; l < kRowBands; ++l)
+      for (int m = 0; m <= l - 1; ++m) {
+        const double ll = l, mm = m;
+        const double den = ll * ll - mm * mm;
+        a[l * kRowStride + m] = std::sqrt((4.0 * ll * ll - 1.0) / den);
+        b[l * kRowStride + m] = l < 2 ? 0.0
+                                      : std::sqrt((2.0 * ll + 1.0) * ((ll - 1.0) * (ll - 1.0) - mm * mm) /
+                                                  ((2.0 * ll - 3.0) * den));
+      }
+  }
+};
+
+const RowTable& row_table() {
+  static const RowTable* t = new RowTable();  // built once, never freed (no exit-time order issues)
+  return *t;
+}
+
+#if defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"  // V4 passed only between inlined internal functions
+#endif
+// 4 doubles; GCC/clang lower it to one AVX register or two SSE2 registers.
+typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
+inline V4 load4(const double* p) {
+  V4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void store4(double* p, V4 v) { std::memcpy(p, &v, sizeof v); }
+alignas(32) constexpr double kUnit[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
+
+#if defined(__GNUC__) && !defined(__clang__)
+#define ATMOSH_SH_UNROLL _Pragma("GCC unroll 16")
+#else
+#define ATMOSH_SH_UNROLL
+#endif
+
+// NB > 0: the band count is a compile-time constant (loops unrolled, lane selects fixed).
+template <int NB>
+__attribute__((always_inline)) inline void rows_kernel(int bands_rt, double ct, double c1, double s1,
+                                                       const double* pmm, const double* ta, const double* tb,
+                                                       double* __restrict out) {
+  const int bands = NB > 0 ? NB : bands_rt;
+  // Row buffers: lanes past m = l hold finite values that meet zero coefficients only.
+  // five work rows of w lanes (lanes read: m <= bands + 2), zeroed in one go
+  alignas(32) double ws[5 * (kRowBands + 8)];
+  const int w = (bands + 7) & ~3;
+  std::memset(ws, 0, sizeof(double) * 5 * w);
+  double* buf[3] = {ws, ws + w, ws + 2 * w};
+  double* C = ws + 3 * w;
+  double* S = ws + 4 * w;
+  const double r2 = std::numbers::sqrt2;
+  double cm = 1.0, sm = 0.0;
+  C[0] = 1.0;
+  for (int m = 1; m < bands; ++m) {
+    const double cn = cm * c1 - sm * s1;
+    sm = sm * c1 + cm * s1;
+    cm = cn;
+    C[m] = r2 * cm;
+    S[m] = r2 * sm;
+  }
+  double* p2 = buf[0];
+  double* p1 = buf[1];
+  double* p = buf[2];
+  p1[0] = pmm[0];
+  out[0] = pmm[0];
+  const V4 vct = {ct, ct, ct, ct};
+  ATMOSH_SH_UNROLL
+  for (int l = 1; l < bands; ++l) {
+    const double* a = ta + l * kRowStride;
+    const double* b = tb + l * kRowStride;
+    double* o = out + l * (l + 1);  // o[m] = Y_lm, m = -l..l
+    const int last = l / 4;         // block holding m = l
+    const bool spill_ok = l + 1 < bands;  // the next band's slots may be written early
+    ATMOSH_SH_UNROLL
+    for (int j = 0; j <= last; ++j) {
+      const int m = 4 * j;
+      V4 v = load4(a + m) * vct * load4(p1 + m) - load4(b + m) * load4(p2 + m);
+      if (j == last) {  // put P_ll in lane l - m without a store/reload round trip
+        const V4 e = load4(kUnit[l - m]), pl = {pmm[l], pmm[l], pmm[l], pmm[l]};
+        v = v * (V4{1.0, 1.0, 1.0, 1.0} - e) + pl * e;
+      }
+      store4(p + m, v);  // whole-vector store: the next rows reload it whole
+      const V4 w = v * load4(S + m);
+      const V4 u = v * load4(C + m);
+      if (j < last) {
+        store4(o - m - 3, V4{w[3], w[2], w[1], w[0]});  // m..m+3 -> o[-m-3 .. -m]
+        store4(o + m, u);
+      } else {
+        for (int k = (j == 0 ? 1 : 0); k < 4 && m + k <= l; ++k) o[-(m + k)] = w[k];
+        if (spill_ok) {
+          store4(o + m, u);  // lanes past l land in band l+1, rewritten later
+        } else {
+          for (int k = 0; k < 4 && m + k <= l; ++k) o[m + k] = u[k];
+        }
+      }
+    }
+    double* t = p2;
+    p2 = p1;
+    p1 = p;
+    p = t;
+  }
+}
+
+ATMOSH_SH_DISPATCH
+void evaluate_rows_kernel(int bands, double ct, double c1, double s1, const double* pmm, const double* ta,
+                          const double* tb, double* __restrict out) {
+  if (bands == 16) {
+    rows_kernel<16>(bands, ct, c1, s1, pmm, ta, tb, out);
+  } else {
+    rows_kernel<0>(bands, ct, c1, s1, pmm, ta, tb, out);
+  }
+}
+
+void evaluate_unit(int bands, const glm::dvec3& d, double* out) {
+  if (bands < kRowMinBands) {  // few bands: the column path has less set-up
+    static const LegendreTable* small = new LegendreTable(kRowBands);
+    evaluate_unit_columns(bands, d, out, *small);
+    return;
+  }
+  if (bands <= kRowBands) {
+    const RowTable& t = row_table();
+    const double rho = std::sqrt(d.x * d.x + d.y * d.y);
+    double c1 = 1.0, s1 = 0.0;  // cos p, sin p
+    if (rho > 0.0) {
+      c1 = d.x / rho;
+      s1 = d.y / rho;
+    }
+    // sectoral terms; if one leaves the plain double range (sin^m t below ~1e-240:
+    // within 1e-16 rad of a pole at L = 16, 0.013 rad at L = 128), fall back to the
+    // extended-range column path.
+    double pmm[kRowBands];
+    detail::XNum x{1.0 / std::sqrt(4.0 * std::numbers::pi), 0};
+    pmm[0] = x.mant;
+    bool plain = true;
+    for (int m = 1; m < bands; ++m) {
+      x = detail::next_sectoral(x, t.s[m], rho);
+      pmm[m] = x.mant;
+      plain = plain && x.exp == 0;
+    }
+    if (plain) {
+      evaluate_rows_kernel(bands, d.z, c1, s1, pmm, t.a.data(), t.b.data(), out);
+      return;
+    }
+  }
+  evaluate_unit_columns(bands, d, out, *legendre_table(bands));
+}
 }  // namespace
 
 void evaluate(int bands, const glm::dvec3& dir, double* out) {
   check_bands(bands, "evaluate");
   const glm::dvec3 d = checked_direction(dir, "evaluate");
-  const auto table = legendre_table(bands);
-  evaluate_unit(bands, d, out, *table);
+  evaluate_unit(bands, d, out);
 }
 
 std::vector<double> evaluate(int bands, const glm::dvec3& dir) {
@@ -128,10 +292,9 @@ void evaluate_angles(int bands, double theta, double phi, double* out) {
   if (!std::isfinite(theta) || !std::isfinite(phi))
     throw InputError("evaluate_angles: angle is not finite");
   check_bands(bands, "evaluate_angles");
-  const auto table = legendre_table(bands);
   // use |sin t| and sign-adjusted phi so that theta outside [0, pi] still works
   glm::dvec3 d = direction_from_angles(theta, phi);
-  evaluate_unit(bands, d, out, *table);
+  evaluate_unit(bands, d, out);
 }
 
 double reconstruct(int bands, const double* coeffs, const glm::dvec3& dir) {

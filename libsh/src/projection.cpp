@@ -78,6 +78,14 @@ void ring_sums_centred(int bands, int W, const float* f, const std::vector<doubl
 }
 }  // namespace
 
+void sampler_directions(const ProjectOptions& opt, std::vector<glm::dvec3>& dirs, std::vector<double>& weights) {
+  if (opt.method == Method::quadrature) throw InputError("sampler_directions: quadrature is not a Monte Carlo sampler");
+  if (opt.samples < 0) throw InputError("sampler_directions: samples must be >= 1, got " + std::to_string(opt.samples));
+  dirs.clear();
+  weights.clear();
+  sampler_points(opt, dirs, weights);
+}
+
 Method parse_method(const std::string& name) {
   if (name == "quadrature") return Method::quadrature;
   if (name == "jittered") return Method::jittered;

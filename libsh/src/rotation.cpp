@@ -3,12 +3,14 @@
 #include "atmosh/sh/rotation.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <mutex>
 #include <numbers>
 #include <string>
 
 #include "atmosh/error.hpp"
 #include "atmosh/sh/basis.hpp"
+#include "clones.hpp"
 
 namespace atmosh::sh {
 
@@ -124,20 +126,65 @@ inline void zrot_band(int l, double* v, const double* cs, const double* sn) {
   }
 }
 
+#if defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"  // V4 is passed only between inlined internal functions
+#endif
+// 4 doubles: one AVX register in the AVX2/FMA clone, two SSE2 registers otherwise.
+typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
+inline V4 load4(const double* p) {
+  V4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// Two independent 4-lane accumulators (8 products in flight), then a fixed-order tail.
 inline double dot(const double* a, const double* b, int n) {
-  double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+  V4 s0 = {0, 0, 0, 0}, s1 = {0, 0, 0, 0};
+  int i = 0;
+  for (; i + 7 < n; i += 8) {
+    s0 += load4(a + i) * load4(b + i);
+    s1 += load4(a + i + 4) * load4(b + i + 4);
+  }
+  if (i + 3 < n) {
+    s0 += load4(a + i) * load4(b + i);
+    i += 4;
+  }
+  double t = 0;
+  for (; i < n; ++i) t += a[i] * b[i];
+  const V4 s = s0 + s1;
+  return ((s[0] + s[1]) + (s[2] + s[3])) + t;
+}
+
+// Four dots of rows mp, mp+2, mp+4, mp+6 (same length n) with one input x.
+inline void dot4(const double* m, const int* off, int mp, const double* x, int n, double* r) {
+  const double* a0 = m + off[mp];
+  const double* a1 = m + off[mp + 2];
+  const double* a2 = m + off[mp + 4];
+  const double* a3 = m + off[mp + 6];
+  V4 s0 = {0, 0, 0, 0}, s1 = s0, s2 = s0, s3 = s0;
   int i = 0;
   for (; i + 3 < n; i += 4) {
-    s0 += a[i] * b[i];
-    s1 += a[i + 1] * b[i + 1];
-    s2 += a[i + 2] * b[i + 2];
-    s3 += a[i + 3] * b[i + 3];
+    const V4 xv = load4(x + i);
+    s0 += load4(a0 + i) * xv;
+    s1 += load4(a1 + i) * xv;
+    s2 += load4(a2 + i) * xv;
+    s3 += load4(a3 + i) * xv;
   }
-  for (; i < n; ++i) s0 += a[i] * b[i];
-  return (s0 + s1) + (s2 + s3);
+  double t0 = 0, t1 = 0, t2 = 0, t3 = 0;
+  for (; i < n; ++i) {
+    t0 += a0[i] * x[i];
+    t1 += a1[i] * x[i];
+    t2 += a2[i] * x[i];
+    t3 += a3[i] * x[i];
+  }
+  r[0] = ((s0[0] + s0[1]) + (s0[2] + s0[3])) + t0;
+  r[1] = ((s1[0] + s1[1]) + (s1[2] + s1[3])) + t1;
+  r[2] = ((s2[0] + s2[1]) + (s2[2] + s2[3])) + t2;
+  r[3] = ((s3[0] + s3[1]) + (s3[2] + s3[3])) + t3;
 }
 
 // v <- Y90 v for band l (v[l + m]); work needs 2(l+1) doubles.
+ATMOSH_SH_DISPATCH
 void apply_y90(const BandY90& B, double* v, double* work) {
   const int l = B.l;
   // split by parity: cos part c_m (m = 0..l), sin part s_m (m = 1..l)
@@ -151,15 +198,34 @@ void apply_y90(const BandY90& B, double* v, double* work) {
   int nse = 0, nso = 0;
   for (int m = 2; m <= l; m += 2) se[nse++] = v[l - m];
   for (int m = 1; m <= l; m += 2) so[nso++] = v[l - m];
-  for (int mp = 0; mp <= l; ++mp) {
-    const int len = B.c_off[mp + 1] - B.c_off[mp];
-    const double* src = ((l + mp) & 1) ? co : ce;
-    v[l + mp] = dot(B.c.data() + B.c_off[mp], src, len);
-  }
-  for (int mp = 1; mp <= l; ++mp) {
-    const int len = B.s_off[mp + 1] - B.s_off[mp];
-    const double* src = ((l + mp + 1) & 1) ? so : se;
-    v[l - mp] = dot(B.s.data() + B.s_off[mp], src, len);
+  // rows of equal parity share their input and length: four rows at a time
+  for (int p = 0; p < 2; ++p) {
+    int mp = p;
+    for (; mp + 6 <= l; mp += 8) {
+      const int len = B.c_off[mp + 1] - B.c_off[mp];
+      const double* src = ((l + mp) & 1) ? co : ce;
+      double r[4];
+      dot4(B.c.data(), B.c_off.data(), mp, src, len, r);
+      for (int k = 0; k < 4; ++k) v[l + mp + 2 * k] = r[k];
+    }
+    for (; mp <= l; mp += 2) {
+      const int len = B.c_off[mp + 1] - B.c_off[mp];
+      const double* src = ((l + mp) & 1) ? co : ce;
+      v[l + mp] = dot(B.c.data() + B.c_off[mp], src, len);
+    }
+    mp = 1 + p;
+    for (; mp + 6 <= l; mp += 8) {
+      const int len = B.s_off[mp + 1] - B.s_off[mp];
+      const double* src = ((l + mp + 1) & 1) ? so : se;
+      double r[4];
+      dot4(B.s.data(), B.s_off.data(), mp, src, len, r);
+      for (int k = 0; k < 4; ++k) v[l - mp - 2 * k] = r[k];
+    }
+    for (; mp <= l; mp += 2) {
+      const int len = B.s_off[mp + 1] - B.s_off[mp];
+      const double* src = ((l + mp + 1) & 1) ? so : se;
+      v[l - mp] = dot(B.s.data() + B.s_off[mp], src, len);
+    }
   }
 }
 

@@ -136,6 +136,38 @@ TEST(Basis, FastPathAgreesWithGeneralPath) {
   }
 }
 
+TEST(Basis, RowPathAgreesWithSingleColumnsAndSumRule) {
+  // evaluate() runs bands 10..128 row by row (all m of a band at once, cos/sin(m p) by
+  // complex multiplication). Check it against legendre_column (one column at a time)
+  // times sqrt2 cos/sin(m p) from std::cos/std::sin, and against Unsold's closed form
+  // sum_m Y_lm^2 = (2l+1)/(4 pi) (Unsold 1927, Ann. Phys. 82:355).
+  for (int L : {10, 15, 16, 17, 33, 64, 128}) {
+    std::vector<double> y(sh_count(L)), col(L);
+    for (const auto& d : test_dirs(20, 7)) {
+      evaluate(L, d, y.data());
+      const double rho = std::hypot(d.x, d.y);
+      const double phi = std::atan2(d.y, d.x);
+      for (int m = 0; m < L; ++m) {
+        legendre_column(L, m, d.z, rho, col.data());
+        for (int l = m; l < L; ++l) {
+          const double scale = std::sqrt((2 * l + 1) / (4 * kPi));
+          const double want_c = m == 0 ? col[l - m] : std::sqrt(2.0) * col[l - m] * std::cos(m * phi);
+          EXPECT_LE(std::abs(y[sh_index(l, m)] - want_c), 1e-13 * scale) << "L=" << L << " l=" << l << " m=" << m;
+          if (m > 0) {
+            const double want_s = std::sqrt(2.0) * col[l - m] * std::sin(m * phi);
+            EXPECT_LE(std::abs(y[sh_index(l, -m)] - want_s), 1e-13 * scale) << "L=" << L << " l=" << l << " m=" << -m;
+          }
+        }
+      }
+      for (int l = 0; l < L; ++l) {
+        double sum = 0;
+        for (int m = -l; m <= l; ++m) sum += y[sh_index(l, m)] * y[sh_index(l, m)];
+        EXPECT_NEAR(sum / ((2 * l + 1) / (4 * kPi)), 1.0, 1e-13) << "L=" << L << " l=" << l;
+      }
+    }
+  }
+}
+
 TEST(Basis, UnsoldSumRuleAtHighBands) {
   // Unsöld's theorem: sum_m Y_lm(w)^2 = (2l+1)/(4 pi) for every direction (also for the
   // real basis). Checked at l up to 2799, including the poles and 1e-12 rad from them.

@@ -38,15 +38,26 @@
 // with d the distance to the top (d_min = T - r, d_max = rho + sqrt(T^2-R^2)) or
 // to the ground (d_min = r - R, d_max = rho): uniform in x, it resolves grazing
 // and tangent rays. Stored value: the mean relative density X_c / d, as its
-// logarithm for profiles positive everywhere, linear otherwise (tents). Lookup:
+// logarithm for profiles positive everywhere, linear otherwise. Lookup:
 // cubic Lagrange in x (4 samples) and in rho across 4 neighbouring shells (for
-// profiles with kinks — tents — shells are snapped onto the kinks and the rho
-// interpolation uses only shells of the same kink-free region, degree <= 3).
+// tabulated profiles with kinks and zeros, shells are snapped onto the kinks
+// and the rho interpolation uses only shells of the same kink-free region,
+// degree <= 3).
+// Piecewise-linear profiles with at most `analytic_max_nodes` nodes (the ozone
+// tent: 3; short tables) are not interpolated: their column is computed at
+// lookup in closed form (PiecewiseLinearColumn, exact to rounding, ~30-70 ns
+// per lookup), because interpolating across the kinks of their column in
+// direction rings (errors up to 0.2 of the total optical depth on limb rays).
+// Such constituents take no part in shell placement. Long tables (the U.S.
+// Standard Atmosphere 1976 Rayleigh profile, 200 nodes) stay interpolated.
 // Table entries are computed with fixed Gauss-Legendre rules on the pieces
 // between shell, kink and tangent crossings (each piece spanning at most 1.5
 // times the smallest relevant scale height in altitude), ~1e-9 relative.
 // Error: see `atmosh converge lut` and docs/atmosphere.md (max relative error of
-// the total optical depth, measured over grazing/tangent/random rays).
+// the total optical depth, measured over grazing/tangent/random rays): 2e-5 for
+// earth-graphics with the ozone tent at the default 32 x 64 (1119 rays);
+// ~2e-3 for earth-physical (interpolated 200-node tabulated Rayleigh).
+// Cost (measured on a 2-core machine): ~100-200 ns per lookup.
 #pragma once
 
 #include <vector>

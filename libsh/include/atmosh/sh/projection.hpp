@@ -58,6 +58,10 @@ struct ProjectOptions {
   int threads = 1;
 };
 
+/// The sample directions (unit) and equal weights (4 pi / count, sr) of a Monte Carlo
+/// sampler (Method::jittered or Method::uniform), exactly as project_function uses them.
+void sampler_directions(const ProjectOptions& opt, std::vector<glm::dvec3>& dirs, std::vector<double>& weights);
+
 /// Coefficients (bands^2) of a scalar function of direction.
 std::vector<double> project_function(const std::function<double(const glm::dvec3&)>& f, int bands,
                                      const ProjectOptions& opt = {});

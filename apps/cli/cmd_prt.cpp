@@ -1,0 +1,395 @@
+// `atmosh prt bake|relight|converge` — precomputed radiance transfer on meshes
+// (per-vertex, CPU, Embree), relit images, the sample-count study; and the PRT part
+// of the main job (demo_prt).
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "atmosh/error.hpp"
+#include "atmosh/io/csv.hpp"
+#include "atmosh/io/exr.hpp"
+#include "atmosh/io/plot.hpp"
+#include "atmosh/io/provenance.hpp"
+#include "atmosh/io/study.hpp"
+#include "atmosh/prt/bake.hpp"
+#include "atmosh/sh/basis.hpp"
+#include "cli_common.hpp"
+
+namespace atmosh::cli {
+
+namespace {
+namespace fs = std::filesystem;
+constexpr double kPi = std::numbers::pi;
+using Clock = std::chrono::steady_clock;
+
+int strata_of_samples(int n) {
+  const int s = static_cast<int>(std::lround(std::sqrt(static_cast<double>(std::max(n, 0)))));
+  if (n < 1 || s * s != n || s > 2000)
+    throw InputError("--samples: " + std::to_string(n) +
+                     " is not a square count of jittered strata n x n in 1..4000000 (e.g. 2025 = 45 x 45)");
+  return s;
+}
+
+prt::Mesh load_input(const std::string& mesh_file, const std::string& builtin, int resolution) {
+  if (!mesh_file.empty() && !builtin.empty()) throw InputError("give either MESH or --scene-builtin, not both");
+  if (mesh_file.empty() && builtin.empty()) throw InputError("no mesh: give MESH (.obj, .ply) or --scene-builtin NAME");
+  return builtin.empty() ? prt::load_mesh(mesh_file) : prt::builtin_scene(builtin, resolution);
+}
+
+// Light coefficients from an SH coefficient CSV (columns l, m, index, then one column per
+// channel, as `atmosh sh project` writes): up to three channels; missing bands are zero.
+std::vector<std::vector<double>> read_light_csv(const std::string& file, int bands) {
+  const io::CsvData d = io::read_csv(file);
+  const std::size_t ci = d.column("index");
+  std::vector<std::size_t> chan;
+  for (std::size_t c = 0; c < d.columns.size(); ++c)
+    if (d.columns[c] != "l" && d.columns[c] != "m" && c != ci && chan.size() < 3) chan.push_back(c);
+  if (chan.empty()) throw InputError(file + ": no coefficient columns besides l, m, index");
+  const std::size_t K = static_cast<std::size_t>(bands) * bands;
+  std::vector<std::vector<double>> light(chan.size(), std::vector<double>(K, 0.0));
+  for (std::size_t r = 0; r < d.rows.size(); ++r) {
+    const double idx = d.number(r, ci);
+    if (!(idx >= 0) || idx != std::floor(idx))
+      throw InputError(file + ": row " + std::to_string(r + 1) + " has index " + io::format_double(idx));
+    if (idx >= static_cast<double>(K)) continue;
+    for (std::size_t k = 0; k < chan.size(); ++k) light[k][static_cast<std::size_t>(idx)] = d.number(r, chan[k]);
+  }
+  return light;
+}
+
+std::vector<fs::path> write_image(const fs::path& stem, const std::vector<std::vector<float>>& img, int w, int h,
+                                  double exposure, const io::Provenance& prov, const std::string& what) {
+  io::ExrImage ex(w, h, {"R", "G", "B"});
+  for (int c = 0; c < 3; ++c) ex.data[c] = img[std::min<std::size_t>(c, img.size() - 1)];
+  ex.string_attributes["atmosh:quantity"] = what;
+  ex.string_attributes["atmosh:units"] = "units of the light (exit radiance = transfer . light)";
+  const fs::path exr = stem.string() + ".exr", png = stem.string() + ".png";
+  io::write_exr(exr, ex, prov);
+  io::write_tonemapped_png(png, w, h, ex.data[0], ex.data[1], ex.data[2], exposure);
+  return {exr, png};
+}
+
+struct RelightOptions {
+  std::vector<std::string> light_dirs;
+  std::string light_csv;
+  int frames = 1;
+  int width = 256, height = 256;
+  std::string view = "1,-1.6,1.1";
+  double exposure = 0.0;  // 0 = auto
+};
+
+// Writes frame_NNNN.(exr|png) for each light and ao.(exr|png) (band-0 simple occlusion).
+std::vector<fs::path> relight_to(const prt::Transfer& t, const RelightOptions& o, const fs::path& dir) {
+  if (o.light_csv.empty() == o.light_dirs.empty()) throw InputError("give exactly one of --light CSV or --light-dir x,y,z");
+  if (o.frames < 1 || o.frames > 3600) throw InputError("--frames: must be in 1..3600, got " + std::to_string(o.frames));
+  const auto vv = parse_triple(o.view, "--view");
+  const glm::dvec3 view(vv[0], vv[1], vv[2]);
+  if (glm::length(view) == 0) throw InputError("--view: zero vector '" + o.view + "'");
+  std::vector<std::vector<std::vector<double>>> lights;  // [frame][channel][coeff]
+  if (!o.light_csv.empty()) {
+    lights.push_back(read_light_csv(o.light_csv, t.bands));
+  } else {
+    for (const auto& s : o.light_dirs) {
+      const auto d = parse_triple(s, "--light-dir");
+      glm::dvec3 dir(d[0], d[1], d[2]);
+      if (glm::length(dir) == 0) throw InputError("--light-dir: zero vector '" + s + "'");
+      for (int f = 0; f < o.frames; ++f) {  // the light turned about +z in `frames` steps
+        const double a = 2 * kPi * f / o.frames;
+        const glm::dvec3 r(std::cos(a) * dir.x - std::sin(a) * dir.y, std::sin(a) * dir.x + std::cos(a) * dir.y, dir.z);
+        lights.push_back({sh::prt::directional_light(t.bands, r, kPi)});  // E = pi: white Lambertian -> rho V cos
+      }
+    }
+  }
+  std::vector<fs::path> written;
+  const prt::RayScene scene(t.mesh);
+  auto prov = io::Provenance::current();
+  prov.add("transfer_bands", std::to_string(t.bands)).add("transfer_mode", sh::prt::transfer_mode_name(t.mode));
+  // Simple occlusion: band 0 scaled to ambient occlusion.
+  {
+    std::vector<std::vector<double>> ao(t.mesh.positions.size(), std::vector<double>(1));
+    for (std::size_t v = 0; v < ao.size(); ++v)
+      ao[v][0] = t.mesh.albedo[v] > 0 ? sh::prt::ambient_occlusion(t.at(v)[0], t.mesh.albedo[v]) : t.ao[v];
+    const auto img = prt::render_vertex_values(scene, t.mesh, ao, o.width, o.height, view);
+    auto w = write_image(dir / "ao", img, o.width, o.height, 1.0, prov, "ambient occlusion from SH band 0");
+    written.insert(written.end(), w.begin(), w.end());
+  }
+  for (std::size_t f = 0; f < lights.size(); ++f) {
+    const auto vals = prt::relight_vertices(t, lights[f]);
+    const auto img = prt::render_vertex_values(scene, t.mesh, vals, o.width, o.height, view);
+    double exposure = o.exposure;
+    if (exposure <= 0) {  // auto: the 99th percentile of the first frame maps to ~1
+      std::vector<float> v = img[0];
+      std::sort(v.begin(), v.end());
+      const double p = v.empty() ? 1.0 : v[static_cast<std::size_t>(0.99 * (v.size() - 1))];
+      exposure = p > 0 ? 1.0 / p : 1.0;
+    }
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04zu", f);
+    auto w = write_image(dir / name, img, o.width, o.height, exposure, prov, "relit exit radiance");
+    written.insert(written.end(), w.begin(), w.end());
+  }
+  return written;
+}
+
+// Transfer error of `t` against `ref` (same mesh): per vertex |T - T_ref|_2 relative to
+// max_v |T_ref,v|_2; returns {max, rms}.
+std::pair<double, double> transfer_error(const prt::Transfer& t, const prt::Transfer& ref) {
+  const std::size_t nv = ref.mesh.positions.size(), K = static_cast<std::size_t>(ref.bands) * ref.bands;
+  double scale = 0, emax = 0, esum = 0;
+  for (std::size_t v = 0; v < nv; ++v) {
+    double s = 0;
+    for (std::size_t i = 0; i < K; ++i) s += ref.at(v)[i] * ref.at(v)[i];
+    scale = std::max(scale, std::sqrt(s));
+  }
+  for (std::size_t v = 0; v < nv; ++v) {
+    double e = 0;
+    for (std::size_t i = 0; i < K; ++i) e += std::pow(t.at(v)[i] - ref.at(v)[i], 2);
+    emax = std::max(emax, std::sqrt(e));
+    esum += e;
+  }
+  scale = scale > 0 ? scale : 1.0;
+  return {emax / scale, std::sqrt(esum / static_cast<double>(nv)) / scale};
+}
+
+std::vector<fs::path> converge_study(const prt::Mesh& mesh, int bands, sh::prt::TransferMode mode, int ref_strata,
+                                     const std::vector<int>& strata, int threads, const fs::path& stem) {
+  prt::BakeOptions bo;
+  bo.bands = bands;
+  bo.mode = mode;
+  bo.threads = threads;
+  bo.strata = ref_strata;
+  bo.seed = 12345;  // the reference uses its own seed: independent of the rows
+  const prt::Transfer ref = prt::bake(mesh, bo);
+  std::vector<io::StudyRow> rows;
+  bo.strata = 1;
+  prt::bake(mesh, bo);  // warm-up: one-time library start-up is not part of any row's time
+  for (int s : strata) {
+    bo.strata = s;
+    bo.seed = 1;
+    const auto t0 = Clock::now();
+    const prt::Transfer t = prt::bake(mesh, bo);
+    const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+    const auto [emax, erms] = transfer_error(t, ref);
+    rows.push_back({std::string("cpu-") + sh::prt::transfer_mode_name(mode) + "-jittered", std::to_string(s * s) + " samples",
+                    emax, erms, dt, {static_cast<double>(s * s), static_cast<double>(t.rays)}});
+  }
+  io::StudySpec spec;
+  spec.title = "PRT per-vertex transfer (" + mesh.name + ", " + std::to_string(bands) + " bands) vs " +
+               std::to_string(ref_strata * ref_strata) + "-sample reference";
+  spec.extra_columns = {"samples", "rays"};
+  auto prov = io::Provenance::current();
+  prov.add("mesh", mesh.name).add("bands", std::to_string(bands)).add("mode", sh::prt::transfer_mode_name(mode));
+  prov.add("reference_samples", std::to_string(ref_strata * ref_strata));
+  prov.add("error_definition", "per-vertex |T - T_ref|_2 / max_v |T_ref|_2");
+  prov.add("gpu_method", "per-pixel depth-map method not available yet (no rows)");
+  return io::write_study(stem, spec, rows, prov);
+}
+
+}  // namespace
+
+void register_prt_commands(CLI::App& app) {
+  CLI::App* prtc = app.add_subcommand("prt", "Precomputed radiance transfer on meshes: bake, relight, converge");
+  prtc->require_subcommand(1);
+  // bake
+  {
+    struct Opt {
+      std::string mesh, builtin, mode = "shadowed", device = "cpu", out, size = "256x256", view = "1,-1.6,1.1";
+      int bands = 3, samples = 2025, bounces = 2, threads = 0, resolution = 32;
+      double albedo = 0.8;
+      std::uint64_t seed = 1;
+      bool json = false, quiet = false;
+    };
+    auto o = std::make_shared<Opt>();
+    CLI::App* c = prtc->add_subcommand("bake", "Per-vertex diffuse transfer (SH) of a mesh, by Embree ray casting");
+    c->add_option("mesh", o->mesh, "mesh file (.obj, .ply)");
+    c->add_option("--scene-builtin", o->builtin, "built-in scene: sphere-on-plane | box-occluder | torus | sphere");
+    c->add_option("--resolution", o->resolution, "tessellation of a built-in scene (default 32)");
+    c->add_option("--bands", o->bands, "number of SH bands L (L^2 coefficients; 1..16, default 3)");
+    c->add_option("--samples", o->samples, "jittered sample directions n x n (default 2025 = 45 x 45)");
+    c->add_option("--mode", o->mode, "unshadowed | shadowed | interreflected (default shadowed)");
+    c->add_option("--bounces", o->bounces, "interreflection bounces (default 2)");
+    c->add_option("--albedo", o->albedo, "albedo where the mesh gives none (default 0.8)");
+    c->add_option("--seed", o->seed, "random seed of the sample set (default 1)");
+    c->add_option("--threads", o->threads, "worker threads (0 = all cores)");
+    c->add_option("--device", o->device, "cpu (per-vertex) | gpu (per-pixel; not available yet)");
+    c->add_option("--size", o->size, "per-pixel (.exr) output: image size WxH (default 256x256)");
+    c->add_option("--view", o->view, "per-pixel (.exr) output: direction from the scene centre to the camera");
+    c->add_option("-o,--output", o->out, "transfer file: .ply per-vertex, .exr per-pixel (camera view)")->required();
+    c->add_flag("--json", o->json, "print a JSON summary");
+    c->add_flag("--quiet", o->quiet, "no progress on stderr");
+    c->callback([o] {
+      prt::BakeOptions bo;
+      bo.device = prt::parse_device(o->device);
+      if (bo.device == prt::Device::gpu)
+        throw InputError("--device gpu: per-pixel GPU transfer is not available yet (use --device cpu)");
+      bo.mode = sh::prt::parse_transfer_mode(o->mode);
+      bo.bands = o->bands;
+      if (o->bands < 1 || o->bands > 16) throw InputError("--bands: must be in 1..16, got " + std::to_string(o->bands));
+      bo.strata = strata_of_samples(o->samples);
+      bo.bounces = o->bounces;
+      bo.default_albedo = o->albedo;
+      bo.seed = o->seed;
+      bo.threads = o->threads;
+      if (o->threads < 0 || o->threads > 1024) throw InputError("--threads: must be in 0..1024, got " + std::to_string(o->threads));
+      const std::string ext = fs::path(o->out).extension().string();
+      if (ext != ".ply" && ext != ".exr")
+        throw InputError("-o: '" + o->out + "' must end in .ply (per-vertex) or .exr (per-pixel)");
+      const auto sz = parse_size(o->size, "--size");
+      const auto vv = parse_triple(o->view, "--view");
+      const prt::Mesh mesh = load_input(o->mesh, o->builtin, o->resolution);
+      const bool show = !o->quiet && ::isatty(STDERR_FILENO);
+      if (show) bo.progress = [](double f) { std::fprintf(stderr, "\rprt bake: %3d%%", static_cast<int>(100 * f)); };
+      if (ext == ".exr") {  // per-pixel transfer, CPU ray-casting reference
+        const auto t0 = Clock::now();
+        const prt::PixelTransfer px = prt::bake_pixels(mesh, bo, sz[0], sz[1], {vv[0], vv[1], vv[2]});
+        const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+        if (show) std::fprintf(stderr, "\n");
+        std::vector<std::string> names;
+        for (int l = 0; l < px.bands; ++l)
+          for (int m = -l; m <= l; ++m) names.push_back("sh_l" + std::to_string(l) + "_m" + std::to_string(m));
+        names.push_back("ao");
+        names.push_back("mask");
+        io::ExrImage ex(px.width, px.height, names);
+        const std::size_t K = static_cast<std::size_t>(px.bands) * px.bands, np = px.mask.size();
+        for (std::size_t i = 0; i < K; ++i)
+          for (std::size_t p = 0; p < np; ++p) ex.data[i][p] = static_cast<float>(px.coeffs[p * K + i]);
+        for (std::size_t p = 0; p < np; ++p) ex.data[K][p] = static_cast<float>(px.ao[p]), ex.data[K + 1][p] = px.mask[p];
+        ex.string_attributes["atmosh:quantity"] = std::string("per-pixel diffuse transfer, ") + sh::prt::transfer_mode_name(bo.mode);
+        ex.string_attributes["atmosh:sh_convention"] = "real orthonormal, Condon-Shortley phase, index l(l+1)+m";
+        ex.string_attributes["atmosh:view"] = o->view;
+        ex.string_attributes["atmosh:samples"] = std::to_string(px.samples);
+        auto prov = io::Provenance::current();
+        prov.add("mesh", mesh.name);
+        io::write_exr(o->out, ex, prov);
+        if (o->json)
+          print_json({{"file", o->out}, {"width", px.width}, {"height", px.height}, {"bands", px.bands},
+                      {"coefficients", px.bands * px.bands}, {"samples", px.samples},
+                      {"mode", sh::prt::transfer_mode_name(bo.mode)}, {"device", "cpu"}, {"rays", px.rays},
+                      {"ray_seconds", px.ray_seconds},
+                      {"rays_per_s", px.ray_seconds > 0 ? static_cast<double>(px.rays) / px.ray_seconds : 0.0},
+                      {"time_s", dt}});
+        else
+          std::cout << "wrote " << o->out << " (" << px.width << "x" << px.height << " pixels, " << K << " coefficients)\n";
+        return;
+      }
+      const auto t0 = Clock::now();
+      const prt::Transfer t = prt::bake(mesh, bo);
+      const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+      if (show) std::fprintf(stderr, "\n");
+      auto prov = io::Provenance::current();
+      prov.add("mesh", mesh.name);
+      prt::write_transfer(o->out, t, prov);
+      double ao_min = 1, ao_mean = 0;
+      for (double a : t.ao) ao_min = std::min(ao_min, a), ao_mean += a;
+      ao_mean /= static_cast<double>(t.ao.size());
+      if (o->json) {
+        print_json({{"file", o->out}, {"vertices", t.mesh.positions.size()}, {"triangles", t.mesh.triangles.size()},
+                    {"bands", t.bands}, {"coefficients", t.bands * t.bands}, {"samples", t.samples},
+                    {"mode", sh::prt::transfer_mode_name(t.mode)}, {"bounces", t.bounces}, {"rays", t.rays},
+                    {"ray_seconds", t.ray_seconds},
+                    {"rays_per_s", t.ray_seconds > 0 ? static_cast<double>(t.rays) / t.ray_seconds : 0.0},
+                    {"time_s", dt}, {"ao_min", ao_min}, {"ao_mean", ao_mean}, {"bounce_energy", t.bounce_energy}});
+      } else {
+        std::cout << "wrote " << o->out << " (" << t.mesh.positions.size() << " vertices, " << t.bands * t.bands
+                  << " coefficients, " << t.rays << " rays in " << t.ray_seconds << " s)\n";
+      }
+    });
+  }
+  // relight
+  {
+    struct Opt {
+      std::string transfer, out, size = "256x256";
+      RelightOptions r;
+    };
+    auto o = std::make_shared<Opt>();
+    CLI::App* c = prtc->add_subcommand("relight", "Relight a transfer file: frames (EXR + PNG) and the band-0 occlusion image");
+    c->add_option("transfer", o->transfer, "transfer file (.ply from prt bake)")->required();
+    c->add_option("--light", o->r.light_csv, "SH coefficient CSV of the light (l, m, index, channels), e.g. from sh project");
+    c->add_option("--light-dir", o->r.light_dirs, "direction towards a distant light x,y,z (repeatable)");
+    c->add_option("--frames", o->r.frames, "turn each --light-dir about +z in this many frames (default 1)");
+    c->add_option("--size", o->size, "image size WxH (default 256x256)");
+    c->add_option("--view", o->r.view, "direction from the scene centre to the camera x,y,z");
+    c->add_option("--exposure", o->r.exposure, "tone-mapping exposure (0 = auto)");
+    c->add_option("-o,--output", o->out, "output folder")->required();
+    c->callback([o] {
+      const auto sz = parse_size(o->size, "--size");
+      o->r.width = sz[0];
+      o->r.height = sz[1];
+      if (sz[0] > 8192 || sz[1] > 8192) throw InputError("--size: '" + o->size + "' exceeds 8192x8192");
+      const prt::Transfer t = prt::read_transfer(o->transfer);
+      const auto written = relight_to(t, o->r, o->out);
+      std::cout << "wrote " << written.size() << " files to " << o->out << "\n";
+    });
+  }
+  // converge
+  {
+    struct Opt {
+      std::string mesh, builtin = "sphere-on-plane", mode = "shadowed", out, strata = "4,8,16,32,45";
+      int bands = 3, resolution = 16, reference_samples = 16384, threads = 0;
+    };
+    auto o = std::make_shared<Opt>();
+    CLI::App* c = prtc->add_subcommand("converge", "Transfer error against a high-sample reference versus run time (CSV + PNG)");
+    c->add_option("mesh", o->mesh, "mesh file (.obj, .ply); default: --scene-builtin sphere-on-plane");
+    c->add_option("--scene-builtin", o->builtin, "built-in scene (default sphere-on-plane)");
+    c->add_option("--resolution", o->resolution, "tessellation of a built-in scene (default 16)");
+    c->add_option("--bands", o->bands, "SH bands (default 3)");
+    c->add_option("--mode", o->mode, "shadowed | interreflected (default shadowed)");
+    c->add_option("--strata", o->strata, "jittered strata per side of the rows (default 4,8,16,32,45)");
+    c->add_option("--reference-samples", o->reference_samples, "samples of the reference (square, default 16384)");
+    c->add_option("--threads", o->threads, "worker threads (0 = all cores)");
+    c->add_option("-o,--output", o->out, "output stem (writes STEM.csv and STEM.png)")->required();
+    c->callback([o] {
+      const prt::Mesh mesh = load_input(o->mesh, o->mesh.empty() ? o->builtin : "", o->resolution);
+      const auto mode = sh::prt::parse_transfer_mode(o->mode);
+      if (mode == sh::prt::TransferMode::unshadowed)
+        throw InputError("--mode: unshadowed transfer is exact (closed form); converge takes shadowed or interreflected");
+      if (o->bands < 1 || o->bands > 16) throw InputError("--bands: must be in 1..16, got " + std::to_string(o->bands));
+      std::vector<int> strata;
+      for (double s : parse_list(o->strata, "--strata")) {
+        if (s < 1 || s > 2000 || s != std::floor(s)) throw InputError("--strata: " + io::format_double(s) + " is not an integer in 1..2000");
+        strata.push_back(static_cast<int>(s));
+      }
+      const auto files = converge_study(mesh, o->bands, mode, strata_of_samples(o->reference_samples), strata,
+                                        o->threads, o->out);
+      for (const auto& f : files) std::cout << "wrote " << f.string() << "\n";
+    });
+  }
+}
+
+void demo_prt(DemoContext& ctx) {
+  const fs::path dir = ctx.out_dir / "prt";
+  const int res = ctx.quick ? 12 : 40;
+  prt::BakeOptions bo;
+  bo.bands = ctx.quick ? 3 : 4;
+  bo.strata = ctx.quick ? 12 : 45;
+  bo.mode = sh::prt::TransferMode::interreflected;
+  bo.bounces = 2;
+  const prt::Mesh mesh = prt::builtin_scene("sphere-on-plane", res);
+  const prt::Transfer t = prt::bake(mesh, bo);
+  auto prov = io::Provenance::current();
+  prov.add("mesh", mesh.name);
+  const fs::path tf = dir / "sphere_on_plane_transfer.ply";
+  prt::write_transfer(tf, t, prov);
+  ctx.written.push_back(tf);
+  RelightOptions ro;
+  ro.light_dirs = {"1,0.3,1.2"};
+  ro.frames = ctx.quick ? 2 : 12;
+  ro.width = ro.height = ctx.quick ? 96 : 384;
+  for (const auto& f : relight_to(t, ro, dir / "relight")) ctx.written.push_back(f);
+  const std::vector<int> strata = ctx.quick ? std::vector<int>{3, 6} : std::vector<int>{4, 8, 16, 32, 45};
+  for (const auto& f : converge_study(prt::builtin_scene("sphere-on-plane", ctx.quick ? 6 : 16), 3,
+                                      sh::prt::TransferMode::shadowed, ctx.quick ? 24 : 128, strata, 0, dir / "converge"))
+    ctx.written.push_back(f);
+}
+
+}  // namespace atmosh::cli

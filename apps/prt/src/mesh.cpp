@@ -1,0 +1,314 @@
+// Mesh input, validation and the built-in scenes (see mesh.hpp).
+#include "atmosh/prt/mesh.hpp"
+
+#include <tiny_obj_loader.h>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <utility>
+
+#include <glm/geometric.hpp>
+
+#include "atmosh/error.hpp"
+
+namespace atmosh::prt {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+
+std::string lower_ext(const std::filesystem::path& p) {
+  std::string e = p.extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return e;
+}
+
+// tinyobjloader reads an unparsable coordinate ("nan", "inf", "1e999") as 0 without a
+// warning; check the vertex lines first so that such a file is rejected, not altered.
+void check_obj_vertices(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::size_t lineno = 0, vertex = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
+    const char* p = line.c_str() + 2;
+    for (int k = 0; k < 3; ++k) {
+      char* end = nullptr;
+      const double x = std::strtod(p, &end);
+      if (end == p || !std::isfinite(x))
+        throw InputError(file.string() + ": vertex " + std::to_string(vertex) + " (line " + std::to_string(lineno) +
+                         ") is not three finite numbers: '" + line + "'");
+      p = end;
+    }
+    ++vertex;
+  }
+}
+
+Mesh load_obj(const std::filesystem::path& file) {
+  check_obj_vertices(file);
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warn, err;
+  const std::string base = file.parent_path().string() + "/";
+  if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, file.c_str(), base.c_str(), true)) {
+    std::string msg = err;
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    throw InputError(file.string() + ": not a readable OBJ file (" + msg + ")");
+  }
+  Mesh m;
+  m.name = file.string();
+  const std::size_t nv = attrib.vertices.size() / 3;
+  m.positions.resize(nv);
+  for (std::size_t i = 0; i < nv; ++i)
+    m.positions[i] = {attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]};
+  std::vector<double> asum(nv, 0.0);
+  std::vector<int> acount(nv, 0);
+  for (const auto& sh : shapes) {
+    std::size_t off = 0;
+    for (std::size_t f = 0; f < sh.mesh.num_face_vertices.size(); ++f) {
+      const int fv = sh.mesh.num_face_vertices[f];
+      if (fv != 3) throw InputError(m.name + ": face " + std::to_string(f) + " has " + std::to_string(fv) + " vertices after triangulation");
+      std::array<std::uint32_t, 3> t{};
+      for (int k = 0; k < 3; ++k) {
+        const int idx = sh.mesh.indices[off + k].vertex_index;
+        if (idx < 0 || static_cast<std::size_t>(idx) >= nv)
+          throw InputError(m.name + ": face " + std::to_string(f) + " names vertex " + std::to_string(idx) + " of " + std::to_string(nv));
+        t[k] = static_cast<std::uint32_t>(idx);
+      }
+      m.triangles.push_back(t);
+      const int mat = f < sh.mesh.material_ids.size() ? sh.mesh.material_ids[f] : -1;
+      if (mat >= 0 && static_cast<std::size_t>(mat) < materials.size()) {
+        const auto& kd = materials[mat].diffuse;
+        const double a = (kd[0] + kd[1] + kd[2]) / 3.0;
+        for (auto v : t) asum[v] += a, acount[v]++;
+      }
+      off += 3;
+    }
+  }
+  if (std::any_of(acount.begin(), acount.end(), [](int c) { return c > 0; })) {
+    m.albedo.assign(nv, 0.8);
+    for (std::size_t i = 0; i < nv; ++i)
+      if (acount[i] > 0) m.albedo[i] = std::clamp(asum[i] / acount[i], 0.0, 1.0);
+  }
+  return m;
+}
+
+Mesh load_ply(const std::filesystem::path& file) {
+  Assimp::Importer imp;
+  // No vertex joining or other changes: the file's vertices are the mesh's vertices.
+  const aiScene* sc = imp.ReadFile(file.string(), aiProcess_Triangulate);
+  if (sc == nullptr || sc->mNumMeshes == 0) {
+    std::string msg = sc ? "no mesh in file" : imp.GetErrorString();
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    throw InputError(file.string() + ": not a readable PLY mesh (" + msg + ")");
+  }
+  Mesh m;
+  m.name = file.string();
+  bool have_colour = false;
+  for (unsigned k = 0; k < sc->mNumMeshes; ++k) {
+    const aiMesh* am = sc->mMeshes[k];
+    const auto base = static_cast<std::uint32_t>(m.positions.size());
+    for (unsigned i = 0; i < am->mNumVertices; ++i) {
+      m.positions.emplace_back(am->mVertices[i].x, am->mVertices[i].y, am->mVertices[i].z);
+      if (am->HasVertexColors(0)) {
+        const aiColor4D& c = am->mColors[0][i];
+        m.albedo.push_back(std::clamp((c.r + c.g + c.b) / 3.0, 0.0, 1.0));
+        have_colour = true;
+      } else {
+        m.albedo.push_back(-1.0);
+      }
+    }
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+      const aiFace& face = am->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines carry no surface
+      std::array<std::uint32_t, 3> t{};
+      for (int j = 0; j < 3; ++j) {
+        if (face.mIndices[j] >= am->mNumVertices)
+          throw InputError(m.name + ": face " + std::to_string(f) + " names vertex " + std::to_string(face.mIndices[j]) +
+                           " of " + std::to_string(am->mNumVertices));
+        t[j] = base + face.mIndices[j];
+      }
+      m.triangles.push_back(t);
+    }
+  }
+  if (!have_colour) {
+    m.albedo.clear();
+  } else {
+    for (double& a : m.albedo)
+      if (a < 0) a = 0.8;
+  }
+  return m;
+}
+
+// Adds a (u, v) grid surface: pos(u, v) for u in [0,1] (nu steps), v in [0,1] (nv steps),
+// wrapping in u and/or v (shared seam vertices), with optional collapsed poles handled by
+// the caller (pole vertices are merged by `key`).
+struct Builder {
+  Mesh m;
+  std::uint32_t add(const glm::dvec3& p, double albedo) {
+    m.positions.push_back(p);
+    m.albedo.push_back(albedo);
+    return static_cast<std::uint32_t>(m.positions.size() - 1);
+  }
+  void tri(std::uint32_t a, std::uint32_t b, std::uint32_t c) { m.triangles.push_back({a, b, c}); }
+  void quad(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {  // counter-clockwise a b c d
+    tri(a, b, c);
+    tri(a, c, d);
+  }
+  // Rectangle: origin o, edges eu, ev (normal = eu x ev), n x n quads.
+  void grid(const glm::dvec3& o, const glm::dvec3& eu, const glm::dvec3& ev, int nu, int nvv, double albedo) {
+    std::vector<std::uint32_t> id;
+    for (int j = 0; j <= nvv; ++j)
+      for (int i = 0; i <= nu; ++i) id.push_back(add(o + eu * (double(i) / nu) + ev * (double(j) / nvv), albedo));
+    for (int j = 0; j < nvv; ++j)
+      for (int i = 0; i < nu; ++i) {
+        const auto a = id[j * (nu + 1) + i];
+        quad(a, a + 1, a + 1 + (nu + 1), a + (nu + 1));
+      }
+  }
+  // UV sphere with single pole vertices (closed 2-manifold).
+  void sphere(const glm::dvec3& c, double r, int nlat, int nlon, double albedo) {
+    const auto north = add(c + glm::dvec3(0, 0, r), albedo);
+    std::vector<std::uint32_t> id;
+    for (int i = 1; i < nlat; ++i) {
+      const double t = kPi * i / nlat;
+      for (int j = 0; j < nlon; ++j) {
+        const double p = 2 * kPi * j / nlon;
+        id.push_back(add(c + r * glm::dvec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)), albedo));
+      }
+    }
+    const auto south = add(c - glm::dvec3(0, 0, r), albedo);
+    auto at = [&](int i, int j) { return id[(i - 1) * nlon + (j % nlon)]; };
+    for (int j = 0; j < nlon; ++j) tri(north, at(1, j), at(1, j + 1));
+    for (int i = 1; i < nlat - 1; ++i)
+      for (int j = 0; j < nlon; ++j) quad(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+    for (int j = 0; j < nlon; ++j) tri(south, at(nlat - 1, j + 1), at(nlat - 1, j));
+  }
+};
+}  // namespace
+
+std::vector<std::string> builtin_scene_names() { return {"sphere-on-plane", "box-occluder", "torus", "sphere"}; }
+
+Mesh builtin_scene(const std::string& name, int res) {
+  if (res < 4 || res > 4096) throw InputError("builtin scene resolution must be in 4..4096, got " + std::to_string(res));
+  Builder b;
+  if (name == "sphere-on-plane") {
+    b.grid({-2, -2, 0}, {4, 0, 0}, {0, 4, 0}, res, res, 0.8);
+    b.sphere({0, 0, 0.5}, 0.5, res, 2 * res, 0.8);
+  } else if (name == "box-occluder") {
+    b.grid({-2, -2, 0}, {4, 0, 0}, {0, 4, 0}, res, res, 0.8);
+    const int n = std::max(2, res / 4);
+    // Four single-sheet walls of a 1 x 1 x 1 box (normals outwards) and a roof square.
+    b.grid({-0.5, -0.5, 0}, {1, 0, 0}, {0, 0, 1}, n, n, 0.6);   // -y wall, normal -y
+    b.grid({0.5, 0.5, 0}, {-1, 0, 0}, {0, 0, 1}, n, n, 0.6);    // +y wall, normal +y
+    b.grid({0.5, -0.5, 0}, {0, 1, 0}, {0, 0, 1}, n, n, 0.6);    // +x wall
+    b.grid({-0.5, 0.5, 0}, {0, -1, 0}, {0, 0, 1}, n, n, 0.6);   // -x wall
+    b.grid({-0.8, -0.8, 1.4}, {0, 1.6, 0}, {1.6, 0, 0}, n, n, 0.6);   // occluder: a thin plate, lower face down
+    b.grid({-0.8, -0.8, 1.42}, {1.6, 0, 0}, {0, 1.6, 0}, n, n, 0.6);  // and upper face up
+  } else if (name == "torus") {
+    const double R = 1.0, r = 0.35;
+    const int nu = 2 * res, nv = res;
+    std::vector<std::uint32_t> id;
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
+        id.push_back(b.add({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)}, 0.8));
+      }
+    auto at = [&](int i, int j) { return id[(i % nu) * nv + (j % nv)]; };
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) b.quad(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+  } else if (name == "sphere") {
+    b.sphere({0, 0, 0}, 1.0, res, 2 * res, 0.8);
+  } else {
+    std::string names;
+    for (const auto& n : builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
+    throw InputError("unknown built-in scene '" + name + "' (" + names + ")");
+  }
+  b.m.name = "builtin:" + name;
+  compute_normals(b.m);
+  validate(b.m);
+  return std::move(b.m);
+}
+
+void validate(const Mesh& m) {
+  if (m.positions.empty() || m.triangles.empty())
+    throw InputError(m.name + ": empty mesh (" + std::to_string(m.positions.size()) + " vertices, " +
+                     std::to_string(m.triangles.size()) + " triangles)");
+  if (m.positions.size() > 0xffffffffu) throw InputError(m.name + ": too many vertices");
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    const auto& p = m.positions[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError(m.name + ": vertex " + std::to_string(i) + " is not finite (" + std::to_string(p.x) + ", " +
+                       std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
+  }
+  if (!m.albedo.empty() && m.albedo.size() != m.positions.size())
+    throw InputError(m.name + ": " + std::to_string(m.albedo.size()) + " albedos for " + std::to_string(m.positions.size()) + " vertices");
+  for (std::size_t i = 0; i < m.albedo.size(); ++i)
+    if (!(m.albedo[i] >= 0 && m.albedo[i] <= 1))
+      throw InputError(m.name + ": albedo of vertex " + std::to_string(i) + " is " + std::to_string(m.albedo[i]) + " (not in [0, 1])");
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+    const auto& t = m.triangles[f];
+    for (auto v : t)
+      if (v >= m.positions.size())
+        throw InputError(m.name + ": triangle " + std::to_string(f) + " names vertex " + std::to_string(v) + " of " +
+                         std::to_string(m.positions.size()));
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+      throw InputError(m.name + ": triangle " + std::to_string(f) + " repeats a vertex (" + std::to_string(t[0]) + ", " +
+                       std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")");
+    for (int k = 0; k < 3; ++k) {
+      auto a = t[k], c = t[(k + 1) % 3];
+      if (a > c) std::swap(a, c);
+      if (++edges[{a, c}] == 3)
+        throw InputError(m.name + ": non-manifold edge (" + std::to_string(a) + ", " + std::to_string(c) +
+                         ") is shared by more than two triangles");
+    }
+  }
+}
+
+void compute_normals(Mesh& m) {
+  m.normals.assign(m.positions.size(), glm::dvec3(0.0));
+  for (const auto& t : m.triangles) {
+    const glm::dvec3 n = glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+    if (!std::isfinite(n.x + n.y + n.z)) continue;
+    for (auto v : t) m.normals[v] += n;  // |n| = twice the area: area weighting
+  }
+  for (auto& n : m.normals) {
+    const double l = glm::length(n);
+    n = (l > 0 && std::isfinite(l)) ? n / l : glm::dvec3(0, 0, 1);
+  }
+}
+
+double bounding_diagonal(const Mesh& m) {
+  if (m.positions.empty()) return 0;
+  glm::dvec3 lo = m.positions[0], hi = lo;
+  for (const auto& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  return glm::length(hi - lo);
+}
+
+Mesh load_mesh(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string() + ": no such mesh file");
+  const std::string ext = lower_ext(file);
+  Mesh m;
+  if (ext == ".obj")
+    m = load_obj(file);
+  else if (ext == ".ply")
+    m = load_ply(file);
+  else
+    throw InputError(file.string() + ": unknown mesh format '" + ext + "' (.obj, .ply)");
+  validate(m);
+  compute_normals(m);
+  return m;
+}
+
+}  // namespace atmosh::prt

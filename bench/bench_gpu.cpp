@@ -1,0 +1,123 @@
+// GPU against CPU: the single-scattering sky image (16 wavelengths) rendered by
+// atmo::render_sky (all cores) and gpu::render_sky (headless EGL, OpenGL 4.3
+// compute), at 512x256 and at the 2048x1024 of the GPU issue; and the
+// optical-depth table build on the CPU (one core) and on the GPU. Without an EGL device the GPU cases are skipped.
+// Run: build/bin/bench_gpu  (add --benchmark_filter=512 for the quick sizes)
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <string>
+
+#include "atmosh/atmo/observer.hpp"
+#include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/sky.hpp"
+#include "atmosh/atmo/sky_image.hpp"
+#if __has_include("atmosh/gpu/sky.hpp")  // built with ATMOSH_WITH_GPU
+#define ATMOSH_BENCH_GPU 1
+#include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/sky.hpp"
+#endif
+
+using namespace atmosh::atmo;
+
+namespace {
+AtmosphereSpec spec16() {
+  AtmosphereSpec s = preset("earth-physical");
+  s.spectrum.wavelengths_nm.clear();
+  s.spectrum.from_nm = 380;
+  s.spectrum.to_nm = 780;
+  s.spectrum.count = 16;
+  return s;
+}
+
+struct Scene {
+  AtmosphereSpec spec = spec16();
+  Atmosphere atm{spec};
+  SkyIntegrator sky{atm, solar_spectrum_for_bins(spec.spectrum)};
+};
+
+Scene& scene() {
+  static Scene s;
+  return s;
+}
+
+#ifdef ATMOSH_BENCH_GPU
+atmosh::gpu::Context* context(std::string& why) {
+  static std::unique_ptr<atmosh::gpu::Context> ctx;
+  static std::string error;
+  static bool tried = false;
+  if (!tried) {
+    tried = true;
+    try {
+      ctx = std::make_unique<atmosh::gpu::Context>();
+    } catch (const atmosh::gpu::Unavailable& e) {
+      error = e.what();
+    }
+  }
+  why = error;
+  return ctx.get();
+}
+#endif
+}  // namespace
+
+static void BM_TablesCpu(benchmark::State& st) {
+  Scene& s = scene();
+  for (auto _ : st) {
+    OpticalDepthLut lut(s.atm);
+    benchmark::DoNotOptimize(&lut);
+  }
+  st.SetLabel("OpticalDepthLut build, 32 shells x 64 directions, one core");
+}
+BENCHMARK(BM_TablesCpu)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_SkyCpu(benchmark::State& st) {
+  Scene& s = scene();
+  const int w = static_cast<int>(st.range(0)), h = w / 2;
+  for (auto _ : st) {
+    auto img = render_sky(s.sky, SkyProjection::Equirect, w, h, 0.0, sun_direction_enu(70.0, 180.0), false, 0);
+    benchmark::DoNotOptimize(img.Y.data());
+  }
+  st.SetItemsProcessed(st.iterations() * w * h);
+  st.SetLabel(std::to_string(w) + "x" + std::to_string(h) + ", 16 wavelengths, all cores");
+}
+BENCHMARK(BM_SkyCpu)->Arg(512)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+#ifdef ATMOSH_BENCH_GPU
+static void BM_TablesGpu(benchmark::State& st) {
+  std::string why;
+  atmosh::gpu::Context* ctx = context(why);
+  if (!ctx) {
+    st.SkipWithError(("no EGL device: " + why).c_str());
+    return;
+  }
+  Scene& s = scene();
+  const OpticalDepthLut lut(s.atm);  // shells and options; its tables are rebuilt on the GPU
+  for (auto _ : st) {
+    int og = 0, os = 0;
+    auto t = atmosh::gpu::build_lut_tables(*ctx, lut, s.atm, og, os);
+    benchmark::DoNotOptimize(t.data());
+  }
+  st.SetLabel("same tables on the GPU (compile, upload, dispatch, read-back), " + ctx->info().renderer);
+}
+BENCHMARK(BM_TablesGpu)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_SkyGpu(benchmark::State& st) {
+  std::string why;
+  atmosh::gpu::Context* ctx = context(why);
+  if (!ctx) {
+    st.SkipWithError(("no EGL device: " + why).c_str());
+    return;
+  }
+  Scene& s = scene();
+  const int w = static_cast<int>(st.range(0)), h = w / 2;
+  for (auto _ : st) {
+    auto img = atmosh::gpu::render_sky(*ctx, s.sky, SkyProjection::Equirect, w, h, 0.0,
+                                       sun_direction_enu(70.0, 180.0), false);
+    benchmark::DoNotOptimize(img.Y.data());
+  }
+  st.SetItemsProcessed(st.iterations() * w * h);
+  st.SetLabel(std::to_string(w) + "x" + std::to_string(h) + ", 16 wavelengths, " + ctx->info().renderer);
+}
+BENCHMARK(BM_SkyGpu)->Arg(512)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+#endif
+

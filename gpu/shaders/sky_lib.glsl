@@ -1,0 +1,203 @@
+// Buffers, uniforms and table lookups of the GPU sky (sky.comp); assembled after
+// shared/geometry.glsl.hpp (float) and shared/lut.glsl.hpp (float and double
+// builds). The GPU version of
+// atmo::SkyIntegrator::radiance (libatmo/src/sky.cpp), same cuts, pieces,
+// Gauss-Legendre nodes and table lookups (OpticalDepthLut). Assembled after
+// shared/geometry.glsl.hpp (ray geometry, densities, phase functions, closed-form
+// linear-piece columns). Positions along the ray are formed in double precision
+// (altitudes to ~1 mm; float radii would carry ~0.5 m); everything else is float.
+// Constituents: 0 Rayleigh, 1 Mie (exponential, tabulated with log encoding),
+// 2 ozone (piecewise linear, closed-form column); Rayleigh may also be a
+// positive tabulated profile (its column still comes from the log tables).
+
+layout(std430, binding = 0) readonly buffer Directions { vec4 dirs[]; };      // xyz, w > 0: valid
+layout(std430, binding = 1) readonly buffer Tables { float tab[]; };          // [shell][dir][3]
+layout(std430, binding = 2) readonly buffer Shells { float shell[]; };        // rho, 1/den, cut radii, ozone nodes
+layout(std430, binding = 3) readonly buffer Spectral { float spec[]; };       // ext[3][nw], sca[3][nw], solar[nw]
+layout(std430, binding = 4) writeonly buffer Radiance { float radiance[]; };  // [pixel][nw]
+layout(std430, binding = 5) readonly buffer Quadrature { float gl[]; };       // nodes[n], weights[n]
+layout(std430, binding = 6) readonly buffer ShellsD { double shell_d[]; };    // rho[S], 1/den[(S-3)*4]
+
+uniform int n_pixels;
+uniform int nw;
+uniform int n_shells;
+uniform int n_view, n_sun;           // directions per table
+uniform int off_view_ground, off_sun;  // offsets into tab[] (view_up starts at 0)
+uniform int off_den, off_cuts, n_cuts, off_oz, n_oz;
+uniform int off_nodes[3], n_nodes[3];  // piecewise-linear densities: altitudes[n], values[n] (n = 0: exponential)
+uniform int n_gauss;
+uniform int has_ext[3];            // constituent present (ext/sca nonzero)
+uniform int tabulated[3];          // from the tables (log encoded)
+uniform float scale_height[3];     // exponential constituents
+uniform int phase_model[2];        // 0 Rayleigh, 1 HG, 2 Cornette-Shanks, 3 double HG
+uniform float phase_p[8];          // per scattering constituent: g / depolarisation, g2, weight, unused
+uniform float ext_max[3];
+uniform float ground_radius, top_radius, horizon_rho;  // R, T, sqrt(T^2 - R^2)
+uniform double ground_radius_d, top_radius_d, observer_radius_d;
+uniform vec3 sun_dir;
+uniform float max_piece_optical_depth;
+uniform float irradiance_scale;    // 1 / d_AU^2
+uniform float albedo;
+
+const int kMaxCuts = 131;
+const int kMaxWavelengths = 64;
+
+float phase_value(int c, float nu) {
+  int m = phase_model[c];
+  float a = phase_p[4 * c], b = phase_p[4 * c + 1], w = phase_p[4 * c + 2];
+  if (m == 0) return phase_rayleigh(nu, a);
+  if (m == 1) return phase_hg(nu, a);
+  if (m == 2) return phase_cornette_shanks(nu, a);
+  return phase_double_hg(nu, a, b, w);
+}
+
+// Relative densities at altitude h [m]: exponential, or piecewise linear through
+// (altitude, value) nodes (0 outside them), as atmo::DensityProfile.
+float density_nodes(int c, float h) {
+  int o = off_nodes[c], n = n_nodes[c];
+  if (n < 2 || h < shell[o] || h > shell[o + n - 1]) return 0.0;
+  int lo = 0, hi = n - 1;  // shell[o + lo] <= h <= shell[o + hi]
+  while (hi - lo > 1) {
+    int mid = (lo + hi) / 2;
+    if (shell[o + mid] <= h) lo = mid; else hi = mid;
+  }
+  float ha = shell[o + lo], hb = shell[o + hi], va = shell[o + n + lo], vb = shell[o + n + hi];
+  return hb > ha ? va + (vb - va) * ((h - ha) / (hb - ha)) : va;
+}
+
+vec3 density_at(float h) {
+  vec3 d = vec3(0.0);
+  for (int c = 0; c < 3; ++c)
+    if (has_ext[c] != 0) d[c] = n_nodes[c] > 0 ? density_nodes(c, h) : density_exponential(h, scale_height[c]);
+  return d;
+}
+
+// ---- OpticalDepthLut::interpolate / lookup (exponential constituents) ----
+// Weights and sums in double: the columns come out with ~1e-7 relative error
+// (float weights would give ~1e-5, and a horizon ray's optical depth of ~30
+// turns that into 3e-4 in the transmittance).
+dvec3 interpolate(int base, int n, double rho, double x) {
+  int lo = 0, hi = n_shells;  // first shell with rho_k > rho
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (shell_d[mid] > rho) hi = mid; else lo = mid + 1;
+  }
+  int k = lo - 1;
+  int w = clamp(k - 1, 0, n_shells - 4);
+  double lw[4];
+  for (int i = 0; i < 4; ++i) {
+    double p = shell_d[n_shells + w * 4 + i];
+    for (int j = 0; j < 4; ++j)
+      if (j != i) p *= rho - shell_d[w + j];
+    lw[i] = p;
+  }
+  double fx = x * double(n - 1);
+  int j = clamp(int(fx), 0, n - 2);
+  int jw = clamp(j - 1, 0, n - 4);
+  double p = fx - double(jw);
+  double xw[4];
+  for (int m = 0; m < 4; ++m) xw[m] = lagrange_cubic_weight(p, m);  // shared/lut.glsl.hpp (double build)
+  dvec3 acc = dvec3(0.0LF);
+  for (int i = 0; i < 4; ++i) {
+    int row = base + ((w + i) * n + jw) * 3;
+    dvec3 inner = dvec3(0.0LF);
+    for (int m = 0; m < 4; ++m) inner += xw[m] * dvec3(tab[row + 3 * m], tab[row + 3 * m + 1], tab[row + 3 * m + 2]);
+    acc += lw[i] * inner;
+  }
+  return acc;
+}
+
+vec3 decode_times(dvec3 v, float d) {
+  vec3 out_v = vec3(0.0);
+  for (int c = 0; c < 2; ++c)
+    if (tabulated[c] != 0) out_v[c] = exp(float(v[c])) * d;
+  return out_v;
+}
+
+// PiecewiseLinearColumn::operator() (libatmo/src/optical_depth.cpp) for the ozone nodes.
+float ozone_column(float r, float mu, float len) {
+  if (!(len > 0.0) || n_oz < 2) return 0.0;
+  int n = n_oz;
+  float c2 = tangent_radius_sq(r, mu);
+  float u0 = r * mu, u1 = u0 + len;
+  float r1sq = u1 * u1 + c2;
+  float rmin_sq = (u0 < 0.0 && u1 > 0.0) ? c2 : min(r * r, r1sq);
+  float rmax_sq = max(r * r, r1sq);
+  float rlast = shell[off_oz + n - 1], rfirst = shell[off_oz];
+  if (rmin_sq >= rlast * rlast || rmax_sq <= rfirst * rfirst) return 0.0;
+  float ua = u0, ra = r, sum = 0.0;
+  int idx = n;
+  bool done = false;
+  float q[16];
+  int first = n;
+  for (int k = n - 1; k >= 0; --k) {
+    float D = sphere_discriminant(r, mu, shell[off_oz + k]);
+    if (!(D > 0.0)) break;
+    q[k] = sqrt(D);
+    first = k;
+  }
+  // Breakpoints in order: inward crossings, the tangent point, outward crossings.
+  int total = (u0 < 0.0) ? (n - first) + 1 + (n - first) : (n - first);
+  if (u0 >= 0.0) idx = first;
+  for (int t = 0; t < total && !done; ++t) {
+    float u, ru;
+    int after;
+    if (u0 < 0.0 && t < n - first) {
+      int k = n - 1 - t;
+      u = -q[k]; ru = shell[off_oz + k]; after = k;
+    } else if (u0 < 0.0 && t == n - first) {
+      u = 0.0; ru = sqrt(c2); after = idx;
+    } else {
+      int k = first + (u0 < 0.0 ? t - (n - first) - 1 : t);
+      u = q[k]; ru = shell[off_oz + k]; after = k + 1;
+    }
+    if (u >= u1) {
+      if (idx > 0 && idx < n)
+        sum += linear_piece_column(ua, u1, ra, sqrt(r1sq), c2, shell[off_oz + n + idx - 1],
+                                   shell[off_oz + 2 * n + idx - 1], shell[off_oz + idx - 1]);
+      done = true;
+      break;
+    }
+    if (u > ua) {
+      if (idx > 0 && idx < n)
+        sum += linear_piece_column(ua, u, ra, ru, c2, shell[off_oz + n + idx - 1], shell[off_oz + 2 * n + idx - 1],
+                                   shell[off_oz + idx - 1]);
+      ua = u;
+      ra = ru;
+    }
+    idx = after;
+  }
+  if (!done && idx > 0 && idx < n)
+    sum += linear_piece_column(ua, u1, ra, sqrt(r1sq), c2, shell[off_oz + n + idx - 1], shell[off_oz + 2 * n + idx - 1],
+                               shell[off_oz + idx - 1]);
+  return sum;
+}
+
+// OpticalDepthLut::lookup for an origin inside the atmosphere: h = r - R given
+// separately (accurately); returns the column, w = 1 when the ray hits the ground.
+vec4 lookup(bool view_table, float h, float mu) {
+  float R = ground_radius, T = top_radius;
+  h = max(h, 0.0);
+  float r = R + h;
+  mu = clamp(mu, -1.0, 1.0);
+  double hd = double(h), rho = sqrt(hd * (hd + 2.0LF * ground_radius_d));
+  vec3 col;
+  float d;
+  bool ground = ray_hits_ground(r, mu, R);
+  if (ground) {
+    if (!view_table) return vec4(0.0, 0.0, 0.0, 1.0);
+    d = distance_to_ground(r, mu, R);
+    double dmin = hd, dmax = rho;
+    double x = lut_x(double(d), dmin, dmax);
+    col = decode_times(interpolate(off_view_ground, n_view, rho, x), d);
+  } else {
+    d = distance_to_top(r, mu, T);
+    double dmin = double(T - r), dmax = rho + double(horizon_rho);
+    double x = lut_x(double(d), dmin, dmax);
+    col = view_table ? decode_times(interpolate(0, n_view, rho, x), d)
+                     : decode_times(interpolate(off_sun, n_sun, rho, x), d);
+  }
+  if (has_ext[2] != 0 && tabulated[2] == 0) col[2] = ozone_column(r, mu, d);
+  return vec4(col, ground ? 1.0 : 0.0);
+}
+

@@ -1,0 +1,154 @@
+#include "atmosh/gpu/program.hpp"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <regex>
+#include <sstream>
+
+namespace atmosh::gpu {
+
+ShaderPart embedded_source(const std::string& path) {
+  for (int i = 0; i < detail::kEmbeddedSourceCount; ++i) {
+    const auto& e = detail::kEmbeddedSources[i];
+    if (path == e.path) return ShaderPart{e.path, e.first_line, e.text};
+  }
+  throw std::out_of_range("no embedded GLSL source " + path);
+}
+
+std::vector<std::string> embedded_source_paths() {
+  std::vector<std::string> p;
+  for (int i = 0; i < detail::kEmbeddedSourceCount; ++i) p.emplace_back(detail::kEmbeddedSources[i].path);
+  return p;
+}
+
+ShaderPart real_type_part(const std::string& type) {
+  return ShaderPart{"<real = " + type + ">", 1, "#undef real\n#define real " + type + "\n"};
+}
+
+std::string map_shader_log(const std::string& log, const std::vector<ShaderPart>& parts) {
+  // Mesa: "0:12(5): error: ..."; NVIDIA: "0(12) : error C1008: ...".
+  static const std::regex mesa(R"(^(\d+):(\d+)\((\d+)\):?)");
+  static const std::regex nvidia(R"(^(\d+)\((\d+)\)\s*:?)");
+  auto name = [&](int id) {
+    if (id == 0) return std::string("<preamble>");
+    if (id >= 1 && id <= static_cast<int>(parts.size())) return parts[static_cast<std::size_t>(id - 1)].path;
+    return "<source " + std::to_string(id) + ">";
+  };
+  std::istringstream in(log);
+  std::ostringstream out;
+  std::string line;
+  bool first = true;
+  while (std::getline(in, line)) {
+    std::smatch m;
+    std::string mapped = line;
+    if (std::regex_search(line, m, mesa))
+      mapped = name(std::stoi(m[1])) + ":" + m[2].str() + ":" + m[3].str() + ":" + m.suffix().str();
+    else if (std::regex_search(line, m, nvidia))
+      mapped = name(std::stoi(m[1])) + ":" + m[2].str() + ":" + m.suffix().str();
+    if (!first) out << '\n';
+    out << mapped;
+    first = false;
+  }
+  return out.str();
+}
+
+void check_gl(const char* what) {
+  const GLenum e = glGetError();
+  if (e != GL_NO_ERROR) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "0x%04x", e);
+    throw std::runtime_error(std::string("OpenGL error ") + buf + " in " + what);
+  }
+}
+
+Program::Program(const std::vector<ShaderPart>& parts, const std::string& defines) {
+  std::string src = "#version 430 core\n#define real float\n#define ATMOSH_FN\n#define ATMOSH_GLSL 1\n" + defines;
+  if (!src.empty() && src.back() != '\n') src += '\n';
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    src += "#line " + std::to_string(parts[i].first_line) + " " + std::to_string(i + 1) + "\n";
+    src += parts[i].text;
+    if (!parts[i].text.empty() && parts[i].text.back() != '\n') src += '\n';
+  }
+  const GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
+  if (!sh) throw ShaderError("glCreateShader(GL_COMPUTE_SHADER) failed (no current OpenGL 4.3 context?)");
+  const char* p = src.c_str();
+  glShaderSource(sh, 1, &p, nullptr);
+  glCompileShader(sh);
+  GLint ok = 0;
+  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint n = 0;
+    glGetShaderiv(sh, GL_INFO_LOG_LENGTH, &n);
+    std::string log(static_cast<std::size_t>(std::max(n, 1)), '\0');
+    glGetShaderInfoLog(sh, n, nullptr, log.data());
+    glDeleteShader(sh);
+    log.resize(log.find('\0') == std::string::npos ? log.size() : log.find('\0'));
+    throw ShaderError("GLSL compile error:\n" + map_shader_log(log, parts));
+  }
+  id_ = glCreateProgram();
+  glAttachShader(id_, sh);
+  glLinkProgram(id_);
+  glDeleteShader(sh);
+  glGetProgramiv(id_, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint n = 0;
+    glGetProgramiv(id_, GL_INFO_LOG_LENGTH, &n);
+    std::string log(static_cast<std::size_t>(std::max(n, 1)), '\0');
+    glGetProgramInfoLog(id_, n, nullptr, log.data());
+    glDeleteProgram(id_);
+    id_ = 0;
+    log.resize(log.find('\0') == std::string::npos ? log.size() : log.find('\0'));
+    throw ShaderError("GLSL link error:\n" + map_shader_log(log, parts));
+  }
+}
+
+Program::~Program() {
+  if (id_) glDeleteProgram(id_);
+}
+
+void Program::use() const { glUseProgram(id_); }
+int Program::uniform(const char* name) const { return glGetUniformLocation(id_, name); }
+void Program::set(const char* name, int v) const { glProgramUniform1i(id_, uniform(name), v); }
+void Program::set(const char* name, unsigned v) const { glProgramUniform1ui(id_, uniform(name), v); }
+void Program::set(const char* name, float v) const { glProgramUniform1f(id_, uniform(name), v); }
+void Program::set(const char* name, float x, float y, float z) const {
+  glProgramUniform3f(id_, uniform(name), x, y, z);
+}
+
+void Program::set_double(const char* name, double v) const { glProgramUniform1d(id_, uniform(name), v); }
+
+void Program::dispatch(unsigned gx, unsigned gy, unsigned gz) const {
+  glUseProgram(id_);
+  glDispatchCompute(gx, gy, gz);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  check_gl("glDispatchCompute");
+}
+
+Buffer::Buffer(std::size_t bytes, const void* data) : bytes_(bytes) {
+  glGenBuffers(1, &id_);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+  glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 4)), data,
+               GL_DYNAMIC_COPY);
+  check_gl("glBufferData");
+}
+
+Buffer::~Buffer() {
+  if (id_) glDeleteBuffers(1, &id_);
+}
+
+void Buffer::bind(unsigned binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
+
+void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+  glBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes), data);
+  check_gl("glBufferSubData");
+}
+
+void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes), data);
+  check_gl("glGetBufferSubData");
+}
+
+}  // namespace atmosh::gpu

@@ -1,0 +1,466 @@
+#include "atmosh/gpu/sky.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "atmosh/atmo/colour.hpp"
+#include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/error.hpp"
+#include "atmosh/gpu/program.hpp"
+#include "atmosh/sh/quadrature.hpp"
+
+namespace atmosh::gpu {
+
+namespace {
+
+namespace sg = atmo::shared;
+using atmo::DensityProfileSpec;
+
+constexpr int kMaxWavelengths = 64;  // sky.comp kMaxWavelengths
+constexpr int kMaxOzoneNodes = 16;   // sky.comp q[16]
+
+// Closed-form column at lookup (OpticalDepthLut: piecewise-linear profiles with
+// few nodes), else interpolated from the tables.
+bool analytic(const atmo::Atmosphere& atm, const atmo::LutOptions& o, int c) {
+  const auto& p = atm.profile(c);
+  return atm.has(c) && p.kind() != DensityProfileSpec::Kind::Exponential &&
+         static_cast<int>(p.kinks().size()) <= o.analytic_max_nodes;
+}
+
+bool tabulated(const atmo::Atmosphere& atm, int c) {
+  return atm.has(c) && atm.vertical_column()[c] > 0.0 && !analytic(atm, atmo::LutOptions{}, c);
+}
+
+// (altitude, value) nodes of a piecewise-linear profile.
+void profile_nodes(const atmo::DensityProfile& p, std::vector<double>& h, std::vector<double>& v) {
+  const auto& spec = p.spec();
+  if (spec.kind == DensityProfileSpec::Kind::Tent) {
+    h = {spec.bottom_m, spec.peak_m, spec.top_m};
+    v = {0.0, 1.0, 0.0};
+  } else {
+    h = spec.altitude_m;
+    v = spec.value;
+  }
+}
+
+// Ozone nodes (radius, value, slope) as in PiecewiseLinearColumn.
+void ozone_nodes(const atmo::Atmosphere& atm, std::vector<double>& radius, std::vector<double>& value,
+                 std::vector<double>& slope) {
+  std::vector<double> h, v;
+  profile_nodes(atm.profile(atmo::kOzone), h, v);
+  radius.resize(h.size());
+  for (std::size_t i = 0; i < h.size(); ++i) radius[i] = atm.ground_radius() + h[i];
+  value = v;
+  slope.assign(h.size(), 0.0);
+  for (std::size_t i = 0; i + 1 < h.size(); ++i) slope[i] = (v[i + 1] - v[i]) / (h[i + 1] - h[i]);
+}
+
+// The integrator's table entries (log of the mean relative density), recovered
+// exactly at the table nodes through the public lookup: at a node the Lagrange
+// weights are 1 and 0, so lookup / distance is the stored mean.
+}  // namespace
+
+std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const atmo::Atmosphere& atm, int& off_ground,
+                                       int& off_sun) {
+  const auto& radii = lut.shell_radii();
+  const double R = atm.ground_radius(), T = atm.top_radius(), Hh = std::sqrt((T - R) * (T + R));
+  const int S = static_cast<int>(radii.size());
+  const int nv = lut.options().view_directions, ns = lut.options().sun_directions;
+  std::vector<float> out;
+  out.reserve(static_cast<std::size_t>(S) * (2 * nv + ns) * 3);
+  auto table = [&](int n, int kind) {  // 0 view up, 1 view ground, 2 sun
+    for (int k = 0; k < S; ++k) {
+      const double r = radii[static_cast<std::size_t>(k)];
+      const double rho = std::sqrt(std::max(0.0, (r - R) * (r + R)));
+      for (int j = 0; j < n; ++j) {
+        const double x = static_cast<double>(j) / (n - 1);
+        glm::dvec3 mean = atm.density(r - R);
+        if (kind != 1) {
+          const double dmin = T - r, dmax = rho + Hh, d = dmin + x * (dmax - dmin);
+          if (d > 0.0) {
+            double mu = std::clamp(((T - r) * (T + r) - d * d) / (2.0 * r * d), -1.0, 1.0);
+            atmo::LutColumn c = kind == 0 ? lut.view(r, mu) : lut.sun(r, mu);
+            for (int t = 0; t < 64 && (c.hits_ground || sg::ray_hits_ground(r, mu, R)); ++t) {
+              mu = std::nextafter(mu, 2.0);  // grazing node rounded into the ground
+              c = kind == 0 ? lut.view(r, mu) : lut.sun(r, mu);
+            }
+            const double dd = sg::distance_to_top(r, mu, T);
+            if (dd > 0.0) mean = c.column / dd;
+          }
+        } else {
+          const double dmin = r - R, dmax = rho, d = dmin + x * (dmax - dmin);
+          if (d > 0.0) {
+            double mu = std::clamp(-(rho * rho + d * d) / (2.0 * r * d), -1.0, 1.0);
+            atmo::LutColumn c = lut.view(r, mu);
+            for (int t = 0; t < 64 && !c.hits_ground; ++t) {
+              mu = std::nextafter(mu, -2.0);
+              c = lut.view(r, mu);
+            }
+            const double dd = sg::distance_to_ground(r, mu, R);
+            if (dd > 0.0) mean = c.column / dd;
+          }
+        }
+        for (int c = 0; c < 3; ++c)
+          out.push_back(tabulated(atm, c) ? static_cast<float>(std::log(std::max(mean[c], 1e-300))) : 0.0f);
+      }
+    }
+  };
+  table(nv, 0);
+  off_ground = static_cast<int>(out.size());
+  table(nv, 1);
+  off_sun = static_cast<int>(out.size());
+  table(ns, 2);
+  return out;
+}
+
+namespace {
+
+}  // namespace
+
+std::vector<ShaderPart> sky_parts(const std::string& main_shader) {
+  const ShaderPart lut = embedded_source("libatmo/include/atmosh/atmo/shared/lut.glsl.hpp");
+  return {embedded_source("libatmo/include/atmosh/atmo/shared/geometry.glsl.hpp"),
+          lut,
+          real_type_part("double"),
+          lut,
+          real_type_part("float"),
+          embedded_source("gpu/shaders/sky_lib.glsl"),
+          embedded_source(main_shader)};
+}
+
+namespace {
+
+// "name[i]" for array uniforms (snprintf: GCC 12 warns spuriously on string concatenation).
+std::string indexed(const char* name, int i) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s[%d]", name, i);
+  return buf;
+}
+
+int phase_code(atmo::PhaseSpec::Model m) {
+  using M = atmo::PhaseSpec::Model;
+  switch (m) {
+    case M::Rayleigh: return 0;
+    case M::HenyeyGreenstein: return 1;
+    case M::CornetteShanks: return 2;
+    case M::DoubleHenyeyGreenstein: return 3;
+    default: return -1;
+  }
+}
+
+atmo::PhaseSpec phase_spec(const atmo::Atmosphere& atm, int c) {
+  const auto& s = atm.spec();
+  if (c == 0) return s.rayleigh ? s.rayleigh->phase : atmo::PhaseSpec::of(atmo::PhaseSpec::Model::Rayleigh);
+  return s.mie ? s.mie->phase : atmo::PhaseSpec::of(atmo::PhaseSpec::Model::HenyeyGreenstein, 0.0);
+}
+
+}  // namespace
+
+std::string sky_unsupported_reason(const atmo::SkyIntegrator& sky) {
+  const auto& atm = sky.atmosphere();
+  const auto& lo = sky.lut().options();
+  if (lo.analytic_max_nodes != atmo::LutOptions{}.analytic_max_nodes) return "non-default lut analytic_max_nodes";
+  const double top = atm.top_altitude();
+  for (int c = 0; c < 2; ++c)
+    if (atm.has(c) && (analytic(atm, lo, c) || !atm.profile(c).positive_on(top)))
+      return std::string(c == 0 ? "rayleigh" : "mie") + " profile is not positive up to the top";
+  if (atm.has(atmo::kOzone)) {
+    const auto& p = atm.profile(atmo::kOzone);
+    if (!analytic(atm, lo, atmo::kOzone)) return "ozone profile is not piecewise linear with few nodes";
+    const int nodes = static_cast<int>(p.kind() == DensityProfileSpec::Kind::Tent ? 3 : p.spec().altitude_m.size());
+    if (nodes > kMaxOzoneNodes || static_cast<int>(p.kinks().size()) > sky.lut().options().analytic_max_nodes)
+      return "ozone profile has more than " + std::to_string(kMaxOzoneNodes) + " nodes";
+  }
+  for (int c = 0; c < 2; ++c)
+    if (atm.has(c) && phase_code(phase_spec(atm, c).model) < 0) return "tabulated phase functions";
+  if (atm.wavelengths_nm().size() > static_cast<std::size_t>(kMaxWavelengths))
+    return "more than " + std::to_string(kMaxWavelengths) + " wavelengths";
+  if (sky.options().segments - 1 > 64) return "more than 65 view-ray segments";
+  return "";
+}
+
+atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, atmo::SkyProjection projection,
+                          int width, int height, double altitude_m, const glm::dvec3& sun, bool keep_spectral,
+                          bool gpu_tables) {
+  if (width < 1 || height < 1 || width > 65536 || height > 65536)
+    throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  const std::string why = sky_unsupported_reason(sky);
+  if (!why.empty()) throw Unsupported("GPU sky: " + why);
+  // Same input validation as the CPU path (throws InputError).
+  (void)sky.radiance(altitude_m, glm::dvec3(0, 0, 1), sun);
+  ctx.make_current();
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto& atm = sky.atmosphere();
+  const auto& lut = sky.lut();
+  const double R = atm.ground_radius(), T = atm.top_radius();
+  const int nw = static_cast<int>(atm.wavelengths_nm().size());
+
+  static const std::vector<ShaderPart> parts = sky_parts("gpu/shaders/sky.comp");
+  Program prog(parts);
+
+  // Tables and shells.
+  int off_ground = 0, off_sun = 0;
+  const std::vector<float> tab = gpu_tables ? build_lut_tables(ctx, lut, atm, off_ground, off_sun)
+                                            : lut_tables_from_cpu(lut, atm, off_ground, off_sun);
+  ctx.make_current();
+  const auto& radii = lut.shell_radii();
+  const int S = static_cast<int>(radii.size());
+  std::vector<double> rho(static_cast<std::size_t>(S));
+  for (int k = 0; k < S; ++k) rho[k] = std::sqrt(std::max(0.0, (radii[k] - R) * (radii[k] + R)));
+  std::vector<double> shells_d = rho;
+  for (int w = 0; w + 3 < S; ++w)
+    for (int i = 0; i < 4; ++i) {
+      double d = 1.0;
+      for (int j = 0; j < 4; ++j)
+        if (j != i) d *= rho[w + i] - rho[w + j];
+      shells_d.push_back(1.0 / d);
+    }
+  std::vector<float> shells;
+  for (double v : rho) shells.push_back(static_cast<float>(v));
+  const int off_den = static_cast<int>(shells.size());
+  for (int w = 0; w + 3 < S; ++w)
+    for (int i = 0; i < 4; ++i) {
+      double d = 1.0;
+      for (int j = 0; j < 4; ++j)
+        if (j != i) d *= rho[w + i] - rho[w + j];
+      shells.push_back(static_cast<float>(1.0 / d));
+    }
+  const int off_cuts = static_cast<int>(shells.size());
+  const int segments = sky.options().segments;
+  for (int i = 1; i < segments; ++i)
+    shells.push_back(static_cast<float>(radii[static_cast<std::size_t>(std::lround(double(i) * (S - 1) / segments))]));
+  const int off_oz = static_cast<int>(shells.size());
+  int n_oz = 0;
+  if (atm.has(atmo::kOzone)) {
+    std::vector<double> r, v, sl;
+    ozone_nodes(atm, r, v, sl);
+    n_oz = static_cast<int>(r.size());
+    for (const auto* a : {&r, &v, &sl})
+      for (double x : *a) shells.push_back(static_cast<float>(x));
+  }
+  // Piecewise-linear densities (altitude, value) for the shader's density_at.
+  int off_nodes[3] = {0, 0, 0}, n_nodes[3] = {0, 0, 0};
+  for (int c = 0; c < 3; ++c) {
+    if (!atm.has(c) || atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential) continue;
+    std::vector<double> h, v;
+    profile_nodes(atm.profile(c), h, v);
+    off_nodes[c] = static_cast<int>(shells.size());
+    n_nodes[c] = static_cast<int>(h.size());
+    for (double x : h) shells.push_back(static_cast<float>(x));
+    for (double x : v) shells.push_back(static_cast<float>(x));
+  }
+  // Spectral coefficients: ext[3][nw], sca[3][nw], solar[nw].
+  std::vector<float> spec(static_cast<std::size_t>(7 * nw), 0.0f);
+  float ext_max[3] = {0, 0, 0};
+  for (int i = 0; i < nw; ++i) {
+    const auto& k = atm.coefficients(static_cast<std::size_t>(i));
+    for (int c = 0; c < 3; ++c) {
+      const double e = atm.has(c) ? k.extinction[c] : 0.0, s = atm.has(c) ? k.scattering[c] : 0.0;
+      spec[c * nw + i] = static_cast<float>(e);
+      spec[(3 + c) * nw + i] = static_cast<float>(s);
+      ext_max[c] = std::max(ext_max[c], static_cast<float>(e));
+    }
+    spec[6 * nw + i] = static_cast<float>(sky.solar()[static_cast<std::size_t>(i)]);
+  }
+  const auto gl = sh::gauss_legendre(sky.options().samples_per_segment);
+  std::vector<float> quad;
+  for (double x : gl.nodes) quad.push_back(static_cast<float>(x));
+  for (double w : gl.weights) quad.push_back(static_cast<float>(w));
+
+  // Pixel directions (the CPU projection).
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  std::vector<float> dirs(4 * n, 0.0f);
+  atmo::SkyImage img;
+  img.width = width;
+  img.height = height;
+  img.wavelengths_nm = atm.wavelengths_nm();
+  img.valid.assign(n, 0);
+  long rays = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      glm::dvec3 d;
+      const std::size_t p = static_cast<std::size_t>(y) * width + x;
+      if (!atmo::sky_pixel_direction(projection, width, height, x, y, d)) continue;
+      d = glm::normalize(d);
+      dirs[4 * p] = static_cast<float>(d.x);
+      dirs[4 * p + 1] = static_cast<float>(d.y);
+      dirs[4 * p + 2] = static_cast<float>(d.z);
+      dirs[4 * p + 3] = 1.0f;
+      img.valid[p] = 1;
+      ++rays;
+    }
+
+  Buffer b_dirs(dirs.size() * sizeof(float), dirs.data()), b_tab(tab.size() * sizeof(float), tab.data()),
+      b_shell(shells.size() * sizeof(float), shells.data()), b_spec(spec.size() * sizeof(float), spec.data()),
+      b_out(n * static_cast<std::size_t>(nw) * sizeof(float)), b_quad(quad.size() * sizeof(float), quad.data()),
+      b_shell_d(shells_d.size() * sizeof(double), shells_d.data());
+  b_shell_d.bind(6);
+  b_dirs.bind(0);
+  b_tab.bind(1);
+  b_shell.bind(2);
+  b_spec.bind(3);
+  b_out.bind(4);
+  b_quad.bind(5);
+  prog.set("n_pixels", static_cast<int>(n));
+  prog.set("nw", nw);
+  prog.set("n_shells", S);
+  prog.set("n_view", lut.options().view_directions);
+  prog.set("n_sun", lut.options().sun_directions);
+  prog.set("off_view_ground", off_ground);
+  prog.set("off_sun", off_sun);
+  prog.set("off_den", off_den);
+  prog.set("off_cuts", off_cuts);
+  prog.set("n_cuts", segments - 1);
+  prog.set("off_oz", off_oz);
+  prog.set("n_oz", n_oz);
+  prog.set("n_gauss", static_cast<int>(gl.nodes.size()));
+  for (int c = 0; c < 3; ++c) {
+    prog.set(indexed("has_ext", c).c_str(), atm.has(c) ? 1 : 0);
+    prog.set(indexed("tabulated", c).c_str(), tabulated(atm, c) ? 1 : 0);
+    prog.set(indexed("scale_height", c).c_str(),
+             static_cast<float>(atm.has(c) && atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential
+                                    ? atm.profile(c).spec().scale_height_m
+                                    : 1.0));
+    prog.set(indexed("ext_max", c).c_str(), ext_max[c]);
+    prog.set(indexed("off_nodes", c).c_str(), off_nodes[c]);
+    prog.set(indexed("n_nodes", c).c_str(), n_nodes[c]);
+  }
+  for (int c = 0; c < 2; ++c) {
+    const auto ps = phase_spec(atm, c);
+    prog.set(indexed("phase_model", c).c_str(), phase_code(ps.model));
+    const float p[4] = {static_cast<float>(ps.model == atmo::PhaseSpec::Model::Rayleigh ? ps.depolarization : ps.g),
+                        static_cast<float>(ps.g2), static_cast<float>(ps.weight), 0.0f};
+    for (int k = 0; k < 4; ++k) prog.set(indexed("phase_p", 4 * c + k).c_str(), p[k]);
+  }
+  prog.set("ground_radius", static_cast<float>(R));
+  prog.set("top_radius", static_cast<float>(T));
+  prog.set("horizon_rho", static_cast<float>(std::sqrt((T - R) * (T + R))));
+  prog.set_double("ground_radius_d", R);
+  prog.set_double("top_radius_d", T);
+  prog.set_double("observer_radius_d", R + std::max(altitude_m, 0.0));
+  const glm::dvec3 l = glm::normalize(sun);
+  prog.set("sun_dir", static_cast<float>(l.x), static_cast<float>(l.y), static_cast<float>(l.z));
+  prog.set("max_piece_optical_depth", static_cast<float>(sky.options().max_piece_optical_depth));
+  prog.set("irradiance_scale", static_cast<float>(1.0 / (sky.options().sun_distance_au * sky.options().sun_distance_au)));
+  prog.set("albedo", static_cast<float>(atm.spec().planet.ground_albedo));
+  check_gl("sky uniforms");
+  const unsigned groups = static_cast<unsigned>((n + 63) / 64);
+  const unsigned gx = std::min(groups, 32768u), gy = (groups + gx - 1) / gx;
+  prog.dispatch(gx, gy);
+
+  std::vector<float> L(n * static_cast<std::size_t>(nw));
+  b_out.download(L.data(), L.size() * sizeof(float));
+  const atmo::SpectralToXyz cmf(img.wavelengths_nm);
+  for (auto* c : {&img.X, &img.Y, &img.Z, &img.R, &img.G, &img.B}) c->assign(n, 0.0f);
+  if (keep_spectral) img.spectral.assign(n * static_cast<std::size_t>(nw), 0.0f);
+  std::vector<double> Ld(static_cast<std::size_t>(nw));
+  for (std::size_t p = 0; p < n; ++p) {
+    if (!img.valid[p]) continue;
+    for (int i = 0; i < nw; ++i) Ld[i] = L[p * nw + i];
+    const atmo::Xyz c = cmf(Ld);
+    const atmo::Rgb rgb = atmo::linear_srgb_from_xyz(c);
+    img.X[p] = static_cast<float>(c.X);
+    img.Y[p] = static_cast<float>(c.Y);
+    img.Z[p] = static_cast<float>(c.Z);
+    img.R[p] = static_cast<float>(rgb.r);
+    img.G[p] = static_cast<float>(rgb.g);
+    img.B[p] = static_cast<float>(rgb.b);
+    if (keep_spectral) std::copy(L.begin() + p * nw, L.begin() + (p + 1) * nw, img.spectral.begin() + p * nw);
+  }
+  img.rays = rays;
+  img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return img;
+}
+
+atmo::SkyImage render_sky(const atmo::SkyIntegrator& sky, atmo::SkyProjection projection, int width, int height,
+                          double altitude_m, const glm::dvec3& sun, bool keep_spectral) {
+  const std::string why = sky_unsupported_reason(sky);
+  if (!why.empty()) throw Unsupported("GPU sky: " + why);
+  Context ctx;
+  return render_sky(ctx, sky, projection, width, height, altitude_m, sun, keep_spectral);
+}
+
+
+std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepthLut& lut, const atmo::Atmosphere& atm,
+                                    int& off_ground, int& off_sun, double* seconds) {
+  const auto& lo = lut.options();
+  const double top = atm.top_altitude();
+  if (lo.analytic_max_nodes != atmo::LutOptions{}.analytic_max_nodes)
+    throw Unsupported("GPU tables: non-default lut analytic_max_nodes");
+  for (int c = 0; c < 3; ++c)
+    if (tabulated(atm, c) && !atm.profile(c).positive_on(top))
+      throw Unsupported("GPU tables: a tabulated constituent is not positive up to the top");
+  ctx.make_current();
+  const auto t0 = std::chrono::steady_clock::now();
+  static const std::vector<ShaderPart> parts = sky_parts("gpu/shaders/lut_build.comp");
+  Program prog(parts);
+  const double R = atm.ground_radius(), T = atm.top_radius();
+  const auto& radii = lut.shell_radii();
+  std::vector<double> cross(radii.begin(), radii.end());
+  for (double k : atm.kinks()) cross.push_back(R + k);
+  std::sort(cross.begin(), cross.end());
+  const auto gl = sh::gauss_legendre(lo.gauss_points);
+  std::vector<double> rule;
+  for (double x : gl.nodes) rule.push_back(0.5 * (x + 1.0));
+  for (double w : gl.weights) rule.push_back(0.5 * w);
+  // Density nodes for sky_lib's density_at.
+  std::vector<float> nodes;
+  int off_nodes[3] = {0, 0, 0}, n_nodes[3] = {0, 0, 0};
+  for (int c = 0; c < 3; ++c) {
+    if (!atm.has(c) || atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential) continue;
+    std::vector<double> h, v;
+    profile_nodes(atm.profile(c), h, v);
+    off_nodes[c] = static_cast<int>(nodes.size());
+    n_nodes[c] = static_cast<int>(h.size());
+    for (double x : h) nodes.push_back(static_cast<float>(x));
+    for (double x : v) nodes.push_back(static_cast<float>(x));
+  }
+  const int S = static_cast<int>(radii.size());
+  const int nv = lo.view_directions, ns = lo.sun_directions;
+  Buffer b_nodes(nodes.size() * sizeof(float) + 4, nodes.data()), b_cross(cross.size() * sizeof(double), cross.data()),
+      b_rule(rule.size() * sizeof(double), rule.data()), b_radii(radii.size() * sizeof(double), radii.data());
+  b_nodes.bind(2);
+  b_cross.bind(9);
+  b_rule.bind(11);
+  b_radii.bind(12);
+  prog.set("n_cross", static_cast<int>(cross.size()));
+  prog.set("n_rule", static_cast<int>(gl.nodes.size()));
+  prog.set_double("ground_radius_d", R);
+  prog.set_double("top_radius_d", T);
+  for (int c = 0; c < 3; ++c) {
+    const bool expo = atm.has(c) && atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential;
+    prog.set(indexed("has_ext", c).c_str(), atm.has(c) ? 1 : 0);
+    prog.set(indexed("off_nodes", c).c_str(), off_nodes[c]);
+    prog.set(indexed("n_nodes", c).c_str(), n_nodes[c]);
+    prog.set(indexed("scale_height", c).c_str(), static_cast<float>(expo ? atm.profile(c).spec().scale_height_m : 1.0));
+    prog.set(indexed("is_exponential", c).c_str(), expo ? 1 : 0);
+    prog.set(indexed("tab_present", c).c_str(), tabulated(atm, c) ? 1 : 0);
+    prog.set(indexed("log_encoded", c).c_str(), tabulated(atm, c) && atm.profile(c).positive_on(top) ? 1 : 0);
+  }
+  std::vector<float> out;
+  auto run = [&](int n, int kind) {
+    const int entries = S * n;
+    Buffer b_out(static_cast<std::size_t>(entries) * 3 * sizeof(float));
+    b_out.bind(10);
+    prog.set("n_dirs", n);
+    prog.set("table_kind", kind);
+    prog.set("n_entries", entries);
+    prog.dispatch(static_cast<unsigned>((entries + 63) / 64));
+    std::vector<float> t(static_cast<std::size_t>(entries) * 3);
+    b_out.download(t.data(), t.size() * sizeof(float));
+    out.insert(out.end(), t.begin(), t.end());
+  };
+  run(nv, 0);
+  off_ground = static_cast<int>(out.size());
+  run(nv, 1);
+  off_sun = static_cast<int>(out.size());
+  run(ns, 0);
+  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace atmosh::gpu

@@ -1,0 +1,48 @@
+// atmosh/atmo/shared/lut.glsl.hpp — table parametrisation and interpolation
+// weights of the optical-depth tables (OpticalDepthLut) and the light-path
+// geometry of the single-scattering integrand, written once for the CPU
+// (SkyIntegrator, OpticalDepthLut; real = double) and the GPU (gpu/shaders/;
+// real = float). Same common subset and conventions as geometry.glsl.hpp.
+//
+// Accuracy: exact up to rounding in the real type (a few ulp).
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace atmosh::atmo::shared {
+
+using real = double;
+#define ATMOSH_FN inline
+
+// ATMOSH_GLSL_BEGIN
+
+// Direction coordinate of a table ray (Bruneton 2017): x = (d - d_min) /
+// (d_max - d_min) in [0, 1], d the distance to the end of the ray (top or
+// ground), d_min / d_max its smallest and largest value at that radius; 0 when
+// the range is empty (the ground or top shell itself).
+ATMOSH_FN real lut_x(real d, real d_min, real d_max) {
+  return d_max > d_min ? glm::clamp((d - d_min) / (d_max - d_min), real(0), real(1)) : real(0);
+}
+
+// Weight of sample i (0..3) of the cubic Lagrange interpolant through equally
+// spaced samples at 0, 1, 2, 3, evaluated at p (p in [0, 3] inside the window).
+ATMOSH_FN real lagrange_cubic_weight(real p, int i) {
+  if (i == 0) return -(p - real(1)) * (p - real(2)) * (p - real(3)) / real(6);
+  if (i == 1) return p * (p - real(2)) * (p - real(3)) / real(2);
+  if (i == 2) return -p * (p - real(1)) * (p - real(3)) / real(2);
+  return p * (p - real(1)) * (p - real(2)) / real(6);
+}
+
+// Cosine of the zenith angle of a fixed direction (cosine c at the ray's origin,
+// radius r; cosine nu with the ray direction) at distance s along a ray whose
+// radius there is rs: (r c + s nu) / rs — the sun's zenith cosine at a sample of
+// a view ray (c = mu_s), clamped to [-1, 1] against rounding.
+ATMOSH_FN real cos_zenith_along(real r, real c, real nu, real s, real rs) {
+  return glm::clamp((r * c + s * nu) / rs, real(-1), real(1));
+}
+
+// ATMOSH_GLSL_END
+
+#undef ATMOSH_FN
+
+}  // namespace atmosh::atmo::shared

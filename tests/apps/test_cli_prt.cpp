@@ -1,0 +1,97 @@
+// CLI contract of `atmosh prt`: bake / relight / converge run end to end; bad meshes,
+// a GPU request and bad options exit 2 with one line naming the value.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "atmosh/io/csv.hpp"
+#include "run_cli.hpp"
+
+using atmosh::test::count_lines;
+using atmosh::test::run_cli;
+namespace fs = std::filesystem;
+
+namespace {
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("atmosh_cli_prt_" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+void expect_bad(const std::string& args, const std::string& names) {
+  const auto r = run_cli(args);
+  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << args << "\n" << r.err;
+  EXPECT_NE(r.err.find(names), std::string::npos) << args << ": '" << r.err << "' does not name " << names;
+}
+}  // namespace
+
+TEST(CliPrt, BakeRelightConverge) {
+  const fs::path d = scratch("ok");
+  const std::string tf = (d / "t.ply").string();
+  const auto r = run_cli("prt bake --scene-builtin sphere --resolution 24 --bands 3 --samples 2025 --mode shadowed -o '" +
+                         tf + "' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* k : {"vertices", "triangles", "bands", "samples", "mode", "rays", "rays_per_s", "ao_min", "ao_mean"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_EQ(j["samples"].get<int>(), 2025);
+  EXPECT_EQ(j["coefficients"].get<int>(), 9);
+  // A lone sphere occludes nothing: every vertex sees its whole hemisphere (AO 1 to the
+  // jittered error of the cosine lobe: measured worst 3.5e-3 over the normals at 2025 samples).
+  EXPECT_NEAR(j["ao_min"].get<double>(), 1.0, 6e-3);
+  const auto rl = run_cli("prt relight '" + tf + "' --light-dir 0,0,1 --frames 2 --size 32x24 -o '" + (d / "frames").string() + "'");
+  ASSERT_EQ(rl.exit_code, 0) << rl.err;
+  for (const char* f : {"ao.exr", "ao.png", "frame_0000.exr", "frame_0000.png", "frame_0001.png"})
+    EXPECT_TRUE(fs::exists(d / "frames" / f)) << f;
+  // SH coefficients from a file: a constant light of radiance 1 (c_00 = 2 sqrt(pi)).
+  std::ofstream(d / "light.csv") << "l,m,index,value\n0,0,0," << 2 * std::sqrt(M_PI) << "\n";
+  const auto rc = run_cli("prt relight '" + tf + "' --light '" + (d / "light.csv").string() + "' --size 16x16 -o '" +
+                          (d / "lit").string() + "'");
+  ASSERT_EQ(rc.exit_code, 0) << rc.err;
+  EXPECT_TRUE(fs::exists(d / "lit" / "frame_0000.exr"));
+  // Per-pixel CPU transfer as EXR (sh_l*_m* channels, ao, mask).
+  const auto px = run_cli("prt bake --scene-builtin sphere-on-plane --resolution 8 --samples 64 --size 24x16 -o '" +
+                          (d / "px.exr").string() + "' --json");
+  ASSERT_EQ(px.exit_code, 0) << px.err;
+  EXPECT_EQ(nlohmann::json::parse(px.out)["width"].get<int>(), 24);
+  EXPECT_TRUE(fs::exists(d / "px.exr"));
+  const auto cv = run_cli("prt converge --scene-builtin sphere-on-plane --resolution 4 --strata 2,4 --reference-samples 64 -o '" +
+                          (d / "conv").string() + "'");
+  ASSERT_EQ(cv.exit_code, 0) << cv.err;
+  const auto csv = atmosh::io::read_csv(d / "conv.csv");
+  EXPECT_EQ(csv.rows.size(), 2u);
+  EXPECT_TRUE(fs::exists(d / "conv.png"));
+}
+
+TEST(CliPrt, BadInputExitsTwo) {
+  const fs::path d = scratch("bad");
+  std::ofstream(d / "nan.obj") << "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n";
+  std::ofstream(d / "empty.obj") << "# nothing\n";
+  std::ofstream(d / "nonmanifold.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 2 5\n";
+  std::ofstream(d / "nan.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                  "0 0 0\n1 0 nan\n0 1 0\n3 0 1 2\n";
+  const std::string out = " -o '" + (d / "t.ply").string() + "'";
+  expect_bad("prt bake '" + (d / "nan.obj").string() + "'" + out, "vertex 2");
+  expect_bad("prt bake '" + (d / "empty.obj").string() + "'" + out, "empty mesh");
+  expect_bad("prt bake '" + (d / "nonmanifold.obj").string() + "'" + out, "non-manifold");
+  expect_bad("prt bake '" + (d / "missing.obj").string() + "'" + out, "missing.obj");
+  expect_bad("prt bake --scene-builtin teapot" + out, "teapot");
+  expect_bad("prt bake --scene-builtin torus --device gpu" + out, "not available yet");
+  expect_bad("prt bake --scene-builtin torus --mode glossy" + out, "glossy");
+  expect_bad("prt bake --scene-builtin torus --bands 0" + out, "--bands");
+  expect_bad("prt bake --scene-builtin torus --samples 1000" + out, "1000");
+  expect_bad("prt bake --scene-builtin torus -o '" + (d / "t.obj").string() + "'", "t.obj");
+  expect_bad("prt bake --scene-builtin torus --device gpu -o '" + (d / "t.exr").string() + "'", "not available yet");
+  expect_bad("prt bake --scene-builtin torus --albedo 1.5" + out, "--albedo");
+  expect_bad("prt converge --mode unshadowed -o '" + (d / "c").string() + "'", "unshadowed");
+  expect_bad("prt relight '" + (d / "missing.ply").string() + "' --light-dir 0,0,1 -o '" + d.string() + "'", "missing.ply");
+  const auto r = run_cli("prt bake '" + (d / "nan.ply").string() + "'" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+}
