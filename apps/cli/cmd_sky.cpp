@@ -150,12 +150,19 @@ const std::vector<std::string> kStudyColumns = {
     "horizon_away_luminance_cd_m2", "horizon_away_x", "horizon_away_y", "sun_x", "sun_y",
     "sun_direct_normal_illuminance_lux", "sun_transmittance_550nm"};
 
+// Chromaticity of a colour, NaN (not the white point) when it is black: the sky in
+// the Earth's shadow has no colour to report.
+Chromaticity chromaticity_or_nan(const Xyz& c) {
+  if (!(c.X + c.Y + c.Z > 0)) return {std::nan(""), std::nan("")};
+  return xy_chromaticity(c);
+}
+
 std::vector<double> study_values(const SkySummary& m) {
-  const auto z = xy_chromaticity(m.zenith.xyz), hs = xy_chromaticity(m.horizon_toward_sun.xyz),
-             ha = xy_chromaticity(m.horizon_away.xyz);
+  const auto z = chromaticity_or_nan(m.zenith.xyz), hs = chromaticity_or_nan(m.horizon_toward_sun.xyz),
+             ha = chromaticity_or_nan(m.horizon_away.xyz);
   return {m.zenith.xyz.Y, z.x, z.y, m.zenith.srgb.r, m.zenith.srgb.g, m.zenith.srgb.b,
           m.horizon_toward_sun.xyz.Y, hs.x, hs.y, m.horizon_toward_sun.srgb.r, m.horizon_toward_sun.srgb.g,
-          m.horizon_toward_sun.srgb.b, m.horizon_away.xyz.Y, ha.x, ha.y, m.sun_chromaticity.x, m.sun_chromaticity.y,
+          m.horizon_toward_sun.srgb.b, m.horizon_away.xyz.Y, ha.x, ha.y, chromaticity_or_nan(m.sun_transmitted).x, chromaticity_or_nan(m.sun_transmitted).y,
           m.sun_transmitted.Y, m.sun_transmittance_550};
 }
 
@@ -187,8 +194,8 @@ void study_plots(const fs::path& dir, const std::string& xname, const std::strin
   q.y_label = "CIE 1931 x";
   io::Series qa{"zenith", x, {}}, qb{"horizon toward sun", x, {}}, qc{"direct sunlight", x, {}};
   for (const auto& r : rows) {
-    qa.y.push_back(xy_chromaticity(r.zenith.xyz).x);
-    qb.y.push_back(xy_chromaticity(r.horizon_toward_sun.xyz).x);
+    qa.y.push_back(chromaticity_or_nan(r.zenith.xyz).x);
+    qb.y.push_back(chromaticity_or_nan(r.horizon_toward_sun.xyz).x);
     qc.y.push_back(r.sun_transmitted.Y > 0 ? r.sun_chromaticity.x : std::nan(""));
   }
   q.series = {qa, qb, qc};
