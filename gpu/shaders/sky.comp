@@ -42,7 +42,7 @@ void main() {
     float p_ray = has_ext[0] != 0 ? phase_value(0, nuf) : 0.0;
     float p_mie = has_ext[1] != 0 ? phase_value(1, nuf) : 0.0;
     double rt2 = r * r * ((1.0LF - mu) * (1.0LF + mu));
-    // Cuts: shell crossings and the tangent point, sorted.
+    // Cuts: shell crossings, shadow edges and the tangent point, sorted.
     float cuts[kMaxCuts];
     int nc = 0;
     cuts[nc++] = 0.0;
@@ -54,6 +54,10 @@ void main() {
       float s1 = float(t - qd), s2 = float(t + qd);
       if (s1 > 0.0 && s1 < s_end) cuts[nc++] = s1;
       if (s2 > 0.0 && s2 < s_end) cuts[nc++] = s2;
+    }
+    for (int i = 0; i < 2; ++i) {  // edges of the Earth's shadow (shared formula, in double)
+      double se = shadow_edge_distance(r, mu, mu_s, nu, Rd, i);
+      if (se > 0.0LF && se < double(s_end)) cuts[nc++] = float(se);
     }
     float st = float(-r * mu);
     if (st > 0.0 && st < s_end) cuts[nc++] = st;

@@ -39,7 +39,7 @@ uniform float max_piece_optical_depth;
 uniform float irradiance_scale;    // 1 / d_AU^2
 uniform float albedo;
 
-const int kMaxCuts = 131;
+const int kMaxCuts = 133;  // 2 x 64 shell crossings, 2 shadow edges, tangent point, two ends
 const int kMaxWavelengths = 64;
 
 float phase_value(int c, float nu) {

@@ -126,6 +126,16 @@ void crossings(const Ray& ray, double k, Out&& out) {
     if (s > 0 && s < ray.s_end) out(s);
 }
 
+// Distances in (0, s_end) where the view ray crosses the edge of the Earth's shadow
+// (shared formula: shared/lut.glsl.hpp, shadow_edge_distance).
+template <class Out>
+void shadow_crossings(const Ray& ray, double R, Out&& out) {
+  for (int i = 0; i < 2; ++i) {
+    const double s = sg::shadow_edge_distance(ray.r, ray.mu, ray.mu_s, ray.nu, R, i);
+    if (s > 0 && s < ray.s_end) out(s);
+  }
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- fast path
@@ -135,9 +145,10 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
   check_solar(atm_, solar_);
   if (opt_.samples_per_segment < 1 || opt_.samples_per_segment > 8)
     throw InputError("samples per segment " + std::to_string(opt_.samples_per_segment) + " is outside [1, 8]");
-  if (opt_.segments < 1 || opt_.segments > opt_.lut.shells - 1)
-    throw InputError("view-ray segments " + std::to_string(opt_.segments) + " is outside [1, shells - 1 = " +
-                     std::to_string(opt_.lut.shells - 1) + "]");
+  const int max_segments = std::min(opt_.lut.shells - 1, 64);  // the cut buffer holds 2 x 64 crossings
+  if (opt_.segments < 1 || opt_.segments > max_segments)
+    throw InputError("view-ray segments " + std::to_string(opt_.segments) + " is outside [1, " +
+                     std::to_string(max_segments) + "] (at most shells - 1 and 64)");
   if (!(opt_.max_piece_optical_depth > 0))
     throw InputError("max piece optical depth " + std::to_string(opt_.max_piece_optical_depth) + " must be > 0");
   if (!(opt_.sun_distance_au > 0) || !std::isfinite(opt_.sun_distance_au))
@@ -174,11 +185,12 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   const double p_mie = atm_.has(kMie) ? phase_[1].value(ray.nu) : 0.0;
 
   // Pieces between shell crossings and the tangent point.
-  double cuts[2 * 64 + 3];
+  double cuts[2 * 64 + 5];
   int nc = 0;
   cuts[nc++] = 0.0;
   for (double k : cut_radii_)
     crossings(ray, k, [&](double s) { cuts[nc++] = s; });
+  shadow_crossings(ray, R, [&](double s) { cuts[nc++] = s; });
   const double st = sg::tangent_distance(ray.r, ray.mu);
   if (st > 0 && st < ray.s_end) cuts[nc++] = st;
   cuts[nc++] = ray.s_end;
@@ -316,6 +328,7 @@ SkyReferenceResult SkyReference::radiance(double altitude_m, const glm::dvec3& v
   std::vector<double> alts = atm_.kinks();
   for (double h = 250.0; h < atm_.top_altitude(); h *= 2) alts.push_back(h);
   for (double h : alts) crossings(ray, R + h, [&](double s) { pts.push_back(s); });
+  shadow_crossings(ray, R, [&](double s) { pts.push_back(s); });
 
   const double scale = 1.0 / (opt_.sun_distance_au * opt_.sun_distance_au);
   for (std::size_t g = 0; g < nw; g += 3) {

@@ -21,7 +21,7 @@
 //
 // SkyIntegrator (fast): the view ray is cut where it crosses `segments` of the
 // shells of the Nishita tables (OpticalDepthLut; shells sit at equal optical mass)
-// and at the tangent point; pieces longer than `max_piece_optical_depth` in
+// at the tangent point and at the edge of the Earth's shadow; pieces longer than `max_piece_optical_depth` in
 // extinction are split further (near-horizontal rays near the ground), and each
 // piece gets an n-point Gauss-Legendre rule (n = samples_per_segment). Optical depths come from
 // the tables: view depth from the observer to a sample as the difference of the
@@ -49,7 +49,7 @@ namespace atmosh::atmo {
 
 struct SkyOptions {
   LutOptions lut;                 // table sizes
-  int segments = 16;              // shells (of the table's, evenly picked) that cut the view ray, 1..lut.shells-1
+  int segments = 16;              // shells (of the table's, evenly picked) that cut the view ray, 1..min(lut.shells-1, 64)
   int samples_per_segment = 2;    // Gauss-Legendre points per piece (1..8)
   double max_piece_optical_depth = 0.5;  // pieces are split until their extinction optical depth
                                          // (most extinct wavelength, densest end) stays below this

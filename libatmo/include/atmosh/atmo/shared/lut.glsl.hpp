@@ -41,6 +41,30 @@ ATMOSH_FN real cos_zenith_along(real r, real c, real nu, real s, real rs) {
   return glm::clamp((r * c + s * nu) / rs, real(-1), real(1));
 }
 
+// Distance along a view ray (origin radius r, view cosine mu, sun cosine mu_s,
+// cos(view, sun) nu) at which the sun ray from the point grazes the ground sphere R:
+// root i (0 or 1) of (1 - nu^2) s^2 + 2 r (mu - mu_s nu) s + (r^2 - R^2 - r^2 mu_s^2)
+// = 0, i.e. |P|^2 - (P.l)^2 = R^2, kept only where P.l = r mu_s + s nu < 0 (the sun
+// below the point's horizon side) and s > 0; -1 otherwise. The single-scattering
+// integrand jumps there (the edge of the Earth's shadow), so the integrators cut
+// the view ray at these distances. Stable root formulas (no cancellation in q).
+ATMOSH_FN real shadow_edge_distance(real r, real mu, real mu_s, real nu, real R, int i) {
+  real a = (real(1) - nu) * (real(1) + nu);
+  real b = r * (mu - mu_s * nu);
+  real c = (r - R) * (r + R) - r * r * mu_s * mu_s;
+  real s = real(-1);
+  if (a < real(1e-12)) {
+    if (i == 0 && b != real(0)) s = -c / (real(2) * b);
+  } else {
+    real disc = b * b - a * c;
+    if (disc >= real(0)) {
+      real q = -(b + (b >= real(0) ? real(1) : real(-1)) * glm::sqrt(disc));
+      if (q != real(0)) s = (i == 0) ? q / a : c / q;
+    }
+  }
+  return (s > real(0) && r * mu_s + s * nu < real(0)) ? s : real(-1);
+}
+
 // ATMOSH_GLSL_END
 
 #undef ATMOSH_FN
