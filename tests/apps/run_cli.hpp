@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include <gtest/gtest.h>
+
 namespace atmosh::test {
 
 struct CliResult {
@@ -46,6 +48,22 @@ inline int count_lines(const std::string& s) {
   int n = 0;
   for (char c : s) n += c == '\n';
   return n;
+}
+
+// A fresh, empty scratch folder for one test: <tmp>/<prefix>_<pid>/<name>.
+inline std::filesystem::path scratch_dir(const std::string& prefix, const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / (prefix + "_" + std::to_string(::getpid())) / name;
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+// The CLI rejects `args` as bad input: exit 2, one line on stderr naming `names`.
+inline void expect_bad_input(const std::string& args, const std::string& names) {
+  const auto r = run_cli(args);
+  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << args << "\n" << r.err;
+  EXPECT_NE(r.err.find(names), std::string::npos) << args << ": '" << r.err << "' does not name " << names;
 }
 
 }  // namespace atmosh::test

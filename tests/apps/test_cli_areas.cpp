@@ -18,18 +18,8 @@ using atmosh::test::run_cli;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("atmosh_cli_areas_" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-void expect_bad(const std::string& args, const std::string& names) {
-  const auto r = run_cli(args);
-  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
-  EXPECT_EQ(count_lines(r.err), 1) << args << "\n" << r.err;
-  EXPECT_NE(r.err.find(names), std::string::npos) << args << ": '" << r.err << "' does not name " << names;
-}
+fs::path scratch(const std::string& name) { return atmosh::test::scratch_dir("atmosh_cli_areas", name); }
+void expect_bad(const std::string& args, const std::string& names) { atmosh::test::expect_bad_input(args, names); }
 }  // namespace
 
 TEST(CliAreas, PhaseJsonMatchesClosedForm) {
