@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <exception>
 #include <thread>
 #include <vector>
 
@@ -138,4 +139,37 @@ void BM_Interreflect(benchmark::State& state) {
   state.counters["vertices"] = static_cast<double>(m.vertex_count());
 }
 BENCHMARK(BM_Interreflect)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Per-pixel transfer, 256 x 256 pixels of the 100k-vertex torus, 100 directions:
+// the GPU depth-map method (time per sample direction: one depth map of
+// range(1)^2 texels + the accumulation pass) against CPU ray casting (range(0): 0 = CPU,
+// 1 = GPU). Skipped when no EGL device exists.
+void BM_PixelTransfer(benchmark::State& state) {
+  const prt::Mesh& m = big_mesh();
+  prt::BakeOptions o;
+  o.bands = 4;
+  o.strata = kStrata;
+  o.threads = threads();
+  o.device = state.range(0) == 0 ? prt::Device::cpu : prt::Device::gpu;
+  o.depth_resolution = static_cast<int>(state.range(1));
+  double per_dir = 0;
+  try {
+    for (auto _ : state) {
+      const auto px = prt::bake_pixels(m, o, 256, 256, {1, -1.6, 1.1});
+      per_dir += px.device == prt::Device::gpu ? px.seconds_per_direction : px.ray_seconds / px.samples;
+      benchmark::DoNotOptimize(px.coeffs.data());
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  state.counters["ms_per_direction"] = 1e3 * per_dir / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_PixelTransfer)
+    ->Args({0, 0})
+    ->Args({1, 512})
+    ->Args({1, 2048})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
 }  // namespace

@@ -11,6 +11,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -161,8 +162,40 @@ std::pair<double, double> transfer_error(const prt::Transfer& t, const prt::Tran
   return {emax / scale, std::sqrt(esum / static_cast<double>(nv)) / scale};
 }
 
+// Per-pixel transfer error of `t` against `ref` (same camera): per pixel seen by both,
+// |T - T_ref|_2 relative to max_p |T_ref,p|_2; returns {max, rms}.
+std::pair<double, double> pixel_error(const prt::PixelTransfer& t, const prt::PixelTransfer& ref) {
+  const std::size_t np = ref.mask.size(), K = static_cast<std::size_t>(ref.bands) * ref.bands;
+  double scale = 0, emax = 0, esum = 0, n = 0;
+  for (std::size_t p = 0; p < np; ++p) {
+    double s = 0;
+    for (std::size_t i = 0; i < K; ++i) s += ref.coeffs[p * K + i] * ref.coeffs[p * K + i];
+    scale = std::max(scale, std::sqrt(s));
+  }
+  for (std::size_t p = 0; p < np; ++p) {
+    if (t.mask[p] == 0 || ref.mask[p] == 0) continue;
+    double e = 0;
+    for (std::size_t i = 0; i < K; ++i) e += std::pow(t.coeffs[p * K + i] - ref.coeffs[p * K + i], 2);
+    emax = std::max(emax, std::sqrt(e));
+    esum += e;
+    n += 1;
+  }
+  scale = scale > 0 ? scale : 1.0;
+  return {emax / scale, n > 0 ? std::sqrt(esum / n) / scale : 0.0};
+}
+
+// What the per-pixel rows of a converge study cover: the camera image size, and whether
+// (and at which depth-map resolutions) the GPU depth-map method runs.
+struct PixelStudy {
+  int width = 96, height = 96;
+  std::string device = "auto";       // cpu: CPU rows only; gpu: GPU rows or an error; auto: GPU rows if possible
+  std::vector<int> depth_maps = {256, 1024};
+  glm::dvec3 view{1, -1.6, 1.1};
+};
+
 std::vector<fs::path> converge_study(const prt::Mesh& mesh, int bands, sh::prt::TransferMode mode, int ref_strata,
-                                     const std::vector<int>& strata, int threads, const fs::path& stem) {
+                                     const std::vector<int>& strata, int threads, const PixelStudy& px,
+                                     const fs::path& stem) {
   prt::BakeOptions bo;
   bo.bands = bands;
   bo.mode = mode;
@@ -173,6 +206,7 @@ std::vector<fs::path> converge_study(const prt::Mesh& mesh, int bands, sh::prt::
   std::vector<io::StudyRow> rows;
   bo.strata = 1;
   prt::bake(mesh, bo);  // warm-up: one-time library start-up is not part of any row's time
+  const std::string mode_name = sh::prt::transfer_mode_name(mode);
   for (int s : strata) {
     bo.strata = s;
     bo.seed = 1;
@@ -180,18 +214,73 @@ std::vector<fs::path> converge_study(const prt::Mesh& mesh, int bands, sh::prt::
     const prt::Transfer t = prt::bake(mesh, bo);
     const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
     const auto [emax, erms] = transfer_error(t, ref);
-    rows.push_back({std::string("cpu-") + sh::prt::transfer_mode_name(mode) + "-jittered", std::to_string(s * s) + " samples",
-                    emax, erms, dt, {static_cast<double>(s * s), static_cast<double>(t.rays)}});
+    rows.push_back({"cpu-" + mode_name + "-jittered", std::to_string(s * s) + " samples", emax, erms, dt,
+                    {static_cast<double>(s * s), static_cast<double>(t.rays), 0.0}});
+  }
+  auto prov = io::Provenance::current();
+  // Per-pixel rows (shadowed only): CPU ray casting and the GPU depth-map method against
+  // a per-pixel reference of the same camera.
+  std::string gpu_note = "not run (--device cpu)";
+  if (mode == sh::prt::TransferMode::shadowed) {
+    bo.strata = ref_strata;
+    bo.seed = 12345;
+    bo.device = prt::Device::cpu;
+    const prt::PixelTransfer pref = prt::bake_pixels(mesh, bo, px.width, px.height, px.view);
+    bool gpu = px.device != "cpu";
+    if (gpu) {
+      bo.device = prt::Device::gpu;
+      bo.strata = 1;
+      bo.depth_resolution = px.depth_maps.front();
+      try {
+        prt::bake_pixels(mesh, bo, px.width, px.height, px.view);  // warm-up (driver start-up, shader compile)
+        gpu_note = "depth-map method, per pixel";
+      } catch (const std::exception& e) {
+        if (px.device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
+        std::cerr << "atmosh: no GPU (" << e.what() << "); the study has no GPU rows\n";
+        gpu_note = std::string("not run (") + e.what() + ")";
+        gpu = false;
+      }
+    }
+    std::vector<std::vector<io::StudyRow>> gpu_rows(px.depth_maps.size());  // one line per depth map
+    for (int s : strata) {
+      bo.strata = s;
+      bo.seed = 1;
+      bo.device = prt::Device::cpu;
+      auto t0 = Clock::now();
+      const prt::PixelTransfer c = prt::bake_pixels(mesh, bo, px.width, px.height, px.view);
+      double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+      auto [emax, erms] = pixel_error(c, pref);
+      rows.push_back({"cpu-pixel-" + mode_name + "-jittered", std::to_string(s * s) + " samples", emax, erms, dt,
+                      {static_cast<double>(s * s), static_cast<double>(c.rays), 0.0}});
+      if (!gpu) continue;
+      bo.device = prt::Device::gpu;
+      for (std::size_t k = 0; k < px.depth_maps.size(); ++k) {
+        const int d = px.depth_maps[k];
+        bo.depth_resolution = d;
+        t0 = Clock::now();
+        const prt::PixelTransfer g = prt::bake_pixels(mesh, bo, px.width, px.height, px.view);
+        dt = std::chrono::duration<double>(Clock::now() - t0).count();
+        std::tie(emax, erms) = pixel_error(g, pref);
+        gpu_rows[k].push_back({"gpu-depthmap" + std::to_string(d) + "-" + mode_name + "-jittered",
+                        std::to_string(s * s) + " samples", emax, erms, dt,
+                        {static_cast<double>(s * s), 0.0, static_cast<double>(d)}});
+      }
+    }
+    for (const auto& g : gpu_rows) rows.insert(rows.end(), g.begin(), g.end());
+    prov.add("pixel_image", std::to_string(px.width) + "x" + std::to_string(px.height));
+    prov.add("pixel_error_definition",
+             "per pixel seen by both: |T - T_ref|_2 / max_p |T_ref|_2, reference: CPU ray casting, same camera");
+  } else {
+    gpu_note = "not run (per-pixel rows are shadowed only)";
   }
   io::StudySpec spec;
-  spec.title = "PRT per-vertex transfer (" + mesh.name + ", " + std::to_string(bands) + " bands) vs " +
+  spec.title = "PRT transfer (" + mesh.name + ", " + std::to_string(bands) + " bands) vs " +
                std::to_string(ref_strata * ref_strata) + "-sample reference";
-  spec.extra_columns = {"samples", "rays"};
-  auto prov = io::Provenance::current();
-  prov.add("mesh", mesh.name).add("bands", std::to_string(bands)).add("mode", sh::prt::transfer_mode_name(mode));
+  spec.extra_columns = {"samples", "rays", "depth_map"};
+  prov.add("mesh", mesh.name).add("bands", std::to_string(bands)).add("mode", mode_name);
   prov.add("reference_samples", std::to_string(ref_strata * ref_strata));
-  prov.add("error_definition", "per-vertex |T - T_ref|_2 / max_v |T_ref|_2");
-  prov.add("gpu_method", "per-pixel depth-map method not available yet (no rows)");
+  prov.add("error_definition", "per-vertex rows: per-vertex |T - T_ref|_2 / max_v |T_ref|_2");
+  prov.add("gpu_method", gpu_note);
   return io::write_study(stem, spec, rows, prov);
 }
 
@@ -204,7 +293,7 @@ void register_prt_commands(CLI::App& app) {
   {
     struct Opt {
       std::string mesh, builtin, mode = "shadowed", device = "cpu", out, size = "256x256", view = "1,-1.6,1.1";
-      int bands = 3, samples = 2025, bounces = 2, threads = 0, resolution = 32;
+      int bands = 3, samples = 2025, bounces = 2, threads = 0, resolution = 32, depth_map = 1024;
       double albedo = 0.8;
       std::uint64_t seed = 1;
       bool json = false, quiet = false;
@@ -221,7 +310,8 @@ void register_prt_commands(CLI::App& app) {
     c->add_option("--albedo", o->albedo, "albedo where the mesh gives none (default 0.8)");
     c->add_option("--seed", o->seed, "random seed of the sample set (default 1)");
     c->add_option("--threads", o->threads, "worker threads (0 = all cores)");
-    c->add_option("--device", o->device, "cpu (per-vertex) | gpu (per-pixel; not available yet)");
+    c->add_option("--device", o->device, "cpu (ray casting) | gpu (depth-map method; per-pixel .exr output only)");
+    c->add_option("--depth-map", o->depth_map, "GPU: depth-map texels per side (16..16384, default 1024)");
     c->add_option("--size", o->size, "per-pixel (.exr) output: image size WxH (default 256x256)");
     c->add_option("--view", o->view, "per-pixel (.exr) output: direction from the scene centre to the camera");
     c->add_option("-o,--output", o->out, "transfer file: .ply per-vertex, .exr per-pixel (camera view)")->required();
@@ -230,8 +320,9 @@ void register_prt_commands(CLI::App& app) {
     c->callback([o] {
       prt::BakeOptions bo;
       bo.device = prt::parse_device(o->device);
-      if (bo.device == prt::Device::gpu)
-        throw InputError("--device gpu: per-pixel GPU transfer is not available yet (use --device cpu)");
+      bo.depth_resolution = o->depth_map;
+      if (o->depth_map < 16 || o->depth_map > 16384)
+        throw InputError("--depth-map: must be in 16..16384, got " + std::to_string(o->depth_map));
       bo.mode = sh::prt::parse_transfer_mode(o->mode);
       bo.bands = o->bands;
       if (o->bands < 1 || o->bands > 16) throw InputError("--bands: must be in 1..16, got " + std::to_string(o->bands));
@@ -244,14 +335,17 @@ void register_prt_commands(CLI::App& app) {
       const std::string ext = fs::path(o->out).extension().string();
       if (ext != ".ply" && ext != ".exr")
         throw InputError("-o: '" + o->out + "' must end in .ply (per-vertex) or .exr (per-pixel)");
+      if (bo.device == prt::Device::gpu && ext != ".exr")
+        throw InputError("--device gpu: the depth-map method is per-pixel; write an .exr (per-vertex bakes use --device cpu)");
       const auto sz = parse_size(o->size, "--size");
       const auto vv = parse_triple(o->view, "--view");
       const prt::Mesh mesh = load_input(o->mesh, o->builtin, o->resolution);
       const bool show = !o->quiet && ::isatty(STDERR_FILENO);
       if (show) bo.progress = [](double f) { std::fprintf(stderr, "\rprt bake: %3d%%", static_cast<int>(100 * f)); };
-      if (ext == ".exr") {  // per-pixel transfer, CPU ray-casting reference
+      if (ext == ".exr") {  // per-pixel transfer: CPU ray casting or the GPU depth-map method
         const auto t0 = Clock::now();
         const prt::PixelTransfer px = prt::bake_pixels(mesh, bo, sz[0], sz[1], {vv[0], vv[1], vv[2]});
+        const bool gpu_run = px.device == prt::Device::gpu;
         const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
         if (show) std::fprintf(stderr, "\n");
         std::vector<std::string> names;
@@ -268,15 +362,18 @@ void register_prt_commands(CLI::App& app) {
         ex.string_attributes["atmosh:sh_convention"] = "real orthonormal, Condon-Shortley phase, index l(l+1)+m";
         ex.string_attributes["atmosh:view"] = o->view;
         ex.string_attributes["atmosh:samples"] = std::to_string(px.samples);
+        ex.string_attributes["atmosh:device"] = gpu_run ? "gpu" : "cpu";
+        if (gpu_run) ex.string_attributes["atmosh:depth_map"] = std::to_string(px.depth_resolution);
         auto prov = io::Provenance::current();
         prov.add("mesh", mesh.name);
         io::write_exr(o->out, ex, prov);
         if (o->json)
           print_json({{"file", o->out}, {"width", px.width}, {"height", px.height}, {"bands", px.bands},
                       {"coefficients", px.bands * px.bands}, {"samples", px.samples},
-                      {"mode", sh::prt::transfer_mode_name(bo.mode)}, {"device", "cpu"}, {"rays", px.rays},
-                      {"ray_seconds", px.ray_seconds},
+                      {"mode", sh::prt::transfer_mode_name(bo.mode)}, {"device", gpu_run ? "gpu" : "cpu"},
+                      {"rays", px.rays}, {"ray_seconds", px.ray_seconds},
                       {"rays_per_s", px.ray_seconds > 0 ? static_cast<double>(px.rays) / px.ray_seconds : 0.0},
+                      {"depth_map", px.depth_resolution}, {"seconds_per_direction", px.seconds_per_direction},
                       {"time_s", dt}});
         else
           std::cout << "wrote " << o->out << " (" << px.width << "x" << px.height << " pixels, " << K << " coefficients)\n";
@@ -335,6 +432,7 @@ void register_prt_commands(CLI::App& app) {
   {
     struct Opt {
       std::string mesh, builtin = "sphere-on-plane", mode = "shadowed", out, strata = "4,8,16,32,45";
+      std::string device = "auto", pixels = "96x96", depth_maps = "256,1024", view = "1,-1.6,1.1";
       int bands = 3, resolution = 16, reference_samples = 16384, threads = 0;
     };
     auto o = std::make_shared<Opt>();
@@ -347,8 +445,32 @@ void register_prt_commands(CLI::App& app) {
     c->add_option("--strata", o->strata, "jittered strata per side of the rows (default 4,8,16,32,45)");
     c->add_option("--reference-samples", o->reference_samples, "samples of the reference (square, default 16384)");
     c->add_option("--threads", o->threads, "worker threads (0 = all cores)");
+    c->add_option("--device", o->device,
+                  "per-pixel rows: cpu (ray casting only) | gpu (also the depth-map method) | auto (GPU if an EGL "
+                  "device exists; default)");
+    c->add_option("--pixels", o->pixels, "per-pixel rows: camera image size WxH (default 96x96)");
+    c->add_option("--depth-maps", o->depth_maps, "GPU rows: depth-map sizes (default 256,1024)");
+    c->add_option("--view", o->view, "per-pixel rows: direction from the scene centre to the camera");
     c->add_option("-o,--output", o->out, "output stem (writes STEM.csv and STEM.png)")->required();
     c->callback([o] {
+      if (o->device != "cpu" && o->device != "gpu" && o->device != "auto")
+        throw InputError("--device " + o->device + ": must be cpu, gpu or auto");
+      PixelStudy px;
+      px.device = o->device;
+      const auto sz = parse_size(o->pixels, "--pixels");
+      px.width = sz[0];
+      px.height = sz[1];
+      if (sz[0] > 4096 || sz[1] > 4096) throw InputError("--pixels: '" + o->pixels + "' exceeds 4096x4096");
+      px.depth_maps.clear();
+      for (double d : parse_list(o->depth_maps, "--depth-maps")) {
+        if (d < 16 || d > 16384 || d != std::floor(d))
+          throw InputError("--depth-maps: " + io::format_double(d) + " is not an integer in 16..16384");
+        px.depth_maps.push_back(static_cast<int>(d));
+      }
+      if (px.depth_maps.empty()) throw InputError("--depth-maps: empty list");
+      const auto vv = parse_triple(o->view, "--view");
+      px.view = {vv[0], vv[1], vv[2]};
+      if (glm::length(px.view) == 0) throw InputError("--view: zero vector '" + o->view + "'");
       const prt::Mesh mesh = load_input(o->mesh, o->mesh.empty() ? o->builtin : "", o->resolution);
       const auto mode = sh::prt::parse_transfer_mode(o->mode);
       if (mode == sh::prt::TransferMode::unshadowed)
@@ -360,7 +482,7 @@ void register_prt_commands(CLI::App& app) {
         strata.push_back(static_cast<int>(s));
       }
       const auto files = converge_study(mesh, o->bands, mode, strata_of_samples(o->reference_samples), strata,
-                                        o->threads, o->out);
+                                        o->threads, px, o->out);
       for (const auto& f : files) std::cout << "wrote " << f.string() << "\n";
     });
   }
@@ -387,8 +509,12 @@ void demo_prt(DemoContext& ctx) {
   ro.width = ro.height = ctx.quick ? 96 : 384;
   for (const auto& f : relight_to(t, ro, dir / "relight")) ctx.written.push_back(f);
   const std::vector<int> strata = ctx.quick ? std::vector<int>{3, 6} : std::vector<int>{4, 8, 16, 32, 45};
+  PixelStudy px;  // GPU rows where an EGL device exists (llvmpipe included)
+  px.width = px.height = ctx.quick ? 32 : 96;
+  px.depth_maps = ctx.quick ? std::vector<int>{64, 256} : std::vector<int>{256, 1024};
   for (const auto& f : converge_study(prt::builtin_scene("sphere-on-plane", ctx.quick ? 6 : 16), 3,
-                                      sh::prt::TransferMode::shadowed, ctx.quick ? 24 : 128, strata, 0, dir / "converge"))
+                                      sh::prt::TransferMode::shadowed, ctx.quick ? 24 : 128, strata, 0, px,
+                                      dir / "converge"))
     ctx.written.push_back(f);
 }
 

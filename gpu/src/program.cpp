@@ -62,7 +62,8 @@ void check_gl(const char* what) {
   }
 }
 
-Program::Program(const std::vector<ShaderPart>& parts, const std::string& defines) {
+namespace {
+std::string assemble(const std::vector<ShaderPart>& parts, const std::string& defines) {
   std::string src = "#version 430 core\n#define real float\n#define ATMOSH_FN\n#define ATMOSH_GLSL 1\n" + defines;
   if (!src.empty() && src.back() != '\n') src += '\n';
   for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -70,8 +71,15 @@ Program::Program(const std::vector<ShaderPart>& parts, const std::string& define
     src += parts[i].text;
     if (!parts[i].text.empty() && parts[i].text.back() != '\n') src += '\n';
   }
-  const GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
-  if (!sh) throw ShaderError("glCreateShader(GL_COMPUTE_SHADER) failed (no current OpenGL 4.3 context?)");
+  return src;
+}
+
+// Compiles one stage; throws ShaderError with the mapped log.
+GLuint compile_stage(GLenum stage, const char* stage_name, const std::vector<ShaderPart>& parts,
+                     const std::string& defines) {
+  const std::string src = assemble(parts, defines);
+  const GLuint sh = glCreateShader(stage);
+  if (!sh) throw ShaderError(std::string("glCreateShader(") + stage_name + ") failed (no current OpenGL 4.3 context?)");
   const char* p = src.c_str();
   glShaderSource(sh, 1, &p, nullptr);
   glCompileShader(sh);
@@ -86,21 +94,46 @@ Program::Program(const std::vector<ShaderPart>& parts, const std::string& define
     log.resize(log.find('\0') == std::string::npos ? log.size() : log.find('\0'));
     throw ShaderError("GLSL compile error:\n" + map_shader_log(log, parts));
   }
-  id_ = glCreateProgram();
-  glAttachShader(id_, sh);
-  glLinkProgram(id_);
-  glDeleteShader(sh);
-  glGetProgramiv(id_, GL_LINK_STATUS, &ok);
+  return sh;
+}
+
+// Links the stages into a program (deleting them); throws ShaderError with the log
+// mapped through `parts` (the last stage's parts).
+GLuint link_program(const std::vector<GLuint>& stages, const std::vector<ShaderPart>& parts) {
+  const GLuint id = glCreateProgram();
+  for (GLuint sh : stages) glAttachShader(id, sh);
+  glLinkProgram(id);
+  for (GLuint sh : stages) glDeleteShader(sh);
+  GLint ok = 0;
+  glGetProgramiv(id, GL_LINK_STATUS, &ok);
   if (!ok) {
     GLint n = 0;
-    glGetProgramiv(id_, GL_INFO_LOG_LENGTH, &n);
+    glGetProgramiv(id, GL_INFO_LOG_LENGTH, &n);
     std::string log(static_cast<std::size_t>(std::max(n, 1)), '\0');
-    glGetProgramInfoLog(id_, n, nullptr, log.data());
-    glDeleteProgram(id_);
-    id_ = 0;
+    glGetProgramInfoLog(id, n, nullptr, log.data());
+    glDeleteProgram(id);
     log.resize(log.find('\0') == std::string::npos ? log.size() : log.find('\0'));
     throw ShaderError("GLSL link error:\n" + map_shader_log(log, parts));
   }
+  return id;
+}
+}  // namespace
+
+Program::Program(const std::vector<ShaderPart>& parts, const std::string& defines) {
+  id_ = link_program({compile_stage(GL_COMPUTE_SHADER, "GL_COMPUTE_SHADER", parts, defines)}, parts);
+}
+
+Program::Program(const std::vector<ShaderPart>& vertex, const std::vector<ShaderPart>& fragment,
+                 const std::string& defines) {
+  const GLuint vs = compile_stage(GL_VERTEX_SHADER, "GL_VERTEX_SHADER", vertex, defines);
+  GLuint fs = 0;
+  try {
+    fs = compile_stage(GL_FRAGMENT_SHADER, "GL_FRAGMENT_SHADER", fragment, defines);
+  } catch (...) {
+    glDeleteShader(vs);
+    throw;
+  }
+  id_ = link_program({vs, fs}, fragment);
 }
 
 Program::~Program() {
@@ -117,6 +150,9 @@ void Program::set(const char* name, float x, float y, float z) const {
 }
 
 void Program::set_double(const char* name, double v) const { glProgramUniform1d(id_, uniform(name), v); }
+void Program::set_mat4(const char* name, const float* column_major) const {
+  glProgramUniformMatrix4fv(id_, uniform(name), 1, GL_FALSE, column_major);
+}
 
 void Program::dispatch(unsigned gx, unsigned gy, unsigned gz) const {
   glUseProgram(id_);

@@ -1,10 +1,12 @@
-// CLI contract of `atmosh prt`: bake / relight / converge run end to end; bad meshes,
-// a GPU request and bad options exit 2 with one line naming the value.
+// CLI contract of `atmosh prt`: bake / relight / converge run end to end (CPU and the
+// GPU depth-map method); bad meshes, a per-vertex GPU request and bad options exit 2
+// with one line naming the value.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -50,11 +52,13 @@ TEST(CliPrt, BakeRelightConverge) {
   ASSERT_EQ(px.exit_code, 0) << px.err;
   EXPECT_EQ(nlohmann::json::parse(px.out)["width"].get<int>(), 24);
   EXPECT_TRUE(fs::exists(d / "px.exr"));
-  const auto cv = run_cli("prt converge --scene-builtin sphere-on-plane --resolution 4 --strata 2,4 --reference-samples 64 -o '" +
-                          (d / "conv").string() + "'");
+  const auto cv = run_cli("prt converge --scene-builtin sphere-on-plane --resolution 4 --strata 2,4 --reference-samples 64 "
+                          "--device cpu --pixels 16x16 -o '" + (d / "conv").string() + "'");
   ASSERT_EQ(cv.exit_code, 0) << cv.err;
   const auto csv = atmosh::io::read_csv(d / "conv.csv");
-  EXPECT_EQ(csv.rows.size(), 2u);
+  ASSERT_EQ(csv.rows.size(), 4u);  // two per-vertex rows, two per-pixel rows
+  EXPECT_EQ(csv.rows[0][0], "cpu-shadowed-jittered");
+  EXPECT_EQ(csv.rows[3][0], "cpu-pixel-shadowed-jittered");
   EXPECT_TRUE(fs::exists(d / "conv.png"));
 }
 
@@ -72,16 +76,53 @@ TEST(CliPrt, BadInputExitsTwo) {
   expect_bad("prt bake '" + (d / "nonmanifold.obj").string() + "'" + out, "non-manifold");
   expect_bad("prt bake '" + (d / "missing.obj").string() + "'" + out, "missing.obj");
   expect_bad("prt bake --scene-builtin teapot" + out, "teapot");
-  expect_bad("prt bake --scene-builtin torus --device gpu" + out, "not available yet");
+  expect_bad("prt bake --scene-builtin torus --device gpu" + out, "per-pixel");
+  expect_bad("prt bake --scene-builtin torus --device tpu" + out, "tpu");
+  expect_bad("prt bake --scene-builtin torus --depth-map 8 -o '" + (d / "t.exr").string() + "'", "--depth-map");
+  expect_bad("prt converge --device tpu -o '" + (d / "c").string() + "'", "tpu");
+  expect_bad("prt converge --depth-maps 256,9 -o '" + (d / "c").string() + "'", "--depth-maps");
   expect_bad("prt bake --scene-builtin torus --mode glossy" + out, "glossy");
   expect_bad("prt bake --scene-builtin torus --bands 0" + out, "--bands");
   expect_bad("prt bake --scene-builtin torus --samples 1000" + out, "1000");
   expect_bad("prt bake --scene-builtin torus -o '" + (d / "t.obj").string() + "'", "t.obj");
-  expect_bad("prt bake --scene-builtin torus --device gpu -o '" + (d / "t.exr").string() + "'", "not available yet");
   expect_bad("prt bake --scene-builtin torus --albedo 1.5" + out, "--albedo");
   expect_bad("prt converge --mode unshadowed -o '" + (d / "c").string() + "'", "unshadowed");
   expect_bad("prt relight '" + (d / "missing.ply").string() + "' --light-dir 0,0,1 -o '" + d.string() + "'", "missing.ply");
   const auto r = run_cli("prt bake '" + (d / "nan.ply").string() + "'" + out);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
+}
+
+// The GPU depth-map method from the command line (Mesa llvmpipe in CI): a per-pixel EXR
+// with the same channels as the CPU one, and GPU rows in the converge study whose error
+// at the largest depth map stays near the CPU rows' (same samples, same seed).
+TEST(CliPrt, GpuDepthMapMethod) {
+  const fs::path d = scratch("gpu");
+  const auto r = run_cli("prt bake --scene-builtin sphere-on-plane --resolution 8 --samples 64 --size 24x16 --device gpu "
+                         "--depth-map 256 -o '" + (d / "g.exr").string() + "' --json");
+  if (r.exit_code == 1 && r.err.find("EGL") != std::string::npos && !std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT"))
+    GTEST_SKIP() << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["device"].get<std::string>(), "gpu");
+  EXPECT_EQ(j["depth_map"].get<int>(), 256);
+  EXPECT_GT(j["seconds_per_direction"].get<double>(), 0.0);
+  EXPECT_TRUE(fs::exists(d / "g.exr"));
+  const auto cv = run_cli("prt converge --scene-builtin sphere-on-plane --resolution 6 --strata 4,8 --reference-samples 256 "
+                          "--device gpu --pixels 32x32 --depth-maps 64,512 -o '" + (d / "conv").string() + "'");
+  ASSERT_EQ(cv.exit_code, 0) << cv.err;
+  const auto csv = atmosh::io::read_csv(d / "conv.csv");
+  ASSERT_EQ(csv.rows.size(), 8u);  // 2 per-vertex, 2 CPU per-pixel, 2 x 2 GPU
+  const std::size_t rms = csv.column("error_rms_rel"), method = csv.column("method");
+  double cpu64 = -1, gpu512_64 = -1;
+  for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+    const double e = csv.number(i, rms);
+    EXPECT_TRUE(std::isfinite(e) && e > 0) << csv.rows[i][method];
+    if (csv.rows[i][method] == "cpu-pixel-shadowed-jittered" && csv.rows[i][1] == "64 samples") cpu64 = e;
+    if (csv.rows[i][method] == "gpu-depthmap512-shadowed-jittered" && csv.rows[i][1] == "64 samples") gpu512_64 = e;
+  }
+  ASSERT_GT(cpu64, 0);
+  ASSERT_GT(gpu512_64, 0);
+  // Same estimator up to the visibility test: within 10 % of each other at 64 samples.
+  EXPECT_NEAR(gpu512_64, cpu64, 0.1 * cpu64);
 }

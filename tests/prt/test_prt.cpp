@@ -328,5 +328,7 @@ TEST(PrtPixels, LoneSpherePerPixelTransfer) {
   EXPECT_THROW(prt::bake_pixels(m, o, 8, 8, {0, 0, 1}), InputError);
   o.mode = sh::prt::TransferMode::shadowed;
   o.device = prt::Device::gpu;
+  EXPECT_THROW(prt::bake(m, o), InputError);  // the GPU method is per-pixel only
+  o.depth_resolution = 8;
   EXPECT_THROW(prt::bake_pixels(m, o, 8, 8, {0, 0, 1}), InputError);
 }

@@ -20,6 +20,9 @@
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/sh/basis.hpp"
+#if ATMOSH_HAVE_GPU
+#include "atmosh/gpu/prt.hpp"
+#endif
 
 namespace atmosh::prt {
 
@@ -118,41 +121,36 @@ bool RayScene::intersect(const glm::dvec3& org, const glm::dvec3& dir, double tn
 }
 
 // ---- camera -------------------------------------------------------------------------------
-namespace {
-// Looks at the bounding-box centre from direction view_dir, 40 deg vertical field of view.
-struct Camera {
-  glm::dvec3 eye, w, right, up;
-  double th = 0, aspect = 1;
-  int width = 1, height = 1;
-  Camera(const Mesh& mesh, int width_, int height_, const glm::dvec3& view_dir) : width(width_), height(height_) {
-    if (width < 1 || height < 1 || width > 16384 || height > 16384)
-      throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
-    if (!(glm::length(view_dir) > 0) || !std::isfinite(glm::length(view_dir)))
-      throw InputError("view direction is zero or not finite");
-    glm::dvec3 lo = mesh.positions[0], hi = lo;
-    for (const auto& p : mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-    const glm::dvec3 centre = 0.5 * (lo + hi);
-    const double radius = 0.5 * glm::length(hi - lo);
-    const double fov = 40.0 * kPi / 180.0;
-    w = glm::normalize(view_dir);
-    eye = centre + w * (radius / std::sin(0.5 * fov) * 1.02);
-    const glm::dvec3 up0 = std::abs(w.z) > 0.99 ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1);
-    right = glm::normalize(glm::cross(up0, w));
-    up = glm::cross(w, right);
-    th = std::tan(0.5 * fov);
-    aspect = static_cast<double>(width) / height;
-  }
-  glm::dvec3 ray(int row, int col) const {
-    const double x = (2.0 * (col + 0.5) / width - 1.0) * th * aspect, y = (1.0 - 2.0 * (row + 0.5) / height) * th;
-    return glm::normalize(-w + x * right + y * up);
-  }
-};
-}  // namespace
+PixelCamera::PixelCamera(const Mesh& mesh, int width_, int height_, const glm::dvec3& view_dir)
+    : width(width_), height(height_) {
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  if (!(glm::length(view_dir) > 0) || !std::isfinite(glm::length(view_dir)))
+    throw InputError("view direction is zero or not finite");
+  glm::dvec3 lo = mesh.positions[0], hi = lo;
+  for (const auto& p : mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const glm::dvec3 centre = 0.5 * (lo + hi);
+  const double radius = 0.5 * glm::length(hi - lo);
+  const double fov = 40.0 * kPi / 180.0;
+  w = glm::normalize(view_dir);
+  eye = centre + w * (radius / std::sin(0.5 * fov) * 1.02);
+  const glm::dvec3 up0 = std::abs(w.z) > 0.99 ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1);
+  right = glm::normalize(glm::cross(up0, w));
+  up = glm::cross(w, right);
+  tan_half_fov = std::tan(0.5 * fov);
+  aspect = static_cast<double>(width) / height;
+}
+
+glm::dvec3 PixelCamera::ray(int row, int col) const {
+  const double x = (2.0 * (col + 0.5) / width - 1.0) * tan_half_fov * aspect,
+               y = (1.0 - 2.0 * (row + 0.5) / height) * tan_half_fov;
+  return glm::normalize(-w + x * right + y * up);
+}
 
 // ---- bake -------------------------------------------------------------------------------
 Transfer bake(const Mesh& mesh_in, const BakeOptions& opt) {
   if (opt.device == Device::gpu)
-    throw InputError("--device gpu: per-pixel GPU transfer is not available yet (use --device cpu)");
+    throw InputError("--device gpu: the GPU depth-map method is per-pixel (write an .exr); per-vertex bakes use --device cpu");
   if (opt.bands < 1 || opt.bands > 16) throw InputError("--bands: must be in 1..16, got " + std::to_string(opt.bands));
   if (opt.strata < 1 || opt.strata > 2000)
     throw InputError("--samples: strata per side must be in 1..2000, got " + std::to_string(opt.strata));
@@ -268,10 +266,50 @@ Transfer bake(const Mesh& mesh_in, const BakeOptions& opt) {
   return tr;
 }
 
-// ---- per-pixel transfer (CPU reference) -------------------------------------------------
+// ---- per-pixel transfer -------------------------------------------------------------------
+namespace {
+// The GPU depth-map method (atmosh/gpu/prt.hpp) behind bake_pixels.
+PixelTransfer gpu_pixels(const Mesh& m, const PixelCamera& cam, const BakeOptions& opt) {
+#if ATMOSH_HAVE_GPU
+  const bool shadowed = opt.mode == sh::prt::TransferMode::shadowed;
+  const sh::prt::SampleSet samples = sh::prt::jittered_samples(opt.bands, opt.strata, opt.seed);
+  const gpu::Context ctx;
+  gpu::PrtCamera gc;
+  gc.eye = cam.eye;
+  gc.right = cam.right;
+  gc.up = cam.up;
+  gc.back = cam.w;
+  gc.tan_half_fov = cam.tan_half_fov;
+  gc.width = cam.width;
+  gc.height = cam.height;
+  gpu::PrtPixelOptions go;
+  go.depth_resolution = opt.depth_resolution;
+  go.visibility = shadowed;
+  go.offset = 1e-4 * std::max(bounding_diagonal(m), 1e-30);  // the CPU ray offset (RayScene)
+  const gpu::PrtPixelResult g =
+      gpu::prt_pixel_transfer(ctx, gpu::PrtMeshView{&m.positions, &m.normals, &m.albedo, &m.triangles}, gc, samples, go);
+  PixelTransfer px;
+  px.width = g.width;
+  px.height = g.height;
+  px.bands = g.bands;
+  px.samples = g.samples;
+  px.coeffs = g.coeffs;
+  px.ao = g.ao;
+  px.mask = g.mask;
+  px.device = Device::gpu;
+  px.ray_seconds = g.seconds;
+  px.depth_resolution = g.depth_resolution;
+  px.seconds_per_direction = g.seconds_per_direction;
+  if (opt.progress) opt.progress(1.0);
+  return px;
+#else
+  (void)m, (void)cam, (void)opt;
+  throw InputError("--device gpu: this build of atmosh has no GPU support (ATMOSH_WITH_GPU=OFF)");
+#endif
+}
+}  // namespace
+
 PixelTransfer bake_pixels(const Mesh& mesh_in, const BakeOptions& opt, int width, int height, const glm::dvec3& view_dir) {
-  if (opt.device == Device::gpu)
-    throw InputError("--device gpu: per-pixel GPU transfer is not available yet (use --device cpu)");
   if (opt.mode == sh::prt::TransferMode::interreflected)
     throw InputError("--mode interreflected: per-pixel transfer is unshadowed or shadowed");
   if (opt.bands < 1 || opt.bands > 16) throw InputError("--bands: must be in 1..16, got " + std::to_string(opt.bands));
@@ -284,10 +322,13 @@ PixelTransfer bake_pixels(const Mesh& mesh_in, const BakeOptions& opt, int width
   Mesh m = mesh_in;
   if (m.normals.size() != m.positions.size()) compute_normals(m);
   if (m.albedo.empty()) m.albedo.assign(m.positions.size(), opt.default_albedo);
-  const Camera cam(m, width, height, view_dir);
+  if (opt.device == Device::gpu && (opt.depth_resolution < 16 || opt.depth_resolution > 16384))
+    throw InputError("--depth-map: must be in 16..16384, got " + std::to_string(opt.depth_resolution));
+  const PixelCamera cam(m, width, height, view_dir);
+  const bool shadowed = opt.mode == sh::prt::TransferMode::shadowed;
+  if (opt.device == Device::gpu) return gpu_pixels(m, cam, opt);
   const RayScene scene(m);
   const double eps = scene.offset();
-  const bool shadowed = opt.mode == sh::prt::TransferMode::shadowed;
   const sh::prt::SampleSet samples = sh::prt::jittered_samples(opt.bands, shadowed ? opt.strata : 1, opt.seed);
   const std::size_t K = static_cast<std::size_t>(opt.bands) * opt.bands, np = static_cast<std::size_t>(width) * height;
   PixelTransfer px;
@@ -494,7 +535,7 @@ std::vector<std::vector<double>> relight_vertices(const Transfer& t, const std::
 std::vector<std::vector<float>> render_vertex_values(const RayScene& scene, const Mesh& mesh,
                                                      const std::vector<std::vector<double>>& values, int width,
                                                      int height, const glm::dvec3& view_dir) {
-  const Camera cam(mesh, width, height, view_dir);
+  const PixelCamera cam(mesh, width, height, view_dir);
   const glm::dvec3 eye = cam.eye;
   const std::size_t C = values.empty() ? 0 : values[0].size();
   std::vector<std::vector<float>> img(C, std::vector<float>(static_cast<std::size_t>(width) * height, 0.0f));

@@ -1,4 +1,4 @@
-// atmosh/gpu/program.hpp — GLSL compute programs assembled from the shared
+// atmosh/gpu/program.hpp — GLSL compute (and vertex + fragment) programs assembled from the shared
 // C++/GLSL sources, and shader storage buffers.
 //
 // Sources. The build (cmake/AtmoshEmbedGlsl.cmake) embeds, for each shared
@@ -59,6 +59,10 @@ class Program {
  public:
   // Compiles and links a compute shader. Throws ShaderError (mapped log).
   explicit Program(const std::vector<ShaderPart>& parts, const std::string& defines = "");
+  // Compiles and links a vertex + fragment program (rasterisation passes); each
+  // stage gets the same preamble and its own part numbering.
+  Program(const std::vector<ShaderPart>& vertex, const std::vector<ShaderPart>& fragment,
+          const std::string& defines = "");
   ~Program();
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;
@@ -72,6 +76,7 @@ class Program {
   void set(const char* name, float v) const;
   void set(const char* name, float x, float y, float z) const;
   void set_double(const char* name, double v) const;
+  void set_mat4(const char* name, const float* column_major) const;
   // glDispatchCompute + a barrier making shader-storage writes visible to
   // buffer read-back.
   void dispatch(unsigned gx, unsigned gy = 1, unsigned gz = 1) const;

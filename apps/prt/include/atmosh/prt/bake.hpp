@@ -18,8 +18,10 @@
 // 1% (the library never prints).
 //
 // Per-pixel transfer: bake_pixels() computes it on the CPU by ray casting (the
-// reference); the GPU depth-map method (`Device::gpu`) is not available yet: bake() and
-// bake_pixels() take the device so that a GPU back end can be added behind them.
+// reference) or, with `Device::gpu`, by the depth-map method of atmosh/gpu/prt.hpp
+// (rasterisation through headless EGL; same camera, same sample set, so the two differ
+// only by the depth-map visibility test — an error that shrinks with
+// `depth_resolution`). Per-vertex bakes are CPU only.
 //
 // Transfer files (.ply, ASCII, written atomically through atmosh::io): the mesh with
 // per-vertex properties x y z nx ny nz albedo ao t0 ... t{L^2-1} (float, 9 significant
@@ -53,6 +55,7 @@ struct BakeOptions {
   double default_albedo = 0.8;         ///< used where the mesh has none
   int threads = 0;                     ///< 0 = std::thread::hardware_concurrency()
   Device device = Device::cpu;
+  int depth_resolution = 1024;         ///< GPU per-pixel method: depth-map texels per side (16..16384)
   std::function<void(double)> progress;  ///< optional, called with 0..1
 };
 
@@ -90,21 +93,38 @@ class RayScene {
   double offset_ = 0;
 };
 
-/// Bakes per-vertex transfer. InputError for bad options or a GPU request (not available).
+/// Bakes per-vertex transfer. InputError for bad options or a GPU request (per-pixel only).
 Transfer bake(const Mesh& mesh, const BakeOptions& opt);
 
-/// Per-pixel transfer seen by a camera (the camera of render_vertex_values): for each
-/// pixel, the first surface point on the primary ray, with the barycentrically
-/// interpolated normal and albedo, gets the transfer of `opt.mode` (unshadowed or
-/// shadowed; CPU ray casting, the reference for a per-pixel GPU method). Pixels that
-/// see no surface have mask 0 and zero transfer. coeffs[(row * width + col) * L^2 + i].
+/// The camera of bake_pixels and render_vertex_values: looks at the bounding-box centre
+/// from direction view_dir (from the centre towards the camera), 40 degree vertical field
+/// of view, far enough for the bounding sphere to fit. Pixel (row, col), row 0 at the top,
+/// sees along ray(row, col). InputError for a bad size or direction.
+struct PixelCamera {
+  glm::dvec3 eye, w, right, up;  ///< w: unit, towards the camera; the view looks along -w
+  double tan_half_fov = 0, aspect = 1;
+  int width = 1, height = 1;
+  PixelCamera(const Mesh& mesh, int width, int height, const glm::dvec3& view_dir);
+  glm::dvec3 ray(int row, int col) const;
+};
+
+/// Per-pixel transfer seen by a PixelCamera: for each pixel, the first surface point
+/// on the primary ray, with the barycentrically interpolated normal and albedo, gets the
+/// transfer of `opt.mode` (unshadowed or shadowed). CPU: Embree ray casting (unshadowed:
+/// the closed form); GPU: the depth-map method (unshadowed: the same Monte Carlo sum
+/// without the visibility test). Pixels that see no surface have mask 0 and zero
+/// transfer. coeffs[(row * width + col) * L^2 + i]. A GPU request throws
+/// gpu::Unavailable when no EGL device exists (or InputError when built without gpu/).
 struct PixelTransfer {
   int width = 0, height = 0, bands = 0, samples = 0;
   std::vector<double> coeffs;
   std::vector<double> ao;      ///< cosine-weighted visible fraction per pixel
   std::vector<float> mask;     ///< 1 where a surface is seen
-  std::uint64_t rays = 0;
-  double ray_seconds = 0;
+  Device device = Device::cpu;
+  std::uint64_t rays = 0;      ///< CPU
+  double ray_seconds = 0;      ///< CPU: ray-casting phase; GPU: the whole pass
+  int depth_resolution = 0;    ///< GPU
+  double seconds_per_direction = 0;  ///< GPU: depth map + accumulation per sample direction
 };
 PixelTransfer bake_pixels(const Mesh& mesh, const BakeOptions& opt, int width, int height, const glm::dvec3& view_dir);
 
@@ -116,9 +136,8 @@ Transfer read_transfer(const std::filesystem::path& file);
 std::vector<std::vector<double>> relight_vertices(const Transfer& t, const std::vector<std::vector<double>>& light);
 
 /// A camera image of the mesh by ray casting: each pixel shows the barycentric
-/// interpolation of per-vertex values (channels), background 0. The camera looks at
-/// the bounding-box centre from direction view_dir (unit, from the centre towards the
-/// camera) with a 40 degree vertical field of view. Planar channel-major output
+/// interpolation of per-vertex values (channels), background 0. The camera is
+/// PixelCamera(mesh, width, height, view_dir). Planar channel-major output
 /// [c][row * width + col], row 0 at the top; values[v][c] per vertex.
 std::vector<std::vector<float>> render_vertex_values(const RayScene& scene, const Mesh& mesh,
                                                      const std::vector<std::vector<double>>& values, int width,

@@ -1,0 +1,2 @@
+// Depth map: depth only.
+void main() {}
