@@ -89,28 +89,58 @@ struct RelightOptions {
   double exposure = 0.0;  // 0 = auto
 };
 
-// Writes frame_NNNN.(exr|png) for each light and ao.(exr|png) (band-0 simple occlusion).
-std::vector<fs::path> relight_to(const prt::Transfer& t, const RelightOptions& o, const fs::path& dir) {
+// The lights of a relight run: [frame][channel][coefficient].
+std::vector<std::vector<std::vector<double>>> relight_lights(const RelightOptions& o, int bands) {
   if (o.light_csv.empty() == o.light_dirs.empty()) throw InputError("give exactly one of --light CSV or --light-dir x,y,z");
   if (o.frames < 1 || o.frames > 3600) throw InputError("--frames: must be in 1..3600, got " + std::to_string(o.frames));
+  std::vector<std::vector<std::vector<double>>> lights;
+  if (!o.light_csv.empty()) {
+    lights.push_back(read_light_csv(o.light_csv, bands));
+    return lights;
+  }
+  for (const auto& s : o.light_dirs) {
+    const auto d = parse_triple(s, "--light-dir");
+    glm::dvec3 dir(d[0], d[1], d[2]);
+    if (glm::length(dir) == 0) throw InputError("--light-dir: zero vector '" + s + "'");
+    for (int f = 0; f < o.frames; ++f) {  // the light turned about +z in `frames` steps
+      const double a = 2 * kPi * f / o.frames;
+      const glm::dvec3 r(std::cos(a) * dir.x - std::sin(a) * dir.y, std::sin(a) * dir.x + std::cos(a) * dir.y, dir.z);
+      lights.push_back({sh::prt::directional_light(bands, r, kPi)});  // E = pi: white Lambertian -> rho V cos
+    }
+  }
+  return lights;
+}
+
+// Auto exposure: the 99th percentile of the first channel maps to ~1.
+double auto_exposure(std::vector<float> v) {
+  std::sort(v.begin(), v.end());
+  const double p = v.empty() ? 1.0 : v[static_cast<std::size_t>(0.99 * (v.size() - 1))];
+  return p > 0 ? 1.0 / p : 1.0;
+}
+
+// Writes the frames of `lights` rendered by `render(light)` and returns the files.
+template <class Render>
+std::vector<fs::path> write_frames(const std::vector<std::vector<std::vector<double>>>& lights, const Render& render,
+                                   const RelightOptions& o, int w, int h, const io::Provenance& prov, const fs::path& dir) {
+  std::vector<fs::path> written;
+  double exposure = o.exposure;
+  for (std::size_t f = 0; f < lights.size(); ++f) {
+    const std::vector<std::vector<float>> img = render(lights[f]);
+    if (exposure <= 0) exposure = auto_exposure(img[0]);  // fixed by the first frame
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04zu", f);
+    auto wr = write_image(dir / name, img, w, h, exposure, prov, "relit exit radiance");
+    written.insert(written.end(), wr.begin(), wr.end());
+  }
+  return written;
+}
+
+// Writes frame_NNNN.(exr|png) for each light and ao.(exr|png) (band-0 simple occlusion).
+std::vector<fs::path> relight_to(const prt::Transfer& t, const RelightOptions& o, const fs::path& dir) {
+  const auto lights = relight_lights(o, t.bands);
   const auto vv = parse_triple(o.view, "--view");
   const glm::dvec3 view(vv[0], vv[1], vv[2]);
   if (glm::length(view) == 0) throw InputError("--view: zero vector '" + o.view + "'");
-  std::vector<std::vector<std::vector<double>>> lights;  // [frame][channel][coeff]
-  if (!o.light_csv.empty()) {
-    lights.push_back(read_light_csv(o.light_csv, t.bands));
-  } else {
-    for (const auto& s : o.light_dirs) {
-      const auto d = parse_triple(s, "--light-dir");
-      glm::dvec3 dir(d[0], d[1], d[2]);
-      if (glm::length(dir) == 0) throw InputError("--light-dir: zero vector '" + s + "'");
-      for (int f = 0; f < o.frames; ++f) {  // the light turned about +z in `frames` steps
-        const double a = 2 * kPi * f / o.frames;
-        const glm::dvec3 r(std::cos(a) * dir.x - std::sin(a) * dir.y, std::sin(a) * dir.x + std::cos(a) * dir.y, dir.z);
-        lights.push_back({sh::prt::directional_light(t.bands, r, kPi)});  // E = pi: white Lambertian -> rho V cos
-      }
-    }
-  }
   std::vector<fs::path> written;
   const prt::RayScene scene(t.mesh);
   auto prov = io::Provenance::current();
@@ -124,21 +154,54 @@ std::vector<fs::path> relight_to(const prt::Transfer& t, const RelightOptions& o
     auto w = write_image(dir / "ao", img, o.width, o.height, 1.0, prov, "ambient occlusion from SH band 0");
     written.insert(written.end(), w.begin(), w.end());
   }
-  for (std::size_t f = 0; f < lights.size(); ++f) {
-    const auto vals = prt::relight_vertices(t, lights[f]);
-    const auto img = prt::render_vertex_values(scene, t.mesh, vals, o.width, o.height, view);
-    double exposure = o.exposure;
-    if (exposure <= 0) {  // auto: the 99th percentile of the first frame maps to ~1
-      std::vector<float> v = img[0];
-      std::sort(v.begin(), v.end());
-      const double p = v.empty() ? 1.0 : v[static_cast<std::size_t>(0.99 * (v.size() - 1))];
-      exposure = p > 0 ? 1.0 / p : 1.0;
+  auto render = [&](const std::vector<std::vector<double>>& light) {
+    return prt::render_vertex_values(scene, t.mesh, prt::relight_vertices(t, light), o.width, o.height, view);
+  };
+  const auto frames = write_frames(lights, render, o, o.width, o.height, prov, dir);
+  written.insert(written.end(), frames.begin(), frames.end());
+  return written;
+}
+
+// Per-pixel relighting of a per-pixel transfer EXR (prt bake -o X.exr): each frame is
+// sum_i T_i(pixel) light_i per channel; ao.(exr|png) is the image's `ao` channel. The
+// image size and view are the EXR's own.
+std::vector<fs::path> relight_pixels_to(const fs::path& file, const RelightOptions& o, const fs::path& dir) {
+  const io::ExrImage ex = io::read_exr(file);
+  std::vector<std::size_t> coeff_ch;
+  for (int l = 0;; ++l) {
+    bool all = true;
+    std::vector<std::size_t> band;
+    for (int m = -l; m <= l && all; ++m) {
+      const auto it = std::find(ex.channels.begin(), ex.channels.end(), "sh_l" + std::to_string(l) + "_m" + std::to_string(m));
+      if (it == ex.channels.end()) all = false;
+      else band.push_back(static_cast<std::size_t>(it - ex.channels.begin()));
     }
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%04zu", f);
-    auto w = write_image(dir / name, img, o.width, o.height, exposure, prov, "relit exit radiance");
-    written.insert(written.end(), w.begin(), w.end());
+    if (!all) break;
+    coeff_ch.insert(coeff_ch.end(), band.begin(), band.end());
   }
+  const int bands = static_cast<int>(std::lround(std::sqrt(static_cast<double>(coeff_ch.size()))));
+  const auto ao_it = std::find(ex.channels.begin(), ex.channels.end(), "ao");
+  if (bands < 1 || ao_it == ex.channels.end())
+    throw InputError(file.string() + ": not a per-pixel transfer image (needs channels sh_l0_m0 ... and ao)");
+  const auto lights = relight_lights(o, bands);
+  const std::size_t np = static_cast<std::size_t>(ex.width) * ex.height;
+  auto prov = io::Provenance::current();
+  prov.add("transfer_bands", std::to_string(bands)).add("transfer_file", file.string());
+  std::vector<fs::path> written =
+      write_image(dir / "ao", {ex.data[static_cast<std::size_t>(ao_it - ex.channels.begin())]}, ex.width, ex.height,
+                  1.0, prov, "ambient occlusion (cosine-weighted visible fraction)");
+  auto render = [&](const std::vector<std::vector<double>>& light) {
+    std::vector<std::vector<float>> img(light.size(), std::vector<float>(np, 0.0f));
+    for (std::size_t c = 0; c < light.size(); ++c)
+      for (std::size_t p = 0; p < np; ++p) {
+        double v = 0;
+        for (std::size_t i = 0; i < coeff_ch.size(); ++i) v += ex.data[coeff_ch[i]][p] * light[c][i];
+        img[c][p] = static_cast<float>(v);
+      }
+    return img;
+  };
+  const auto frames = write_frames(lights, render, o, ex.width, ex.height, prov, dir);
+  written.insert(written.end(), frames.begin(), frames.end());
   return written;
 }
 
@@ -410,12 +473,12 @@ void register_prt_commands(CLI::App& app) {
     };
     auto o = std::make_shared<Opt>();
     CLI::App* c = prtc->add_subcommand("relight", "Relight a transfer file: frames (EXR + PNG) and the band-0 occlusion image");
-    c->add_option("transfer", o->transfer, "transfer file (.ply from prt bake)")->required();
+    c->add_option("transfer", o->transfer, "transfer file from prt bake: .ply (per vertex) or .exr (per pixel)")->required();
     c->add_option("--light", o->r.light_csv, "SH coefficient CSV of the light (l, m, index, channels), e.g. from sh project");
     c->add_option("--light-dir", o->r.light_dirs, "direction towards a distant light x,y,z (repeatable)");
     c->add_option("--frames", o->r.frames, "turn each --light-dir about +z in this many frames (default 1)");
-    c->add_option("--size", o->size, "image size WxH (default 256x256)");
-    c->add_option("--view", o->r.view, "direction from the scene centre to the camera x,y,z");
+    c->add_option("--size", o->size, "image size WxH (default 256x256; per-vertex transfer only)");
+    c->add_option("--view", o->r.view, "direction from the scene centre to the camera x,y,z (per-vertex transfer only)");
     c->add_option("--exposure", o->r.exposure, "tone-mapping exposure (0 = auto)");
     c->add_option("-o,--output", o->out, "output folder")->required();
     c->callback([o] {
@@ -423,8 +486,9 @@ void register_prt_commands(CLI::App& app) {
       o->r.width = sz[0];
       o->r.height = sz[1];
       if (sz[0] > 8192 || sz[1] > 8192) throw InputError("--size: '" + o->size + "' exceeds 8192x8192");
-      const prt::Transfer t = prt::read_transfer(o->transfer);
-      const auto written = relight_to(t, o->r, o->out);
+      const auto written = fs::path(o->transfer).extension() == ".exr"
+                               ? relight_pixels_to(o->transfer, o->r, o->out)
+                               : relight_to(prt::read_transfer(o->transfer), o->r, o->out);
       std::cout << "wrote " << written.size() << " files to " << o->out << "\n";
     });
   }

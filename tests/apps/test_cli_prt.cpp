@@ -5,12 +5,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
 #include "atmosh/io/csv.hpp"
+#include "atmosh/io/exr.hpp"
 #include "run_cli.hpp"
 
 using atmosh::test::count_lines;
@@ -52,6 +54,28 @@ TEST(CliPrt, BakeRelightConverge) {
   ASSERT_EQ(px.exit_code, 0) << px.err;
   EXPECT_EQ(nlohmann::json::parse(px.out)["width"].get<int>(), 24);
   EXPECT_TRUE(fs::exists(d / "px.exr"));
+  // Per-pixel relighting at the EXR's own size: a constant light of radiance 1 gives the
+  // exit radiance rho * AO (T_00 l_00 = rho AO / (2 sqrt(pi)) * 2 sqrt(pi)); sphere-on-plane
+  // albedo is 0.8 on the plane and the sphere (builtin_scene default).
+  const auto rp = run_cli("prt relight '" + (d / "px.exr").string() + "' --light '" + (d / "light.csv").string() +
+                          "' -o '" + (d / "pxlit").string() + "'");
+  ASSERT_EQ(rp.exit_code, 0) << rp.err;
+  const auto lit = atmosh::io::read_exr(d / "pxlit" / "frame_0000.exr");
+  const auto src = atmosh::io::read_exr(d / "px.exr");
+  ASSERT_EQ(lit.width, 24);
+  ASSERT_EQ(lit.height, 16);
+  const auto ch = [](const atmosh::io::ExrImage& e, const std::string& n) {
+    return static_cast<std::size_t>(std::find(e.channels.begin(), e.channels.end(), n) - e.channels.begin());
+  };
+  const std::size_t ao = ch(src, "ao"), mask = ch(src, "mask"), r0 = ch(lit, "R");
+  int seen = 0;
+  for (std::size_t p = 0; p < src.data[mask].size(); ++p) {
+    if (src.data[mask][p] == 0) continue;
+    ++seen;
+    EXPECT_NEAR(lit.data[r0][p], 0.8 * src.data[ao][p], 1e-5) << p;
+  }
+  EXPECT_GT(seen, 50);
+  EXPECT_TRUE(fs::exists(d / "pxlit" / "ao.png"));
   const auto cv = run_cli("prt converge --scene-builtin sphere-on-plane --resolution 4 --strata 2,4 --reference-samples 64 "
                           "--device cpu --pixels 16x16 -o '" + (d / "conv").string() + "'");
   ASSERT_EQ(cv.exit_code, 0) << cv.err;
