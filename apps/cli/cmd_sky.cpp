@@ -10,6 +10,7 @@
 #include "atmosh/atmo/sun_series.hpp"
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/io/csv.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/study.hpp"
@@ -223,16 +224,9 @@ std::vector<fs::path> run_elevation_study(const ElevationStudy& o, const scene::
   std::vector<double> elev;
   for (double e = o.from; e <= o.to + 1e-9; e += o.step) elev.push_back(e);
   std::vector<SkySummary> rows(elev.size());
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t i; (i = next.fetch_add(1)) < elev.size();)
-      rows[i] = summarize_sky(*model->sky, h, sun_direction_enu(90.0 - elev[i], o.azimuth));
-  };
-  std::vector<std::thread> pool;
-  const int nt = o.q.threads > 0 ? o.q.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  for (int i = 1; i < nt; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  parallel_for(elev.size(), o.q.threads, [&](std::size_t i) {
+    rows[i] = summarize_sky(*model->sky, h, sun_direction_enu(90.0 - elev[i], o.azimuth));
+  });
   std::vector<std::string> cols = {"sun_elevation_deg"};
   cols.insert(cols.end(), kStudyColumns.begin(), kStudyColumns.end());
   io::CsvTable t(cols);
@@ -385,17 +379,10 @@ std::vector<fs::path> run_converge_sky(const ConvergeSky& o) {
       }
   // Reference, in parallel.
   const auto t0 = std::chrono::steady_clock::now();
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t i; (i = next.fetch_add(1)) < rays.size();)
-      rays[i].L = ref.radiance(0.0, sun_direction_enu(90 - rays[i].view_el, rays[i].rel_az),
-                               sun_direction_enu(90 - rays[i].sun_el, 0.0)).radiance;
-  };
-  const int nt = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  std::vector<std::thread> pool;
-  for (int i = 1; i < nt; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  parallel_for(rays.size(), o.threads, [&](std::size_t i) {
+    rays[i].L = ref.radiance(0.0, sun_direction_enu(90 - rays[i].view_el, rays[i].rel_az),
+                             sun_direction_enu(90 - rays[i].sun_el, 0.0)).radiance;
+  });
   const double ref_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   struct Setting {
@@ -554,7 +541,7 @@ void register_sky_commands(CLI::App& app) {
       } catch (const std::logic_error&) {
         throw InputError("--shard '" + shard + "' is not k/N");
       }
-      o.threads = q.threads > 0 ? q.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+      o.threads = resolve_threads(q.threads);
       QualityOptions qq = q;
       const auto spec = scene::load_sweep(file);
       const auto r = scene::run_sweep(spec, [qq](const scene::Scene& s) { return sweep_point(s, qq); }, o);
@@ -585,24 +572,17 @@ std::vector<fs::path> write_sky_sh(const SkyModel& model, const SunPlacement& su
   const SpectralToXyz cmf(model.atmosphere->wavelengths_nm());
   const double h = std::max(sun.observer_height_m, 0.0);
   std::vector<std::vector<double>> ch(3, std::vector<double>(static_cast<std::size_t>(grid.nlat) * grid.nphi));
-  std::atomic<int> next{0};
-  auto worker = [&] {
-    for (int i; (i = next.fetch_add(1)) < grid.nlat;)
-      for (int j = 0; j < grid.nphi; ++j) {
-        const double ph = grid.phi(j);
-        const glm::dvec3 d(grid.sin_t[i] * std::cos(ph), grid.sin_t[i] * std::sin(ph), grid.cos_t[i]);
-        const SkyColour c = sky_colour(*model.sky, cmf, h, glm::normalize(d), sun.direction());
-        const std::size_t k = static_cast<std::size_t>(i) * grid.nphi + j;
-        ch[0][k] = c.srgb.r;
-        ch[1][k] = c.srgb.g;
-        ch[2][k] = c.srgb.b;
-      }
-  };
-  std::vector<std::thread> pool;
-  const int nt = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  for (int t = 1; t < nt; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  parallel_for(static_cast<std::size_t>(grid.nlat), 0, [&](std::size_t i) {
+    for (int j = 0; j < grid.nphi; ++j) {
+      const double ph = grid.phi(j);
+      const glm::dvec3 d(grid.sin_t[i] * std::cos(ph), grid.sin_t[i] * std::sin(ph), grid.cos_t[i]);
+      const SkyColour c = sky_colour(*model.sky, cmf, h, glm::normalize(d), sun.direction());
+      const std::size_t k = i * static_cast<std::size_t>(grid.nphi) + static_cast<std::size_t>(j);
+      ch[0][k] = c.srgb.r;
+      ch[1][k] = c.srgb.g;
+      ch[2][k] = c.srgb.b;
+    }
+  });
   std::vector<std::vector<double>> coeffs;
   for (const auto& c : ch) coeffs.push_back(sh::analyse(grid, c.data()));
   io::CsvTable t({"l", "m", "index", "r", "g", "b"});

@@ -8,6 +8,7 @@
 
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 
 namespace atmosh::atmo {
 
@@ -80,17 +81,17 @@ SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int widt
     sky_pixel_direction(projection, width, height, width / 2, height / 2, d);
     (void)sky.radiance(altitude_m, glm::dvec3(0, 0, 1), sun);
   }
-  std::atomic<int> next_row{0};
   std::atomic<long> rays{0};
-  auto worker = [&] {
+  parallel_for_ranges(static_cast<std::size_t>(height), 1, threads, [&](std::size_t y0, std::size_t y1) {
     std::vector<double> L(nw);
-    for (int y; (y = next_row.fetch_add(1)) < height;) {
+    long local_rays = 0;
+    for (int y = static_cast<int>(y0); y < static_cast<int>(y1); ++y) {
       for (int x = 0; x < width; ++x) {
         glm::dvec3 dir;
         if (!sky_pixel_direction(projection, width, height, x, y, dir)) continue;
         const std::size_t p = static_cast<std::size_t>(y) * width + x;
         sky.radiance(altitude_m, dir, sun, L.data());
-        ++rays;
+        ++local_rays;
         const Xyz c = cmf(L);
         const Rgb rgb = linear_srgb_from_xyz(c);
         img.X[p] = static_cast<float>(c.X);
@@ -104,13 +105,8 @@ SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int widt
           for (std::size_t i = 0; i < nw; ++i) img.spectral[p * nw + i] = static_cast<float>(L[i]);
       }
     }
-  };
-  int nt = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  nt = std::min(nt, height);
-  std::vector<std::thread> pool;
-  for (int i = 1; i < nt; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+    rays += local_rays;
+  });
   img.rays = rays.load();
   img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return img;

@@ -13,12 +13,12 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
-#include <thread>
 
 #include <glm/geometric.hpp>
 
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/sh/basis.hpp"
 #if ATMOSH_HAVE_GPU
 #include "atmosh/gpu/prt.hpp"
@@ -195,65 +195,35 @@ Transfer bake(const Mesh& mesh_in, const BakeOptions& opt) {
       face_n.push_back(glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
   }
 
-  int threads = opt.threads > 0 ? opt.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = std::max(1, std::min<int>(threads, static_cast<int>((nv + 15) / 16)));
-  constexpr std::size_t kBlock = 16;
-  std::atomic<std::size_t> next{0}, done{0};
+  const int threads = resolve_threads(opt.threads);
   std::atomic<std::uint64_t> rays{0};
-  std::exception_ptr failure;
-  std::atomic<bool> failed{false};
-
-  auto worker = [&] {
-    try {
-      std::uint64_t local_rays = 0;
-      for (;;) {
-        const std::size_t b = next.fetch_add(kBlock);
-        if (b >= nv || failed.load()) break;
-        const std::size_t e = std::min(nv, b + kBlock);
-        for (std::size_t v = b; v < e; ++v) {
-          const glm::dvec3 n = m.normals[v];
-          const glm::dvec3 org = m.positions[v] + eps * n;
-          std::vector<sh::prt::Hit>* hv = inter ? &hits[v] : nullptr;
-          tr.ao[v] = sh::prt::shadowed_transfer(samples, n, m.albedo[v],
-                                                [&](std::size_t s) {
-                                                  ++local_rays;
-                                                  const glm::dvec3& d = samples.dirs[s];
-                                                  if (!inter) return scene.unoccluded(org, d, eps);
-                                                  std::uint32_t prim;
-                                                  float u, w;
-                                                  double t;
-                                                  if (!scene.intersect(org, d, eps, prim, u, w, t)) return true;
-                                                  if (glm::dot(face_n[prim], d) < 0.0) {  // front face: reflects
-                                                    const auto& tri = m.triangles[prim];
-                                                    hv->push_back({{tri[0], tri[1], tri[2]}, u, w,
-                                                                   static_cast<float>(glm::dot(n, d))});
-                                                  }
-                                                  return false;
-                                                },
-                                                tr.coeffs.data() + v * K);
-        }
-        done.fetch_add(e - b);
-      }
-      rays.fetch_add(local_rays);
-    } catch (...) {
-      if (!failed.exchange(true)) failure = std::current_exception();
-    }
-  };
-
   const auto t0 = Clock::now();
-  std::vector<std::thread> pool;
-  for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
-  double last = -1;
-  while (done.load() < nv && !failed.load()) {
-    const double f = static_cast<double>(done.load()) / static_cast<double>(nv);
-    if (opt.progress && f - last >= 0.01) {
-      opt.progress(f);
-      last = f;
+  parallel_for_ranges(nv, 16, threads, [&](std::size_t b, std::size_t e) {
+    std::uint64_t local_rays = 0;
+    for (std::size_t v = b; v < e; ++v) {
+      const glm::dvec3 n = m.normals[v];
+      const glm::dvec3 org = m.positions[v] + eps * n;
+      std::vector<sh::prt::Hit>* hv = inter ? &hits[v] : nullptr;
+      tr.ao[v] = sh::prt::shadowed_transfer(samples, n, m.albedo[v],
+                                            [&](std::size_t s) {
+                                              ++local_rays;
+                                              const glm::dvec3& d = samples.dirs[s];
+                                              if (!inter) return scene.unoccluded(org, d, eps);
+                                              std::uint32_t prim;
+                                              float u, w;
+                                              double t;
+                                              if (!scene.intersect(org, d, eps, prim, u, w, t)) return true;
+                                              if (glm::dot(face_n[prim], d) < 0.0) {  // front face: reflects
+                                                const auto& tri = m.triangles[prim];
+                                                hv->push_back({{tri[0], tri[1], tri[2]}, u, w,
+                                                               static_cast<float>(glm::dot(n, d))});
+                                              }
+                                              return false;
+                                            },
+                                            tr.coeffs.data() + v * K);
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  for (auto& th : pool) th.join();
-  if (failure) std::rethrow_exception(failure);
+    rays += local_rays;
+  }, opt.progress);
   tr.ray_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   tr.rays = rays.load();
 
@@ -339,65 +309,42 @@ PixelTransfer bake_pixels(const Mesh& mesh_in, const BakeOptions& opt, int width
   px.coeffs.assign(np * K, 0.0);
   px.ao.assign(np, 0.0);
   px.mask.assign(np, 0.0f);
-  int threads = opt.threads > 0 ? opt.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = std::max(1, std::min(threads, height));
-  std::atomic<int> next_row{0}, rows_done{0};
   std::atomic<std::uint64_t> rays{0};
-  std::exception_ptr failure;
-  std::atomic<bool> failed{false};
-  auto worker = [&] {
-    try {
-      std::uint64_t nr = 0;
-      for (int r; (r = next_row.fetch_add(1)) < height && !failed.load();) {
-        for (int c = 0; c < width; ++c) {
-          const std::size_t p = static_cast<std::size_t>(r) * width + c;
-          std::uint32_t prim;
-          float u, v;
-          double t;
-          if (!scene.intersect(cam.eye, cam.ray(r, c), 0.0, prim, u, v, t)) continue;
-          const auto& tri = m.triangles[prim];
-          const double b0 = 1.0 - u - v;
-          const glm::dvec3 pos = b0 * m.positions[tri[0]] + double(u) * m.positions[tri[1]] + double(v) * m.positions[tri[2]];
-          glm::dvec3 n = b0 * m.normals[tri[0]] + double(u) * m.normals[tri[1]] + double(v) * m.normals[tri[2]];
-          if (!(glm::length(n) > 0)) n = m.normals[tri[0]];
-          n = glm::normalize(n);
-          const double albedo = std::clamp(b0 * m.albedo[tri[0]] + u * m.albedo[tri[1]] + v * m.albedo[tri[2]], 0.0, 1.0);
-          px.mask[p] = 1.0f;
-          if (!shadowed) {
-            sh::prt::unshadowed_transfer(opt.bands, n, albedo, px.coeffs.data() + p * K);
-            px.ao[p] = 1.0;
-            continue;
-          }
-          const glm::dvec3 org = pos + eps * n;
-          px.ao[p] = sh::prt::shadowed_transfer(
-              samples, n, albedo,
-              [&](std::size_t s) {
-                ++nr;
-                return scene.unoccluded(org, samples.dirs[s], eps);
-              },
-              px.coeffs.data() + p * K);
-        }
-        rows_done.fetch_add(1);
-      }
-      rays.fetch_add(nr);
-    } catch (...) {
-      if (!failed.exchange(true)) failure = std::current_exception();
-    }
-  };
   const auto t0 = Clock::now();
-  std::vector<std::thread> pool;
-  for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
-  double last = -1;
-  while (rows_done.load() < height && !failed.load()) {
-    const double f = static_cast<double>(rows_done.load()) / height;
-    if (opt.progress && f - last >= 0.01) {
-      opt.progress(f);
-      last = f;
+  parallel_for_ranges(static_cast<std::size_t>(height), 1, opt.threads, [&](std::size_t r0, std::size_t r1) {
+    std::uint64_t nr = 0;
+    for (int r = static_cast<int>(r0); r < static_cast<int>(r1); ++r) {
+      for (int c = 0; c < width; ++c) {
+        const std::size_t p = static_cast<std::size_t>(r) * width + c;
+        std::uint32_t prim;
+        float u, v;
+        double t;
+        if (!scene.intersect(cam.eye, cam.ray(r, c), 0.0, prim, u, v, t)) continue;
+        const auto& tri = m.triangles[prim];
+        const double b0 = 1.0 - u - v;
+        const glm::dvec3 pos = b0 * m.positions[tri[0]] + double(u) * m.positions[tri[1]] + double(v) * m.positions[tri[2]];
+        glm::dvec3 n = b0 * m.normals[tri[0]] + double(u) * m.normals[tri[1]] + double(v) * m.normals[tri[2]];
+        if (!(glm::length(n) > 0)) n = m.normals[tri[0]];
+        n = glm::normalize(n);
+        const double albedo = std::clamp(b0 * m.albedo[tri[0]] + u * m.albedo[tri[1]] + v * m.albedo[tri[2]], 0.0, 1.0);
+        px.mask[p] = 1.0f;
+        if (!shadowed) {
+          sh::prt::unshadowed_transfer(opt.bands, n, albedo, px.coeffs.data() + p * K);
+          px.ao[p] = 1.0;
+          continue;
+        }
+        const glm::dvec3 org = pos + eps * n;
+        px.ao[p] = sh::prt::shadowed_transfer(
+            samples, n, albedo,
+            [&](std::size_t s) {
+              ++nr;
+              return scene.unoccluded(org, samples.dirs[s], eps);
+            },
+            px.coeffs.data() + p * K);
+      }
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  for (auto& th : pool) th.join();
-  if (failure) std::rethrow_exception(failure);
+    rays += nr;
+  }, opt.progress);
   px.ray_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   px.rays = rays.load();
   if (opt.progress) opt.progress(1.0);

@@ -1,0 +1,85 @@
+// atmosh/parallel.hpp — a dynamically scheduled parallel loop over an index range,
+// shared by every multithreaded pass (sky images, studies, PRT bakes).
+//
+// parallel_for_ranges(n, chunk, threads, body, progress) calls body(begin, end) for
+// consecutive ranges [begin, end) of at most `chunk` indices covering [0, n), each
+// range exactly once, taken by `threads` workers (0 = std::thread::hardware_concurrency)
+// from a shared atomic counter — so the result does not depend on the thread count as
+// long as body(begin, end) writes only its own indices. Without `progress` the
+// calling thread is one of the workers; with it, the calling thread only reports
+// progress(fraction done in [0, 1]) about every 20 ms (the library never prints).
+// The first exception a body throws stops the others from taking new ranges and is
+// rethrown on the calling thread once all workers have finished.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace atmosh {
+
+/// Worker count for a requested count: requested > 0 as given, else the hardware concurrency (>= 1).
+inline int resolve_threads(int requested) {
+  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+template <class Body>
+void parallel_for_ranges(std::size_t n, std::size_t chunk, int threads, Body&& body,
+                         const std::function<void(double)>& progress = {}) {
+  if (n == 0) return;
+  chunk = std::max<std::size_t>(chunk, 1);
+  const std::size_t ranges = (n + chunk - 1) / chunk;
+  const int workers = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(resolve_threads(threads)), ranges));
+  std::atomic<std::size_t> next{0}, done{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  auto work = [&] {
+    try {
+      for (std::size_t b; !failed.load(std::memory_order_relaxed) && (b = next.fetch_add(chunk)) < n;) {
+        const std::size_t e = std::min(n, b + chunk);
+        body(b, e);
+        done.fetch_add(e - b, std::memory_order_relaxed);
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+      failed.store(true);
+    }
+  };
+  std::vector<std::thread> pool;
+  const int spawned = progress ? workers : workers - 1;
+  pool.reserve(static_cast<std::size_t>(std::max(spawned, 0)));
+  for (int i = 0; i < spawned; ++i) pool.emplace_back(work);
+  if (progress) {
+    double last = -1;
+    while (done.load() < n && !failed.load()) {
+      const double f = static_cast<double>(done.load()) / static_cast<double>(n);
+      if (f - last >= 0.01) {
+        progress(f);
+        last = f;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  } else {
+    work();
+  }
+  for (auto& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+/// body(i) for every i in [0, n), one index per range (see parallel_for_ranges).
+template <class Body>
+void parallel_for(std::size_t n, int threads, Body&& body) {
+  parallel_for_ranges(n, 1, threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) body(i);
+  });
+}
+
+}  // namespace atmosh
