@@ -26,35 +26,23 @@ struct Mat4 {
   void set(int r, int c, double v) { m[c * 4 + r] = static_cast<float>(v); }
 };
 
-// RAII holders of GL names.
-struct Textures {
+// RAII holder of n GL names made by Gen and released by Del.
+template <void (*Gen)(GLsizei, GLuint*), void (*Del)(GLsizei, const GLuint*)>
+struct GlNames {
   std::vector<GLuint> ids;
-  explicit Textures(std::size_t n) : ids(n, 0) {
-    if (n) glGenTextures(static_cast<GLsizei>(n), ids.data());
+  explicit GlNames(std::size_t n) : ids(n, 0) {
+    if (n) Gen(static_cast<GLsizei>(n), ids.data());
   }
-  ~Textures() {
-    if (!ids.empty()) glDeleteTextures(static_cast<GLsizei>(ids.size()), ids.data());
+  ~GlNames() {
+    if (!ids.empty()) Del(static_cast<GLsizei>(ids.size()), ids.data());
   }
+  GlNames(const GlNames&) = delete;
+  GlNames& operator=(const GlNames&) = delete;
 };
-struct Framebuffers {
-  std::vector<GLuint> ids;
-  explicit Framebuffers(std::size_t n) : ids(n, 0) {
-    if (n) glGenFramebuffers(static_cast<GLsizei>(n), ids.data());
-  }
-  ~Framebuffers() {
-    if (!ids.empty()) glDeleteFramebuffers(static_cast<GLsizei>(ids.size()), ids.data());
-  }
-};
-struct GlBuffers {
-  GLuint ids[2] = {0, 0};
-  GlBuffers() { glGenBuffers(2, ids); }
-  ~GlBuffers() { glDeleteBuffers(2, ids); }
-};
-struct VertexArrays {
-  GLuint ids[2] = {0, 0};
-  VertexArrays() { glGenVertexArrays(2, ids); }
-  ~VertexArrays() { glDeleteVertexArrays(2, ids); }
-};
+using Textures = GlNames<glGenTextures, glDeleteTextures>;
+using Framebuffers = GlNames<glGenFramebuffers, glDeleteFramebuffers>;
+using GlBuffers = GlNames<glGenBuffers, glDeleteBuffers>;
+using VertexArrays = GlNames<glGenVertexArrays, glDeleteVertexArrays>;
 
 void storage_2d(GLuint tex, GLenum format, int w, int h) {
   glBindTexture(GL_TEXTURE_2D, tex);
@@ -129,8 +117,8 @@ PrtPixelResult prt_pixel_transfer(const Context& ctx, const PrtMeshView& mesh, c
                            kTargetsDefine + std::to_string(targets) + "\n");
 
   // Geometry.
-  VertexArrays vao;
-  GlBuffers buf;
+  VertexArrays vao(2);
+  GlBuffers buf(2);
   glBindVertexArray(vao.ids[0]);
   glBindBuffer(GL_ARRAY_BUFFER, buf.ids[0]);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)), vertices.data(),
