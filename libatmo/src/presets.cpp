@@ -179,6 +179,24 @@ DensityProfileSpec us_standard_1976_profile(double top_m, double step_m) {
 
 std::vector<std::string> preset_names() { return {"earth-physical", "earth-graphics", "test-planet"}; }
 
+namespace {
+// A Mie constituent: scattering coefficient [1/m] at reference_nm, Angstrom exponent,
+// single-scattering albedo, exponential profile of scale height [m], phase model with g.
+MieSpec aerosol(double scattering_per_m, double reference_nm, double angstrom, double albedo, double scale_height_m,
+                PhaseSpec::Model phase, double g) {
+  MieSpec m;
+  m.scattering_per_m = scattering_per_m;
+  m.reference_nm = reference_nm;
+  m.angstrom = angstrom;
+  m.single_scattering_albedo = albedo;
+  m.profile = exponential_profile(scale_height_m);
+  m.phase = PhaseSpec{};
+  m.phase.model = phase;
+  m.phase.g = g;
+  return m;
+}
+}  // namespace
+
 AtmosphereSpec preset(std::string_view name) {
   AtmosphereSpec s;
   s.name = std::string(name);
@@ -194,16 +212,8 @@ AtmosphereSpec preset(std::string_view name) {
     r.phase.model = PhaseSpec::Model::Rayleigh;
     r.phase.depolarization = depolarization_from_king(king_factor_air(550.0, 360.0));
     s.rayleigh = r;
-    MieSpec m;
-    m.single_scattering_albedo = 0.9;
-    m.scattering_per_m = 0.9 * 0.1 / 1200.0;  // aerosol optical depth 0.1 at 550 nm
-    m.reference_nm = 550.0;
-    m.angstrom = 1.3;
-    m.profile = exponential_profile(1200.0);
-    m.phase = PhaseSpec{};
-    m.phase.model = PhaseSpec::Model::CornetteShanks;
-    m.phase.g = 0.8;
-    s.mie = m;
+    // aerosol optical depth 0.1 at 550 nm
+    s.mie = aerosol(0.9 * 0.1 / 1200.0, 550.0, 1.3, 0.9, 1200.0, PhaseSpec::Model::CornetteShanks, 0.8);
     s.ozone = OzoneSpec{};
     return s;
   }
@@ -218,16 +228,7 @@ AtmosphereSpec preset(std::string_view name) {
     r.phase.model = PhaseSpec::Model::Rayleigh;
     r.phase.depolarization = 0.0;
     s.rayleigh = r;
-    MieSpec m;
-    m.single_scattering_albedo = 0.9;
-    m.scattering_per_m = 5.328e-3 / 1200.0 * 0.9;
-    m.reference_nm = 550.0;
-    m.angstrom = 0.0;
-    m.profile = exponential_profile(1200.0);
-    m.phase = PhaseSpec{};
-    m.phase.model = PhaseSpec::Model::CornetteShanks;
-    m.phase.g = 0.8;
-    s.mie = m;
+    s.mie = aerosol(5.328e-3 / 1200.0 * 0.9, 550.0, 0.0, 0.9, 1200.0, PhaseSpec::Model::CornetteShanks, 0.8);
     s.ozone = OzoneSpec{};
     return s;
   }
@@ -241,15 +242,7 @@ AtmosphereSpec preset(std::string_view name) {
     r.phase = PhaseSpec{};
     r.phase.model = PhaseSpec::Model::Rayleigh;
     s.rayleigh = r;
-    MieSpec m;
-    m.scattering_per_m = 1.0e-5;
-    m.single_scattering_albedo = 0.95;
-    m.angstrom = 1.0;
-    m.profile = exponential_profile(500.0);
-    m.phase = PhaseSpec{};
-    m.phase.model = PhaseSpec::Model::HenyeyGreenstein;
-    m.phase.g = 0.7;
-    s.mie = m;
+    s.mie = aerosol(1.0e-5, 550.0, 1.0, 0.95, 500.0, PhaseSpec::Model::HenyeyGreenstein, 0.7);
     OzoneSpec o;
     o.column_du = 100.0;
     o.profile = tent_profile(4e3, 8e3, 12e3);
