@@ -31,10 +31,13 @@ struct Dirs {
   }
 };
 
+// Output of one call: L^2 * n values, coefficient-major. At n = 256 and L = 4 that is
+// 16 KiB (float) and stays in L1; at n = 1024 it is 64 KiB and the loop is bound by
+// stores to L2.
 template <class T>
 void BM_EvalFastBatch(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0));
-  const std::size_t n = 1024;
+  const std::size_t n = static_cast<std::size_t>(st.range(1));
   Dirs<T> d(n);
   // stride padded off a multiple of 4 KiB: equal-offset streams would alias in L1
   const std::size_t stride = n + 16;
@@ -45,6 +48,22 @@ void BM_EvalFastBatch(benchmark::State& st) {
     benchmark::ClobberMemory();
   }
   st.SetItemsProcessed(st.iterations() * n);  // directions
+}
+
+// The generated per-direction loop inlined into the caller (the batch path before the
+// compiled kernel), for comparison.
+template <class T>
+void BM_EvalFastBatchInline(benchmark::State& st) {
+  const std::size_t n = static_cast<std::size_t>(st.range(1));
+  Dirs<T> d(n);
+  const std::size_t stride = n + 16;
+  std::vector<T> out(16 * stride);
+  for (auto _ : st) {
+    generated::eval_batch_4(n, d.x.data(), d.y.data(), d.z.data(), out.data(), stride);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  st.SetItemsProcessed(st.iterations() * n);
 }
 
 void BM_EvalGeneral(benchmark::State& st) {
@@ -58,6 +77,22 @@ void BM_EvalGeneral(benchmark::State& st) {
     k = (k + 1) & 255;
   }
   st.SetItemsProcessed(st.iterations());
+}
+
+// n directions at once (general path, recurrence vectorised across directions), per
+// direction. Output L^2 * n doubles, coefficient-major, stride padded by 16.
+void BM_EvalBatch(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  const std::size_t n = static_cast<std::size_t>(st.range(1));
+  Dirs<double> d(n);
+  const std::size_t stride = n + 16;
+  std::vector<double> out(static_cast<std::size_t>(L) * L * stride);
+  for (auto _ : st) {
+    evaluate_batch(L, n, d.x.data(), d.y.data(), d.z.data(), out.data(), stride);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  st.SetItemsProcessed(st.iterations() * n);
 }
 
 void BM_EvalGeneralFloat(benchmark::State& st) {
@@ -119,9 +154,11 @@ void BM_Synthesis(benchmark::State& st) {
 }
 }  // namespace
 
-BENCHMARK_TEMPLATE(BM_EvalFastBatch, float)->Arg(2)->Arg(4)->Arg(8);
-BENCHMARK_TEMPLATE(BM_EvalFastBatch, double)->Arg(2)->Arg(4)->Arg(8);
+BENCHMARK_TEMPLATE(BM_EvalFastBatch, float)->ArgsProduct({{2, 4, 8}, {256, 1024}});
+BENCHMARK_TEMPLATE(BM_EvalFastBatch, double)->ArgsProduct({{2, 4, 8}, {256, 1024}});
+BENCHMARK_TEMPLATE(BM_EvalFastBatchInline, float)->Args({4, 256})->Args({4, 1024});
 BENCHMARK(BM_EvalGeneral)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Arg(64);
+BENCHMARK(BM_EvalBatch)->ArgsProduct({{4, 8, 16, 64}, {8, 32, 64, 256}});
 BENCHMARK(BM_EvalGeneralFloat)->Arg(16)->Arg(64);
 BENCHMARK(BM_CubeProject)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RotationBuild)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);

@@ -122,18 +122,72 @@ TEST(Basis, FastPathAgreesWithGeneralPath) {
         }
       }
     }
-  // batch form equals the single form
-  const auto dirs = test_dirs(37, 3);
-  std::vector<float> xs, ys, zs;
-  for (const auto& d : dirs) xs.push_back(float(d.x)), ys.push_back(float(d.y)), zs.push_back(float(d.z));
-  const std::size_t n = dirs.size();
-  std::vector<float> out(16 * n);
-  ASSERT_TRUE(evaluate_fast_batch(4, n, xs.data(), ys.data(), zs.data(), out.data(), n));
-  for (std::size_t k = 0; k < n; ++k) {
-    float one[16];
-    evaluate_fast(4, xs[k], ys[k], zs[k], one);
-    for (int i = 0; i < 16; ++i) EXPECT_FLOAT_EQ(out[i * n + k], one[i]);
+  // batch form (compiled kernel, packs of directions, tail directions) against the
+  // general path: n = 37 is not a multiple of the pack width, stride > n
+  const auto dirs = test_dirs(32, 3);
+  const std::size_t n = dirs.size(), stride = n + 3;
+  for (int L = 1; L <= kFastMaxBands; ++L) {
+    std::vector<float> xs, ys, zs, outf(L * L * stride);
+    std::vector<double> xd, yd, zd, outd(L * L * stride);
+    for (const auto& d : dirs) {
+      xs.push_back(float(d.x)), ys.push_back(float(d.y)), zs.push_back(float(d.z));
+      xd.push_back(d.x), yd.push_back(d.y), zd.push_back(d.z);
+    }
+    ASSERT_TRUE(evaluate_fast_batch(L, n, xs.data(), ys.data(), zs.data(), outf.data(), stride));
+    ASSERT_TRUE(evaluate_fast_batch(L, n, xd.data(), yd.data(), zd.data(), outd.data(), stride));
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto g = evaluate(L, dirs[k]);
+      for (int l = 0; l < L; ++l) {
+        const double scale = std::sqrt((2 * l + 1) / (4 * kPi));
+        for (int m = -l; m <= l; ++m) {
+          const int i = sh_index(l, m);
+          EXPECT_LE(std::abs(outd[i * stride + k] - g[i]), 1e-14 * scale) << "L=" << L << " k=" << k << " i=" << i;
+          EXPECT_LE(std::abs(outf[i * stride + k] - g[i]), 1e-6 * scale) << "L=" << L << " k=" << k << " i=" << i;
+        }
+      }
+    }
   }
+  float dummy = 0;
+  EXPECT_FALSE(evaluate_fast_batch(9, 1, &dummy, &dummy, &dummy, &dummy, 1));
+}
+
+TEST(Basis, BatchAgreesWithGeneralPath) {
+  // evaluate_batch() runs the column recurrence on packs of directions; compare with
+  // evaluate() (itself tested against closed forms, single columns and the sum rule)
+  // at random directions, both poles exactly, directions 1e-9 and 1e-300 rad off a pole
+  // (the latter takes the extended-range path), and a non-unit direction.
+  auto dirs = test_dirs(40, 11);
+  dirs.push_back({0, 0, 7.5});
+  dirs.push_back({-3, 4, 0});
+  dirs.push_back({1e-300, 1e-300, 1});
+  const std::size_t n = dirs.size(), stride = n + 5;  // n = 48: several packs
+  std::vector<double> xs, ys, zs;
+  for (const auto& d : dirs) xs.push_back(d.x), ys.push_back(d.y), zs.push_back(d.z);
+  for (int L : {1, 2, 3, 4, 9, 16, 17, 33, 64, 128}) {
+    for (std::size_t cnt : {n, std::size_t{3}}) {  // also a pass with a partial pack only
+      std::vector<double> out(sh_count(L) * stride, -7.0);
+      evaluate_batch(L, cnt, xs.data(), ys.data(), zs.data(), out.data(), stride);
+      for (std::size_t k = 0; k < cnt; ++k) {
+        const auto g = evaluate(L, dirs[k]);
+        for (int l = 0; l < L; ++l) {
+          const double scale = std::sqrt((2 * l + 1) / (4 * kPi));
+          for (int m = -l; m <= l; ++m) {
+            const int i = sh_index(l, m);
+            EXPECT_LE(std::abs(out[i * stride + k] - g[i]), 1e-13 * scale) << "L=" << L << " k=" << k << " i=" << i;
+          }
+        }
+      }
+      for (int i = 0; i < sh_count(L); ++i)
+        for (std::size_t k = cnt; k < stride; ++k) ASSERT_EQ(out[i * stride + k], -7.0) << "wrote past n";
+    }
+  }
+  std::vector<double> out(16 * 4);
+  const double bad_x[2] = {0, NAN}, bad_y[2] = {0, 0}, bad_z[2] = {1, 1};
+  EXPECT_THROW(evaluate_batch(4, 2, bad_x, bad_y, bad_z, out.data(), 4), atmosh::InputError);
+  const double zero[1] = {0};
+  EXPECT_THROW(evaluate_batch(4, 1, zero, zero, zero, out.data(), 4), atmosh::InputError);
+  EXPECT_THROW(evaluate_batch(4, 2, bad_y, bad_y, bad_z, out.data(), 1), atmosh::InputError);  // stride < n
+  EXPECT_THROW(evaluate_batch(129, 1, bad_y, bad_y, bad_z, out.data(), 1), atmosh::InputError);
 }
 
 TEST(Basis, RowPathAgreesWithSingleColumnsAndSumRule) {

@@ -9,16 +9,28 @@
 // Accuracy (tested against the general recurrence of basis.hpp): <= 1e-14 relative
 // to the band's scale sqrt((2l+1)/(4 pi)) in double, <= 1e-6 in float.
 // The batch form takes structure-of-arrays input and writes out[i * stride + k]
-// (coefficient-major), one straight-line loop body over k. Choose a
+// (coefficient-major). For float and double it runs a compiled kernel: the same
+// straight-line code on packs of 8 floats / 4 doubles (one SIMD lane per direction; an
+// AVX2/FMA clone is picked at run time with GCC on x86-64), so the results equal
+// evaluate_fast() to rounding (FMA contraction), not bit for bit. Choose a
 // stride that is not a multiple of 4 KiB / sizeof(T): equal-offset output streams alias
 // in the L1 cache and cost 10-20x (measured, docs/sh.md).
 #pragma once
 
 #include <cstddef>
+#include <type_traits>
 
 #include "atmosh/sh/fast_generated.hpp"
 
 namespace atmosh::sh {
+
+namespace detail {
+// Compiled batch kernels (src/fast_batch.cpp); 1 <= bands <= 8.
+void fast_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
+                std::size_t stride);
+void fast_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out,
+                std::size_t stride);
+}  // namespace detail
 
 constexpr int kFastMaxBands = 8;
 
@@ -43,6 +55,11 @@ inline bool evaluate_fast(int bands, T x, T y, T z, T* out) {
 template <class T>
 inline bool evaluate_fast_batch(int bands, std::size_t n, const T* xs, const T* ys, const T* zs, T* out,
                                 std::size_t stride) {
+  if constexpr (std::is_same_v<T, float> || std::is_same_v<T, double>) {
+    if (bands < 1 || bands > kFastMaxBands) return false;
+    detail::fast_batch(bands, n, xs, ys, zs, out, stride);
+    return true;
+  }
   switch (bands) {
     case 1: generated::eval_batch_1(n, xs, ys, zs, out, stride); return true;
     case 2: generated::eval_batch_2(n, xs, ys, zs, out, stride); return true;

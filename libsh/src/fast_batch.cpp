@@ -1,0 +1,96 @@
+// Compiled batch kernels of the straight-line low-band basis (fast.hpp): the generated
+// code of fast_generated.hpp run on packs of directions (one SIMD lane per direction),
+// so that every line of it is one vector operation whatever the output stride.
+#include <cstring>
+
+#include "atmosh/sh/fast.hpp"
+#include "clones.hpp"
+
+namespace atmosh::sh::detail {
+
+namespace {
+
+#if defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"  // packs are passed only between inlined internal functions
+#endif
+
+// W lanes of T with the arithmetic the generated code uses (T{}, T(constant), +, -, *).
+template <class T, int W>
+struct Pack {
+  typedef T V __attribute__((vector_size(W * sizeof(T))));
+  typedef T U __attribute__((vector_size(W * sizeof(T)), aligned(sizeof(T))));  // unaligned access
+  V v;
+  Pack() : v{} {}
+  Pack(V x) : v(x) {}
+  Pack(double c) : v(V{} + static_cast<T>(c)) {}
+  __attribute__((always_inline)) friend Pack operator+(Pack a, Pack b) { return Pack(a.v + b.v); }
+  __attribute__((always_inline)) friend Pack operator-(Pack a, Pack b) { return Pack(a.v - b.v); }
+  __attribute__((always_inline)) friend Pack operator*(Pack a, Pack b) { return Pack(a.v * b.v); }
+};
+
+template <int B, class T, class P>
+__attribute__((always_inline)) inline void eval_pack(P x, P y, P z, P* o) {
+  if constexpr (B == 1) generated::eval_1(x, y, z, o);
+  if constexpr (B == 2) generated::eval_2(x, y, z, o);
+  if constexpr (B == 3) generated::eval_3(x, y, z, o);
+  if constexpr (B == 4) generated::eval_4(x, y, z, o);
+  if constexpr (B == 5) generated::eval_5(x, y, z, o);
+  if constexpr (B == 6) generated::eval_6(x, y, z, o);
+  if constexpr (B == 7) generated::eval_7(x, y, z, o);
+  if constexpr (B == 8) generated::eval_8(x, y, z, o);
+}
+
+// 32 bytes of lanes per pack (one AVX register in the AVX2 clone, two SSE registers in
+// the baseline one): 8 floats or 4 doubles.
+template <int B, class T>
+__attribute__((always_inline)) inline void batch(std::size_t n, const T* xs, const T* ys, const T* zs, T* out,
+                                                 std::size_t stride) {
+  constexpr int W = 32 / sizeof(T);
+  using P = Pack<T, W>;
+  using V = typename P::V;
+  std::size_t k = 0;
+  for (; k + W <= n; k += W) {
+    using U = typename P::U;
+    P o[B * B];
+    eval_pack<B, T>(P(V(*reinterpret_cast<const U*>(xs + k))), P(V(*reinterpret_cast<const U*>(ys + k))),
+                    P(V(*reinterpret_cast<const U*>(zs + k))), o);
+    for (int i = 0; i < B * B; ++i) *reinterpret_cast<U*>(out + i * stride + k) = o[i].v;
+  }
+  for (; k < n; ++k) {
+    T o[B * B];
+    evaluate_fast(B, xs[k], ys[k], zs[k], o);
+    for (int i = 0; i < B * B; ++i) out[i * stride + k] = o[i];
+  }
+}
+
+template <class T>
+__attribute__((always_inline)) inline void batch_any(int bands, std::size_t n, const T* xs, const T* ys,
+                                                     const T* zs, T* out, std::size_t stride) {
+  switch (bands) {
+    case 1: batch<1>(n, xs, ys, zs, out, stride); break;
+    case 2: batch<2>(n, xs, ys, zs, out, stride); break;
+    case 3: batch<3>(n, xs, ys, zs, out, stride); break;
+    case 4: batch<4>(n, xs, ys, zs, out, stride); break;
+    case 5: batch<5>(n, xs, ys, zs, out, stride); break;
+    case 6: batch<6>(n, xs, ys, zs, out, stride); break;
+    case 7: batch<7>(n, xs, ys, zs, out, stride); break;
+    case 8: batch<8>(n, xs, ys, zs, out, stride); break;
+    default: break;
+  }
+}
+
+}  // namespace
+
+ATMOSH_SH_DISPATCH __attribute__((flatten))  // the generated code inlined into each clone
+void fast_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
+                std::size_t stride) {
+  batch_any(bands, n, xs, ys, zs, out, stride);
+}
+
+ATMOSH_SH_DISPATCH __attribute__((flatten))  // the generated code inlined into each clone
+void fast_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out,
+                std::size_t stride) {
+  batch_any(bands, n, xs, ys, zs, out, stride);
+}
+
+}  // namespace atmosh::sh::detail
