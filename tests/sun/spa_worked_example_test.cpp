@@ -141,3 +141,15 @@ TEST(SpaCos, MatchesStdCos) {
   }
   EXPECT_LT(worst, 1e-14);
 }
+
+TEST(SpaHeliocentric, MeeusExample25b) {
+  // J. Meeus, "Astronomical Algorithms", 2nd ed. (1998), Example 25.b: the Earth
+  // at 1992 October 13.0 TD (JDE 2448908.5) from the same truncated VSOP87
+  // series (his Appendix III, the report's Table A4.2): L = 19.907372°,
+  // B = -0.000179°, R = 0.99760775 AU. A second date, 11 years before the
+  // report's example, for every term of the L, B and R series.
+  const SpaGeocentric g = spa_geocentric(2448908.5, 0.0);  // ΔT = 0: JD = JDE
+  expect_printed(g.l_deg, 19.907372, 6, "L (Meeus 25.b)");
+  expect_printed(g.b_deg, -0.000179, 6, "B (Meeus 25.b)");
+  expect_printed(g.r_au, 0.99760775, 8, "R (Meeus 25.b)");
+}
