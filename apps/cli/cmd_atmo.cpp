@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,6 +23,9 @@
 #include "atmosh/io/study.hpp"
 #include "atmosh/scene/scene.hpp"
 #include "cli_common.hpp"
+#ifdef ATMOSH_HAVE_GPU
+#include "atmosh/gpu/sky.hpp"
+#endif
 
 namespace atmosh::cli {
 namespace {
@@ -71,9 +75,35 @@ std::vector<Ray> study_rays(const Atmosphere& atm) {
   return rays;
 }
 
+// --device cpu|gpu|auto: "cpu" never touches EGL; "gpu" needs a headless EGL
+// device and a supported atmosphere (else std::runtime_error, exit 1); "auto"
+// falls back to the CPU with a one-line notice on stderr.
+void check_device(const std::string& device) {
+  if (device != "cpu" && device != "gpu" && device != "auto")
+    throw InputError("--device " + device + ": must be cpu, gpu or auto");
+}
+
 std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::vector<int>& shells,
-                                       const std::vector<int>& directions, bool quick, const fs::path& stem) {
+                                       const std::vector<int>& directions, bool quick, const fs::path& stem,
+                                       const std::string& device = "cpu") {
+  check_device(device);
   Atmosphere atm(spec);
+#ifdef ATMOSH_HAVE_GPU
+  // With a GPU, every setting gets a second row: the same tables built by the
+  // GPU table pass (gpu::build_lut_tables), looked up by the same CPU code.
+  std::unique_ptr<gpu::Context> ctx;
+  if (device != "cpu") {
+    try {
+      ctx = std::make_unique<gpu::Context>();
+    } catch (const gpu::Unavailable& e) {
+      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
+      std::cerr << "atmosh: no GPU (" << e.what() << "); building the tables on the CPU only\n";
+    }
+  }
+#else
+  if (device == "gpu") throw std::runtime_error("--device gpu: atmosh was built without ATMOSH_WITH_GPU");
+  if (device == "auto") std::cerr << "atmosh: built without GPU support; building the tables on the CPU only\n";
+#endif
   OpticalDepthReference ref(atm);
   auto rays = study_rays(atm);
   auto k = atm.coefficients_at(550.0);
@@ -105,12 +135,8 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
     for (int s : shells)
       for (int d : directions) settings.push_back({s, d});
   }
-  for (auto [s, d] : settings) {
-    LutOptions o;
-    o.shells = s;
-    o.view_directions = d;
-    o.sun_directions = d;
-    OpticalDepthLut lut(atm, o);
+  // Error of one table set over all rays, and its per-lookup time.
+  auto evaluate = [&](const OpticalDepthLut& lut, const std::string& method, int s, int d, double build_s) {
     double emax = 0.0, esum = 0.0, emax_smooth = 0.0;
     int n = 0, mismatches = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -132,16 +158,44 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
       for (const auto& ray : rays) sink += lut.view(ray.r, ray.mu).column[kRayleigh];
     double lookup_s = seconds_since(t1) / (double(reps) * rays.size());
     if (sink == -1.0) std::printf(" ");
-    rows.push_back({"lut", std::to_string(s) + "x" + std::to_string(d), emax, std::sqrt(esum / std::max(n, 1)),
-                    lut.build_time_s() + lookup_s * rays.size(),
-                    {double(s), double(d), double(rays.size()), lut.build_time_s(), 1e9 * lookup_s,
-                     double(lut.table_bytes()), double(mismatches), emax_smooth}});
+    rows.push_back({method, std::to_string(s) + "x" + std::to_string(d), emax, std::sqrt(esum / std::max(n, 1)),
+                    build_s + lookup_s * rays.size(),
+                    {double(s), double(d), double(rays.size()), build_s, 1e9 * lookup_s, double(lut.table_bytes()),
+                     double(mismatches), emax_smooth}});
+  };
+  std::string used = "cpu";
+  for (auto [s, d] : settings) {
+    LutOptions o;
+    o.shells = s;
+    o.view_directions = d;
+    o.sun_directions = d;
+    OpticalDepthLut lut(atm, o);
+    evaluate(lut, "lut", s, d, lut.build_time_s());
+#ifdef ATMOSH_HAVE_GPU
+    if (ctx) {
+      try {
+        int off_ground = 0, off_sun = 0;
+        double gpu_s = 0.0;
+        const std::vector<float> tables = gpu::build_lut_tables(*ctx, lut, atm, off_ground, off_sun, &gpu_s);
+        OpticalDepthLut from_gpu = lut;
+        from_gpu.replace_log_tables(tables, off_ground, off_sun);
+        evaluate(from_gpu, "lut_gpu", s, d, gpu_s);
+        used = "gpu";
+      } catch (const gpu::Unsupported& e) {
+        if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
+        std::cerr << "atmosh: " << e.what() << " is not supported on the GPU; building the tables on the CPU only\n";
+        ctx.reset();
+      }
+    }
+#endif
   }
   io::Provenance prov = io::Provenance::current();
   prov.add("atmosphere", spec.name).add("wavelength_nm", 550.0);
-  prov.add("time_s", "lut: build time + per-lookup time x rays; reference: time of all rays");
-  prov.add("error", "relative error of the total optical depth at 550 nm over all rays (view table); "
-                    "error_max_rel_rayleigh_mie: the same without ozone");
+  prov.add("device", used);
+  prov.add("time_s", "lut: build time + per-lookup time x rays; lut_gpu: the same with the GPU table pass's wall "
+                     "time (shader compilation, upload, dispatch, read-back) as build time; reference: time of all rays");
+  prov.add("error", "relative error of the total optical depth at 550 nm over all rays (view table; lut_gpu: "
+                    "tables built on the GPU, looked up on the CPU); error_max_rel_rayleigh_mie: the same without ozone");
   prov.add("machine_note", "timings depend on the machine and its load");
   return io::write_study(stem, ss, rows, prov);
 }
@@ -348,6 +402,7 @@ void register_atmo_commands(CLI::App& app) {
   if (CLI::App* conv = app.get_subcommand("converge")) {
     struct Opt {
       std::string scene, preset, stem = "lut_convergence", shells = "8,16,32,48,64", directions = "16,32,64,128";
+      std::string device = "cpu";
       bool quick = false;
     };
     auto o = std::make_shared<Opt>();
@@ -358,10 +413,15 @@ void register_atmo_commands(CLI::App& app) {
     c->add_option("--shells", o->shells, "comma-separated shell counts");
     c->add_option("--directions", o->directions, "comma-separated direction counts (per table branch)");
     c->add_flag("--quick", o->quick, "two settings only");
+    c->add_option("--device", o->device,
+                  "cpu, gpu or auto: with a GPU, each setting also gets a lut_gpu row (tables built on the GPU); "
+                  "auto uses the GPU if a headless EGL device exists, else the CPU only");
     c->callback([o] {
+      check_device(o->device);
       auto s = parse_int_list(o->shells, "--shells");
       auto d = parse_int_list(o->directions, "--directions");
-      for (const auto& p : run_converge_lut(load_atmosphere(o->scene, o->preset), s, d, o->quick, o->stem))
+      for (const auto& p :
+           run_converge_lut(load_atmosphere(o->scene, o->preset), s, d, o->quick, o->stem, o->device))
         std::printf("%s\n", p.c_str());
     });
   }

@@ -42,35 +42,16 @@ void main() {
     float p_ray = has_ext[0] != 0 ? phase_value(0, nuf) : 0.0;
     float p_mie = has_ext[1] != 0 ? phase_value(1, nuf) : 0.0;
     double rt2 = r * r * ((1.0LF - mu) * (1.0LF + mu));
-    // Cuts: shell crossings, shadow edges and the tangent point, sorted.
-    float cuts[kMaxCuts];
-    int nc = 0;
-    cuts[nc++] = 0.0;
-    for (int k = 0; k < n_cuts; ++k) {
-      double kr = double(shell[off_cuts + k]);
-      double disc = kr * kr - rt2;
-      if (disc < 0.0LF) continue;
-      double qd = sqrt(disc), t = -r * mu;
-      float s1 = float(t - qd), s2 = float(t + qd);
-      if (s1 > 0.0 && s1 < s_end) cuts[nc++] = s1;
-      if (s2 > 0.0 && s2 < s_end) cuts[nc++] = s2;
-    }
-    for (int i = 0; i < 2; ++i) {  // edges of the Earth's shadow (shared formula, in double)
-      double se = shadow_edge_distance(r, mu, mu_s, nu, Rd, i);
-      if (se > 0.0LF && se < double(s_end)) cuts[nc++] = float(se);
-    }
+    // Cuts: shell crossings, shadow edges and the tangent point, sorted
+    // (shared/view_ray.glsl.hpp, double build: the CPU's function).
+    double cut_r[kMaxCutSpheres];
+    for (int k = 0; k < n_cuts; ++k) cut_r[k] = shell_d[off_cuts + k];
+    ViewRayCuts vc = view_ray_cuts(r, mu, mu_s, nu, Rd, double(s_end), rt2, cut_r, n_cuts);
+    int nc = vc.n;
     float st = float(-r * mu);
-    if (st > 0.0 && st < s_end) cuts[nc++] = st;
-    cuts[nc++] = s_end;
-    for (int i = 1; i < nc; ++i) {  // insertion sort
-      float key = cuts[i];
-      int j = i - 1;
-      while (j >= 0 && cuts[j] > key) { cuts[j + 1] = cuts[j]; --j; }
-      cuts[j + 1] = key;
-    }
     vec4 total = lookup(true, h0, muf);
     for (int k = 1; k < nc; ++k) {
-      float a0 = cuts[k - 1], b0 = cuts[k];
+      float a0 = float(vc.s[k - 1]), b0 = float(vc.s[k]);
       if (!(b0 > a0)) continue;
       // Densest point of the piece: tangent point inside it, else the lower end.
       float sd;

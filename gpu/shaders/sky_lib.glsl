@@ -1,6 +1,6 @@
 // Buffers, uniforms and table lookups of the GPU sky (sky.comp); assembled after
-// shared/geometry.glsl.hpp (float) and shared/lut.glsl.hpp (float and double
-// builds). The GPU version of
+// shared/geometry.glsl.hpp (float), shared/lut.glsl.hpp (float and double
+// builds) and shared/view_ray.glsl.hpp (double). The GPU version of
 // atmo::SkyIntegrator::radiance (libatmo/src/sky.cpp), same cuts, pieces,
 // Gauss-Legendre nodes and table lookups (OpticalDepthLut). Assembled after
 // shared/geometry.glsl.hpp (ray geometry, densities, phase functions, closed-form
@@ -16,7 +16,7 @@ layout(std430, binding = 2) readonly buffer Shells { float shell[]; };        //
 layout(std430, binding = 3) readonly buffer Spectral { float spec[]; };       // ext[3][nw], sca[3][nw], solar[nw]
 layout(std430, binding = 4) writeonly buffer Radiance { float radiance[]; };  // [pixel][nw]
 layout(std430, binding = 5) readonly buffer Quadrature { float gl[]; };       // nodes[n], weights[n]
-layout(std430, binding = 6) readonly buffer ShellsD { double shell_d[]; };    // rho[S], 1/den[(S-3)*4]
+layout(std430, binding = 6) readonly buffer ShellsD { double shell_d[]; };    // rho[S], 1/den[(S-3)*4], cut radii
 
 uniform int n_pixels;
 uniform int nw;
@@ -39,7 +39,6 @@ uniform float max_piece_optical_depth;
 uniform float irradiance_scale;    // 1 / d_AU^2
 uniform float albedo;
 
-const int kMaxCuts = 133;  // 2 x 64 shell crossings, 2 shadow edges, tangent point, two ends
 const int kMaxWavelengths = 64;
 
 float phase_value(int c, float nu) {
@@ -73,30 +72,24 @@ vec3 density_at(float h) {
 }
 
 // ---- OpticalDepthLut::interpolate / lookup (exponential constituents) ----
+double shell_rho(int i) { return shell_d[i]; }  // for ATMOSH_LUT_SHELL_INDEX
+
 // Weights and sums in double: the columns come out with ~1e-7 relative error
 // (float weights would give ~1e-5, and a horizon ray's optical depth of ~30
 // turns that into 3e-4 in the transmittance).
 dvec3 interpolate(int base, int n, double rho, double x) {
-  int lo = 0, hi = n_shells;  // first shell with rho_k > rho
-  while (lo < hi) {
-    int mid = (lo + hi) / 2;
-    if (shell_d[mid] > rho) hi = mid; else lo = mid + 1;
-  }
-  int k = lo - 1;
-  int w = clamp(k - 1, 0, n_shells - 4);
+  // Window choice and weights: shared/lut.glsl.hpp (double build), as the CPU's.
+  int k;
+  ATMOSH_LUT_SHELL_INDEX(k, n_shells, rho, shell_rho);
+  int w = lut_window_start(k, n_shells);
   double lw[4];
-  for (int i = 0; i < 4; ++i) {
-    double p = shell_d[n_shells + w * 4 + i];
-    for (int j = 0; j < 4; ++j)
-      if (j != i) p *= rho - shell_d[w + j];
-    lw[i] = p;
-  }
-  double fx = x * double(n - 1);
-  int j = clamp(int(fx), 0, n - 2);
-  int jw = clamp(j - 1, 0, n - 4);
-  double p = fx - double(jw);
+  for (int i = 0; i < 4; ++i)
+    lw[i] = lut_shell_weight(rho, shell_d[n_shells + w * 4 + i], shell_d[w], shell_d[w + 1], shell_d[w + 2],
+                             shell_d[w + 3], i);
+  int jw = lut_direction_window(x, n);
+  double p = lut_direction_offset(x, n, jw);
   double xw[4];
-  for (int m = 0; m < 4; ++m) xw[m] = lagrange_cubic_weight(p, m);  // shared/lut.glsl.hpp (double build)
+  for (int m = 0; m < 4; ++m) xw[m] = lagrange_cubic_weight(p, m);
   dvec3 acc = dvec3(0.0LF);
   for (int i = 0; i < 4; ++i) {
     int row = base + ((w + i) * n + jw) * 3;
@@ -114,63 +107,18 @@ vec3 decode_times(dvec3 v, float d) {
   return out_v;
 }
 
-// PiecewiseLinearColumn::operator() (libatmo/src/optical_depth.cpp) for the ozone nodes.
+// PiecewiseLinearColumn::operator() for the ozone nodes: the shared traversal
+// (shared/geometry.glsl.hpp, float build) on the nodes (radius, value, slope).
 float ozone_column(float r, float mu, float len) {
   if (!(len > 0.0) || n_oz < 2) return 0.0;
-  int n = n_oz;
-  float c2 = tangent_radius_sq(r, mu);
-  float u0 = r * mu, u1 = u0 + len;
-  float r1sq = u1 * u1 + c2;
-  float rmin_sq = (u0 < 0.0 && u1 > 0.0) ? c2 : min(r * r, r1sq);
-  float rmax_sq = max(r * r, r1sq);
-  float rlast = shell[off_oz + n - 1], rfirst = shell[off_oz];
-  if (rmin_sq >= rlast * rlast || rmax_sq <= rfirst * rfirst) return 0.0;
-  float ua = u0, ra = r, sum = 0.0;
-  int idx = n;
-  bool done = false;
-  float q[16];
-  int first = n;
-  for (int k = n - 1; k >= 0; --k) {
-    float D = sphere_discriminant(r, mu, shell[off_oz + k]);
-    if (!(D > 0.0)) break;
-    q[k] = sqrt(D);
-    first = k;
+  float radius[kMaxLinearNodes], value[kMaxLinearNodes], slope[kMaxLinearNodes], q[kMaxLinearNodes];
+  int n = min(n_oz, kMaxLinearNodes);
+  for (int k = 0; k < n; ++k) {
+    radius[k] = shell[off_oz + k];
+    value[k] = shell[off_oz + n_oz + k];
+    slope[k] = shell[off_oz + 2 * n_oz + k];
   }
-  // Breakpoints in order: inward crossings, the tangent point, outward crossings.
-  int total = (u0 < 0.0) ? (n - first) + 1 + (n - first) : (n - first);
-  if (u0 >= 0.0) idx = first;
-  for (int t = 0; t < total && !done; ++t) {
-    float u, ru;
-    int after;
-    if (u0 < 0.0 && t < n - first) {
-      int k = n - 1 - t;
-      u = -q[k]; ru = shell[off_oz + k]; after = k;
-    } else if (u0 < 0.0 && t == n - first) {
-      u = 0.0; ru = sqrt(c2); after = idx;
-    } else {
-      int k = first + (u0 < 0.0 ? t - (n - first) - 1 : t);
-      u = q[k]; ru = shell[off_oz + k]; after = k + 1;
-    }
-    if (u >= u1) {
-      if (idx > 0 && idx < n)
-        sum += linear_piece_column(ua, u1, ra, sqrt(r1sq), c2, shell[off_oz + n + idx - 1],
-                                   shell[off_oz + 2 * n + idx - 1], shell[off_oz + idx - 1]);
-      done = true;
-      break;
-    }
-    if (u > ua) {
-      if (idx > 0 && idx < n)
-        sum += linear_piece_column(ua, u, ra, ru, c2, shell[off_oz + n + idx - 1], shell[off_oz + 2 * n + idx - 1],
-                                   shell[off_oz + idx - 1]);
-      ua = u;
-      ra = ru;
-    }
-    idx = after;
-  }
-  if (!done && idx > 0 && idx < n)
-    sum += linear_piece_column(ua, u1, ra, sqrt(r1sq), c2, shell[off_oz + n + idx - 1], shell[off_oz + 2 * n + idx - 1],
-                               shell[off_oz + idx - 1]);
-  return sum;
+  return piecewise_linear_column(r, mu, len, radius, value, slope, n, q);
 }
 
 // OpticalDepthLut::lookup for an origin inside the atmosphere: h = r - R given

@@ -9,6 +9,7 @@
 
 #include "atmosh/atmo/colour.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/gpu/program.hpp"
 #include "atmosh/sh/quadrature.hpp"
@@ -21,7 +22,7 @@ namespace sg = atmo::shared;
 using atmo::DensityProfileSpec;
 
 constexpr int kMaxWavelengths = 64;  // sky.comp kMaxWavelengths
-constexpr int kMaxOzoneNodes = 16;   // sky.comp q[16]
+constexpr int kMaxOzoneNodes = sg::kMaxLinearNodes;  // GLSL build of shared/geometry.glsl.hpp
 
 // Closed-form column at lookup (OpticalDepthLut: piecewise-linear profiles with
 // few nodes), else interpolated from the tables.
@@ -127,6 +128,7 @@ std::vector<ShaderPart> sky_parts(const std::string& main_shader) {
           lut,
           real_type_part("double"),
           lut,
+          embedded_source("libatmo/include/atmosh/atmo/shared/view_ray.glsl.hpp"),
           real_type_part("float"),
           embedded_source("gpu/shaders/sky_lib.glsl"),
           embedded_source(main_shader)};
@@ -179,7 +181,8 @@ std::string sky_unsupported_reason(const atmo::SkyIntegrator& sky) {
     if (atm.has(c) && phase_code(phase_spec(atm, c).model) < 0) return "tabulated phase functions";
   if (atm.wavelengths_nm().size() > static_cast<std::size_t>(kMaxWavelengths))
     return "more than " + std::to_string(kMaxWavelengths) + " wavelengths";
-  if (sky.options().segments - 1 > 64) return "more than 65 view-ray segments";
+  if (sky.options().segments - 1 > sg::kMaxCutSpheres)
+    return "more than " + std::to_string(sg::kMaxCutSpheres + 1) + " view-ray segments";
   return "";
 }
 
@@ -229,10 +232,11 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
         if (j != i) d *= rho[w + i] - rho[w + j];
       shells.push_back(static_cast<float>(1.0 / d));
     }
-  const int off_cuts = static_cast<int>(shells.size());
+  // Radii that cut the view rays (SkyIntegrator's cut_radii_), in double.
+  const int off_cuts = static_cast<int>(shells_d.size());
   const int segments = sky.options().segments;
   for (int i = 1; i < segments; ++i)
-    shells.push_back(static_cast<float>(radii[static_cast<std::size_t>(std::lround(double(i) * (S - 1) / segments))]));
+    shells_d.push_back(radii[static_cast<std::size_t>(std::lround(double(i) * (S - 1) / segments))]);
   const int off_oz = static_cast<int>(shells.size());
   int n_oz = 0;
   if (atm.has(atmo::kOzone)) {

@@ -77,41 +77,7 @@ PiecewiseLinearColumn::PiecewiseLinearColumn(const DensityProfile& profile, doub
 double PiecewiseLinearColumn::operator()(double r, double mu, double length) const {
   if (!(length > 0.0) || radius_.empty()) return 0.0;
   const int n = static_cast<int>(radius_.size());
-  const double c2 = sg::tangent_radius_sq(r, mu);
-  const double u0 = r * mu, u1 = u0 + length;
-  // Lowest radius on the ray: the tangent radius if the tangent point (u = 0)
-  // is on it, else an end. A ray entirely above the last node or below the
-  // first has no column.
-  const double r1sq = u1 * u1 + c2;
-  const double rmin_sq = (u0 < 0.0 && u1 > 0.0) ? c2 : std::min(r * r, r1sq);
-  const double rmax_sq = std::max(r * r, r1sq);
-  if (rmin_sq >= radius_[n - 1] * radius_[n - 1] || rmax_sq <= radius_[0] * radius_[0]) return 0.0;
-  double ua = u0, ra = r, sum = 0.0;
-  // Node interval of the current position: idx = number of nodes below it (0:
-  // below the profile, n: above it; the density is 0 there). Coming from
-  // u = -infinity (radius infinite) idx = n; crossing node k inward sets idx = k,
-  // outward idx = k + 1, so breakpoints before the origin just set the state.
-  int idx = n;
-  bool done = false;
-  auto piece = [&](double ub, double rb) {
-    sum += sg::linear_piece_column(ua, ub, ra, rb, c2, value_[idx - 1], slope_[idx - 1], radius_[idx - 1]);
-  };
-  // Breakpoint at u with radius ru; the interval after it is idx_after.
-  auto cross = [&](double u, double ru, int idx_after) {
-    if (u >= u1) {
-      if (idx > 0 && idx < n) piece(u1, std::sqrt(r1sq));
-      done = true;
-      return;
-    }
-    if (u > ua) {
-      if (idx > 0 && idx < n) piece(u, ru);
-      ua = u;
-      ra = ru;
-    }
-    idx = idx_after;
-  };
-  // Crossings of node spheres (q_k = sqrt(R_k^2 - r_t^2) grows with k): inward
-  // at u = -q_k from the outermost node, the tangent point, outward at +q_k.
+  // Scratch for the shared traversal (shared/geometry.glsl.hpp).
   constexpr int kStack = 32;
   double q_stack[kStack];
   std::vector<double> q_heap;
@@ -120,22 +86,7 @@ double PiecewiseLinearColumn::operator()(double r, double mu, double length) con
     q_heap.resize(n);
     q = q_heap.data();
   }
-  int first = n;  // innermost node sphere the ray's line crosses
-  for (int k = n - 1; k >= 0; --k) {
-    double D = sg::sphere_discriminant(r, mu, radius_[k]);
-    if (!(D > 0.0)) break;  // D grows with the node radius
-    q[k] = std::sqrt(D);
-    first = k;
-  }
-  if (u0 < 0.0) {
-    for (int k = n - 1; k >= first && !done; --k) cross(-q[k], radius_[k], k);
-    if (!done) cross(0.0, std::sqrt(c2), idx);
-  } else {
-    idx = first;  // state at the tangent point (behind the origin)
-  }
-  for (int k = first; k < n && !done; ++k) cross(q[k], radius_[k], k + 1);
-  if (!done && idx > 0 && idx < n) piece(u1, std::sqrt(r1sq));
-  return sum;
+  return sg::piecewise_linear_column(r, mu, length, radius_.data(), value_.data(), slope_.data(), n, q);
 }
 
 // ---------------------------------------------------------------- reference
@@ -447,19 +398,16 @@ double OpticalDepthLut::x_ground(double r, double mu, double& d) const {
 glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double r, double x) const {
   const int S = static_cast<int>(radii_.size()), n = t.n;
   double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
-  int k = static_cast<int>(std::upper_bound(rho_.begin(), rho_.end(), rho) - rho_.begin()) - 1;
-  int w = std::clamp(k - 1, 0, S - 4);
+  // Window choice and weights: shared/lut.glsl.hpp (the GPU's interpolate too).
+  auto rho_at = [this](int i) { return rho_[static_cast<std::size_t>(i)]; };
+  int k;
+  ATMOSH_LUT_SHELL_INDEX(k, S, rho, rho_at);
+  const int w = sg::lut_window_start(k, S);
   double lw[4];
-  for (int i = 0; i < 4; ++i) {
-    double p = lagrange_den_[w * 4 + i];
-    for (int j = 0; j < 4; ++j)
-      if (j != i) p *= rho - rho_[w + j];
-    lw[i] = p;
-  }
-  double fx = x * (n - 1);
-  int j = std::clamp(static_cast<int>(fx), 0, n - 2);
-  int jw = std::clamp(j - 1, 0, n - 4);
-  double p = fx - jw;
+  for (int i = 0; i < 4; ++i)
+    lw[i] = sg::lut_shell_weight(rho, lagrange_den_[w * 4 + i], rho_[w], rho_[w + 1], rho_[w + 2], rho_[w + 3], i);
+  const int jw = sg::lut_direction_window(x, n);
+  const double p = sg::lut_direction_offset(x, n, jw);
   double xw[4];
   for (int m = 0; m < 4; ++m) xw[m] = sg::lagrange_cubic_weight(p, m);
   glm::dvec3 acc(0.0);
@@ -528,6 +476,27 @@ LutColumn OpticalDepthLut::lookup(const Table& up, const Table* ground, double r
       if (present_[c] && !log_encoded_[c] && h_min >= support_top_[c]) out.column[c] = 0.0;
   }
   return out;
+}
+
+void OpticalDepthLut::replace_log_tables(const std::vector<float>& log_mean, int off_ground, int off_sun) {
+  const std::size_t S = radii_.size();
+  const std::size_t nv = S * static_cast<std::size_t>(view_up_.n) * 3, ns = S * static_cast<std::size_t>(sun_up_.n) * 3;
+  if (off_ground < 0 || off_sun < 0 || static_cast<std::size_t>(off_ground) != nv ||
+      static_cast<std::size_t>(off_sun) != 2 * nv || log_mean.size() != 2 * nv + ns)
+    throw InputError("replacement tables: " + std::to_string(log_mean.size()) + " values (offsets " +
+                     std::to_string(off_ground) + ", " + std::to_string(off_sun) + ") do not match " +
+                     std::to_string(S) + " shells x " + std::to_string(view_up_.n) + "/" + std::to_string(sun_up_.n) +
+                     " directions");
+  for (std::size_t i = 0; i < log_mean.size(); ++i)
+    if (log_encoded_[i % 3] && !std::isfinite(log_mean[i]))
+      throw InputError("replacement tables: entry " + std::to_string(i) + " is not finite");
+  auto copy = [&](Table& t, std::size_t off) {
+    for (std::size_t i = 0; i < t.v.size(); ++i)
+      if (log_encoded_[i % 3]) t.v[i] = static_cast<double>(log_mean[off + i]);
+  };
+  copy(view_up_, 0);
+  copy(view_ground_, nv);
+  copy(sun_up_, 2 * nv);
 }
 
 LutColumn OpticalDepthLut::view(double r, double mu) const { return lookup(view_up_, &view_ground_, r, mu); }

@@ -10,6 +10,7 @@
 #include "atmosh/atmo/integrate.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
+#include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/sh/quadrature.hpp"
 
@@ -145,7 +146,7 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
   check_solar(atm_, solar_);
   if (opt_.samples_per_segment < 1 || opt_.samples_per_segment > 8)
     throw InputError("samples per segment " + std::to_string(opt_.samples_per_segment) + " is outside [1, 8]");
-  const int max_segments = std::min(opt_.lut.shells - 1, 64);  // the cut buffer holds 2 x 64 crossings
+  const int max_segments = std::min(opt_.lut.shells - 1, sg::kMaxCutSpheres);  // shared/view_ray.glsl.hpp
   if (opt_.segments < 1 || opt_.segments > max_segments)
     throw InputError("view-ray segments " + std::to_string(opt_.segments) + " is outside [1, " +
                      std::to_string(max_segments) + "] (at most shells - 1 and 64)");
@@ -184,17 +185,14 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   const double p_ray = atm_.has(kRayleigh) ? phase_[0].value(ray.nu) : 0.0;
   const double p_mie = atm_.has(kMie) ? phase_[1].value(ray.nu) : 0.0;
 
-  // Pieces between shell crossings and the tangent point.
-  double cuts[2 * 64 + 5];
-  int nc = 0;
-  cuts[nc++] = 0.0;
-  for (double k : cut_radii_)
-    crossings(ray, k, [&](double s) { cuts[nc++] = s; });
-  shadow_crossings(ray, R, [&](double s) { cuts[nc++] = s; });
+  // Pieces between shell crossings, the tangent point and the shadow edges
+  // (shared/view_ray.glsl.hpp, the same function as the GPU's).
+  const sg::ViewRayCuts vc = sg::view_ray_cuts(ray.r, ray.mu, ray.mu_s, ray.nu, R, ray.s_end,
+                                               sg::tangent_radius_sq(ray.r, ray.mu), cut_radii_.data(),
+                                               static_cast<int>(cut_radii_.size()));
+  const double* cuts = vc.s;
+  const int nc = vc.n;
   const double st = sg::tangent_distance(ray.r, ray.mu);
-  if (st > 0 && st < ray.s_end) cuts[nc++] = st;
-  cuts[nc++] = ray.s_end;
-  std::sort(cuts, cuts + nc);
   // Extinction per metre at the densest point of a piece (an end or the tangent point).
   auto piece_extinction = [&](double a, double b) {
     double s = (st > a && st < b) ? st : (sg::radius_along(ray.r, ray.mu, a) < sg::radius_along(ray.r, ray.mu, b) ? a : b);

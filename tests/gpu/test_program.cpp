@@ -3,6 +3,7 @@
 // functions agrees with the C++ (double) build to float precision.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,7 +13,9 @@
 
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
+#include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/gpu/program.hpp"
+#include "atmosh/gpu/sky.hpp"
 #include "gpu_fixture.hpp"
 
 namespace gpu = atmosh::gpu;
@@ -157,5 +160,46 @@ TEST(GpuProgram, SharedFunctionsAgreeWithTheCppBuild) {
     const double p = 3.0 * (double(c.cos_theta) + 1.0) / 2.0;
     expect_close(o[13], sg::lagrange_cubic_weight(p, i % 4), 1e-6, "lagrange_cubic_weight", i);
     expect_close(o[14], sg::cos_zenith_along(r, c.g, c.cos_theta, s, rs), 2e-6, "cos_zenith_along", i);
+  }
+}
+
+// The GLSL double build of the shared view-ray cuts (shared/view_ray.glsl.hpp,
+// as assembled for the sky pass) against the C++ build: the same cut count and
+// the same distances up to a few ulp of double (the bound, 1e-12 of the ray
+// length, leaves room for a double sqrt that is not correctly rounded).
+TEST(GpuProgram, ViewRayCutsAgreeWithTheCppBuild) {
+  ATMOSH_GPU_CONTEXT_OR_SKIP(ctx);
+  gpu::Program prog(gpu::sky_parts("gpu/shaders/view_ray_check.comp"));
+  const double R = 6371e3, T = R + 100e3;
+  std::vector<double> radii;
+  for (int i = 1; i < 16; ++i) radii.push_back(R + 100e3 * (i / 16.0) * (i / 16.0));
+  std::vector<double> rays;
+  for (double h : {0.0, 1500.0, 30e3, 100e3})
+    for (double mu : {-1.0, -0.3, -0.02, -0.005, 0.0, 0.004, 0.3, 1.0})
+      for (double mu_s : {0.2, -0.05, -0.2}) {
+        const double r = R + h, nu = std::clamp(mu * mu_s + 0.6 * std::sqrt((1 - mu * mu) * (1 - mu_s * mu_s)), -1.0, 1.0);
+        const double s_end = sg::ray_hits_ground(r, mu, R) ? sg::distance_to_ground(r, mu, R) : sg::distance_to_top(r, mu, T);
+        if (!(s_end > 0)) continue;
+        rays.insert(rays.end(), {r, mu, mu_s, nu, s_end});
+      }
+  const int n = int(rays.size() / 5), stride = sg::kMaxViewCuts + 1;
+  gpu::Buffer bi(rays.size() * sizeof(double), rays.data()), br(radii.size() * sizeof(double), radii.data()),
+      bo(std::size_t(n) * stride * sizeof(double));
+  bi.bind(7);
+  br.bind(8);
+  bo.bind(9);
+  prog.set("n_rays", n);
+  prog.set("n_radii", int(radii.size()));
+  prog.set_double("radius_R", R);
+  prog.dispatch(unsigned(n + 63) / 64);
+  std::vector<double> out(std::size_t(n) * stride);
+  bo.download(out.data(), out.size() * sizeof(double));
+  for (int i = 0; i < n; ++i) {
+    const double* q = &rays[5 * std::size_t(i)];
+    const sg::ViewRayCuts c = sg::view_ray_cuts(q[0], q[1], q[2], q[3], R, q[4], sg::tangent_radius_sq(q[0], q[1]),
+                                                radii.data(), int(radii.size()));
+    const double* g = &out[std::size_t(i) * stride];
+    ASSERT_EQ(int(g[0]), c.n) << "ray " << i;
+    for (int k = 0; k < c.n; ++k) EXPECT_NEAR(g[1 + k], c.s[k], 1e-12 * q[4]) << "ray " << i << " cut " << k;
   }
 }

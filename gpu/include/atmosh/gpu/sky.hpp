@@ -6,13 +6,15 @@
 // SkyIntegrator: the shader gpu/shaders/sky.comp runs SkyIntegrator::radiance's
 // algorithm (same cuts, pieces, Gauss-Legendre nodes) on the integrator's own
 // optical-depth tables (uploaded as float), with the ray geometry, density
-// profiles, phase functions and closed-form linear-piece columns taken from
-// shared/geometry.glsl.hpp at build time. Pixel directions come from
+// profiles, phase functions and closed-form piecewise-linear columns
+// (shared/geometry.glsl.hpp), the table lookup (shared/lut.glsl.hpp) and the
+// view-ray cuts (shared/view_ray.glsl.hpp) taken from the shared headers at
+// build time. Pixel directions come from
 // atmo::sky_pixel_direction.
 //
-// Precision: float, except positions along the view ray (double; float radii
+// Precision: float, except positions along the view ray and its cuts (double; float radii
 // would put ~0.5 m into altitudes, 4e-4 relative in a 1.2 km Mie density).
-// Agreement with the CPU (double) image: max 7.4e-5 relative in spectral
+// Agreement with the CPU (double) image: max 7.1e-5 relative in spectral
 // radiance above 1e-6 of the image maximum (measured on Mesa llvmpipe,
 // earth-physical, sun from 30 to -4 degrees; tests bound it by 1e-4; details
 // in docs/gpu.md).
@@ -59,7 +61,8 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
                                     int& off_ground, int& off_sun, double* seconds = nullptr);
 
 // The shader parts of the sky and table passes, in order: the shared geometry
-// (float), the shared table math (float and double builds), sky_lib.glsl, then
+// (float), the shared table math (float and double builds), the shared view-ray
+// cuts (double), sky_lib.glsl, then
 // `main_shader` (a path under gpu/shaders/).
 std::vector<ShaderPart> sky_parts(const std::string& main_shader);
 

@@ -167,6 +167,16 @@ class OpticalDepthLut {
   // an a-posteriori estimate (costs ~ a build; not part of build_time_s).
   double estimate_max_rel_error() const;
 
+  // Replaces the stored entries of the log-encoded constituents with `log_mean`
+  // (e.g. tables built by another pass of the same shells and direction samples,
+  // such as gpu::build_lut_tables): three tables, view toward the top from
+  // offset 0, view toward the ground from `off_ground`, sun from `off_sun`, each
+  // [shell][direction][3] = natural log of the mean relative density along the
+  // table ray. Entries of other constituents are kept. InputError if the layout
+  // does not match this table's shells and directions or a used entry is not
+  // finite.
+  void replace_log_tables(const std::vector<float>& log_mean, int off_ground, int off_sun);
+
  private:
   struct Table {
     int n = 0;

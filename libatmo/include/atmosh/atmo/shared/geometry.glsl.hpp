@@ -29,6 +29,9 @@
 // in direction l, both unit vectors pointing away from the observer,
 // cos_theta = dot(v, l)). A positive g means forward-peaked.
 //
+// Arrays are fixed-size parameters (`const real a[N]`): a copy in GLSL, a pointer
+// in C++ (where N is not enforced).
+//
 // Accuracy: every function is exact up to rounding in the real type (a few ulp,
 // except the tent density, which is exact, and the distances, whose absolute
 // error is ~1e-16 * r for double).
@@ -41,7 +44,7 @@
 namespace atmosh::atmo::shared {
 
 using real = double;
-#define ATMOSH_FN inline
+#define ATMOSH_FN inline __attribute__((always_inline))  // hot loops on the CPU
 
 // ATMOSH_GLSL_BEGIN
 
@@ -179,6 +182,103 @@ ATMOSH_FN real linear_piece_column(real ua, real ub, real ra, real rb, real c_sq
                     ? log1p_accurate(du * (real(1) + glm::abs(t)) / near_sum) : real(0);
   real integral_r = real(0.5) * (du * m * (real(1) + t * t) + c_sq * dasinh);
   return v0 * du + slope * (integral_r - r0 * du);
+}
+
+// ---- column of a piecewise-linear profile along a ray (closed form) ----
+
+// Node capacity of the GLSL build, whose array parameters have a fixed size.
+// In C++ an array parameter is a pointer, so the CPU build takes any node count.
+const int kMaxLinearNodes = 16;
+
+// State of the walk along a ray in piecewise_linear_column: the current
+// position u = ua (radius ra), the column so far, idx = number of nodes below
+// the current position (0: below the profile, n: above it; density 0 there),
+// done once the end of the ray is reached.
+struct LinearColumnWalk {
+  real ua;
+  real ra;
+  real sum;
+  int idx;
+  bool done;
+};
+
+// One breakpoint of the walk at u (radius ru) after which the position lies in
+// node interval idx_after: adds the piece up to min(u, u1) when the current
+// interval has density, then moves there (breakpoints behind the current
+// position only update idx). u1, r1: the end of the ray and its radius.
+ATMOSH_FN LinearColumnWalk linear_column_cross(LinearColumnWalk w, real u, real ru, int idx_after, real u1, real r1,
+                                               real c2, const real radius[kMaxLinearNodes],
+                                               const real value[kMaxLinearNodes], const real slope[kMaxLinearNodes],
+                                               int n) {
+  if (u >= u1) {
+    if (w.idx > 0 && w.idx < n)
+      w.sum += linear_piece_column(w.ua, u1, w.ra, r1, c2, value[w.idx - 1], slope[w.idx - 1], radius[w.idx - 1]);
+    w.done = true;
+    return w;
+  }
+  if (u > w.ua) {
+    if (w.idx > 0 && w.idx < n)
+      w.sum += linear_piece_column(w.ua, u, w.ra, ru, c2, value[w.idx - 1], slope[w.idx - 1], radius[w.idx - 1]);
+    w.ua = u;
+    w.ra = ru;
+  }
+  w.idx = idx_after;
+  return w;
+}
+
+// Column [m] (integral of the relative density over distance) along the ray
+// from radius r with cosine mu over s in [0, len] of a profile given at n >= 2
+// nodes: radius[i] ascending [m], value[i], slope[i] = d value / d radius on
+// (radius[i], radius[i+1]) [1/m]; linear in radius between the nodes and 0
+// outside them. With u = s + r mu the breakpoints are walked in their order
+// along the ray: the inward crossings of the node spheres (u = -q_k, outermost
+// first), the tangent point (u = 0), the outward crossings (u = +q_k), where
+// q_k = sqrt(sphere_discriminant(r, mu, radius[k])); every piece between two
+// consecutive breakpoints inside [0, len] gets linear_piece_column. Coming from
+// u = -infinity the state is idx = n; crossing node k inward sets idx = k,
+// outward idx = k + 1. q: scratch for n values (written here, not read by the
+// caller). Accuracy: that of linear_piece_column, summed over at most 2 n + 1
+// pieces.
+ATMOSH_FN real piecewise_linear_column(real r, real mu, real len, const real radius[kMaxLinearNodes],
+                                       const real value[kMaxLinearNodes], const real slope[kMaxLinearNodes], int n,
+                                       real q[kMaxLinearNodes]) {
+  if (!(len > real(0)) || n < 2) return real(0);
+  real c2 = tangent_radius_sq(r, mu);
+  real u0 = r * mu;
+  real u1 = u0 + len;
+  // Lowest radius on the ray: the tangent radius if the tangent point (u = 0)
+  // is on it, else an end. A ray entirely above the last node or below the
+  // first has no column.
+  real r1sq = u1 * u1 + c2;
+  real rmin_sq = (u0 < real(0) && u1 > real(0)) ? c2 : glm::min(r * r, r1sq);
+  real rmax_sq = glm::max(r * r, r1sq);
+  if (rmin_sq >= radius[n - 1] * radius[n - 1] || rmax_sq <= radius[0] * radius[0]) return real(0);
+  real r1 = glm::sqrt(r1sq);
+  int first = n;  // innermost node sphere the ray's line crosses (the discriminant grows with the radius)
+  for (int k = n - 1; k >= 0; --k) {
+    real D = sphere_discriminant(r, mu, radius[k]);
+    if (!(D > real(0))) break;
+    q[k] = glm::sqrt(D);
+    first = k;
+  }
+  LinearColumnWalk w;
+  w.ua = u0;
+  w.ra = r;
+  w.sum = real(0);
+  w.idx = n;
+  w.done = false;
+  if (u0 < real(0)) {
+    for (int k = n - 1; k >= first && !w.done; --k)
+      w = linear_column_cross(w, -q[k], radius[k], k, u1, r1, c2, radius, value, slope, n);
+    if (!w.done) w = linear_column_cross(w, real(0), glm::sqrt(c2), w.idx, u1, r1, c2, radius, value, slope, n);
+  } else {
+    w.idx = first;  // the state at the tangent point (behind the origin)
+  }
+  for (int k = first; k < n && !w.done; ++k)
+    w = linear_column_cross(w, q[k], radius[k], k + 1, u1, r1, c2, radius, value, slope, n);
+  if (!w.done && w.idx > 0 && w.idx < n)
+    w.sum += linear_piece_column(w.ua, u1, w.ra, r1, c2, value[w.idx - 1], slope[w.idx - 1], radius[w.idx - 1]);
+  return w.sum;
 }
 
 // ---- phase functions [1/sr], cos_theta as defined in the header comment ----

@@ -33,6 +33,60 @@ ATMOSH_FN real lagrange_cubic_weight(real p, int i) {
   return p * (p - real(1)) * (p - real(2)) / real(6);
 }
 
+// ---- table lookup (OpticalDepthLut::interpolate): window choice and weights ----
+// A table holds samples at shells rho_0 < ... < rho_{S-1} (rho = sqrt(r^2 - R^2))
+// times directions x_j = j / (n - 1); a lookup interpolates a 4 x 4 window of
+// them with cubic Lagrange weights in rho and in x.
+
+// First direction sample of the 4-sample window around x in [0, 1] (n >= 4
+// samples): the cell j = floor(x (n - 1)) (clamped to [0, n - 2]) and its
+// neighbours, shifted inward at the ends.
+ATMOSH_FN int lut_direction_window(real x, int n) {
+  int j = glm::clamp(int(x * real(n - 1)), 0, n - 2);
+  return glm::clamp(j - 1, 0, n - 4);
+}
+
+// Position of x inside the window starting at jw, in sample units (0..3 inside).
+ATMOSH_FN real lut_direction_offset(real x, int n, int jw) { return x * real(n - 1) - real(jw); }
+
+// Lagrange weight of node i (0..3) of the shell window (r0..r3 the window's rho
+// values, inv_den = 1 / prod_{j != i} (r_i - r_j), precomputed per window) at rho.
+ATMOSH_FN real lut_shell_weight(real rho, real inv_den, real r0, real r1, real r2, real r3, int i) {
+  real p = inv_den;
+  if (i != 0) p *= rho - r0;
+  if (i != 1) p *= rho - r1;
+  if (i != 2) p *= rho - r2;
+  if (i != 3) p *= rho - r3;
+  return p;
+}
+
+#ifndef ATMOSH_SHARED_LUT_ONCE  // parts without `real`: once, however often the block is pasted
+#define ATMOSH_SHARED_LUT_ONCE
+
+// First shell of the 4-shell window for the shell interval k (S >= 4 shells).
+ATMOSH_FN int lut_window_start(int k, int S) { return glm::clamp(k - 1, 0, S - 4); }
+
+// Shell search: k = (number of shells with rho_i <= rho) - 1 (k = -1 below the
+// first shell, S - 1 at or above the last; rho_i ascending), by bisection.
+// RHO_AT names a function or lambda int i -> rho_i. A macro because the shells
+// live in a std::vector on the CPU and in a storage buffer on the GPU, and the
+// common subset has no pointers.
+#define ATMOSH_LUT_SHELL_INDEX(k, S, rho, RHO_AT) \
+  {                                               \
+    int lut_lo_ = 0;                              \
+    int lut_hi_ = (S);                            \
+    while (lut_lo_ < lut_hi_) {                   \
+      int lut_mid_ = (lut_lo_ + lut_hi_) / 2;     \
+      if (RHO_AT(lut_mid_) > (rho))               \
+        lut_hi_ = lut_mid_;                       \
+      else                                        \
+        lut_lo_ = lut_mid_ + 1;                   \
+    }                                             \
+    (k) = lut_lo_ - 1;                            \
+  }
+
+#endif
+
 // Cosine of the zenith angle of a fixed direction (cosine c at the ray's origin,
 // radius r; cosine nu with the ray direction) at distance s along a ray whose
 // radius there is rs: (r c + s nu) / rs — the sun's zenith cosine at a sample of

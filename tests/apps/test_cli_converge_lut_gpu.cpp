@@ -1,0 +1,120 @@
+// `atmosh converge lut --device cpu|gpu|auto`: with a GPU every setting gets a
+// second row, lut_gpu (the same tables built by the GPU table pass,
+// gpu/shaders/lut_build.comp), whose error against the exact reference must
+// match the CPU row's to the float precision of the stored tables; a bad
+// --device value is bad input (exit 2); without an EGL device `auto` falls back
+// to the CPU rows with a one-line notice and `gpu` fails (exit 1).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "run_cli.hpp"
+
+namespace fs = std::filesystem;
+using atmosh::test::count_lines;
+using atmosh::test::expect_bad_input;
+using atmosh::test::run_cli;
+using atmosh::test::scratch_dir;
+using atmosh::test::slurp;
+
+namespace {
+
+// Rows of a study CSV (comment lines '#' skipped) as column name -> text.
+std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
+  std::istringstream in(slurp(file));
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+    if (header.empty()) {
+      header = cells;
+      continue;
+    }
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+const std::map<std::string, std::string>* find_row(const std::vector<std::map<std::string, std::string>>& rows,
+                                                   const std::string& method, const std::string& setting) {
+  for (const auto& r : rows)
+    if (r.at("method") == method && r.at("setting") == setting) return &r;
+  return nullptr;
+}
+
+double num(const std::map<std::string, std::string>& row, const std::string& col) { return std::stod(row.at(col)); }
+
+const std::string kSmall = " --shells 16 --directions 32";
+
+}  // namespace
+
+TEST(CliConvergeLutGpu, GpuRowsMatchTheCpuRowsToFloatPrecision) {
+  const fs::path d = scratch_dir("atmosh_cli_lut_gpu", "gpu");
+  const auto r = run_cli("converge lut --device gpu" + kSmall + " -o '" + (d / "lut").string() + "'");
+  if (r.exit_code == 1 && r.err.find("--device gpu") != std::string::npos && !std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT"))
+    GTEST_SKIP() << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(d / "lut.csv"));
+  EXPECT_NE(slurp(d / "lut.csv").find("# device: gpu"), std::string::npos);
+  const auto rows = csv_rows(d / "lut.csv");
+  const auto* cpu = find_row(rows, "lut", "16x32");
+  const auto* gpu = find_row(rows, "lut_gpu", "16x32");
+  ASSERT_NE(cpu, nullptr);
+  ASSERT_NE(gpu, nullptr);
+  for (const char* col : {"error_max_rel", "error_rms_rel", "error_max_rel_rayleigh_mie", "time_s", "build_time_s"}) {
+    EXPECT_TRUE(std::isfinite(num(*gpu, col))) << col;
+    EXPECT_GT(num(*gpu, col), 0.0) << col;
+  }
+  // Same shells, directions and lookup: the GPU tables differ from the CPU's by
+  // the float rounding of the stored log-means (a few 1e-6 relative in a column,
+  // docs/gpu.md), so the relative errors against the same exact columns differ
+  // by at most ~1e-5 (absolute, in relative-error units).
+  EXPECT_NEAR(num(*gpu, "error_max_rel"), num(*cpu, "error_max_rel"), 1e-5);
+  EXPECT_NEAR(num(*gpu, "error_rms_rel"), num(*cpu, "error_rms_rel"), 1e-5);
+  EXPECT_NEAR(num(*gpu, "error_max_rel_rayleigh_mie"), num(*cpu, "error_max_rel_rayleigh_mie"), 1e-5);
+  EXPECT_EQ(num(*gpu, "flag_mismatches"), num(*cpu, "flag_mismatches"));
+  EXPECT_EQ(num(*gpu, "rays"), num(*cpu, "rays"));
+  EXPECT_EQ(num(*gpu, "table_bytes"), num(*cpu, "table_bytes"));
+}
+
+TEST(CliConvergeLutGpu, BadDeviceIsBadInput) {
+  const fs::path d = scratch_dir("atmosh_cli_lut_gpu", "bad");
+  expect_bad_input("converge lut --device tpu" + kSmall + " -o '" + (d / "lut").string() + "'", "--device");
+  EXPECT_FALSE(fs::exists(d / "lut.csv"));
+}
+
+// No EGL device: GLVND pointed at no vendor library (as in
+// tests/gpu/test_fallback.cpp); atmosh inherits the variable from this process.
+TEST(CliConvergeLutGpu, WithoutAnEglDeviceAutoFallsBackAndGpuFails) {
+  const fs::path d = scratch_dir("atmosh_cli_lut_gpu", "none");
+  const char* old = std::getenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+  const std::string saved = old ? old : "";
+  setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/atmosh_no_egl_vendor.json", 1);
+  const auto a = run_cli("converge lut --device auto" + kSmall + " -o '" + (d / "lut").string() + "'");
+  const auto g = run_cli("converge lut --device gpu" + kSmall + " -o '" + (d / "lut_g").string() + "'");
+  if (old)
+    setenv("__EGL_VENDOR_LIBRARY_FILENAMES", saved.c_str(), 1);
+  else
+    unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_EQ(count_lines(a.err), 1) << a.err;
+  const auto rows = csv_rows(d / "lut.csv");
+  EXPECT_NE(find_row(rows, "lut", "16x32"), nullptr);
+  EXPECT_EQ(find_row(rows, "lut_gpu", "16x32"), nullptr);
+  EXPECT_NE(slurp(d / "lut.csv").find("# device: cpu"), std::string::npos);
+  EXPECT_EQ(g.exit_code, 1) << g.err;
+  EXPECT_EQ(count_lines(g.err), 1) << g.err;
+  EXPECT_NE(g.err.find("--device gpu"), std::string::npos) << g.err;
+}

@@ -1,0 +1,181 @@
+// The shared CPU/GPU control flow (shared/*.glsl.hpp): the cut points of a view
+// ray, the window choice and shell search of the table lookup, and the walk of
+// a piecewise-linear column, each against an independent construction.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "atmosh/atmo/integrate.hpp"
+#include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/atmo/shared/lut.glsl.hpp"
+#include "atmosh/atmo/shared/view_ray.glsl.hpp"
+
+namespace sg = atmosh::atmo::shared;
+
+namespace {
+constexpr double kR = 6371e3, kT = kR + 100e3;
+
+// The cut set by definition: every root s in (0, s_end) of |origin + s v| = k for
+// each sphere k (solved here as a quadratic in s), the tangent point, the
+// shadow edges, and both ends; sorted.
+std::vector<double> cuts_by_definition(double r, double mu, double mu_s, double nu, double s_end,
+                                       const std::vector<double>& radii) {
+  std::vector<double> c = {0.0, s_end};
+  for (double k : radii) {
+    // s^2 + 2 r mu s + (r^2 - k^2) = 0
+    const double b = r * mu, cc = (r - k) * (r + k), disc = b * b - cc;
+    if (disc < 0) continue;
+    for (double s : {-b - std::sqrt(disc), -b + std::sqrt(disc)})
+      if (s > 0 && s < s_end) c.push_back(s);
+  }
+  if (-r * mu > 0 && -r * mu < s_end) c.push_back(-r * mu);
+  for (int i = 0; i < 2; ++i) {
+    const double s = sg::shadow_edge_distance(r, mu, mu_s, nu, kR, i);
+    if (s > 0 && s < s_end) c.push_back(s);
+  }
+  std::sort(c.begin(), c.end());
+  return c;
+}
+}  // namespace
+
+TEST(SharedViewRayCuts, AreTheSortedCutSetOfTheRay) {
+  std::vector<double> radii;
+  for (int i = 1; i < 16; ++i) radii.push_back(kR + 100e3 * std::pow(i / 16.0, 2.0));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), h(0.0, 100e3);
+  int with_shadow = 0;
+  for (int t = 0; t < 2000; ++t) {
+    const double r = kR + (t % 5 == 0 ? 0.0 : h(rng)), mu = u(rng), mu_s = 0.3 * u(rng);
+    const double sin_mu = std::sqrt(1 - mu * mu), phi = 3.14159 * u(rng);
+    const double nu = std::clamp(mu * mu_s + sin_mu * std::sqrt(1 - mu_s * mu_s) * std::cos(phi), -1.0, 1.0);
+    const double s_end = sg::ray_hits_ground(r, mu, kR) ? sg::distance_to_ground(r, mu, kR) : sg::distance_to_top(r, mu, kT);
+    if (!(s_end > 0)) continue;
+    const sg::ViewRayCuts c =
+        sg::view_ray_cuts(r, mu, mu_s, nu, kR, s_end, sg::tangent_radius_sq(r, mu), radii.data(), int(radii.size()));
+    const auto ref = cuts_by_definition(r, mu, mu_s, nu, s_end, radii);
+    ASSERT_EQ(c.n, int(ref.size())) << "r " << r << " mu " << mu;
+    for (int i = 0; i < c.n; ++i) {
+      EXPECT_NEAR(c.s[i], ref[i], 1e-9 * kT) << i;  // two ways of solving the same quadratic
+      if (i > 0) EXPECT_LE(c.s[i - 1], c.s[i]);  // ascending, no sort needed by the caller
+    }
+    EXPECT_EQ(c.s[0], 0.0);
+    EXPECT_EQ(c.s[c.n - 1], s_end);
+    for (int i = 0; i < 2; ++i) {
+      const double se = sg::shadow_edge_distance(r, mu, mu_s, nu, kR, i);
+      with_shadow += se > 0 && se < s_end;
+    }
+  }
+  EXPECT_GT(with_shadow, 20);  // the shadow edges are exercised
+}
+
+TEST(SharedViewRayCuts, FitTheLargestSphereCount) {
+  std::vector<double> radii;
+  for (int i = 1; i <= sg::kMaxCutSpheres; ++i) radii.push_back(kR + 100e3 * i / (sg::kMaxCutSpheres + 1.0));
+  // A ray from the top grazing just above the ground crosses every sphere twice,
+  // and meets both shadow edges with the sun behind the planet.
+  const double r = kT, mu = sg::mu_horizon(kT, kR) + 1e-6;
+  const double s_end = sg::distance_to_top(r, mu, kT);
+  const sg::ViewRayCuts c = sg::view_ray_cuts(r, mu, -0.2, -0.5, kR, s_end, sg::tangent_radius_sq(r, mu),
+                                              radii.data(), sg::kMaxCutSpheres);
+  EXPECT_LE(c.n, sg::kMaxViewCuts);
+  EXPECT_GE(c.n, 2 * sg::kMaxCutSpheres + 3);
+  for (int i = 1; i < c.n; ++i) EXPECT_LE(c.s[i - 1], c.s[i]);
+}
+
+TEST(SharedLutLookup, ShellSearchIsUpperBound) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1000.0);
+  for (int n : {1, 2, 4, 5, 32, 33, 100}) {
+    std::vector<double> v(static_cast<std::size_t>(n));
+    for (double& x : v) x = u(rng);
+    std::sort(v.begin(), v.end());
+    auto at = [&](int i) { return v[static_cast<std::size_t>(i)]; };
+    std::vector<double> probes = {-1.0, 1001.0};
+    for (int i = 0; i < 50; ++i) probes.push_back(u(rng));
+    for (double x : v) probes.push_back(x);
+    for (double x : probes) {
+      int k;
+      ATMOSH_LUT_SHELL_INDEX(k, n, x, at);
+      EXPECT_EQ(k, int(std::upper_bound(v.begin(), v.end(), x) - v.begin()) - 1) << n << " " << x;
+    }
+  }
+}
+
+TEST(SharedLutLookup, WindowsContainTheSampleAndWeightsReproduceCubics) {
+  for (int n : {4, 5, 16, 64}) {
+    for (int t = 0; t <= 1000; ++t) {
+      const double x = t / 1000.0;
+      const int jw = sg::lut_direction_window(x, n);
+      const double p = sg::lut_direction_offset(x, n, jw);
+      EXPECT_GE(jw, 0);
+      EXPECT_LE(jw + 3, n - 1);
+      EXPECT_GE(p, -1e-12);  // x inside the window [x_jw, x_jw+3]
+      EXPECT_LE(p, 3.0 + 1e-12);
+      EXPECT_NEAR(jw + p, x * (n - 1), 1e-12);
+    }
+  }
+  // Shell windows: inside the table, and the Lagrange weights (with the inverse
+  // denominators formed as OpticalDepthLut does) reproduce any cubic exactly.
+  const std::vector<double> rho = {0.0, 30e3, 95e3, 180e3, 320e3, 500e3, 1130e3};
+  const int S = int(rho.size());
+  auto cubic = [](double x) { return 2.0 - 3e-6 * x + 4e-12 * x * x - 1e-18 * x * x * x; };
+  for (int k = -1; k < S; ++k) {
+    const int w = sg::lut_window_start(k, S);
+    EXPECT_GE(w, 0);
+    EXPECT_LE(w + 3, S - 1);
+    if (k >= 0 && k < S - 1) EXPECT_TRUE(w <= k && k + 1 <= w + 3) << k;  // the interval lies in the window
+    const double lo = rho[std::clamp(k, 0, S - 1)], hi = rho[std::clamp(k + 1, 0, S - 1)];
+    for (double f : {0.0, 0.3, 0.77, 1.0}) {
+      const double x = lo + f * (hi - lo);
+      double sum = 0.0, interp = 0.0;
+      for (int i = 0; i < 4; ++i) {
+        double den = 1.0;
+        for (int j = 0; j < 4; ++j)
+          if (j != i) den *= rho[w + i] - rho[w + j];
+        const double l = sg::lut_shell_weight(x, 1.0 / den, rho[w], rho[w + 1], rho[w + 2], rho[w + 3], i);
+        sum += l;
+        interp += l * cubic(rho[w + i]);
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-12);
+      EXPECT_NEAR(interp, cubic(x), 1e-11 * std::abs(cubic(x)) + 1e-12);
+    }
+  }
+}
+
+// The closed-form walk with more nodes than the GLSL build holds (and than the
+// CPU's stack scratch) against adaptive quadrature of the same profile.
+TEST(SharedLinearColumn, ManyNodesMatchQuadrature) {
+  const int n = 40;
+  std::vector<double> radius(n), value(n), slope(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    radius[i] = kR + 2e3 + 1.5e3 * i + 200.0 * std::sin(i);
+    value[i] = (i == 0 || i == n - 1) ? 0.0 : 0.5 + 0.4 * std::cos(0.7 * i);
+  }
+  for (int i = 0; i + 1 < n; ++i) slope[i] = (value[i + 1] - value[i]) / (radius[i + 1] - radius[i]);
+  auto density = [&](double rr) {
+    if (rr <= radius[0] || rr >= radius[n - 1]) return 0.0;
+    const int i = int(std::upper_bound(radius.begin(), radius.end(), rr) - radius.begin()) - 1;
+    return value[i] + (value[i + 1] - value[i]) * (rr - radius[i]) / (radius[i + 1] - radius[i]);
+  };
+  std::vector<double> q(n);
+  for (double h : {0.0, 10e3, 30e3, 80e3})
+    for (double mu : {-1.0, -0.3, -0.05, -0.01, 0.0, 0.02, 0.4, 1.0}) {
+      const double r = kR + h;
+      const double len = sg::ray_hits_ground(r, mu, kR) ? sg::distance_to_ground(r, mu, kR) : sg::distance_to_top(r, mu, kT);
+      const double closed = sg::piecewise_linear_column(r, mu, len, radius.data(), value.data(), slope.data(), n, q.data());
+      // Breakpoints: every node-sphere crossing and the tangent point.
+      std::vector<double> pts;
+      const double t = -r * mu, rt2 = sg::tangent_radius_sq(r, mu);
+      if (t > 0 && t < len) pts.push_back(t);
+      for (double k : radius)
+        if (k * k >= rt2)
+          for (double s : {t - std::sqrt(k * k - rt2), t + std::sqrt(k * k - rt2)})
+            if (s > 0 && s < len) pts.push_back(s);
+      auto f = [&](double s) { return density(sg::radius_along(r, mu, s)); };
+      const auto ref = atmosh::atmo::integrate_adaptive<double>(f, 0.0, len, pts, 1e-9, 1e-12, 20000);
+      EXPECT_NEAR(closed, ref.value, 1e-9 * std::max(1.0, std::abs(ref.value))) << "h " << h << " mu " << mu;
+    }
+}
