@@ -1,9 +1,9 @@
 // Optical-depth table build (OpticalDepthLut::fill / build_column in
 // libatmo/src/optical_depth.cpp), one invocation per table entry: the ray from
 // shell k in direction sample j is cut at the tangent point and at every
-// crossing of the shells and profile kinks, pieces are split so that each
-// spans at most 1.5 scale heights in altitude, and each gets the same
-// Gauss-Legendre rule. Positions and sums in double, densities in float (shared
+// crossing of the shells and profile kinks (shared ATMOSH_LUT_RAY_PIECES), pieces
+// are split so that each spans at most 1.5 scale heights in altitude (shared
+// lut_piece_count), and each gets the same Gauss-Legendre rule. Positions and sums in double, densities in float (shared
 // density functions through sky_lib.glsl's density_at). Output: log of the mean
 // relative density for the tabulated (log-encoded) constituents, 0 otherwise.
 layout(local_size_x = 64) in;
@@ -42,14 +42,13 @@ double scale_at(double h) {
   return H;
 }
 
+// One piece [a, b] of the ray: equal sub-pieces (shared lut_piece_count), each
+// with the build's Gauss-Legendre rule.
 dvec3 piece(double r, double mu, double rt2, double a, double b) {
   dvec3 sum = dvec3(0.0LF);
-  if (!(b > a)) return sum;
   double ua = a + r * mu, ub = b + r * mu;
   double ra = sqrt(ua * ua + rt2), rb = sqrt(ub * ub + rt2);
-  double H = scale_at(min(ra, rb) - ground_radius_d);
-  int m = H > 0.0LF ? max(1, int(ceil(abs(rb - ra) / (1.5LF * H)))) : 1;
-  m = min(m, 64);
+  int m = lut_piece_count(ra, rb, scale_at(min(ra, rb) - ground_radius_d));
   double len = (b - a) / double(m);
   for (int p = 0; p < m; ++p) {
     double lo = a + double(p) * len;
@@ -59,30 +58,16 @@ dvec3 piece(double r, double mu, double rt2, double a, double b) {
   return sum;
 }
 
-// Column over s in [0, L]: breakpoints in order along the ray (inward sphere
-// crossings, the tangent point, outward crossings) without sorting.
+double crossing_radius(int i) { return cross_r[i]; }  // for ATMOSH_LUT_RAY_PIECES
+
+// Column over s in [0, L]: the shared traversal of the cuts (lut.glsl.hpp).
 dvec3 column(double r, double mu, double L) {
   dvec3 sum = dvec3(0.0LF);
   if (!(L > 0.0LF)) return sum;
   double rt2 = max(r * r * ((1.0LF - mu) * (1.0LF + mu)), 0.0LF);
-  double rt = sqrt(rt2);
-  double t = -r * mu;  // tangent point
-  double prev = 0.0LF;
-  // Inward crossings: s = t - q_k, largest radius first.
-  for (int k = n_cross - 1; k >= 0; --k) {
-    double kr = cross_r[k];
-    if (kr < rt) break;
-    double s = t - sqrt((kr - rt) * (kr + rt));
-    if (s > prev && s < L) { sum += piece(r, mu, rt2, prev, s); prev = s; }
-  }
-  if (t > prev && t < L) { sum += piece(r, mu, rt2, prev, t); prev = t; }
-  for (int k = 0; k < n_cross; ++k) {
-    double kr = cross_r[k];
-    if (kr < rt) continue;
-    double s = t + sqrt((kr - rt) * (kr + rt));
-    if (s > prev && s < L) { sum += piece(r, mu, rt2, prev, s); prev = s; }
-  }
-  sum += piece(r, mu, rt2, prev, L);
+#define LUT_BUILD_PIECE(a, b) sum += piece(r, mu, rt2, a, b)
+  ATMOSH_LUT_RAY_PIECES(double, r, mu, L, n_cross, crossing_radius, LUT_BUILD_PIECE);
+#undef LUT_BUILD_PIECE
   return sum;
 }
 

@@ -284,21 +284,6 @@ std::size_t OpticalDepthLut::table_bytes() const {
 glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
   glm::dvec3 sum(0.0);
   if (!(L > 0.0)) return sum;
-  std::vector<double> pts;
-  pts.reserve(2 * crossing_radii_.size() + 3);
-  pts.push_back(0.0);
-  double st = sg::tangent_distance(r, mu);
-  if (st > 0.0 && st < L) pts.push_back(st);
-  double rt = std::sqrt(sg::tangent_radius_sq(r, mu));
-  for (double rho : crossing_radii_) {
-    if (rho < rt) continue;
-    double q = std::sqrt((rho - rt) * (rho + rt));
-    double s1 = -r * mu - q, s2 = -r * mu + q;
-    if (s1 > 0.0 && s1 < L) pts.push_back(s1);
-    if (s2 > 0.0 && s2 < L) pts.push_back(s2);
-  }
-  pts.push_back(L);
-  std::sort(pts.begin(), pts.end());
   // Smallest relevant scale height at altitude h: exponentials whose density
   // there is not negligible (> 1e-15).
   auto scale_at = [&](double h) {
@@ -311,22 +296,18 @@ glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
     return H;
   };
   const int n = static_cast<int>(gl_x_.size());
-  for (std::size_t i = 1; i < pts.size(); ++i) {
-    double a = pts[i - 1], b = pts[i];
-    if (!(b > a)) continue;
-    double ra = sg::radius_along(r, mu, a), rb = sg::radius_along(r, mu, b);
-    double H = scale_at(std::min(ra, rb) - R_);
-    int m = std::isfinite(H) ? std::max(1, static_cast<int>(std::ceil(std::abs(rb - ra) / (1.5 * H)))) : 1;
-    m = std::min(m, 64);
-    double h = (b - a) / m;
+  auto piece = [&](double a, double b) {
+    const double ra = sg::radius_along(r, mu, a), rb = sg::radius_along(r, mu, b);
+    const int m = sg::lut_piece_count(ra, rb, scale_at(std::min(ra, rb) - R_));
+    const double h = (b - a) / m;
     for (int p = 0; p < m; ++p) {
-      double lo = a + p * h;
-      for (int g = 0; g < n; ++g) {
-        double s = lo + gl_x_[g] * h;
-        sum += (gl_w_[g] * h) * atm_.density(sg::radius_along(r, mu, s) - R_);
-      }
+      const double lo = a + p * h;
+      for (int g = 0; g < n; ++g) sum += (gl_w_[g] * h) * atm_.density(sg::radius_along(r, mu, lo + gl_x_[g] * h) - R_);
     }
-  }
+  };
+  auto radius_at = [&](int i) { return crossing_radii_[static_cast<std::size_t>(i)]; };
+  const int N = static_cast<int>(crossing_radii_.size());
+  ATMOSH_LUT_RAY_PIECES(double, r, mu, L, N, radius_at, piece);
   return sum;
 }
 

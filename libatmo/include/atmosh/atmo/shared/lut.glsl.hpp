@@ -49,6 +49,15 @@ ATMOSH_FN int lut_direction_window(real x, int n) {
 // Position of x inside the window starting at jw, in sample units (0..3 inside).
 ATMOSH_FN real lut_direction_offset(real x, int n, int jw) { return x * real(n - 1) - real(jw); }
 
+// Table build: equal sub-pieces of a piece whose ends are at radii ra, rb so that
+// each spans at most 1.5 scale heights H in radius (H <= 0 or >= 1e30: no
+// exponential constituent matters there, one piece), at most 64.
+ATMOSH_FN int lut_piece_count(real ra, real rb, real H) {
+  if (!(H > real(0) && H < real(1e30))) return 1;
+  int m = int(glm::ceil(glm::abs(rb - ra) / (real(1.5) * H)));
+  return glm::clamp(m, 1, 64);
+}
+
 // Lagrange weight of node i (0..3) of the shell window (r0..r3 the window's rho
 // values, inv_den = 1 / prod_{j != i} (r_i - r_j), precomputed per window) at rho.
 ATMOSH_FN real lut_shell_weight(real rho, real inv_den, real r0, real r1, real r2, real r3, int i) {
@@ -83,6 +92,45 @@ ATMOSH_FN int lut_window_start(int k, int S) { return glm::clamp(k - 1, 0, S - 4
         lut_lo_ = lut_mid_ + 1;                   \
     }                                             \
     (k) = lut_lo_ - 1;                            \
+  }
+
+// Table build (OpticalDepthLut::build_column, gpu/shaders/lut_build.comp): the ray
+// from radius r with zenith cosine mu over s in [0, L] is cut at the tangent point
+// s_t = -r mu and wherever it crosses one of the N sorted radii (s = s_t -+ q,
+// q = sqrt(radius^2 - r_t^2), r_t the tangent radius): the inward crossings, largest
+// radius first, then s_t, then the outward crossings — already in order along the
+// ray, so no sort. PIECE(a, b) is called for each piece 0 = a < b ... b = L between
+// consecutive cuts inside (0, L); T is the scalar type (double on both sides),
+// RADIUS_AT(i) the i-th radius. A macro for the reason given above.
+#define ATMOSH_LUT_RAY_PIECES(T, r, mu, L, N, RADIUS_AT, PIECE)              \
+  {                                                                          \
+    T lut_rt2_ = (r) * (r) * ((T(1) - (mu)) * (T(1) + (mu)));                \
+    T lut_rt_ = glm::sqrt(lut_rt2_ > T(0) ? lut_rt2_ : T(0));                  \
+    T lut_t_ = -(r) * (mu);                                                  \
+    T lut_prev_ = T(0);                                                      \
+    for (int lut_k_ = (N) - 1; lut_k_ >= 0; --lut_k_) {                      \
+      T lut_kr_ = RADIUS_AT(lut_k_);                                         \
+      if (lut_kr_ < lut_rt_) break;                                          \
+      T lut_s_ = lut_t_ - glm::sqrt((lut_kr_ - lut_rt_) * (lut_kr_ + lut_rt_));\
+      if (lut_s_ > lut_prev_ && lut_s_ < (L)) {                              \
+        PIECE(lut_prev_, lut_s_);                                            \
+        lut_prev_ = lut_s_;                                                  \
+      }                                                                      \
+    }                                                                        \
+    if (lut_t_ > lut_prev_ && lut_t_ < (L)) {                                \
+      PIECE(lut_prev_, lut_t_);                                              \
+      lut_prev_ = lut_t_;                                                    \
+    }                                                                        \
+    for (int lut_k_ = 0; lut_k_ < (N); ++lut_k_) {                           \
+      T lut_kr_ = RADIUS_AT(lut_k_);                                         \
+      if (lut_kr_ < lut_rt_) continue;                                       \
+      T lut_s_ = lut_t_ + glm::sqrt((lut_kr_ - lut_rt_) * (lut_kr_ + lut_rt_));\
+      if (lut_s_ > lut_prev_ && lut_s_ < (L)) {                              \
+        PIECE(lut_prev_, lut_s_);                                            \
+        lut_prev_ = lut_s_;                                                  \
+      }                                                                      \
+    }                                                                        \
+    if ((L) > lut_prev_) PIECE(lut_prev_, (L));                              \
   }
 
 #endif
