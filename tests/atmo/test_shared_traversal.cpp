@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -179,3 +180,56 @@ TEST(SharedLinearColumn, ManyNodesMatchQuadrature) {
       EXPECT_NEAR(closed, ref.value, 1e-9 * std::max(1.0, std::abs(ref.value))) << "h " << h << " mu " << mu;
     }
 }
+
+namespace {
+// The table build's traversal (ATMOSH_LUT_RAY_PIECES): the pieces tile [0, L] in
+// order, and their inner ends are exactly the crossings of the radii and the tangent
+// point inside (0, L), solved here as a quadratic per sphere and sorted.
+TEST(SharedTraversal, TableRayPiecesTileTheRayAtEveryCrossing) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<double> radii;
+  for (int i = 0; i <= 40; ++i) radii.push_back(kR + 100e3 * std::pow(i / 40.0, 2));
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double r = kR + 100e3 * U(rng);
+    const double mu = trial % 10 == 0 ? -std::sqrt(1 - std::pow(kR / r, 2)) * (1 + 1e-12) : 2 * U(rng) - 1;
+    const double L = 2e6 * U(rng);
+    std::vector<double> expect;
+    for (double k : radii) {
+      const double b = r * mu, cc = (r - k) * (r + k), disc = b * b - cc;
+      if (disc < 0) continue;
+      for (double s : {-b - std::sqrt(disc), -b + std::sqrt(disc)})
+        if (s > 0 && s < L) expect.push_back(s);
+    }
+    if (-r * mu > 0 && -r * mu < L) expect.push_back(-r * mu);
+    std::sort(expect.begin(), expect.end());
+    expect.erase(std::unique(expect.begin(), expect.end(), [](double a, double b) { return std::abs(a - b) < 1e-6; }),
+                 expect.end());
+    std::vector<std::pair<double, double>> pieces;
+    auto radius_at = [&](int i) { return radii[static_cast<std::size_t>(i)]; };
+    auto piece = [&](double a, double b) { pieces.emplace_back(a, b); };
+    const int N = static_cast<int>(radii.size());
+    ATMOSH_LUT_RAY_PIECES(double, r, mu, L, N, radius_at, piece);
+    ASSERT_FALSE(pieces.empty());
+    EXPECT_EQ(pieces.front().first, 0.0);
+    EXPECT_EQ(pieces.back().second, L);
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      ASSERT_LT(pieces[i].first, pieces[i].second);
+      if (i > 0) ASSERT_EQ(pieces[i].first, pieces[i - 1].second);
+    }
+    ASSERT_EQ(pieces.size(), expect.size() + 1) << "trial " << trial;
+    for (std::size_t i = 0; i < expect.size(); ++i)
+      EXPECT_NEAR(pieces[i].second, expect[i], 1e-6 * std::max(1.0, expect[i])) << "trial " << trial;
+  }
+}
+
+TEST(SharedTraversal, PieceCountSpansAtMostOneAndAHalfScaleHeights) {
+  EXPECT_EQ(sg::lut_piece_count(kR, kR + 12000.0, 8000.0), 1);   // exactly 1.5 H
+  EXPECT_EQ(sg::lut_piece_count(kR, kR + 12001.0, 8000.0), 2);
+  EXPECT_EQ(sg::lut_piece_count(kR + 5e4, kR, 1200.0), 28);      // ceil(50000 / 1800)
+  EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, 100.0), 64);       // capped
+  EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, 0.0), 1);          // no exponential matters
+  EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, std::numeric_limits<double>::infinity()), 1);
+  EXPECT_EQ(sg::lut_piece_count(kR, kR, 8000.0), 1);
+}
+}  // namespace
