@@ -2,6 +2,9 @@
 // assembled before this file).
 layout(local_size_x = 64) in;
 
+float gauss_x(int q) { return gl[q]; }            // the rule on [-1, 1], for ATMOSH_SKY_PIECE_NODES
+float gauss_w(int q) { return gl[n_gauss + q]; }
+
 void main() {
   int pix = int(gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x);
   if (pix >= n_pixels) return;
@@ -53,42 +56,38 @@ void main() {
     for (int k = 1; k < nc; ++k) {
       float a0 = float(vc.s[k - 1]), b0 = float(vc.s[k]);
       if (!(b0 > a0)) continue;
-      // Densest point of the piece: tangent point inside it, else the lower end.
-      float sd;
-      if (st > a0 && st < b0) sd = st;
-      else {
-        double ua = double(a0) + r * mu, ub = double(b0) + r * mu;
-        sd = abs(ua) < abs(ub) ? a0 : b0;
-      }
+      // Densest point of the piece (shared/scatter.glsl.hpp, double overload).
+      float sd = float(piece_densest_point(r, mu, double(st), double(a0), double(b0)));
       double usd = double(sd) + r * mu;
       float hd = float((double(sd) * (double(sd) + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) / (sqrt(usd * usd + rt2) + Rd));
       vec3 rho_d = density_at(hd);
       float tau_piece = (ext_max[0] * rho_d[0] + ext_max[1] * rho_d[1] + ext_max[2] * rho_d[2]) * (b0 - a0);
-      int parts = max(int(min(64.0, ceil(tau_piece / max_piece_optical_depth))), 1);
-      for (int part = 0; part < parts; ++part) {
-        float a = a0 + (b0 - a0) * float(part) / float(parts);
-        float b = a0 + (b0 - a0) * float(part + 1) / float(parts);
-        float half_len = 0.5 * (b - a), mid = 0.5 * (a + b);
-        for (int qn = 0; qn < n_gauss; ++qn) {
-          double s = double(mid) + double(half_len) * double(gl[qn]);
-          float wq = half_len * gl[n_gauss + qn];
-          double u = s + r * mu;
-          double rs = sqrt(u * u + rt2);
-          // Altitude without cancellation: (s^2 + 2 s r mu + (r - R)(r + R)) / (rs + R).
-          float hs = float((s * (s + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) / (rs + Rd));
-          float mus = float(cos_zenith_along(r, mu_s, nu, s, rs));
-          vec4 to_sun = lookup(false, hs, mus);
-          if (to_sun.w > 0.5) continue;  // Earth's shadow
-          float mu_p = float(clamp(u / rs, -1.0LF, 1.0LF));
-          vec4 rest = lookup(true, hs, mu_p);
-          vec3 x = max(total.xyz - rest.xyz, vec3(0.0)) + to_sun.xyz;
-          vec3 rho = density_at(hs);
-          float sr = rho[0] * p_ray * wq, sm = rho[1] * p_mie * wq;
-          for (int i = 0; i < nwc; ++i)
-            acc[i] += exp(-(spec[i] * x[0] + spec[nw + i] * x[1] + spec[2 * nw + i] * x[2])) *
-                      (spec[3 * nw + i] * sr + spec[4 * nw + i] * sm);
-        }
-      }
+      int parts = piece_parts(tau_piece, max_piece_optical_depth);
+      // One quadrature node (s, w) of the piece: the body of ATMOSH_SKY_PIECE_NODES
+      // (shared/scatter.glsl.hpp), the same steps as SkyIntegrator::radiance's node.
+#define SKY_NODE(s_arg, w_arg)                                                              \
+  {                                                                                         \
+    double s = (s_arg);                                                                     \
+    float wq = float(w_arg);                                                                \
+    double u = s + r * mu;                                                                  \
+    double rs = sqrt(u * u + rt2);                                                          \
+    float hs = float((s * (s + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) / (rs + Rd));         \
+    float mus = float(cos_zenith_along(r, mu_s, nu, s, rs));                                \
+    vec4 to_sun = lookup(false, hs, mus);                                                   \
+    if (to_sun.w < 0.5) { /* else in the Earth's shadow */                                  \
+      float mu_p = float(clamp(u / rs, -1.0LF, 1.0LF));                                     \
+      vec4 rest = lookup(true, hs, mu_p);                                                   \
+      vec3 x = max(total.xyz - rest.xyz, vec3(0.0)) + to_sun.xyz;                           \
+      vec3 rho = density_at(hs);                                                            \
+      float sr = rho[0] * p_ray * wq, sm = rho[1] * p_mie * wq;                             \
+      for (int i = 0; i < nwc; ++i)                                                         \
+        acc[i] += scattering_term(exp(-column_optical_depth(spec[i], spec[nw + i],          \
+                                                            spec[2 * nw + i], x[0], x[1], x[2])), \
+                                  spec[3 * nw + i], spec[4 * nw + i], sr, sm);              \
+    }                                                                                       \
+  }
+      ATMOSH_SKY_PIECE_NODES(double, double(a0), double(b0), parts, n_gauss, gauss_x, gauss_w, SKY_NODE);
+#undef SKY_NODE
     }
     for (int i = 0; i < nwc; ++i) acc[i] *= spec[6 * nw + i] * irradiance_scale;
     if (ground && albedo > 0.0) {
@@ -101,8 +100,9 @@ void main() {
         if (to_sun.w < 0.5) {
           vec3 xg = total.xyz + to_sun.xyz;
           for (int i = 0; i < nwc; ++i)
-            acc[i] += albedo / 3.14159265358979 * spec[6 * nw + i] * irradiance_scale * mus_g *
-                      exp(-(spec[i] * xg[0] + spec[nw + i] * xg[1] + spec[2 * nw + i] * xg[2]));
+            acc[i] += spec[6 * nw + i] * irradiance_scale *
+                      ground_term(albedo, mus_g, exp(-column_optical_depth(spec[i], spec[nw + i], spec[2 * nw + i],
+                                                                           xg[0], xg[1], xg[2])));
         }
       }
     }

@@ -124,10 +124,13 @@ namespace {
 
 std::vector<ShaderPart> sky_parts(const std::string& main_shader) {
   const ShaderPart lut = embedded_source("libatmo/include/atmosh/atmo/shared/lut.glsl.hpp");
+  const ShaderPart scatter = embedded_source("libatmo/include/atmosh/atmo/shared/scatter.glsl.hpp");
   return {embedded_source("libatmo/include/atmosh/atmo/shared/geometry.glsl.hpp"),
           lut,
+          scatter,
           real_type_part("double"),
           lut,
+          scatter,
           embedded_source("libatmo/include/atmosh/atmo/shared/view_ray.glsl.hpp"),
           real_type_part("float"),
           embedded_source("gpu/shaders/sky_lib.glsl"),

@@ -10,6 +10,7 @@
 #include "atmosh/atmo/integrate.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
+#include "atmosh/atmo/shared/scatter.glsl.hpp"
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/sh/quadrature.hpp"
@@ -193,9 +194,9 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   const double* cuts = vc.s;
   const int nc = vc.n;
   const double st = sg::tangent_distance(ray.r, ray.mu);
-  // Extinction per metre at the densest point of a piece (an end or the tangent point).
+  // Extinction per metre at the densest point of a piece (shared/scatter.glsl.hpp).
   auto piece_extinction = [&](double a, double b) {
-    double s = (st > a && st < b) ? st : (sg::radius_along(ray.r, ray.mu, a) < sg::radius_along(ray.r, ray.mu, b) ? a : b);
+    const double s = sg::piece_densest_point(ray.r, ray.mu, st, a, b);
     return glm::dot(ext_max_, atm_.density(sg::radius_along(ray.r, ray.mu, s) - R));
   };
 
@@ -218,17 +219,12 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
     const double a0 = cuts[k - 1], b0 = cuts[k];
     if (!(b0 > a0)) continue;
     const double tau_piece = piece_extinction(a0, b0) * (b0 - a0);
-    const int parts = static_cast<int>(std::min(64.0, std::ceil(tau_piece / opt_.max_piece_optical_depth)));
-    for (int part = 0; part < std::max(parts, 1); ++part) {
-    const double a = a0 + (b0 - a0) * part / std::max(parts, 1), b = a0 + (b0 - a0) * (part + 1) / std::max(parts, 1);
-    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
-    for (std::size_t q = 0; q < gl_x_.size(); ++q) {
-      const double s = mid + half * gl_x_[q];
-      const double w = half * gl_w_[q];
+    const int parts = sg::piece_parts(tau_piece, opt_.max_piece_optical_depth);
+    auto node = [&](double s, double w) {
       const double rs = sg::radius_along(ray.r, ray.mu, s);
       const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, s, rs);
       const LutColumn to_sun = lut_->sun(rs, mus);
-      if (to_sun.hits_ground) continue;  // in the Earth's shadow
+      if (to_sun.hits_ground) return;  // in the Earth's shadow
       const double mu_p = sg::mu_along(ray.r, ray.mu, s, rs);
       const LutColumn rest = lut_->view(rs, mu_p);
       const glm::dvec3 xv = glm::max(total.column - rest.column, glm::dvec3(0.0));
@@ -237,9 +233,13 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
       const double sr = rho[kRayleigh] * p_ray * w, sm = rho[kMie] * p_mie * w;
       const double x0 = x[0], x1 = x[1], x2 = x[2];
       for (std::size_t i = 0; i < nw; ++i)  // vectorised: structure-of-arrays, branch-free exp
-        acc[i] += exp_neg(er[i] * x0 + em[i] * x1 + eo[i] * x2) * (cr[i] * sr + cm[i] * sm);
-    }
-    }
+        acc[i] += sg::scattering_term(exp_neg(sg::column_optical_depth(er[i], em[i], eo[i], x0, x1, x2)), cr[i], cm[i],
+                                      sr, sm);
+    };
+    auto node_x = [&](int q) { return gl_x_[static_cast<std::size_t>(q)]; };
+    auto node_w = [&](int q) { return gl_w_[static_cast<std::size_t>(q)]; };
+    const int n_nodes = static_cast<int>(gl_x_.size());
+    ATMOSH_SKY_PIECE_NODES(double, a0, b0, parts, n_nodes, node_x, node_w, node);
   }
   const double scale = 1.0 / (opt_.sun_distance_au * opt_.sun_distance_au);
   for (std::size_t i = 0; i < nw; ++i) out[i] = solar_[i] * scale * acc[i];
@@ -253,8 +253,8 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
       if (!to_sun.hits_ground)
         for (std::size_t i = 0; i < nw; ++i) {
           const glm::dvec3 xg = total.column + to_sun.column;
-          const double tau = er[i] * xg[0] + em[i] * xg[1] + eo[i] * xg[2];
-          out[i] += albedo / kPi * solar_[i] * scale * mus_g * std::exp(-tau);
+          const double tau = sg::column_optical_depth(er[i], em[i], eo[i], xg[0], xg[1], xg[2]);
+          out[i] += solar_[i] * scale * sg::ground_term(albedo, mus_g, std::exp(-tau));
         }
     }
   }
