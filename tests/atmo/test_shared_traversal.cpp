@@ -12,6 +12,7 @@
 #include "atmosh/atmo/integrate.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
+#include "atmosh/atmo/shared/scatter.glsl.hpp"
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
 
 namespace sg = atmosh::atmo::shared;
@@ -231,5 +232,53 @@ TEST(SharedTraversal, PieceCountSpansAtMostOneAndAHalfScaleHeights) {
   EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, 0.0), 1);          // no exponential matters
   EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, std::numeric_limits<double>::infinity()), 1);
   EXPECT_EQ(sg::lut_piece_count(kR, kR, 8000.0), 1);
+}
+}  // namespace
+
+namespace {
+// The single-scattering pieces (shared/scatter.glsl.hpp): the densest point is the
+// point nearest the planet's centre, the split keeps each part at most max_tau,
+// and the node loop is a composite Gauss-Legendre rule — exact for polynomials of
+// degree 2n - 1 on every part (closed-form integrals).
+TEST(SharedScatter, DensestPointSplitAndNodes) {
+  const double r = kR + 1000.0;
+  for (double mu : {-0.3, -0.01, 0.0, 0.2, 1.0}) {
+    const double st = -r * mu;
+    for (auto [a, b] : {std::pair{0.0, 1e4}, std::pair{5e4, 3e5}, std::pair{1e3, 2e3}}) {
+      const double s = sg::piece_densest_point(r, mu, st, a, b);
+      // Brute force: the radius along the ray is smallest there.
+      double best = a, rbest = sg::radius_along(r, mu, a);
+      for (int i = 1; i <= 20000; ++i) {
+        const double si = a + (b - a) * i / 20000.0, ri = sg::radius_along(r, mu, si);
+        if (ri < rbest) best = si, rbest = ri;
+      }
+      EXPECT_NEAR(sg::radius_along(r, mu, s), rbest, 1e-6 * r) << mu << " " << a << " " << b << " " << best;
+    }
+  }
+  EXPECT_EQ(sg::piece_parts(0.0, 0.1), 1);
+  EXPECT_EQ(sg::piece_parts(0.25, 0.1), 3);
+  EXPECT_EQ(sg::piece_parts(0.3, 0.1), 3);
+  EXPECT_EQ(sg::piece_parts(1e9, 0.1), 64);
+  // n = 3 nodes, 4 parts: x^5 over [2, 7] exactly; sum of weights = length.
+  const double x3[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, w3[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
+  auto nx = [&](int q) { return x3[q]; };
+  auto nw = [&](int q) { return w3[q]; };
+  double integral = 0, weights = 0, last = -1;
+  int count = 0;
+  auto node = [&](double s, double w) {
+    integral += w * std::pow(s, 5);
+    weights += w;
+    EXPECT_GT(s, last);  // in order along the ray
+    last = s;
+    ++count;
+  };
+  const int parts = 4, n = 3;
+  ATMOSH_SKY_PIECE_NODES(double, 2.0, 7.0, parts, n, nx, nw, node);
+  EXPECT_EQ(count, 12);
+  EXPECT_NEAR(weights, 5.0, 1e-14);
+  EXPECT_NEAR(integral, (std::pow(7.0, 6) - std::pow(2.0, 6)) / 6, 1e-12 * std::pow(7.0, 6));
+  EXPECT_DOUBLE_EQ(sg::scattering_term(0.5, 2.0, 3.0, 5.0, 7.0), 0.5 * (2 * 5 + 3 * 7));
+  EXPECT_DOUBLE_EQ(sg::column_optical_depth(1, 2, 3, 4, 5, 6), 32.0);
+  EXPECT_NEAR(sg::ground_term(0.3, 0.5, 0.8), 0.3 / M_PI * 0.5 * 0.8, 1e-16);
 }
 }  // namespace
