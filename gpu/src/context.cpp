@@ -5,7 +5,20 @@
 #include <GL/gl.h>
 
 #include <cstring>
+#include <string>
 #include <vector>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define ATMOSH_GPU_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define ATMOSH_GPU_ASAN 1
+#endif
+#endif
+#ifdef ATMOSH_GPU_ASAN
+#include <dlfcn.h>
+#include <link.h>
+#endif
 
 #ifndef EGL_PLATFORM_SURFACELESS_MESA
 #define EGL_PLATFORM_SURFACELESS_MESA 0x31DD
@@ -80,6 +93,26 @@ bool try_display(EGLDisplay dpy, const char* platform, Context::Impl& out) {
   return false;
 }
 
+// Under AddressSanitizer only: keeps the loaded OpenGL driver modules mapped until
+// the process exits. eglTerminate of the last display unloads the driver; blocks the
+// driver leaked are then reported with no module name, and tests/lsan.supp (which
+// suppresses leaks inside the system's drivers by module) cannot match them.
+void pin_driver_modules() {
+#ifdef ATMOSH_GPU_ASAN
+  std::vector<std::string> names;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* out) {
+        const char* n = info->dlpi_name;
+        if (n && (std::strstr(n, "_dri.so") || std::strstr(n, "libgallium") || std::strstr(n, "libLLVM") ||
+                  std::strstr(n, "libEGL_mesa") || std::strstr(n, "libglapi")))
+          static_cast<std::vector<std::string>*>(out)->emplace_back(n);
+        return 0;
+      },
+      &names);
+  for (const auto& n : names) dlopen(n.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE);
+#endif
+}
+
 }  // namespace
 
 Context::Context() : impl_(std::make_unique<Impl>()) {
@@ -102,15 +135,20 @@ Context::Context() : impl_(std::make_unique<Impl>()) {
           const char* dext = query_device_string ? query_device_string(d, EGL_EXTENSIONS) : nullptr;
           const bool software = has_ext(dext, "EGL_MESA_device_software");
           if ((pass == 0) == software) continue;
-          if (try_display(get_platform_display(EGL_PLATFORM_DEVICE_EXT, d, nullptr), "device", *impl_)) return;
+          if (try_display(get_platform_display(EGL_PLATFORM_DEVICE_EXT, d, nullptr), "device", *impl_)) {
+            pin_driver_modules();
+            return;
+          }
         }
     }
   }
   // 2. Mesa surfaceless.
   if (has_ext(client_ext, "EGL_MESA_platform_surfaceless") &&
       try_display(get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr), "surfaceless",
-                  *impl_))
+                  *impl_)) {
+    pin_driver_modules();
     return;
+  }
   throw Unavailable("no EGL device offers a headless OpenGL 4.3+ core context");
 }
 
