@@ -244,32 +244,16 @@ PixelTransfer gpu_pixels(const Mesh& m, const PixelCamera& cam, const BakeOption
   const bool shadowed = opt.mode == sh::prt::TransferMode::shadowed;
   const sh::prt::SampleSet samples = sh::prt::jittered_samples(opt.bands, opt.strata, opt.seed);
   const gpu::Context ctx;
-  gpu::PrtCamera gc;
-  gc.eye = cam.eye;
-  gc.right = cam.right;
-  gc.up = cam.up;
-  gc.back = cam.w;
-  gc.tan_half_fov = cam.tan_half_fov;
-  gc.width = cam.width;
-  gc.height = cam.height;
-  gpu::PrtPixelOptions go;
-  go.depth_resolution = opt.depth_resolution;
-  go.visibility = shadowed;
-  go.offset = 1e-4 * std::max(bounding_diagonal(m), 1e-30);  // the CPU ray offset (RayScene)
-  const gpu::PrtPixelResult g =
+  const gpu::PrtCamera gc{.eye = cam.eye, .right = cam.right, .up = cam.up, .back = cam.w,
+                          .tan_half_fov = cam.tan_half_fov, .width = cam.width, .height = cam.height};
+  const gpu::PrtPixelOptions go{.depth_resolution = opt.depth_resolution, .visibility = shadowed,
+                                .offset = 1e-4 * std::max(bounding_diagonal(m), 1e-30)};  // the CPU ray offset
+  gpu::PrtPixelResult g =
       gpu::prt_pixel_transfer(ctx, gpu::PrtMeshView{&m.positions, &m.normals, &m.albedo, &m.triangles}, gc, samples, go);
-  PixelTransfer px;
-  px.width = g.width;
-  px.height = g.height;
-  px.bands = g.bands;
-  px.samples = g.samples;
-  px.coeffs = g.coeffs;
-  px.ao = g.ao;
-  px.mask = g.mask;
-  px.device = Device::gpu;
-  px.ray_seconds = g.seconds;
-  px.depth_resolution = g.depth_resolution;
-  px.seconds_per_direction = g.seconds_per_direction;
+  PixelTransfer px{.width = g.width, .height = g.height, .bands = g.bands, .samples = g.samples,
+                   .coeffs = std::move(g.coeffs), .ao = std::move(g.ao), .mask = std::move(g.mask),
+                   .device = Device::gpu, .rays = 0, .ray_seconds = g.seconds,
+                   .depth_resolution = g.depth_resolution, .seconds_per_direction = g.seconds_per_direction};
   if (opt.progress) opt.progress(1.0);
   return px;
 #else
