@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "atmosh/atmo/integrate.hpp"
+#include "atmosh/atmo/fast_exp.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/atmo/shared/scatter.glsl.hpp"
@@ -84,39 +85,6 @@ void check_solar(const Atmosphere& atm, const SolarSpectrum& solar) {
     if (!std::isfinite(e) || e < 0) throw InputError("solar irradiance " + std::to_string(e) + " is not finite and >= 0");
 }
 
-// exp(-x) for x >= 0 (x = +inf or huge gives exactly 0), branch-free so that loops
-// over wavelengths vectorise: Cody-Waite reduction x = n ln2 + r, |r| <= ln2/2,
-// degree-12 Taylor polynomial (truncation < 2e-17 relative), 2^-n assembled in the
-// exponent bits. Relative error ~2e-16 (measured against std::exp in tests).
-inline double exp_neg(double x) {
-  const double xc = std::min(x, 700.0);  // also maps +inf; NaN is not expected (finite sums)
-  // Round to nearest by the 1.5 * 2^52 shift (no libm call, vectorises).
-  constexpr double kShift = 6755399441055744.0;
-  const double n = (xc * 1.4426950408889634 + kShift) - kShift;
-  const double r = (n * 0.6931471803691238 - xc) + n * 1.9082149292705877e-10;  // -(x - n ln2)
-  double p = 1.0 / 479001600.0;
-  p = p * r + 1.0 / 39916800.0;
-  p = p * r + 1.0 / 3628800.0;
-  p = p * r + 1.0 / 362880.0;
-  p = p * r + 1.0 / 40320.0;
-  p = p * r + 1.0 / 5040.0;
-  p = p * r + 1.0 / 720.0;
-  p = p * r + 1.0 / 120.0;
-  p = p * r + 1.0 / 24.0;
-  p = p * r + 1.0 / 6.0;
-  p = p * r + 0.5;
-  p = p * r + 1.0;
-  p = p * r + 1.0;
-  // 2^-n: the integer 1023 - n (in [13, 1023]) sits in the low mantissa bits of
-  // k + 1.5 * 2^52; shifting it into the exponent field is a 64-bit integer op.
-  const double k = (1023.0 - n) + kShift;
-  std::uint64_t bits;
-  std::memcpy(&bits, &k, sizeof bits);
-  bits <<= 52;
-  double scale;
-  std::memcpy(&scale, &bits, sizeof scale);
-  return x < 700.0 ? p * scale : 0.0;
-}
 
 // Distances in (0, s_end) where the ray crosses the sphere of radius k.
 template <class Out>

@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "atmosh/atmo/fast_exp.hpp"
 #include "atmosh/atmo/integrate.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
@@ -280,5 +281,25 @@ TEST(SharedScatter, DensestPointSplitAndNodes) {
   EXPECT_DOUBLE_EQ(sg::scattering_term(0.5, 2.0, 3.0, 5.0, 7.0), 0.5 * (2 * 5 + 3 * 7));
   EXPECT_DOUBLE_EQ(sg::column_optical_depth(1, 2, 3, 4, 5, 6), 32.0);
   EXPECT_NEAR(sg::ground_term(0.3, 0.5, 0.8), 0.3 / M_PI * 0.5 * 0.8, 1e-16);
+}
+}  // namespace
+
+namespace {
+// atmosh/atmo/fast_exp.hpp against std::exp (the header's stated bound).
+TEST(FastExp, ExpNegMatchesLibmToFourUlpRelative) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> U(0.0, 700.0), V(0.0, 2.0);
+  double worst = 0;
+  for (int i = 0; i < 1000000; ++i) {
+    const double x = i % 2 ? U(rng) : V(rng);
+    worst = std::max(worst, std::abs(atmosh::atmo::exp_neg(x) - std::exp(-x)) / std::exp(-x));
+  }
+  for (double x : {0.0, 1e-300, 0.5 * std::log(2.0), 699.999})
+    worst = std::max(worst, std::abs(atmosh::atmo::exp_neg(x) - std::exp(-x)) / std::exp(-x));
+  EXPECT_LT(worst, 4e-16);
+  EXPECT_EQ(atmosh::atmo::exp_neg(0.0), 1.0);
+  EXPECT_EQ(atmosh::atmo::exp_neg(700.0), 0.0);
+  EXPECT_EQ(atmosh::atmo::exp_neg(1e300), 0.0);
+  EXPECT_EQ(atmosh::atmo::exp_neg(std::numeric_limits<double>::infinity()), 0.0);
 }
 }  // namespace
