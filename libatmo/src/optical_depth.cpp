@@ -1,6 +1,7 @@
 #include "atmosh/atmo/optical_depth.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -196,10 +197,34 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     }
   }
   double u = (n_present == 0 && opt_.uniform_share == 0.0) ? 1.0 : opt_.uniform_share;
+  // Tabulated profiles positive up to the top: their coordinate is the fraction
+  // of the e-folds of density below h, sum |d ln rho| (the table stores ln of the
+  // mean density, whose variation across a shell interval this bounds), not of
+  // the column, which saturates where the scale height shrinks upward and leaves
+  // the upper atmosphere to the rho share alone. cum[c][i]: e-folds below node i.
+  std::array<std::vector<double>, 3> cum;
+  std::array<double, 3> efolds{}, efolds0{};
+  auto efolds_below = [&](int c, double h) {
+    const auto& a = atm_.profile(c).spec().altitude_m;
+    const auto& v = atm_.profile(c).spec().value;
+    std::size_t i = static_cast<std::size_t>(std::upper_bound(a.begin(), a.end(), h) - a.begin());
+    i = std::clamp<std::size_t>(i, 1, a.size() - 1) - 1;
+    return cum[c][i] + std::abs(std::log(atm_.profile(c)(h) / v[i]));
+  };
+  for (int c = 0; c < 3; ++c) {
+    if (!present_[c] || !log_encoded_[c] || atm_.profile(c).kind() != DensityProfileSpec::Kind::Tabulated) continue;
+    const auto& v = atm_.profile(c).spec().value;
+    cum[c].assign(v.size(), 0.0);
+    for (std::size_t i = 1; i < v.size(); ++i) cum[c][i] = cum[c][i - 1] + std::abs(std::log(v[i] / v[i - 1]));
+    efolds0[c] = efolds_below(c, 0.0);
+    efolds[c] = efolds_below(c, top) - efolds0[c];
+  }
   auto mass = [&](double h) {
     double m = 0.0;
     for (int c = 0; c < 3; ++c)
-      if (present_[c]) m += atm_.profile(c).vertical_column(0.0, h) / vc[c];
+      if (present_[c])
+        m += efolds[c] > 0.0 ? (efolds_below(c, h) - efolds0[c]) / efolds[c]
+                             : atm_.profile(c).vertical_column(0.0, h) / vc[c];
     m += u * std::sqrt(h * (2.0 * R_ + h)) / Hh_;
     return m / (n_present + u);
   };
