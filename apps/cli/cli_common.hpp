@@ -61,9 +61,10 @@ std::vector<std::filesystem::path> write_lut_convergence(const atmo::AtmosphereS
                                                          const std::filesystem::path& stem, bool quick);
 std::vector<std::filesystem::path> write_optical_depth_table(const atmo::AtmosphereSpec& spec,
                                                              const std::filesystem::path& stem);
-// Computes exactly the outputs a scene lists (and the tables they need) into dir.
+// Computes exactly the outputs a scene lists (and the tables they need) into dir;
+// sky images on `device` (cpu | gpu | auto, as render_sky_on).
 void run_scene(const scene::Scene& scene, const std::filesystem::path& dir, bool quick,
-               std::vector<std::filesystem::path>& written);
+               std::vector<std::filesystem::path>& written, const std::string& device = "cpu");
 
 // Parts of the main job, run in this order by `atmosh demo`.
 void demo_sun(DemoContext& ctx);

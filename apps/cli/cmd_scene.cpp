@@ -74,15 +74,17 @@ void register_scene_commands(CLI::App& app) {
   }
   {
     auto* run = app.add_subcommand("run", "Compute exactly the outputs a scene lists (see `atmosh plan`)");
-    static std::string file, out;
+    static std::string file, out, device = "cpu";
     static bool quick = false;
     run->add_option("scene", file, "Scene file (default: the built-in scene)");
     run->add_option("-o,--output", out, "Output folder")->required();
     run->add_flag("--quick", quick, "Small images and coarse steps");
+    run->add_option("--device", device, "sky images on cpu, gpu or auto (GPU if a headless EGL device exists)")
+        ->capture_default_str();
     run->callback([] {
       const auto s = scene_from(file);
       std::vector<std::filesystem::path> written;
-      run_scene(s, out, quick, written);
+      run_scene(s, out, quick, written, device);
       for (const auto& p : scene::plan(s))
         std::cout << (p.needed ? "  ran   " : "  skip  ") << p.name << ": " << p.reason << "\n";
       for (const auto& f : written) std::cout << f.string() << "\n";

@@ -81,6 +81,37 @@ SunPlacement resolve_sun(const SkyCmd& c, const scene::Scene& s) {
   return sun_of_scene(s);
 }
 
+}  // namespace
+
+SkyImage render_sky_on(const std::string& device, const SkyIntegrator& sky, SkyProjection proj, int width, int height,
+                       double altitude_m, const glm::dvec3& sun, bool spectral, int threads, std::string& used) {
+  if (device != "cpu" && device != "gpu" && device != "auto")
+    throw InputError("--device " + device + ": must be cpu, gpu or auto");
+  // gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line notice.
+  used = "cpu";
+  if (device != "cpu") {
+#ifdef ATMOSH_HAVE_GPU
+    try {
+      SkyImage img = gpu::render_sky(sky, proj, width, height, altitude_m, sun, spectral);
+      used = "gpu";
+      return img;
+    } catch (const gpu::Unavailable& e) {
+      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
+      std::cerr << "atmosh: no GPU (" << e.what() << "); rendering on the CPU\n";
+    } catch (const gpu::Unsupported& e) {
+      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
+      std::cerr << "atmosh: " << e.what() << " is not supported on the GPU; rendering on the CPU\n";
+    }
+#else
+    if (device == "gpu") throw std::runtime_error("--device gpu: atmosh was built without ATMOSH_WITH_GPU");
+    std::cerr << "atmosh: built without GPU support; rendering on the CPU\n";
+#endif
+  }
+  return render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
+}
+
+namespace {
+
 void run_sky(const SkyCmd& c) {
   if (c.output.empty()) throw InputError("-o is required (the EXR file to write)");
   const auto s = load_or_default(c.scene_file);
@@ -89,31 +120,9 @@ void run_sky(const SkyCmd& c) {
   const auto size = parse_size(c.size, "--size");
   const auto model = make_sky_model(s, c.q.sky(), sun.distance_au);
   const double h = std::max(sun.observer_height_m, 0.0);
-  if (c.device != "cpu" && c.device != "gpu" && c.device != "auto")
-    throw InputError("--device " + c.device + ": must be cpu, gpu or auto");
-  // --device gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line notice.
-  std::string used = "cpu";
-  std::optional<SkyImage> gpu_img;
-  if (c.device != "cpu") {
-#ifdef ATMOSH_HAVE_GPU
-    try {
-      gpu_img = gpu::render_sky(*model->sky, proj, size[0], size[1], h, sun.direction(), c.spectral);
-      used = "gpu";
-    } catch (const gpu::Unavailable& e) {
-      if (c.device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-      std::cerr << "atmosh: no GPU (" << e.what() << "); rendering on the CPU\n";
-    } catch (const gpu::Unsupported& e) {
-      if (c.device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-      std::cerr << "atmosh: " << e.what() << " is not supported on the GPU; rendering on the CPU\n";
-    }
-#else
-    if (c.device == "gpu") throw std::runtime_error("--device gpu: atmosh was built without ATMOSH_WITH_GPU");
-    std::cerr << "atmosh: built without GPU support; rendering on the CPU\n";
-#endif
-  }
-  const SkyImage img =
-      gpu_img ? std::move(*gpu_img)
-              : render_sky(*model->sky, proj, size[0], size[1], h, sun.direction(), c.spectral, c.q.threads);
+  std::string used;
+  const SkyImage img = render_sky_on(c.device, *model->sky, proj, size[0], size[1], h, sun.direction(), c.spectral,
+                                     c.q.threads, used);
   auto prov = sky_provenance(*model, sun);
   prov.add("device", used);
   const double exposure = write_sky_image(img, c.output, c.png, prov, c.projection, sun);
@@ -632,7 +641,10 @@ std::vector<fs::path> write_sky_sh(const SkyModel& model, const SunPlacement& su
   return {csv, bcsv, bpng};
 }
 
-void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vector<fs::path>& written) {
+void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vector<fs::path>& written,
+               const std::string& device) {
+  if (device != "cpu" && device != "gpu" && device != "auto")
+    throw InputError("--device " + device + ": must be cpu, gpu or auto");
   std::optional<SunPlacement> sun;
   std::unique_ptr<SkyModel> model;
   auto need_sky = [&]() -> const SkyModel& {
@@ -650,11 +662,14 @@ void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vect
       const SkyModel& m = need_sky();
       const int w = quick ? std::min(64, out.size[0]) : out.size[0];
       const int h = quick ? std::min(32, out.size[1]) : out.size[1];
-      const auto img = render_sky(*m.sky, parse_sky_projection(out.projection), w, h,
-                                  std::max(sun->observer_height_m, 0.0), sun->direction(), out.spectral);
+      std::string used;
+      const auto img = render_sky_on(device, *m.sky, parse_sky_projection(out.projection), w, h,
+                                     std::max(sun->observer_height_m, 0.0), sun->direction(), out.spectral, 0, used);
       fs::path png = file;
       png.replace_extension(".png");
-      write_sky_image(img, file, png, sky_provenance(m, *sun), out.projection, *sun);
+      auto prov = sky_provenance(m, *sun);
+      prov.add("device", used);
+      write_sky_image(img, file, png, prov, out.projection, *sun);
       written.push_back(file);
       written.push_back(png);
     } else if (out.kind == "sh-coefficients") {

@@ -49,6 +49,14 @@ io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun);
 double write_sky_image(const atmo::SkyImage& img, const std::filesystem::path& exr, const std::filesystem::path& png,
                        const io::Provenance& prov, const std::string& projection, const SunPlacement& sun);
 
+// The sky image on a device: "cpu"; "gpu" (the GPU pass, or std::runtime_error when
+// there is no EGL device or the atmosphere is unsupported there); "auto" (the GPU pass,
+// else the CPU after a one-line notice on stderr). InputError for another name. `used`
+// receives "cpu" or "gpu". threads: CPU worker threads (0 = all cores).
+atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrator& sky, atmo::SkyProjection projection,
+                             int width, int height, double altitude_m, const glm::dvec3& sun, bool spectral, int threads,
+                             std::string& used);
+
 // Display colour: linear sRGB scaled so its largest component is 1, then encoded.
 std::array<double, 3> display_colour(const atmo::Rgb& c);
 

@@ -1,0 +1,98 @@
+// `--device cpu|gpu|auto` for sky images, in `atmosh sky` and in `atmosh run` (a scene's
+// sky-image outputs): the GPU image agrees with the CPU image (within the GPU pass's
+// documented float tolerance, 1e-4 relative where the radiance exceeds 1e-6 of its
+// maximum; gpu/sky.hpp), the device is recorded in the EXR, a bad name exits 2, and with
+// no EGL device `auto` falls back with one notice line while `gpu` exits 1.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "atmosh/io/exr.hpp"
+#include "run_cli.hpp"
+
+using atmosh::test::count_lines;
+using atmosh::test::expect_bad_input;
+using atmosh::test::run_cli;
+using atmosh::test::scratch_dir;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Max relative difference of channel Y where the CPU image exceeds 1e-6 of its maximum.
+double max_rel_y(const atmosh::io::ExrImage& a, const atmosh::io::ExrImage& b) {
+  const auto y = [](const atmosh::io::ExrImage& e) {
+    return static_cast<std::size_t>(std::find(e.channels.begin(), e.channels.end(), "Y") - e.channels.begin());
+  };
+  const auto& ya = a.data[y(a)];
+  const auto& yb = b.data[y(b)];
+  const float peak = *std::max_element(yb.begin(), yb.end());
+  double worst = 0;
+  for (std::size_t i = 0; i < yb.size(); ++i)
+    if (yb[i] > 1e-6f * peak) worst = std::max(worst, std::abs(double(ya[i]) - yb[i]) / yb[i]);
+  return worst;
+}
+
+bool no_egl_and_optional(const atmosh::test::CliResult& r) {
+  return r.exit_code == 1 && r.err.find("--device gpu") != std::string::npos && !std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT");
+}
+
+}  // namespace
+
+TEST(CliSkyDevice, SkyAndRunRenderOnTheGpuLikeTheCpu) {
+  const fs::path d = scratch_dir("atmosh_cli_sky_device", "gpu");
+  const auto g = run_cli("sky --sun-elevation 20 --size 48x24 --device gpu -o '" + (d / "g.exr").string() + "'");
+  if (no_egl_and_optional(g)) GTEST_SKIP() << g.err;
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  const auto c = run_cli("sky --sun-elevation 20 --size 48x24 --device cpu -o '" + (d / "c.exr").string() + "'");
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  const auto eg = atmosh::io::read_exr(d / "g.exr"), ec = atmosh::io::read_exr(d / "c.exr");
+  EXPECT_EQ(eg.string_attributes.at("atmosh:device"), "gpu");
+  EXPECT_EQ(ec.string_attributes.at("atmosh:device"), "cpu");
+  EXPECT_LT(max_rel_y(eg, ec), 1e-4);
+
+  // The built-in scene's sky-image output, quick, on the GPU and on the CPU.
+  const auto rg = run_cli("run --quick --device gpu -o '" + (d / "run_gpu").string() + "'");
+  ASSERT_EQ(rg.exit_code, 0) << rg.err;
+  const auto rc = run_cli("run --quick -o '" + (d / "run_cpu").string() + "'");
+  ASSERT_EQ(rc.exit_code, 0) << rc.err;
+  int images = 0;
+  for (const auto& e : fs::directory_iterator(d / "run_gpu")) {
+    if (e.path().extension() != ".exr") continue;
+    const auto a = atmosh::io::read_exr(e.path());
+    if (!a.string_attributes.count("atmosh:device")) continue;  // not a sky image
+    ++images;
+    EXPECT_EQ(a.string_attributes.at("atmosh:device"), "gpu") << e.path();
+    const auto b = atmosh::io::read_exr(d / "run_cpu" / e.path().filename());
+    EXPECT_EQ(b.string_attributes.at("atmosh:device"), "cpu");
+    EXPECT_LT(max_rel_y(a, b), 1e-4) << e.path();
+  }
+  EXPECT_GE(images, 1);
+}
+
+TEST(CliSkyDevice, BadDeviceIsBadInput) {
+  const fs::path d = scratch_dir("atmosh_cli_sky_device", "bad");
+  expect_bad_input("sky --sun-elevation 20 --size 8x4 --device tpu -o '" + (d / "x.exr").string() + "'", "tpu");
+  expect_bad_input("run --quick --device tpu -o '" + (d / "r").string() + "'", "tpu");
+}
+
+TEST(CliSkyDevice, WithoutAnEglDeviceAutoFallsBackAndGpuFails) {
+  const fs::path d = scratch_dir("atmosh_cli_sky_device", "none");
+  const char* old = std::getenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+  const std::string saved = old ? old : "";
+  setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/atmosh_no_egl_vendor.json", 1);
+  const auto a = run_cli("run --quick --device auto -o '" + (d / "a").string() + "'");
+  const auto g = run_cli("sky --sun-elevation 20 --size 8x4 --device gpu -o '" + (d / "g.exr").string() + "'");
+  if (old)
+    setenv("__EGL_VENDOR_LIBRARY_FILENAMES", saved.c_str(), 1);
+  else
+    unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_NE(a.err.find("rendering on the CPU"), std::string::npos) << a.err;
+  EXPECT_EQ(g.exit_code, 1) << g.err;
+  EXPECT_EQ(count_lines(g.err), 1) << g.err;
+  EXPECT_FALSE(fs::exists(d / "g.exr"));
+}
