@@ -19,6 +19,9 @@ FILES = [
     "optical_depth_vs_zenith.csv",
     "sky.exr",
     "sky.png",
+    "prt/converge.csv",
+    "prt/relight/ao.png",
+    "prt/relight/frame_0000.png",
 ]
 
 cells = []
@@ -124,6 +127,14 @@ md("## Spherical-harmonic band energy of the sky")
 code("""
 df, meta = read("sky_sh_bands.csv")
 plt.semilogy(df["l"], df["energy_g"], "o-"); plt.xlabel("band l"); plt.ylabel("energy (green)")
+""")
+md("## Precomputed radiance transfer")
+study("prt/converge.csv", "PRT transfer vs high-sample reference (CPU ray casting, GPU depth maps)")
+code("""
+fig, (a, b) = plt.subplots(1, 2, figsize=(9, 4.5))
+a.imshow(plt.imread(RESULTS / "prt/relight/ao.png")); a.set_title("ambient occlusion (SH band 0)"); a.axis("off")
+b.imshow(plt.imread(RESULTS / "prt/relight/frame_0000.png")); b.set_title("relit, first light direction"); b.axis("off")
+fig.tight_layout()
 """)
 md("## Stiff and extreme cases")
 code("""
