@@ -57,4 +57,9 @@ double require_range(double v, double lo, double hi, const std::string& what) {
   return v;
 }
 
+void check_device(const std::string& device) {
+  if (device != "cpu" && device != "gpu" && device != "auto")
+    throw InputError("--device " + device + ": must be cpu, gpu or auto");
+}
+
 }  // namespace atmosh::cli

@@ -30,6 +30,10 @@ std::array<double, 3> parse_triple(const std::string& text, const std::string& w
 std::vector<double> parse_list(const std::string& text, const std::string& what);
 // "WxH" -> {W, H}, both in [1, 65536].
 std::array<int, 2> parse_size(const std::string& text, const std::string& what);
+// --device cpu|gpu|auto: InputError naming any other value. (Meaning, everywhere:
+// "cpu" never touches EGL; "gpu" needs a headless EGL device, else exit 1; "auto"
+// falls back to the CPU with a one-line notice on stderr.)
+void check_device(const std::string& device);
 // Throws InputError unless v is finite and lo <= v <= hi.
 double require_range(double v, double lo, double hi, const std::string& what);
 

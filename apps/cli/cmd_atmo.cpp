@@ -75,14 +75,6 @@ std::vector<Ray> study_rays(const Atmosphere& atm) {
   return rays;
 }
 
-// --device cpu|gpu|auto: "cpu" never touches EGL; "gpu" needs a headless EGL
-// device and a supported atmosphere (else std::runtime_error, exit 1); "auto"
-// falls back to the CPU with a one-line notice on stderr.
-void check_device(const std::string& device) {
-  if (device != "cpu" && device != "gpu" && device != "auto")
-    throw InputError("--device " + device + ": must be cpu, gpu or auto");
-}
-
 std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::vector<int>& shells,
                                        const std::vector<int>& directions, bool quick, const fs::path& stem,
                                        const std::string& device = "cpu") {

@@ -517,8 +517,7 @@ void register_prt_commands(CLI::App& app) {
     c->add_option("--view", o->view, "per-pixel rows: direction from the scene centre to the camera");
     c->add_option("-o,--output", o->out, "output stem (writes STEM.csv and STEM.png)")->required();
     c->callback([o] {
-      if (o->device != "cpu" && o->device != "gpu" && o->device != "auto")
-        throw InputError("--device " + o->device + ": must be cpu, gpu or auto");
+      check_device(o->device);
       PixelStudy px;
       px.device = o->device;
       const auto sz = parse_size(o->pixels, "--pixels");

@@ -85,8 +85,7 @@ SunPlacement resolve_sun(const SkyCmd& c, const scene::Scene& s) {
 
 SkyImage render_sky_on(const std::string& device, const SkyIntegrator& sky, SkyProjection proj, int width, int height,
                        double altitude_m, const glm::dvec3& sun, bool spectral, int threads, std::string& used) {
-  if (device != "cpu" && device != "gpu" && device != "auto")
-    throw InputError("--device " + device + ": must be cpu, gpu or auto");
+  check_device(device);
   // gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line notice.
   used = "cpu";
   if (device != "cpu") {
@@ -643,8 +642,7 @@ std::vector<fs::path> write_sky_sh(const SkyModel& model, const SunPlacement& su
 
 void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vector<fs::path>& written,
                const std::string& device) {
-  if (device != "cpu" && device != "gpu" && device != "auto")
-    throw InputError("--device " + device + ": must be cpu, gpu or auto");
+  check_device(device);
   std::optional<SunPlacement> sun;
   std::unique_ptr<SkyModel> model;
   auto need_sky = [&]() -> const SkyModel& {
