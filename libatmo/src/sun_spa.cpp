@@ -7,6 +7,7 @@
 
 #include "atmosh/atmo/sun_refraction.hpp"
 #include "atmosh/atmo/time_utc.hpp"
+#include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
 #include "sun_spa_tables.hpp"
 
@@ -15,12 +16,6 @@
 // loader picks one for the running CPU (function multiversioning, an ifunc).
 // Neither version uses fused multiply-add, so both round every operation as the
 // scalar code does and give bit-identical results on every x86-64 CPU.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
-    !defined(ATMOSH_SPA_BASELINE_ONLY)
-#define ATMOSH_SPA_CLONES [[gnu::target_clones("avx2", "default")]]
-#else
-#define ATMOSH_SPA_CLONES
-#endif
 
 namespace atmosh::atmo {
 namespace {
@@ -151,7 +146,7 @@ struct TermOutputs {
   alignas(64) double psi[NutationTerms::kPadded];
   alignas(64) double eps[NutationTerms::kPadded];
 };
-ATMOSH_SPA_CLONES void periodic_terms(double tau, double T, const double* __restrict re,
+ATMOSH_DISPATCH_NO_FMA void periodic_terms(double tau, double T, const double* __restrict re,
                                       const double* __restrict im, TermOutputs& o) {
   for (int i = 0; i < EarthTerms::kPadded; ++i) o.v[i] = kEarth.a[i] * cos_poly(kEarth.b[i] + kEarth.c[i] * tau);
   for (int i = 0; i < NutationTerms::kPadded; ++i) {
@@ -193,9 +188,14 @@ SpaGeocentric spa_geocentric(double jd, double delta_t_s) {
   // X_j, so its sine and cosine are products of the unit complex numbers
   // exp(i·k·X_j), k = -2..3, computed once: exact to rounding, no trig per term.
   double re[5][6], im[5][6];
+  double arg[10], cs[10];  // cos X_j and sin X_j = cos(X_j - pi/2): one call-free loop
   for (int j = 0; j < 5; ++j) {
-    const double xr = limit360(g.x_deg[j]) * kDeg;
-    const double c1 = std::cos(xr), s1 = std::sin(xr);
+    arg[j] = limit360(g.x_deg[j]) * kDeg;
+    arg[5 + j] = arg[j] - 0.5 * kPi;
+  }
+  for (int i = 0; i < 10; ++i) cs[i] = cos_poly(arg[i]);
+  for (int j = 0; j < 5; ++j) {
+    const double c1 = cs[j], s1 = cs[5 + j];
     const double c2 = c1 * c1 - s1 * s1, s2 = c1 * s1 + s1 * c1;  // exp(2i·X)
     re[j][2] = 1.0;  // k = 0
     im[j][2] = 0.0;

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "atmosh/error.hpp"
-#include "clones.hpp"
+#include "atmosh/dispatch.hpp"
 #include "legendre_impl.hpp"
 
 namespace atmosh::sh {
@@ -227,7 +227,7 @@ __attribute__((always_inline)) inline void rows_kernel(int bands_rt, double ct, 
   }
 }
 
-ATMOSH_SH_DISPATCH
+ATMOSH_DISPATCH
 void evaluate_rows_kernel(int bands, double ct, double c1, double s1, const double* pmm, const double* ta,
                           const double* tb, double* __restrict out) {
   if (bands == 16) {
@@ -406,15 +406,8 @@ __attribute__((always_inline)) inline void batch_all(int bands, std::size_t n, c
   }
 }
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-// as ATMOSH_SH_DISPATCH, and sqrt without errno so that the set-up vectorises
-#define ATMOSH_SH_BATCH_DISPATCH \
-  __attribute__((target_clones("arch=x86-64-v3", "default"), optimize("fp-contract=fast", "no-math-errno")))
-#else
-#define ATMOSH_SH_BATCH_DISPATCH
-#endif
 
-ATMOSH_SH_BATCH_DISPATCH
+ATMOSH_DISPATCH_NO_ERRNO
 void evaluate_batch_kernel(int bands, std::size_t n, const double* xs, const double* ys, const double* zs,
                            double* out, std::size_t stride) {
   batch_all<0>(bands, n, xs, ys, zs, out, stride);

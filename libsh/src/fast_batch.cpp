@@ -4,7 +4,7 @@
 #include <cstring>
 
 #include "atmosh/sh/fast.hpp"
-#include "clones.hpp"
+#include "atmosh/dispatch.hpp"
 
 namespace atmosh::sh::detail {
 
@@ -81,13 +81,13 @@ __attribute__((always_inline)) inline void batch_any(int bands, std::size_t n, c
 
 }  // namespace
 
-ATMOSH_SH_DISPATCH __attribute__((flatten))  // the generated code inlined into each clone
+ATMOSH_DISPATCH __attribute__((flatten))  // the generated code inlined into each clone
 void fast_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
                 std::size_t stride) {
   batch_any(bands, n, xs, ys, zs, out, stride);
 }
 
-ATMOSH_SH_DISPATCH __attribute__((flatten))  // the generated code inlined into each clone
+ATMOSH_DISPATCH __attribute__((flatten))  // the generated code inlined into each clone
 void fast_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out,
                 std::size_t stride) {
   batch_any(bands, n, xs, ys, zs, out, stride);

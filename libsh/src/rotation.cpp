@@ -10,7 +10,7 @@
 
 #include "atmosh/error.hpp"
 #include "atmosh/sh/basis.hpp"
-#include "clones.hpp"
+#include "atmosh/dispatch.hpp"
 
 namespace atmosh::sh {
 
@@ -184,7 +184,7 @@ inline void dot4(const double* m, const int* off, int mp, const double* x, int n
 }
 
 // v <- Y90 v for band l (v[l + m]); work needs 2(l+1) doubles.
-ATMOSH_SH_DISPATCH
+ATMOSH_DISPATCH
 void apply_y90(const BandY90& B, double* v, double* work) {
   const int l = B.l;
   // split by parity: cos part c_m (m = 0..l), sin part s_m (m = 1..l)

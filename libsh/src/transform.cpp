@@ -12,6 +12,7 @@
 #include <string>
 #include <thread>
 
+#include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/sh/basis.hpp"
 #include "atmosh/sh/quadrature.hpp"
@@ -97,13 +98,6 @@ void sectorals(int bands, const Pairs& p, const LegendreTable& t, std::vector<do
 // target has (SSE2 by default; the AVX2/FMA clone is picked at run time on x86-64).
 typedef double V __attribute__((vector_size(B * sizeof(double))));
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define ATMOSH_SH_CLONES __attribute__((target_clones("arch=x86-64-v3", "default"), optimize("fp-contract=fast")))
-#else
-#define ATMOSH_SH_CLONES
-#endif
-
-
 // Native-width halves of a lane block (two 4-double vectors: one AVX register each).
 typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
 static_assert(B == 8, "kernels below are written for 8 lanes");
@@ -112,7 +106,7 @@ static inline V4 hi(const V& v) { return V4{v[4], v[5], v[6], v[7]}; }
 
 // Runs the column recurrence for l = l0..bands-1 (l0 >= m+2) from p2 = Pbar_l0-2,m and
 // p1 = Pbar_l0-1,m, accumulating Pbar_lm * (E if l+m even else O) into acc[l - m].
-ATMOSH_SH_CLONES
+ATMOSH_DISPATCH
 static void analysis_run(int bands, int m, int l0, const double* a, const double* b, const V& xr, const V& p2r,
                          const V& p1r, const V& Ecr, const V& Esr, const V& Ocr, const V& Osr, V* accC, V* accS) {
   const V4 x0 = lo(xr), x1 = hi(xr);
@@ -172,7 +166,7 @@ static void analysis_run(int bands, int m, int l0, const double* a, const double
 }
 
 // Even/odd parity sums over l = l0..bands-1 of Pbar_lm(x) c_l,+-m (added to E*, O*).
-ATMOSH_SH_CLONES
+ATMOSH_DISPATCH
 static void synthesis_run(int bands, int m, int l0, const double* a, const double* b, const double* coeffs,
                           const V& xr, const V& p2r, const V& p1r, V& Ec, V& Es, V& Oc, V& Os) {
   const V4 x0 = lo(xr), x1 = hi(xr);
