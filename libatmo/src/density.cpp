@@ -45,6 +45,7 @@ DensityProfile::DensityProfile(const DensityProfileSpec& spec, const std::string
                            ": density must be finite and >= 0");
       }
       kinks_ = spec.altitude_m;
+      index_ = SortedIndex(spec.altitude_m);
       break;
     }
   }
@@ -60,9 +61,8 @@ double DensityProfile::operator()(double h) const {
     case K::Tabulated: {
       const auto& a = spec_.altitude_m;
       if (h < a.front() || h > a.back()) return 0.0;
-      auto it = std::upper_bound(a.begin(), a.end(), h);
-      std::size_t i = it == a.end() ? a.size() - 1 : static_cast<std::size_t>(it - a.begin());
-      if (i == 0) i = 1;
+      // i: first node above h (std::upper_bound), clamped to [1, n - 1]
+      std::size_t i = static_cast<std::size_t>(std::clamp(index_.find(h) + 1, 1, static_cast<int>(a.size()) - 1));
       double t = (h - a[i - 1]) / (a[i] - a[i - 1]);
       return spec_.value[i - 1] + t * (spec_.value[i] - spec_.value[i - 1]);
     }

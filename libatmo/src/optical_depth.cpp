@@ -10,6 +10,7 @@
 #include "atmosh/atmo/integrate.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
+#include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/sh/quadrature.hpp"
 
@@ -253,6 +254,7 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
   const int S2 = static_cast<int>(radii_.size());
   rho_.resize(S2);
   for (int k = 0; k < S2; ++k) rho_[k] = std::sqrt(std::max(0.0, (radii_[k] - R_) * (radii_[k] + R_)));
+  shell_index_ = SortedIndex(rho_);
   lagrange_den_.assign(static_cast<std::size_t>(S2 - 3) * 4, 1.0);
   for (int w = 0; w + 3 < S2; ++w)
     for (int i = 0; i < 4; ++i) {
@@ -405,9 +407,8 @@ glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double r, double x) cons
   const int S = static_cast<int>(radii_.size()), n = t.n;
   double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
   // Window choice and weights: shared/lut.glsl.hpp (the GPU's interpolate too).
-  auto rho_at = [this](int i) { return rho_[static_cast<std::size_t>(i)]; };
-  int k;
-  ATMOSH_LUT_SHELL_INDEX(k, S, rho, rho_at);
+  // Shell search: the same k as the GPU's bisection (ATMOSH_LUT_SHELL_INDEX), in O(1).
+  const int k = shell_index_.find(rho);
   const int w = sg::lut_window_start(k, S);
   double lw[4];
   for (int i = 0; i < 4; ++i)

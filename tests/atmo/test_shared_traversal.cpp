@@ -15,6 +15,7 @@
 #include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/atmo/shared/scatter.glsl.hpp"
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
+#include "atmosh/atmo/sorted_index.hpp"
 
 namespace sg = atmosh::atmo::shared;
 
@@ -105,6 +106,38 @@ TEST(SharedLutLookup, ShellSearchIsUpperBound) {
       EXPECT_EQ(k, int(std::upper_bound(v.begin(), v.end(), x) - v.begin()) - 1) << n << " " << x;
     }
   }
+}
+
+// SortedIndex (the CPU's O(1) shell and profile search) gives the index of
+// std::upper_bound - 1 for every probe, on uniform, clustered (geometric, as shells
+// near the ground) and tiny tables, at and next to every value, below, above, NaN.
+TEST(SortedIndex, IsUpperBoundMinusOne) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1000.0);
+  std::vector<std::vector<double>> tables;
+  for (int n : {1, 2, 3, 32, 200, 1000}) {
+    std::vector<double> v(static_cast<std::size_t>(n));
+    for (double& x : v) x = u(rng);
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    tables.push_back(v);
+  }
+  std::vector<double> geo;  // 1e-3 .. 1e3, ratio 1.2: many values in the first bucket
+  for (double x = 1e-3; x < 1e3; x *= 1.2) geo.push_back(x);
+  tables.push_back(geo);
+  tables.push_back({0.0, 1e-12, 1.0});  // two values closer than a bucket's rounding
+  for (const auto& v : tables) {
+    const atmosh::atmo::SortedIndex idx(v);
+    std::vector<double> probes = {-1.0, 1e9, -0.0, std::numeric_limits<double>::infinity(),
+                                  -std::numeric_limits<double>::infinity()};
+    for (int i = 0; i < 2000; ++i) probes.push_back(u(rng));
+    for (double x : v)
+      for (double p : {x, std::nextafter(x, -1e300), std::nextafter(x, 1e300)}) probes.push_back(p);
+    for (double x : probes)
+      EXPECT_EQ(idx.find(x), int(std::upper_bound(v.begin(), v.end(), x) - v.begin()) - 1) << v.size() << " " << x;
+    EXPECT_EQ(idx.find(std::numeric_limits<double>::quiet_NaN()), -1);
+  }
+  EXPECT_EQ(atmosh::atmo::SortedIndex().find(1.0), -1);
 }
 
 TEST(SharedLutLookup, WindowsContainTheSampleAndWeightsReproduceCubics) {

@@ -14,6 +14,7 @@
 
 #include <vector>
 
+#include "atmosh/atmo/sorted_index.hpp"
 #include "atmosh/atmo/spec.hpp"
 
 namespace atmosh::atmo {
@@ -39,6 +40,7 @@ class DensityProfile {
  private:
   DensityProfileSpec spec_;
   std::vector<double> kinks_;
+  SortedIndex index_;  // over the tabulated altitudes
 };
 
 }  // namespace atmosh::atmo

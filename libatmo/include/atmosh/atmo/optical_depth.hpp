@@ -68,6 +68,7 @@
 #include <glm/glm.hpp>
 
 #include "atmosh/atmo/atmosphere.hpp"
+#include "atmosh/atmo/sorted_index.hpp"
 
 namespace atmosh::atmo {
 
@@ -199,6 +200,7 @@ class OpticalDepthLut {
   LutOptions opt_;
   double R_, T_, Hh_;
   std::vector<double> radii_, rho_;
+  SortedIndex shell_index_;             // over rho_
   std::vector<double> crossing_radii_;  // shells and kinks, sorted
   std::vector<double> lagrange_den_;    // [shell window start][4] denominators
   std::array<bool, 3> log_encoded_{};
