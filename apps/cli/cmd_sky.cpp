@@ -32,11 +32,13 @@ using namespace atmosh::atmo;
 
 struct QualityOptions {
   int shells = 32, segments = 16, samples = 2, threads = 0;
+  double max_piece_tau = SkyOptions{}.max_piece_optical_depth;
   SkyOptions sky() const {
     SkyOptions o;
     o.lut.shells = shells;
     o.segments = segments;
     o.samples_per_segment = samples;
+    o.max_piece_optical_depth = max_piece_tau;
     return o;
   }
 };
@@ -45,6 +47,10 @@ void add_quality_options(CLI::App* c, QualityOptions& q) {
   c->add_option("--shells", q.shells, "Shells of the optical-depth tables")->capture_default_str();
   c->add_option("--segments", q.segments, "Shells that cut each view ray")->capture_default_str();
   c->add_option("--samples", q.samples, "Gauss-Legendre points per view-ray piece")->capture_default_str();
+  c->add_option("--max-piece-tau", q.max_piece_tau,
+                "Largest extinction optical depth of one view-ray piece before it is split (accuracy vs speed: "
+                "see atmosh converge sky)")
+      ->capture_default_str();
   c->add_option("--threads", q.threads, "Worker threads (0 = all cores)")->capture_default_str();
 }
 
@@ -395,21 +401,27 @@ std::vector<fs::path> run_converge_sky(const ConvergeSky& o) {
 
   struct Setting {
     int shells, segments, samples;
+    double max_tau = SkyOptions{}.max_piece_optical_depth;
   };
   std::vector<Setting> settings;
-  if (o.quick)
+  if (o.quick) {
     settings = {{16, 4, 1}, {32, 8, 2}, {32, 16, 2}};
-  else
+  } else {
     for (int sh : {16, 32, 64})
       for (int seg : {4, 8, 16, 24})
         for (int q : {1, 2, 3, 4})
           if (seg < sh) settings.push_back({sh, seg, q});
+    // Longer pieces near the horizon (fewer splits): faster, less accurate.
+    for (double tau : {1.0, 2.0})
+      for (int seg : {8, 16}) settings.push_back({32, seg, 2, tau});
+  }
   std::vector<io::StudyRow> out;
   for (const auto& st : settings) {
     SkyOptions so;
     so.lut.shells = st.shells;
     so.segments = st.segments;
     so.samples_per_segment = st.samples;
+    so.max_piece_optical_depth = st.max_tau;
     const auto b0 = std::chrono::steady_clock::now();
     const SkyIntegrator sky(atm, solar, so);
     const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - b0).count();
@@ -435,18 +447,20 @@ std::vector<fs::path> run_converge_sky(const ConvergeSky& o) {
       }
     const double per_ray = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count() / (reps * rays.size());
     std::ostringstream name;
-    name << "shells=" << st.shells << " segments=" << st.segments << " samples=" << st.samples;
+    name << "shells=" << st.shells << " segments=" << st.segments << " samples=" << st.samples
+         << " max_tau=" << st.max_tau;
     for (int k = 0; k < 2; ++k)
       out.push_back({std::string(k ? "twilight" : "day") + " q=" + std::to_string(st.samples), name.str(), emax[k],
                      n[k] ? std::sqrt(esum[k] / n[k]) : 0.0, build + per_ray * 1024.0 * 512.0,
-                     {double(st.shells), double(st.segments), double(st.samples), build, per_ray,
+                     {double(st.shells), double(st.segments), double(st.samples), st.max_tau, build, per_ray,
                       ref_time / rays.size()}});
   }
   io::StudySpec spec;
   spec.title = "Single-scattering sky: error vs run time (1024x512 image, " + std::to_string(solar.size()) + " wavelengths)";
   spec.time_axis_label = "run time for a 1024x512 image incl. table build, one core [s]";
   spec.error_axis_label = "max relative error of spectral radiance";
-  spec.extra_columns = {"shells", "segments", "samples_per_segment", "build_time_s", "time_per_ray_s", "reference_time_per_ray_s"};
+  spec.extra_columns = {"shells",       "segments",       "samples_per_segment",     "max_piece_optical_depth",
+                        "build_time_s", "time_per_ray_s", "reference_time_per_ray_s"};
   auto prov = io::Provenance::current();
   prov.add("scene", s.source);
   prov.add("rays", static_cast<double>(rays.size()));

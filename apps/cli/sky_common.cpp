@@ -80,6 +80,7 @@ io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun) {
   p.add("lut_shells", static_cast<double>(o.lut.shells));
   p.add("view_segments", static_cast<double>(o.segments));
   p.add("samples_per_segment", static_cast<double>(o.samples_per_segment));
+  p.add("max_piece_optical_depth", o.max_piece_optical_depth);
   p.add("solar_spectrum", "ASTM G173-03 extraterrestrial, averaged over each wavelength bin");
   p.add("colour", "CIE 1931 2-degree CMF, 683 lm/W, linear sRGB (D65)");
   return p;
