@@ -189,6 +189,12 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
       continue;
     }
     n_present += present_[c];
+    // Tabulated and tent profiles that are interpolated from the tables: their
+    // table entries are built in closed form (exact), not by quadrature.
+    if (present_[c] && prof.kind() != DensityProfileSpec::Kind::Exponential) {
+      build_linear_[c] = PiecewiseLinearColumn(prof, R_);
+      build_closed_[c] = true;
+    }
     log_encoded_[c] = present_[c] && atm_.profile(c).positive_on(top);
     has_kinks_ = has_kinks_ || (present_[c] && !log_encoded_[c]);
     support_top_[c] = top;
@@ -290,9 +296,11 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
       kw.inv_den[i] = 1.0 / d;
     }
   }
+  // Quadrature (exponential profiles only, smooth) cuts the table rays at the shells;
+  // profiles with kinks are built in closed form and need no cuts.
   crossing_radii_ = radii_;
-  for (double k : atm_.kinks()) crossing_radii_.push_back(R_ + k);
-  std::sort(crossing_radii_.begin(), crossing_radii_.end());
+  for (int c = 0; c < 3; ++c)
+    if (present_[c] && !build_closed_[c]) expo_.push_back(c);
   auto gl = sh::gauss_legendre(opt_.gauss_points);
   for (std::size_t i = 0; i < gl.nodes.size(); ++i) {
     gl_x_.push_back(0.5 * (gl.nodes[i] + 1.0));
@@ -329,12 +337,19 @@ glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
     const double h = (b - a) / m;
     for (int p = 0; p < m; ++p) {
       const double lo = a + p * h;
-      for (int g = 0; g < n; ++g) sum += (gl_w_[g] * h) * atm_.density(sg::radius_along(r, mu, lo + gl_x_[g] * h) - R_);
+      for (int g = 0; g < n; ++g) {
+        const double alt = sg::radius_along(r, mu, lo + gl_x_[g] * h) - R_;
+        for (int c : expo_) sum[c] += (gl_w_[g] * h) * atm_.profile(c)(alt);
+      }
     }
   };
-  auto radius_at = [&](int i) { return crossing_radii_[static_cast<std::size_t>(i)]; };
-  const int N = static_cast<int>(crossing_radii_.size());
-  ATMOSH_LUT_RAY_PIECES(double, r, mu, L, N, radius_at, piece);
+  if (!expo_.empty()) {
+    auto radius_at = [&](int i) { return crossing_radii_[static_cast<std::size_t>(i)]; };
+    const int N = static_cast<int>(crossing_radii_.size());
+    ATMOSH_LUT_RAY_PIECES(double, r, mu, L, N, radius_at, piece);
+  }
+  for (int c = 0; c < 3; ++c)
+    if (build_closed_[c]) sum[c] = build_linear_[c](r, mu, L);
   return sum;
 }
 

@@ -52,9 +52,13 @@
 // direction rings (errors up to 0.2 of the total optical depth on limb rays).
 // Such constituents take no part in shell placement. Long tables (the U.S.
 // Standard Atmosphere 1976 Rayleigh profile, 200 nodes) stay interpolated.
-// Table entries are computed with fixed Gauss-Legendre rules on the pieces
-// between shell, kink and tangent crossings (each piece spanning at most 1.5
-// times the smallest relevant scale height in altitude), ~1e-9 relative.
+// Table entries: tent and tabulated profiles in closed form
+// (PiecewiseLinearColumn, exact to rounding); exponential profiles by fixed
+// Gauss-Legendre rules on the pieces between shell and tangent crossings (each
+// piece spanning at most 1.5 times the smallest scale height whose density is
+// still above 1e-15 at the piece's lowest point), ~1e-9 relative where the mean
+// density along the table ray exceeds 1e-15 (below that, up to ~1e-2 relative of
+// a column too small for any optical depth to notice).
 // Error: see `atmosh converge lut` and docs/atmosphere.md (max relative error of
 // the total optical depth, measured over grazing/tangent/random rays): 2e-5 for
 // earth-graphics with the ozone tent at the default 32 x 64 (1119 rays);
@@ -207,6 +211,9 @@ class OpticalDepthLut {
   std::array<bool, 3> present_{};   // present and interpolated from the tables
   std::array<bool, 3> analytic_{};  // closed-form column at lookup
   std::array<PiecewiseLinearColumn, 3> linear_;
+  std::array<bool, 3> build_closed_{};                   // interpolated, table entries in closed form
+  std::array<PiecewiseLinearColumn, 3> build_linear_;
+  std::vector<int> expo_;                                // interpolated exponential constituents (quadrature)
   bool has_kinks_ = false;
   std::array<double, 3> support_top_{};  // altitude above which a kinked profile is 0
   struct KinkWindow {
