@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "atmosh/parallel.hpp"
@@ -26,10 +28,18 @@ TEST(ParallelFor, VisitsEveryIndexExactlyOnce) {
 
 TEST(ParallelFor, RethrowsTheFirstExceptionAndStops) {
   std::atomic<int> calls{0};
+  std::atomic<bool> thrown{false};
   EXPECT_THROW(atmosh::parallel_for(100000, 2,
                                     [&](std::size_t i) {
                                       calls.fetch_add(1);
-                                      if (i == 10) throw std::invalid_argument("bad index 10");
+                                      if (i == 10) {
+                                        thrown = true;
+                                        throw std::invalid_argument("bad index 10");
+                                      }
+                                      // After the throw, the other worker is slowed down so that a
+                                      // descheduled thrower (a loaded machine) cannot let it finish
+                                      // every index before the stop is seen.
+                                      if (thrown) std::this_thread::sleep_for(std::chrono::microseconds(50));
                                     }),
                std::invalid_argument);
   EXPECT_LT(calls.load(), 100000);  // the others stop taking new indices
