@@ -594,6 +594,28 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
   });
 }
 
+// Radix-2 butterflies of one stage (half = len / 2 >= 4) with the stage's twiddles
+// contiguous (wr, wi: e^{-2 pi i k / len}, k < half), so that the k loop vectorises.
+ATMOSH_DISPATCH
+static void fft_stage(double* __restrict re, double* __restrict im, int n, int half, const double* __restrict wr,
+                      const double* __restrict wi0, double sign) {
+  for (int i = 0; i < n; i += 2 * half) {
+    double* __restrict r0 = re + i;
+    double* __restrict i0 = im + i;
+    double* __restrict r1 = re + i + half;
+    double* __restrict i1 = im + i + half;
+    for (int k = 0; k < half; ++k) {
+      const double w_r = wr[k], w_i = -sign * wi0[k];
+      const double xr = r1[k] * w_r - i1[k] * w_i;
+      const double xi = r1[k] * w_i + i1[k] * w_r;
+      r1[k] = r0[k] - xr;
+      i1[k] = i0[k] - xi;
+      r0[k] += xr;
+      i0[k] += xi;
+    }
+  }
+}
+
 void fft(double* re, double* im, int n, int sign) {
   // bit reversal
   for (int i = 1, j = 0; i < n; ++i) {
@@ -605,30 +627,45 @@ void fft(double* re, double* im, int n, int sign) {
       std::swap(im[i], im[j]);
     }
   }
-  thread_local std::vector<double> tw_re, tw_im;  // e^{-2 pi i k / n}, k < n/2
-  if (static_cast<int>(tw_re.size()) != n / 2) {
-    tw_re.resize(n / 2);
-    tw_im.resize(n / 2);
-    for (int k = 0; k < n / 2; ++k) {
-      tw_re[k] = std::cos(2.0 * std::numbers::pi * k / n);
-      tw_im[k] = -std::sin(2.0 * std::numbers::pi * k / n);
-    }
-  }
-  for (int len = 2; len <= n; len <<= 1) {
-    const int half = len >> 1;
-    const int stride = n / len;
-    for (int i = 0; i < n; i += len) {
+  // twiddles per stage: tw[half + k] = e^{-2 pi i k / (2 half)}, k < half
+  thread_local std::vector<double> tw_re, tw_im;
+  if (static_cast<int>(tw_re.size()) != n) {
+    tw_re.assign(n, 0.0);
+    tw_im.assign(n, 0.0);
+    for (int half = 1; half < n; half <<= 1)
       for (int k = 0; k < half; ++k) {
-        const double wr = tw_re[k * stride], wi = -sign * tw_im[k * stride];
-        const double xr = re[i + k + half] * wr - im[i + k + half] * wi;
-        const double xi = re[i + k + half] * wi + im[i + k + half] * wr;
-        re[i + k + half] = re[i + k] - xr;
-        im[i + k + half] = im[i + k] - xi;
-        re[i + k] += xr;
-        im[i + k] += xi;
+        // same angles as k * (n / len) / n of the full table
+        tw_re[half + k] = std::cos(std::numbers::pi * k / half);
+        tw_im[half + k] = -std::sin(std::numbers::pi * k / half);
       }
-    }
   }
+  // len = 2 and 4 (twiddles 1 and -+i) in one radix-2^2 pass
+  if (n >= 4) {
+    for (int i = 0; i < n; i += 4) {
+      const double a0r = re[i] + re[i + 1], a0i = im[i] + im[i + 1];
+      const double a1r = re[i] - re[i + 1], a1i = im[i] - im[i + 1];
+      const double b0r = re[i + 2] + re[i + 3], b0i = im[i + 2] + im[i + 3];
+      const double b1r = re[i + 2] - re[i + 3], b1i = im[i + 2] - im[i + 3];
+      // second butterfly: w = 1 for k = 0, w = -sign i for k = 1: (x r, x i) -> (sign x i, -sign x r)
+      const double cr = sign * b1i, ci = -sign * b1r;
+      re[i] = a0r + b0r;
+      im[i] = a0i + b0i;
+      re[i + 2] = a0r - b0r;
+      im[i + 2] = a0i - b0i;
+      re[i + 1] = a1r - cr;
+      im[i + 1] = a1i - ci;
+      re[i + 3] = a1r + cr;
+      im[i + 3] = a1i + ci;
+    }
+  } else if (n == 2) {
+    const double r = re[1], m = im[1];
+    re[1] = re[0] - r;
+    im[1] = im[0] - m;
+    re[0] += r;
+    im[0] += m;
+  }
+  for (int half = 4; half < n; half <<= 1)
+    fft_stage(re, im, n, half, tw_re.data() + half, tw_im.data() + half, static_cast<double>(sign));
 }
 
 }  // namespace detail
