@@ -80,13 +80,17 @@ void sectorals(int bands, const Pairs& p, const LegendreTable& t, std::vector<do
   const std::size_t padded = p.x.size();
   mant.assign(static_cast<std::size_t>(bands) * padded, 0.0);
   ex.assign(static_cast<std::size_t>(bands) * padded, 0);
-  for (std::size_t k = 0; k < padded; ++k) {
-    XNum v{1.0 / std::sqrt(4.0 * std::numbers::pi), 0};
-    mant[k] = v.mant;
-    for (int m = 1; m < bands; ++m) {
-      v = next_sectoral(v, t.sectoral()[m], p.u[k]);
-      mant[m * padded + k] = v.mant;
-      ex[m * padded + k] = v.exp;
+  // m outer: each row follows from the previous one (rows stream; lanes independent)
+  for (std::size_t k = 0; k < padded; ++k) mant[k] = 1.0 / std::sqrt(4.0 * std::numbers::pi);
+  for (int m = 1; m < bands; ++m) {
+    const double* pm = mant.data() + (m - 1) * padded;
+    const int* pe = ex.data() + (m - 1) * padded;
+    double* cm = mant.data() + m * padded;
+    int* ce = ex.data() + m * padded;
+    for (std::size_t k = 0; k < padded; ++k) {
+      const XNum v = next_sectoral(XNum{pm[k], pe[k]}, t.sectoral()[m], p.u[k]);
+      cm[k] = v.mant;
+      ce[k] = v.exp;
     }
   }
 }
@@ -103,67 +107,6 @@ typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
 static_assert(B == 8, "kernels below are written for 8 lanes");
 static inline V4 lo(const V& v) { return V4{v[0], v[1], v[2], v[3]}; }
 static inline V4 hi(const V& v) { return V4{v[4], v[5], v[6], v[7]}; }
-
-// Runs the column recurrence for l = l0..bands-1 (l0 >= m+2) from p2 = Pbar_l0-2,m and
-// p1 = Pbar_l0-1,m, accumulating Pbar_lm * (E if l+m even else O) into acc[l - m].
-ATMOSH_DISPATCH
-static void analysis_run(int bands, int m, int l0, const double* a, const double* b, const V& xr, const V& p2r,
-                         const V& p1r, const V& Ecr, const V& Esr, const V& Ocr, const V& Osr, V* accC, V* accS) {
-  const V4 x0 = lo(xr), x1 = hi(xr);
-  const V4 Ec0 = lo(Ecr), Ec1 = hi(Ecr), Es0 = lo(Esr), Es1 = hi(Esr);
-  const V4 Oc0 = lo(Ocr), Oc1 = hi(Ocr), Os0 = lo(Osr), Os1 = hi(Osr);
-  V4 p20 = lo(p2r), p21 = hi(p2r), p10 = lo(p1r), p11 = hi(p1r);
-  V4* C = reinterpret_cast<V4*>(accC);  // acc[l - m] = C[2(l-m)], C[2(l-m)+1]
-  V4* S = reinterpret_cast<V4*>(accS);
-  int l = l0;
-  std::size_t ti = tri_index(l, m);
-  if (l < bands && ((l - m) & 1)) {
-    const V4 pa0 = a[ti] * x0 * p10 - b[ti] * p20;
-    const V4 pa1 = a[ti] * x1 * p11 - b[ti] * p21;
-    const int j = 2 * (l - m);
-    C[j] += pa0 * Oc0;
-    C[j + 1] += pa1 * Oc1;
-    S[j] += pa0 * Os0;
-    S[j + 1] += pa1 * Os1;
-    p20 = p10;
-    p21 = p11;
-    p10 = pa0;
-    p11 = pa1;
-    ti += l + 1;
-    ++l;
-  }
-  for (; l + 1 < bands; l += 2) {
-    const double a0 = a[ti], b0 = b[ti];
-    const double a1 = a[ti + l + 1], b1 = b[ti + l + 1];
-    const V4 pa0 = a0 * x0 * p10 - b0 * p20;
-    const V4 pa1 = a0 * x1 * p11 - b0 * p21;
-    const V4 pb0 = a1 * x0 * pa0 - b1 * p10;
-    const V4 pb1 = a1 * x1 * pa1 - b1 * p11;
-    const int j = 2 * (l - m);
-    C[j] += pa0 * Ec0;
-    C[j + 1] += pa1 * Ec1;
-    S[j] += pa0 * Es0;
-    S[j + 1] += pa1 * Es1;
-    C[j + 2] += pb0 * Oc0;
-    C[j + 3] += pb1 * Oc1;
-    S[j + 2] += pb0 * Os0;
-    S[j + 3] += pb1 * Os1;
-    p20 = pa0;
-    p21 = pa1;
-    p10 = pb0;
-    p11 = pb1;
-    ti += 2 * l + 3;
-  }
-  if (l < bands) {
-    const V4 pa0 = a[ti] * x0 * p10 - b[ti] * p20;
-    const V4 pa1 = a[ti] * x1 * p11 - b[ti] * p21;
-    const int j = 2 * (l - m);
-    C[j] += pa0 * Ec0;
-    C[j + 1] += pa1 * Ec1;
-    S[j] += pa0 * Es0;
-    S[j + 1] += pa1 * Es1;
-  }
-}
 
 // Even/odd parity sums over l = l0..bands-1 of Pbar_lm(x) c_l,+-m (added to E*, O*).
 ATMOSH_DISPATCH
@@ -286,80 +229,304 @@ static int extended_start(int bands, int m, const double* a, const double* b, co
   return lstar;
 }
 
+// ---- analysis: even-degree recurrence in x^2 ------------------------------------
+// For one m write P_l = Pbar_lm and eps_l = sqrt((l^2 - m^2) / (4 l^2 - 1)), so that
+// x P_l = eps_l+1 P_l+1 + eps_l P_l-1. Two steps of it give a recurrence over the
+// degrees l = m + 2k of the parity of m alone:
+//   eps_l+1 eps_l+2 P_l+2 = (x^2 - eps_l+1^2 - eps_l^2) P_l - eps_l eps_l-1 P_l-2.
+// With P_m+2k = alpha_k lam_k (alpha_0 = alpha_1 = 1, alpha_k+1 = -C_k alpha_k-1, C_k
+// the ratio multiplying P_l-2) it becomes lam_k+1 = (a'_k x^2 + b'_k) lam_k + lam_k-1:
+// two fused multiply-adds per ring for two degrees. The alpha_k stay within
+// [~1/m, 1] (the products of eps ratios telescope), so lam has the range of P.
+// The degrees of the other parity are not recurred at all: for l = m + 2k
+//   B_l = sum_r x_r O_r P_l(x_r) = eps_l+1 A_l+1 + eps_l A_l-1,  A_j = sum_r O_r P_j(x_r),
+// exactly, ring by ring, so A_l+1 = (B_l - eps_l A_l-1) / eps_l+1 (forward substitution
+// from A_m-1 = 0; the factor eps_l / eps_l+1 < 1 damps rounding errors). Per ring pair
+// and two degrees: 2 FMAs of recurrence and 4 of accumulation (cos and sin parts of
+// the even sum E and of x times the odd sum O). Round trips agree with the direct
+// three-term recurrence to the same ~1e-13 (tests; docs/sh.md).
+namespace {
+typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
+typedef long long I4 __attribute__((vector_size(4 * sizeof(long long))));
+
+// One block of 4 ring pairs for one m.
+struct AnaGroup {
+  V4 ec, es, oc, os;  // even sums E (cos, sin parts) and x * odd sums O
+  V4 csq;             // x^2
+  V4 lam1, lam2;      // lam_k-1, lam_k at the block's current step k
+  V4 e;               // extended-range exponent per lane (0: plain range)
+};
+
+struct AnaCoef {
+  // a'_k, b'_k, alpha_k (k <= kmax + 2); for the odd degrees l = m + 2k + 1:
+  // A_l = rb_k B_l-1 - qa_k A_l-2 with rb_k = alpha_k / eps_l, qa_k = eps_l-1 / eps_l
+  std::vector<double> ap, bp, alpha, eps, rb, qa, cc, aa, bb;
+};
+
+// Coefficients of column m for degrees below `bands` (steps k = 0..kmax+2 defined).
+// Only the alpha products are sequential; the rest vectorises (sqrt without errno).
+ATMOSH_DISPATCH_NO_ERRNO
+static void ana_coefficients(int bands, int m, AnaCoef& c) {
+  const int kmax = (bands - 1 - m) / 2;
+  const int nk = kmax + 3, nl = 2 * nk + 4;
+  c.eps.resize(nl);
+  c.ap.resize(nk);
+  c.bp.resize(nk);
+  c.cc.resize(nk);
+  c.aa.resize(nk);
+  c.bb.resize(nk);
+  c.rb.resize(nk);
+  c.qa.resize(nk);
+  c.alpha.resize(nk + 1);
+  double* eps = c.eps.data();
+  const double mm = m;
+  eps[0] = 0.0;
+  for (int i = 1; i < nl; ++i) {
+    const double l = mm + i;
+    eps[i] = std::sqrt((l - mm) * (l + mm) / ((2.0 * l - 1.0) * (2.0 * l + 1.0)));
+  }
+  for (int k = 0; k < nk; ++k) {
+    const double e0 = eps[2 * k], e1 = eps[2 * k + 1], e2 = eps[2 * k + 2], em = k > 0 ? eps[2 * k - 1] : 1.0;
+    const double A = 1.0 / (e1 * e2);
+    c.aa[k] = A;
+    c.bb[k] = -(e1 * e1 + e0 * e0) * A;
+    c.cc[k] = -(e0 * em) * A;  // alpha_k+1 = cc_k alpha_k-1
+    c.qa[k] = e0 / e1;
+  }
+  c.alpha[0] = c.alpha[1] = 1.0;
+  for (int k = 1; k < nk; ++k) {
+    c.alpha[k + 1] = c.cc[k] * c.alpha[k - 1];
+  }
+  for (int k = 0; k < nk; ++k) {
+    const double r = c.alpha[k] / c.alpha[k + 1];
+    c.ap[k] = c.aa[k] * r;
+    c.bp[k] = c.bb[k] * r;
+    c.rb[k] = c.alpha[k] / eps[2 * k + 1];
+  }
+}
+
+inline V4 hsum4(V4 a0, V4 a1, V4 a2, V4 a3) {
+  const V4 u0 = __builtin_shuffle(a0, a1, I4{0, 4, 2, 6}) + __builtin_shuffle(a0, a1, I4{1, 5, 3, 7});
+  const V4 u1 = __builtin_shuffle(a2, a3, I4{0, 4, 2, 6}) + __builtin_shuffle(a2, a3, I4{1, 5, 3, 7});
+  return __builtin_shuffle(u0, u1, I4{0, 1, 4, 5}) + __builtin_shuffle(u0, u1, I4{2, 3, 6, 7});
+}
+
+inline bool any(I4 m) {
+  const I4 t = m | __builtin_shuffle(m, I4{2, 3, 0, 1});
+  return (t[0] | t[1]) != 0;
+}
+
+// Blocks whose sectoral values need the extended range (mant * 2^e, e < 0 a multiple
+// of kScaleExp; values below 2^-500 are dropped: they cannot change a double result).
+// Steps all of them together, two steps at a time (k outer, so that the blocks'
+// recurrences overlap), with a per-lane scale that is folded every second step (the
+// growth over two steps, below 2^60, leaves ample room above the 2^100 fold level);
+// the lanes in the plain range add their terms to sums[k]. A block leaves at the first
+// even step at which all its lanes are plain: join[i] = that step (kmax + 1 if never).
+ATMOSH_DISPATCH
+static void ana_extended(int kmax, const double* ap, const double* bp, AnaGroup* grp, const int* ids, int nx,
+                         int* join, int* live, V4* sums) {
+  const V4 zero{}, fold = V4{} + kFold, down = V4{} + kScaleDown;
+  const V4 step = V4{} + static_cast<double>(kScaleExp);
+  const I4 sign = I4{} + (1LL << 63);
+  int nlive = nx;
+  for (int j = 0; j < nx; ++j) live[j] = ids[j];
+  for (int k = 0; k <= kmax && nlive > 0; k += 2) {
+    for (int j = 0; j < nlive; ++j) {
+      const AnaGroup& g = grp[live[j]];
+      if (!any(g.e != zero)) {
+        join[live[j]] = k;
+        live[j--] = live[--nlive];
+      }
+    }
+    const double a1 = ap[k], b1 = bp[k], a2 = ap[k + 1], b2 = bp[k + 1];
+    V4 c0{}, c1{}, c2{}, c3{}, d0{}, d1{}, d2{}, d3{};
+    for (int j = 0; j < nlive; ++j) {
+      AnaGroup& g = grp[live[j]];
+      const V4 l2 = g.lam2, csq = g.csq;
+      const V4 e = g.e;
+      V4 t1 = (a1 * csq + b1) * l2 + g.lam1;
+      V4 t2 = (a2 * csq + b2) * t1 + l2;
+      const I4 plain = e == zero;
+      if (any(plain)) {
+        const V4 v = (V4)((I4)l2 & plain), w = (V4)((I4)t1 & plain);
+        c0 += v * g.ec;
+        c1 += v * g.es;
+        c2 += v * g.oc;
+        c3 += v * g.os;
+        d0 += w * g.ec;
+        d1 += w * g.es;
+        d2 += w * g.oc;
+        d3 += w * g.os;
+      }
+      const I4 big = ((V4)((I4)t2 & ~sign) > fold) & (e < zero);
+      if (any(big)) {
+        t1 = big ? t1 * down : t1;
+        t2 = big ? t2 * down : t2;
+        g.e = big ? e + step : e;
+      }
+      g.lam1 = t1;
+      g.lam2 = t2;
+    }
+    sums[k] += hsum4(c0, c1, c2, c3);
+    sums[k + 1] += hsum4(d0, d1, d2, d3);
+  }
+  for (int j = 0; j < nlive; ++j) join[live[j]] = kmax + 1;
+}
+
+// The plain kernel: steps K0, K0+2, ... <= kmax; at step K the blocks grp[0..nact[K])
+// are active (blocks sorted by the step they join at). Adds the lane sums of lam_K and
+// lam_K+1 times (E cos, E sin, xO cos, xO sin) to sums[K] and sums[K+1].
+ATMOSH_DISPATCH
+static void ana_kernel(int K0, int kmax, const int* nact, const double* ap, const double* bp, AnaGroup* grp,
+                       V4* sums) {
+  for (int K = K0; K <= kmax; K += 2) {
+    const int n = nact[K];
+    const double a1 = ap[K], b1 = bp[K], a2 = ap[K + 1], b2 = bp[K + 1];
+    V4 c0{}, c1{}, c2{}, c3{}, d0{}, d1{}, d2{}, d3{};
+    for (int i = 0; i < n; ++i) {
+      AnaGroup& g = grp[i];
+      const V4 csq = g.csq;
+      V4 l2 = g.lam2, l1 = g.lam1;
+      c0 += l2 * g.ec;
+      c1 += l2 * g.es;
+      c2 += l2 * g.oc;
+      c3 += l2 * g.os;
+      l1 = (a1 * csq + b1) * l2 + l1;
+      d0 += l1 * g.ec;
+      d1 += l1 * g.es;
+      d2 += l1 * g.oc;
+      d3 += l1 * g.os;
+      l2 = (a2 * csq + b2) * l1 + l2;
+      g.lam1 = l1;
+      g.lam2 = l2;
+    }
+    sums[K] += hsum4(c0, c1, c2, c3);
+    sums[K + 1] += hsum4(d0, d1, d2, d3);
+  }
+}
+}  // namespace
+
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
                        const double* fourier, bool symmetric, double* coeffs, int threads) {
   threads = resolve_threads(threads);
   const auto table = legendre_table(bands);
-  const double* a = table->a();
-  const double* b = table->b();
   const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
+  const int ngroups = padded / 4;
   std::vector<double> smant;
   std::vector<int> sexp;
   sectorals(bands, pr, *table, smant, sexp);
 
-  parallel_for_m(bands, threads, [&](int t0, int step) {
-    // (not std::vector: GCC drops the vector attribute, and thus the alignment, in template arguments)
-    std::unique_ptr<V[]> accC(new V[bands]), accS(new V[bands]);
-    for (int m = t0; m < bands; m += step) {
-      const int nl = bands - m;
-      for (int i = 0; i < nl; ++i) accC[i] = accS[i] = V{};
-      for (int blk = 0; blk < padded; blk += B) {
-        bool plain = true;
-        V Ec, Es, Oc, Os, x, p2, p1;
-        const double* mant = smant.data() + static_cast<std::size_t>(m) * padded + blk;
-        const int* ex = sexp.data() + static_cast<std::size_t>(m) * padded + blk;
-        for (int k = 0; k < B; ++k) {
-          const int q = blk + k;
-          double nc = 0, ns = 0, sc = 0, ss = 0;
-          if (q < np) {
-            const double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
-            nc = fn[0];
-            ns = fn[1];
-            if (pr.south[q] >= 0) {
-              const double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
-              sc = fs[0];
-              ss = fs[1];
-            }
-          }
-          Ec[k] = nc + sc;
-          Es[k] = ns + ss;
-          Oc[k] = nc - sc;
-          Os[k] = ns - ss;
-          x[k] = pr.x[q];
-          p2[k] = mant[k];
-          if (ex[k] != 0) plain = false;
+  // Ring sums regrouped m-major: per m and block, E cos, E sin, xO cos, xO sin (4 lanes
+  // each), in blocks of m so that both the ring rows and the m planes stream.
+  constexpr int MB = 8;
+  std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(bands) * padded * 4]);
+  parallel_for_m((bands + MB - 1) / MB, threads, [&](int t0, int step) {
+    for (int mb = t0 * MB; mb < bands; mb += step * MB) {
+      const int m1 = std::min(bands, mb + MB);
+      for (int q = np; q < padded; ++q)
+        for (int m = mb; m < m1; ++m)
+          for (int f = 0; f < 4; ++f) fm[(static_cast<std::size_t>(m) * padded + (q & ~3)) * 4 + 4 * f + (q & 3)] = 0.0;
+      for (int q = 0; q < np; ++q) {
+        const double* fn = fourier + static_cast<std::size_t>(pr.north[q]) * bands * 2;
+        const double* fs = pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * bands * 2 : nullptr;
+        const double x = pr.x[q];
+        for (int m = mb; m < m1; ++m) {
+          const double nc = fn[2 * m], ns = fn[2 * m + 1];
+          const double sc = fs ? fs[2 * m] : 0.0, ss = fs ? fs[2 * m + 1] : 0.0;
+          double* o = fm.get() + (static_cast<std::size_t>(m) * padded + (q & ~3)) * 4 + (q & 3);
+          o[0] = nc + sc;
+          o[4] = ns + ss;
+          o[8] = x * (nc - sc);
+          o[12] = x * (ns - ss);
         }
-        int l0 = m + 2;
-        if (plain) {
-          accC[0] += p2 * Ec;
-          accS[0] += p2 * Es;
-          p1 = std::sqrt(2.0 * m + 3.0) * x * p2;
-          if (m + 1 < bands) {
-            accC[1] += p1 * Oc;
-            accS[1] += p1 * Os;
-          }
-        } else {
-          l0 = extended_start(bands, m, a, b, x, mant, ex, p2, p1, [&](int k, int l, double v) {
-            const bool odd = ((l + m) & 1) != 0;
-            accC[l - m][k] += v * (odd ? Oc[k] : Ec[k]);
-            accS[l - m][k] += v * (odd ? Os[k] : Es[k]);
-          });
-        }
-        if (l0 < bands) analysis_run(bands, m, l0, a, b, x, p2, p1, Ec, Es, Oc, Os, accC.get(), accS.get());
-      }
-      for (int l = m; l < bands; ++l) {
-        double sc = 0, ss = 0;
-        for (int k = 0; k < B; ++k) {
-          sc += accC[l - m][k];
-          ss += accS[l - m][k];
-        }
-        coeffs[sh_index(l, m)] += sc;
-        if (m > 0) coeffs[sh_index(l, -m)] += ss;
       }
     }
   });
+
+  // per-m results: column m at col_offset(m), 2 (bands - m) values
+  auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
+  std::unique_ptr<double[]> col(new double[col_offset(bands)]);
+  parallel_for_m(bands, threads, [&](int t0, int step) {
+    // (not std::vector: GCC drops the vector attribute, and thus the alignment, in template arguments)
+    std::unique_ptr<AnaGroup[]> nat(new AnaGroup[ngroups]), act(new AnaGroup[ngroups]);
+    std::unique_ptr<V4[]> sums(new V4[bands + 4]);
+    std::vector<int> join(ngroups), ids(ngroups), live(ngroups), nact(bands + 4);
+    AnaCoef cf;
+    for (int m = t0; m < bands; m += step) {
+      const int kmax = (bands - 1 - m) / 2;
+      ana_coefficients(bands, m, cf);
+      for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
+      const double* mant = smant.data() + static_cast<std::size_t>(m) * padded;
+      const int* ex = sexp.data() + static_cast<std::size_t>(m) * padded;
+      const double* f = fm.get() + static_cast<std::size_t>(m) * padded * 4;
+      int nx = 0;
+      for (int gi = 0; gi < ngroups; ++gi) {
+        AnaGroup& g = nat[gi];
+        std::copy(f + 16 * gi, f + 16 * gi + 16, &g.ec[0]);
+        bool plain = true;
+        for (int k = 0; k < 4; ++k) {
+          const int q = 4 * gi + k;
+          g.csq[k] = pr.x[q] * pr.x[q];
+          g.lam1[k] = 0.0;
+          g.lam2[k] = mant[q];
+          g.e[k] = ex[q];
+          if (ex[q] != 0) plain = false;
+        }
+        join[gi] = 0;
+        if (!plain) ids[nx++] = gi;
+      }
+      if (nx > 0) ana_extended(kmax, cf.ap.data(), cf.bp.data(), nat.get(), ids.data(), nx, join.data(), live.data(),
+                               sums.get());
+      // the plain blocks in ring order, then the others by the step they join at
+      int nlive = 0;
+      for (int gi = 0; gi < ngroups; ++gi)
+        if (join[gi] == 0) act[nlive++] = nat[gi];
+      const int nplain = nlive;
+      std::sort(ids.begin(), ids.begin() + nx, [&](int p, int q) { return join[p] < join[q] || (join[p] == join[q] && p < q); });
+      for (int i = 0; i < nx && join[ids[i]] <= kmax; ++i) act[nlive++] = nat[ids[i]];
+      if (nlive > 0) {
+        int j = nplain, i = 0;
+        for (int k = 0; k <= kmax + 1; ++k) {
+          while (i < nx && join[ids[i]] <= k) ++i, ++j;
+          nact[k] = std::min(j, nlive);
+        }
+        const int K0 = nplain > 0 ? 0 : join[ids[0]];
+        ana_kernel(K0, kmax, nact.data(), cf.ap.data(), cf.bp.data(), act.get(), sums.get());
+      }
+      // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
+      // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
+      double* out = col.get() + col_offset(m);
+      double pc = 0.0, ps = 0.0;  // A_l-1 of the odd parity
+      for (int k = 0; k <= kmax; ++k) {
+        const int i = 2 * k;
+        const V4 sk = sums[k];
+        const double al = cf.alpha[k];
+        out[2 * i] = al * sk[0];
+        out[2 * i + 1] = al * sk[1];
+        if (m + i + 1 < bands) {
+          pc = cf.rb[k] * sk[2] - cf.qa[k] * pc;
+          ps = cf.rb[k] * sk[3] - cf.qa[k] * ps;
+          out[2 * i + 2] = pc;
+          out[2 * i + 3] = ps;
+        }
+      }
+    }
+  });
+  // columns into the coefficient vector, in blocks of m (contiguous in m for each l)
+  for (int mb = 0; mb < bands; mb += 8) {
+    const int m1 = std::min(bands, mb + 8);
+    for (int l = mb; l < bands; ++l) {
+      double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+      for (int m = mb; m < m1 && m <= l; ++m) {
+        const double* c = col.get() + col_offset(m) + 2 * (l - m);
+        row[m] += c[0];
+        if (m > 0) row[-m] += c[1];
+      }
+    }
+  }
 }
 
 void legendre_synthesis(int bands, int nrings, const double* cos_t, const double* sin_t,
@@ -427,6 +594,28 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
   });
 }
 
+// Radix-2 butterflies of one stage (half = len / 2 >= 4) with the stage's twiddles
+// contiguous (wr, wi: e^{-2 pi i k / len}, k < half), so that the k loop vectorises.
+ATMOSH_DISPATCH
+static void fft_stage(double* __restrict re, double* __restrict im, int n, int half, const double* __restrict wr,
+                      const double* __restrict wi0, double sign) {
+  for (int i = 0; i < n; i += 2 * half) {
+    double* __restrict r0 = re + i;
+    double* __restrict i0 = im + i;
+    double* __restrict r1 = re + i + half;
+    double* __restrict i1 = im + i + half;
+    for (int k = 0; k < half; ++k) {
+      const double w_r = wr[k], w_i = -sign * wi0[k];
+      const double xr = r1[k] * w_r - i1[k] * w_i;
+      const double xi = r1[k] * w_i + i1[k] * w_r;
+      r1[k] = r0[k] - xr;
+      i1[k] = i0[k] - xi;
+      r0[k] += xr;
+      i0[k] += xi;
+    }
+  }
+}
+
 void fft(double* re, double* im, int n, int sign) {
   // bit reversal
   for (int i = 1, j = 0; i < n; ++i) {
@@ -438,30 +627,45 @@ void fft(double* re, double* im, int n, int sign) {
       std::swap(im[i], im[j]);
     }
   }
-  thread_local std::vector<double> tw_re, tw_im;  // e^{-2 pi i k / n}, k < n/2
-  if (static_cast<int>(tw_re.size()) != n / 2) {
-    tw_re.resize(n / 2);
-    tw_im.resize(n / 2);
-    for (int k = 0; k < n / 2; ++k) {
-      tw_re[k] = std::cos(2.0 * std::numbers::pi * k / n);
-      tw_im[k] = -std::sin(2.0 * std::numbers::pi * k / n);
-    }
-  }
-  for (int len = 2; len <= n; len <<= 1) {
-    const int half = len >> 1;
-    const int stride = n / len;
-    for (int i = 0; i < n; i += len) {
+  // twiddles per stage: tw[half + k] = e^{-2 pi i k / (2 half)}, k < half
+  thread_local std::vector<double> tw_re, tw_im;
+  if (static_cast<int>(tw_re.size()) != n) {
+    tw_re.assign(n, 0.0);
+    tw_im.assign(n, 0.0);
+    for (int half = 1; half < n; half <<= 1)
       for (int k = 0; k < half; ++k) {
-        const double wr = tw_re[k * stride], wi = -sign * tw_im[k * stride];
-        const double xr = re[i + k + half] * wr - im[i + k + half] * wi;
-        const double xi = re[i + k + half] * wi + im[i + k + half] * wr;
-        re[i + k + half] = re[i + k] - xr;
-        im[i + k + half] = im[i + k] - xi;
-        re[i + k] += xr;
-        im[i + k] += xi;
+        // same angles as k * (n / len) / n of the full table
+        tw_re[half + k] = std::cos(std::numbers::pi * k / half);
+        tw_im[half + k] = -std::sin(std::numbers::pi * k / half);
       }
-    }
   }
+  // len = 2 and 4 (twiddles 1 and -+i) in one radix-2^2 pass
+  if (n >= 4) {
+    for (int i = 0; i < n; i += 4) {
+      const double a0r = re[i] + re[i + 1], a0i = im[i] + im[i + 1];
+      const double a1r = re[i] - re[i + 1], a1i = im[i] - im[i + 1];
+      const double b0r = re[i + 2] + re[i + 3], b0i = im[i + 2] + im[i + 3];
+      const double b1r = re[i + 2] - re[i + 3], b1i = im[i + 2] - im[i + 3];
+      // second butterfly: w = 1 for k = 0, w = -sign i for k = 1: (x r, x i) -> (sign x i, -sign x r)
+      const double cr = sign * b1i, ci = -sign * b1r;
+      re[i] = a0r + b0r;
+      im[i] = a0i + b0i;
+      re[i + 2] = a0r - b0r;
+      im[i + 2] = a0i - b0i;
+      re[i + 1] = a1r - cr;
+      im[i + 1] = a1i - ci;
+      re[i + 3] = a1r + cr;
+      im[i + 3] = a1i + ci;
+    }
+  } else if (n == 2) {
+    const double r = re[1], m = im[1];
+    re[1] = re[0] - r;
+    im[1] = im[0] - m;
+    re[0] += r;
+    im[0] += m;
+  }
+  for (int half = 4; half < n; half <<= 1)
+    fft_stage(re, im, n, half, tw_re.data() + half, tw_im.data() + half, static_cast<double>(sign));
 }
 
 }  // namespace detail

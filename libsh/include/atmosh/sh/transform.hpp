@@ -9,9 +9,12 @@
 // in cos t; the uniform rule the trigonometric ones in p).
 //
 // Method: per ring an FFT in p (radix 2, two real rings per complex transform;
-// a direct DFT for other nphi), then the Legendre sums with the scaled column
-// recurrence of basis.hpp, m outer and l inner, vectorised over blocks of rings
-// and using the equatorial symmetry Pbar_lm(-x) = (-1)^(l+m) Pbar_lm(x).
+// a direct DFT for other nphi), then the Legendre sums, m outer, vectorised over
+// blocks of ring pairs and using the equatorial symmetry Pbar_lm(-x) = (-1)^(l+m)
+// Pbar_lm(x). Synthesis runs the scaled column recurrence of basis.hpp; analysis
+// recurs only the degrees of the parity of m, in x^2 (two FMAs per ring pair for two
+// degrees), and gets the other parity from sums of x times the odd ring sums by a
+// forward substitution (transform.cpp).
 // Work is split over m between `threads` threads (0 = all hardware threads).
 //
 // Accuracy: analysis of synthesis reproduces coefficients to ~1e-13 relative at
