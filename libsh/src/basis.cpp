@@ -242,15 +242,20 @@ void evaluate_rows_kernel(int bands, double ct, double c1, double s1, const doub
 // coefficient-major output. Per order m the column l = m..bands-1 is run in registers,
 // P_lm = a_lm cos t P_l-1,m - b_lm P_l-2,m: every step is one vector operation on 4
 // directions (one AVX register in the AVX2/FMA clone, two SSE2 registers otherwise).
-// (8-double generic vectors were lowered by GCC 12 through integer registers: 5x slower.)
-constexpr int kLanes = 4;
-typedef double VB __attribute__((vector_size(kLanes * sizeof(double))));
-typedef double VBu __attribute__((vector_size(kLanes * sizeof(double)), aligned(sizeof(double))));
+// (8-double generic vectors were lowered by GCC 12 through integer registers in those
+// clones: 5x slower.) Where the CPU has AVX-512, an 8-lane instance (one zmm register
+// per step) runs instead (atmosh/dispatch.hpp).
+template <int Lanes>
+struct Lane {
+  typedef double V __attribute__((vector_size(Lanes * sizeof(double))));
+  typedef double Vu __attribute__((vector_size(Lanes * sizeof(double)), aligned(sizeof(double))));
+};
 
-template <bool Full>
+template <bool Full, class VB>
 __attribute__((always_inline)) inline void put(double* p, VB v, int count) {
   if constexpr (Full) {
-    *reinterpret_cast<VBu*>(p) = v;
+    typedef double Vu __attribute__((vector_size(sizeof(VB)), aligned(sizeof(double))));
+    *reinterpret_cast<Vu*>(p) = v;
   } else {
     for (int k = 0; k < count; ++k) p[k] = v[k];
   }
@@ -259,7 +264,7 @@ __attribute__((always_inline)) inline void put(double* p, VB v, int count) {
 // One pass over `count` <= kLanes directions given by cos t, sin t (>= 0), cos p, sin p.
 // Returns false, writing nothing, if a sectoral term of a lane leaves the plain double
 // range (the same test as the single-direction row path).
-template <int NB, bool Full>
+template <int NB, bool Full, class VB>
 __attribute__((always_inline)) inline bool batch_pass(int bands_rt, VB ct, VB st, VB c1, VB s1,
                                                       const double* ta, const double* tb, const double* ts,
                                                       double* out, std::size_t stride, int count) {
@@ -355,9 +360,12 @@ void evaluate_unit(int bands, const glm::dvec3& d, double* out);
 // Set-up of a pass: lanes k < count from (xs, ys, zs), the rest (0, 0, 1).
 // cos t = z/|d|, sin t = h/|d|, cos p = x/h, sin p = y/h with h = sqrt(x^2 + y^2)
 // (cos p = 1, sin p = 0 at h = 0), as vector operations.
+template <class VB>
 __attribute__((always_inline)) inline void batch_setup(const double* xs, const double* ys, const double* zs,
                                                        int count, VB& ct, VB& st, VB& c1, VB& s1) {
-  alignas(64) double X[kLanes] = {}, Y[kLanes] = {}, Z[kLanes] = {1, 1, 1, 1};
+  constexpr int kLanes = sizeof(VB) / sizeof(double);
+  alignas(64) double X[kLanes] = {}, Y[kLanes] = {}, Z[kLanes];
+  for (int k = 0; k < kLanes; ++k) Z[k] = 1.0;
   for (int k = 0; k < count; ++k) {
     X[k] = xs[k];
     Y[k] = ys[k];
@@ -383,9 +391,10 @@ __attribute__((always_inline)) inline void batch_setup(const double* xs, const d
   s1 = h > 0.0 ? y * ih : VB{};
 }
 
-template <int NB>
+template <int NB, int kLanes>
 __attribute__((always_inline)) inline void batch_all(int bands, std::size_t n, const double* xs, const double* ys,
                                                      const double* zs, double* out, std::size_t stride) {
+  using VB = typename Lane<kLanes>::V;
   const ColTable& t = col_table();
   for (std::size_t k0 = 0; k0 < n; k0 += kLanes) {
     const int count = static_cast<int>(std::min<std::size_t>(kLanes, n - k0));
@@ -410,8 +419,15 @@ __attribute__((always_inline)) inline void batch_all(int bands, std::size_t n, c
 ATMOSH_DISPATCH_NO_ERRNO
 void evaluate_batch_kernel(int bands, std::size_t n, const double* xs, const double* ys, const double* zs,
                            double* out, std::size_t stride) {
-  batch_all<0>(bands, n, xs, ys, zs, out, stride);
+  batch_all<0, 4>(bands, n, xs, ys, zs, out, stride);
 }
+
+#if ATMOSH_HAS_DISPATCH
+ATMOSH_TARGET_AVX512 __attribute__((optimize("no-math-errno"))) void evaluate_batch_kernel_avx512(
+    int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out, std::size_t stride) {
+  batch_all<0, 8>(bands, n, xs, ys, zs, out, stride);
+}
+#endif
 
 void evaluate_unit(int bands, const glm::dvec3& d, double* out) {
   if (bands < kRowMinBands) {  // few bands: the column path has less set-up
@@ -466,6 +482,12 @@ void evaluate_batch(int bands, std::size_t n, const double* xs, const double* ys
                        std::to_string(ys[k]) + ", " + std::to_string(zs[k]) +
                        ") is zero, not finite or too long");
   }
+#if ATMOSH_HAS_DISPATCH
+  if (cpu_has_avx512()) {
+    evaluate_batch_kernel_avx512(bands, n, xs, ys, zs, out, stride);
+    return;
+  }
+#endif
   evaluate_batch_kernel(bands, n, xs, ys, zs, out, stride);
 }
 

@@ -95,21 +95,17 @@ void batch_avx2(int bands, std::size_t n, const double* xs, const double* ys, co
 #if ATMOSH_HAS_DISPATCH
 // The kernels are bound by stores (L^2 values per direction): where the CPU has
 // AVX-512 (x86-64-v4), one 64-byte pack per store halves their number.
-__attribute__((target("arch=x86-64-v4"), flatten, optimize("fp-contract=fast"))) void batch_avx512(
+ATMOSH_TARGET_AVX512 __attribute__((flatten)) void batch_avx512(
     int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out, std::size_t stride) {
   batch_any<64>(bands, n, xs, ys, zs, out, stride);
 }
 
-__attribute__((target("arch=x86-64-v4"), flatten, optimize("fp-contract=fast"))) void batch_avx512(
+ATMOSH_TARGET_AVX512 __attribute__((flatten)) void batch_avx512(
     int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out, std::size_t stride) {
   batch_any<64>(bands, n, xs, ys, zs, out, stride);
 }
 
-bool has_avx512() {
-  static const bool yes = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-                          __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
-  return yes;
-}
+bool has_avx512() { return cpu_has_avx512(); }
 #else
 template <class T>
 void batch_avx512(int bands, std::size_t n, const T* xs, const T* ys, const T* zs, T* out, std::size_t stride) {
