@@ -60,7 +60,8 @@ class Rotation {
  private:
   int bands_;
   EulerZYZ e_;
-  std::vector<double> ca_, sa_, cb_, sb_, cg_, sg_;  // cos/sin(m * angle), m < bands
+  // cos/sin(m * angle), m < bands, split by the parity of m (see rotation.cpp)
+  std::vector<double> ca_, sa_, cb_, sb_, cg_, sg_;
 };
 
 /// Closed-form rotation about +z by alpha (radians): in -> out (may alias).
