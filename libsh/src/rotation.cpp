@@ -294,6 +294,19 @@ struct ZTable {
   const double *ce, *se, *co, *so;
 };
 
+// (c, s) rotated by the angles of the table entries cs, sn (4 lanes).
+ATMOSH_INLINE void rot(V4 c, V4 s, const double* cs, const double* sn, V4& c2, V4& s2) {
+  const V4 C = load4(cs), S = load4(sn);
+  c2 = c * C - s * S;
+  s2 = c * S + s * C;
+}
+ATMOSH_INLINE void rot_store(V4 c, V4 s, const double* cs, const double* sn, double* pc, double* ps) {
+  V4 c2, s2;
+  rot(c, s, cs, sn, c2, s2);
+  store4(pc, c2);
+  store4(ps, s2);
+}
+
 // z-rotation of a split band (te / to vectors).
 ATMOSH_INLINE void zrot_band(const Split& v, const ZTable& z, int te, int to) {
   zrot_split(v.ce, v.se, z.ce, z.se, te);
@@ -344,24 +357,25 @@ void rotate_band(const BandY90& B, const double* vin, double* vout, bool read_ar
       g1 = load4(g + 4);
     }
     if (j == 0) g0 = ATMOSH_SHUFFLE(g0, zero, 4, 1, 2, 3);  // no sine part at m = 0
-    store4(w.ce + 4 * j, ATMOSH_SHUFFLE(f0, f1, 0, 2, 4, 6));
-    store4(w.se + 4 * j, ATMOSH_SHUFFLE(g0, g1, 0, 2, 4, 6));
-    if (j < B.to) {
-      store4(w.co + 4 * j, ATMOSH_SHUFFLE(f0, f1, 1, 3, 5, 7));
-      store4(w.so + 4 * j, ATMOSH_SHUFFLE(g0, g1, 1, 3, 5, 7));
-    }
+    // first z-rotation on the way
+    const int i = 4 * j;
+    rot_store(ATMOSH_SHUFFLE(f0, f1, 0, 2, 4, 6), ATMOSH_SHUFFLE(g0, g1, 0, 2, 4, 6), zg.ce + i, zg.se + i, w.ce + i,
+              w.se + i);
+    if (j < B.to)
+      rot_store(ATMOSH_SHUFFLE(f0, f1, 1, 3, 5, 7), ATMOSH_SHUFFLE(g0, g1, 1, 3, 5, 7), zg.co + i, zg.so + i,
+                w.co + i, w.so + i);
   }
-  zrot_band(w, zg, B.te, B.to);
   apply_y90(B, w, u);
   zrot_band(u, zb, B.te, B.to);
   apply_y90(B, u, w);
-  zrot_band(w, za, B.te, B.to);
   // back to v[l + m]: sine parts first, so that the m = 0 slot ends as c_0
   for (int j = nv - 1; j >= 0; --j) {
     const int k = 8 * j, left = n - k;
-    const V4 ce = load4(w.ce + 4 * j), se = load4(w.se + 4 * j);
-    const V4 co = j < B.to ? load4(w.co + 4 * j) : V4{0, 0, 0, 0};
-    const V4 so = j < B.to ? load4(w.so + 4 * j) : V4{0, 0, 0, 0};
+    // last z-rotation on the way
+    const int i = 4 * j;
+    V4 ce, se, co = zero, so = zero;
+    rot(load4(w.ce + i), load4(w.se + i), za.ce + i, za.se + i, ce, se);
+    if (j < B.to) rot(load4(w.co + i), load4(w.so + i), za.co + i, za.so + i, co, so);
     const V4 f0 = ATMOSH_SHUFFLE(ce, co, 0, 4, 1, 5), f1 = ATMOSH_SHUFFLE(ce, co, 2, 6, 3, 7);
     const V4 g0 = ATMOSH_SHUFFLE(se, so, 0, 4, 1, 5), g1 = ATMOSH_SHUFFLE(se, so, 2, 6, 3, 7);
     if (left >= 8) {
