@@ -2,7 +2,9 @@
 // Wigner d^l(pi/2) by a stable recurrence.
 #include "atmosh/sh/rotation.hpp"
 
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <mutex>
 #include <numbers>
@@ -18,15 +20,47 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Real-basis Ry(90) of band l, checkerboard-compacted:
-//   cos block C[m'][m], m', m in 0..l, non-zero for m = (l+m') mod 2, step 2;
-//   sin block S[m'][m], m', m in 1..l, non-zero for m = (l+m'+1) mod 2, step 2 (m >= 1).
+#if defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"  // V4 is passed only between inlined internal functions
+#endif
+// 4 doubles: one AVX register in the AVX2/FMA clone, two SSE2 registers otherwise. Its
+// alignment differs between the two (16 / 32 bytes), so V4 is used for values only and
+// memory is always plain doubles, read and written through memcpy.
+typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
+typedef long long M4 __attribute__((vector_size(4 * sizeof(long long))));
+// Lane permutation of two V4 (indices 0..3: a, 4..7: b).
+#if defined(__clang__)
+#define ATMOSH_SHUFFLE(a, b, i0, i1, i2, i3) __builtin_shufflevector(a, b, i0, i1, i2, i3)
+#else
+#define ATMOSH_SHUFFLE(a, b, i0, i1, i2, i3) __builtin_shuffle(a, b, M4{i0, i1, i2, i3})
+#endif
+
+// Real-basis Ry(90) of band l in parity-split, tiled, half storage.
+//
+// Write the coefficients of band l as cosine parts c_m (m = 0..l) and sine parts s_m
+// (m = 1..l), each split by the parity of m. In the real basis Ry(90) maps cosine parts
+// to cosine parts and sine parts to sine parts; the cosine block C[m'][m] is non-zero only
+// for m + m' + l even, the sine block S[m'][m] only for m + m' + l odd. The Wigner
+// symmetry d_{m m'}(pi/2) = (-1)^(m'-m) d_{m' m}(pi/2) (the real-basis weights are
+// symmetric in m, m') gives C^T = (-1)^l C and S^T = (-1)^(l+1) S. So each band consists of
+//   * two symmetric blocks (even m -> even m, odd m -> odd m): C for even l, S for odd l;
+//   * one rectangular block X (even rows m', odd columns m) together with its negative
+//     transpose (odd rows, even columns): S for even l, C for odd l.
+// Only the lower triangle of each symmetric block and X once are stored, half of the
+// non-zero entries, in 4 x 4 tiles (4 columns of 4 rows, one V4 per column), padded with
+// zeros. Every stored element is used twice per application (y_i += a_ij x_j and
+// y_j += a_ij x_i), so the bytes streamed per application halve and the arithmetic stays.
+// The even-m sine vector carries a zero slot for m = 0 (matrix row and column zero), so
+// that s_m and c_m sit at the same index: the z-rotations become elementwise.
+//
+// Tile k of a block: doubles [16 k, 16 k + 16), column-major (4 columns of 4 rows).
 struct BandY90 {
   int l = 0;
-  std::vector<double> c;      // rows back to back
-  std::vector<int> c_off;     // row start
-  std::vector<double> s;
-  std::vector<int> s_off;
+  int te = 0, to = 0;              // tiles per even-m / odd-m vector: ceil(ne / 4), ceil(no / 4)
+  std::vector<double> store;       // the three blocks, each starting 64-byte aligned
+  const double* rect = nullptr;    // X: te x to tiles, column groups outer, row groups inner
+  const double* sym_e = nullptr;   // even -> even block: tiles (r, J), r >= J, J outer
+  const double* sym_o = nullptr;   // odd -> odd block
 };
 
 // d^l_{m'm}(pi/2) for 0 <= m, m' <= l into d[m' * (l+1) + m].
@@ -74,168 +108,308 @@ void build_band(int l, BandY90& out) {
   wigner_half_pi(l, d);
   const int n = l + 1;
   auto D = [&](int mp, int m) { return d[static_cast<std::size_t>(mp) * n + m]; };
-  out.l = l;
-  out.c.clear();
-  out.s.clear();
-  out.c_off.assign(l + 2, 0);
-  out.s_off.assign(l + 2, 0);
   const double r2 = std::numbers::sqrt2;
-  for (int mp = 0; mp <= l; ++mp) {
-    out.c_off[mp] = static_cast<int>(out.c.size());
-    for (int m = (l + mp) & 1; m <= l; m += 2) {
-      double v;
-      if (mp == 0 && m == 0)
-        v = D(0, 0);
-      else if (mp == 0 || m == 0)
-        v = r2 * D(mp, m);
-      else
-        v = 2.0 * D(mp, m);
-      out.c.push_back(v);
-    }
-  }
-  out.c_off[l + 1] = static_cast<int>(out.c.size());
-  for (int mp = 1; mp <= l; ++mp) {
-    out.s_off[mp] = static_cast<int>(out.s.size());
-    int m0 = (l + mp + 1) & 1;
-    if (m0 == 0) m0 = 2;
-    for (int m = m0; m <= l; m += 2) out.s.push_back(2.0 * D(mp, m));
-  }
-  out.s_off[l + 1] = static_cast<int>(out.s.size());
+  // real-basis entries (zero outside the checkerboard and for the m = 0 sine slot)
+  auto cval = [&](int mp, int m) {
+    if (m > l || mp > l || ((l + mp + m) & 1)) return 0.0;
+    if (mp == 0 && m == 0) return D(0, 0);
+    if (mp == 0 || m == 0) return r2 * D(mp, m);
+    return 2.0 * D(mp, m);
+  };
+  auto sval = [&](int mp, int m) {
+    if (m > l || mp > l || m == 0 || mp == 0 || !((l + mp + m) & 1)) return 0.0;
+    return 2.0 * D(mp, m);
+  };
+  const bool even = (l & 1) == 0;
+  // block element (i, j): even index i <-> m = 2i, odd index i <-> m = 2i + 1
+  auto sym_e = [&](int i, int j) { return even ? cval(2 * i, 2 * j) : sval(2 * i, 2 * j); };
+  auto sym_o = [&](int i, int j) { return even ? cval(2 * i + 1, 2 * j + 1) : sval(2 * i + 1, 2 * j + 1); };
+  auto rect = [&](int i, int j) { return even ? sval(2 * i, 2 * j + 1) : cval(2 * i, 2 * j + 1); };
+  const int ne = l / 2 + 1, no = (l + 1) / 2;
+  out.l = l;
+  out.te = (ne + 3) / 4;
+  out.to = (no + 3) / 4;
+  const std::size_t nx = 16 * static_cast<std::size_t>(out.te) * out.to;
+  const std::size_t nse = 8 * static_cast<std::size_t>(out.te) * (out.te + 1);
+  const std::size_t nso = 8 * static_cast<std::size_t>(out.to) * (out.to + 1);
+  out.store.assign(nx + nse + nso + 8, 0.0);
+  double* p = out.store.data();
+  while (reinterpret_cast<std::uintptr_t>(p) % 64 != 0) ++p;
+  auto tile = [&p](int r, int J, const auto& f) {
+    for (int k = 0; k < 4; ++k)
+      for (int i = 0; i < 4; ++i) *p++ = f(4 * r + i, 4 * J + k);
+  };
+  auto in_range = [](int nrow, int ncol, const auto& f) {
+    return [=](int i, int j) { return i < nrow && j < ncol ? f(i, j) : 0.0; };
+  };
+  const auto fe = in_range(ne, ne, sym_e);
+  const auto fo = in_range(no, no, sym_o);
+  const auto fx = in_range(ne, no, rect);
+  out.rect = p;
+  for (int J = 0; J < out.to; ++J)
+    for (int r = 0; r < out.te; ++r) tile(r, J, fx);
+  out.sym_e = p;
+  for (int J = 0; J < out.te; ++J)
+    for (int r = J; r < out.te; ++r) tile(r, J, fe);
+  out.sym_o = p;
+  for (int J = 0; J < out.to; ++J)
+    for (int r = J; r < out.to; ++r) tile(r, J, fo);
 }
 
 constexpr int kCacheBands = 256;
 
-const BandY90& cached_band(int l) {
-  static std::mutex mu;
-  static std::vector<std::unique_ptr<BandY90>> cache(kCacheBands);
-  std::lock_guard<std::mutex> lock(mu);
-  if (!cache[l]) {
-    auto b = std::make_unique<BandY90>();
-    build_band(l, *b);
-    cache[l] = std::move(b);
-  }
-  return *cache[l];
+// Bands 1..kCacheBands-1, built once in order; `ready` bands are readable without a lock.
+struct Y90Cache {
+  std::mutex mu;
+  std::atomic<int> ready{1};
+  std::unique_ptr<BandY90> band[kCacheBands];
+};
+
+Y90Cache& y90_cache() {
+  static Y90Cache c;
+  return c;
 }
 
-// v: band l coefficients, v[l + m] for m = -l..l.
-inline void zrot_band(int l, double* v, const double* cs, const double* sn) {
-  for (int m = 1; m <= l; ++m) {
-    const double c = v[l + m], s = v[l - m];
-    v[l + m] = c * cs[m] - s * sn[m];
-    v[l - m] = c * sn[m] + s * cs[m];
+// Makes bands < n (n <= kCacheBands) available; returns the table.
+const std::unique_ptr<BandY90>* cached_bands(int n) {
+  Y90Cache& c = y90_cache();
+  if (c.ready.load(std::memory_order_acquire) < n) {
+    std::lock_guard<std::mutex> lock(c.mu);
+    int l = c.ready.load(std::memory_order_relaxed);
+    for (; l < n; ++l) {
+      auto b = std::make_unique<BandY90>();
+      build_band(l, *b);
+      c.band[l] = std::move(b);
+    }
+    if (n > c.ready.load(std::memory_order_relaxed)) c.ready.store(n, std::memory_order_release);
   }
+  return c.band;
 }
 
-#if defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wpsabi"  // V4 is passed only between inlined internal functions
-#endif
-// 4 doubles: one AVX register in the AVX2/FMA clone, two SSE2 registers otherwise.
-typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
-inline V4 load4(const double* p) {
+#define ATMOSH_INLINE inline __attribute__((always_inline))
+
+ATMOSH_INLINE V4 splat(double x) { return V4{x, x, x, x}; }
+// Work vectors are plain doubles, read and written 4 at a time through memcpy.
+ATMOSH_INLINE V4 load4(const double* p) {
   V4 v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
+ATMOSH_INLINE void store4(double* p, V4 v) { std::memcpy(p, &v, sizeof v); }
 
-// Two independent 4-lane accumulators (8 products in flight), then a fixed-order tail.
-inline double dot(const double* a, const double* b, int n) {
-  V4 s0 = {0, 0, 0, 0}, s1 = {0, 0, 0, 0};
-  int i = 0;
-  for (; i + 7 < n; i += 8) {
-    s0 += load4(a + i) * load4(b + i);
-    s1 += load4(a + i + 4) * load4(b + i + 4);
-  }
-  if (i + 3 < n) {
-    s0 += load4(a + i) * load4(b + i);
-    i += 4;
-  }
-  double t = 0;
-  for (; i < n; ++i) t += a[i] * b[i];
-  const V4 s = s0 + s1;
-  return ((s[0] + s[1]) + (s[2] + s[3])) + t;
+// Lane k of the result: the sum of the lanes of t_k (fixed order).
+ATMOSH_INLINE V4 hsum4(V4 t0, V4 t1, V4 t2, V4 t3) {
+  const V4 a = ATMOSH_SHUFFLE(t0, t1, 0, 4, 2, 6) + ATMOSH_SHUFFLE(t0, t1, 1, 5, 3, 7);
+  const V4 b = ATMOSH_SHUFFLE(t2, t3, 0, 4, 2, 6) + ATMOSH_SHUFFLE(t2, t3, 1, 5, 3, 7);
+  return ATMOSH_SHUFFLE(a, b, 0, 1, 4, 5) + ATMOSH_SHUFFLE(a, b, 2, 3, 6, 7);
 }
 
-// Four dots of rows mp, mp+2, mp+4, mp+6 (same length n) with one input x.
-inline void dot4(const double* m, const int* off, int mp, const double* x, int n, double* r) {
-  const double* a0 = m + off[mp];
-  const double* a1 = m + off[mp + 2];
-  const double* a2 = m + off[mp + 4];
-  const double* a3 = m + off[mp + 6];
-  V4 s0 = {0, 0, 0, 0}, s1 = s0, s2 = s0, s3 = s0;
-  int i = 0;
-  for (; i + 3 < n; i += 4) {
-    const V4 xv = load4(x + i);
-    s0 += load4(a0 + i) * xv;
-    s1 += load4(a1 + i) * xv;
-    s2 += load4(a2 + i) * xv;
-    s3 += load4(a3 + i) * xv;
+// One column group of off-diagonal tiles A_r (4 columns a0..a3 each), r = r0..r1-1:
+// y_r += A_r b (b0..b3: x of the 4 columns, broadcast), t_k += a_k x_r (the transposed
+// product, summed over lanes later). kFirst: y_r is not yet written (y_r = A_r b).
+template <bool kFirst>
+ATMOSH_INLINE void tile_column(const double*& T, int r0, int r1, V4 b0, V4 b1, V4 b2, V4 b3, const double* x,
+                               double* y, V4& t0, V4& t1, V4& t2, V4& t3) {
+  for (int r = r0; r < r1; ++r, T += 16) {
+    const V4 a0 = load4(T), a1 = load4(T + 4), a2 = load4(T + 8), a3 = load4(T + 12);
+    V4 acc;
+    if constexpr (kFirst) acc = a0 * b0;
+    else acc = load4(y + 4 * r) + a0 * b0;
+    acc += a1 * b1;
+    acc += a2 * b2;
+    acc += a3 * b3;
+    store4(y + 4 * r, acc);
+    const V4 u = load4(x + 4 * r);
+    t0 += a0 * u;
+    t1 += a1 * u;
+    t2 += a2 * u;
+    t3 += a3 * u;
   }
-  double t0 = 0, t1 = 0, t2 = 0, t3 = 0;
-  for (; i < n; ++i) {
-    t0 += a0[i] * x[i];
-    t1 += a1[i] * x[i];
-    t2 += a2[i] * x[i];
-    t3 += a3[i] * x[i];
-  }
-  r[0] = ((s0[0] + s0[1]) + (s0[2] + s0[3])) + t0;
-  r[1] = ((s1[0] + s1[1]) + (s1[2] + s1[3])) + t1;
-  r[2] = ((s2[0] + s2[1]) + (s2[2] + s2[3])) + t2;
-  r[3] = ((s3[0] + s3[1]) + (s3[2] + s3[3])) + t3;
 }
 
-// v <- Y90 v for band l (v[l + m]); work needs 2(l+1) doubles.
+// y = A x for a symmetric block stored as lower tiles (nt x nt tiles).
+ATMOSH_INLINE void sym_mv(const double* T, int nt, const double* x, double* y) {
+  for (int J = 0; J < nt; ++J) {
+    const V4 xj = load4(x + 4 * J);
+    const V4 b0 = splat(xj[0]), b1 = splat(xj[1]), b2 = splat(xj[2]), b3 = splat(xj[3]);
+    V4 diag = load4(T) * b0;  // diagonal tile (symmetric, stored whole)
+    diag += load4(T + 4) * b1;
+    diag += load4(T + 8) * b2;
+    diag += load4(T + 12) * b3;
+    T += 16;
+    V4 t0 = {0, 0, 0, 0}, t1 = t0, t2 = t0, t3 = t0;
+    if (J == 0) {
+      tile_column<true>(T, 1, nt, b0, b1, b2, b3, x, y, t0, t1, t2, t3);
+      store4(y, diag + hsum4(t0, t1, t2, t3));
+    } else {
+      tile_column<false>(T, J + 1, nt, b0, b1, b2, b3, x, y, t0, t1, t2, t3);
+      store4(y + 4 * J, load4(y + 4 * J) + diag + hsum4(t0, t1, t2, t3));
+    }
+  }
+}
+
+// y1 = X x2 (tr row tiles), y2 = -X^T x1 (tc column tiles).
+ATMOSH_INLINE void rect_mv(const double* T, int tr, int tc, const double* x1, const double* x2, double* y1,
+                           double* y2) {
+  for (int J = 0; J < tc; ++J) {
+    const V4 xj = load4(x2 + 4 * J);
+    const V4 b0 = splat(xj[0]), b1 = splat(xj[1]), b2 = splat(xj[2]), b3 = splat(xj[3]);
+    V4 t0 = {0, 0, 0, 0}, t1 = t0, t2 = t0, t3 = t0;
+    if (J == 0) tile_column<true>(T, 0, tr, b0, b1, b2, b3, x1, y1, t0, t1, t2, t3);
+    else tile_column<false>(T, 0, tr, b0, b1, b2, b3, x1, y1, t0, t1, t2, t3);
+    store4(y2 + 4 * J, -hsum4(t0, t1, t2, t3));
+  }
+}
+
+// Parity-split band: cos even, sin even (slot 0 for m = 0, zero), cos odd, sin odd.
+struct Split {
+  double *ce, *se, *co, *so;
+};
+
+// out = Ry(90) in.
+ATMOSH_INLINE void apply_y90(const BandY90& B, const Split& in, const Split& out) {
+  if ((B.l & 1) == 0) {
+    sym_mv(B.sym_e, B.te, in.ce, out.ce);
+    sym_mv(B.sym_o, B.to, in.co, out.co);
+    rect_mv(B.rect, B.te, B.to, in.se, in.so, out.se, out.so);
+  } else {
+    rect_mv(B.rect, B.te, B.to, in.ce, in.co, out.ce, out.co);
+    sym_mv(B.sym_e, B.te, in.se, out.se);
+    sym_mv(B.sym_o, B.to, in.so, out.so);
+  }
+}
+
+// (c, s) <- (c cos - s sin, c sin + s cos), elementwise over n vectors.
+ATMOSH_INLINE void zrot_split(double* c, double* s, const double* cs, const double* sn, int n) {
+  for (int i = 0; i < 4 * n; i += 4) {
+    const V4 a = load4(c + i), b = load4(s + i), C = load4(cs + i), S = load4(sn + i);
+    store4(c + i, a * C - b * S);
+    store4(s + i, a * S + b * C);
+  }
+}
+
+// cos/sin(m angle) split by parity: [cos, m = 0, 2, 4, .. | cos, m = 1, 3, ..] (nh each),
+// the same for sin; padded with cos = 1, sin = 0.
+struct ZTable {
+  const double *ce, *se, *co, *so;
+};
+
+// (c, s) rotated by the angles of the table entries cs, sn (4 lanes).
+ATMOSH_INLINE void rot(V4 c, V4 s, const double* cs, const double* sn, V4& c2, V4& s2) {
+  const V4 C = load4(cs), S = load4(sn);
+  c2 = c * C - s * S;
+  s2 = c * S + s * C;
+}
+ATMOSH_INLINE void rot_store(V4 c, V4 s, const double* cs, const double* sn, double* pc, double* ps) {
+  V4 c2, s2;
+  rot(c, s, cs, sn, c2, s2);
+  store4(pc, c2);
+  store4(ps, s2);
+}
+
+// z-rotation of a split band (te / to vectors).
+ATMOSH_INLINE void zrot_band(const Split& v, const ZTable& z, int te, int to) {
+  zrot_split(v.ce, v.se, z.ce, z.se, te);
+  zrot_split(v.co, v.so, z.co, z.so, to);
+}
+
+ATMOSH_INLINE V4 reverse4(V4 a) { return ATMOSH_SHUFFLE(a, a, 3, 2, 1, 0); }
+
+// Rotates band l: vout = Rz(alpha') Y90 Rz(beta') Y90 Rz(gamma') vin, with v[l + m].
+// w, u: two Split buffers of whole tiles.
+//
+// Split layout from v: cosine parts c_m = v[l + m] (forward from v + l), sine parts
+// s_m = v[l - m] (backward from v + l); 8 consecutive values of each direction give one
+// vector of even m and one of odd m (the m = 0 sine slot is set to zero).
 ATMOSH_DISPATCH
-void apply_y90(const BandY90& B, double* v, double* work) {
-  const int l = B.l;
-  // split by parity: cos part c_m (m = 0..l), sin part s_m (m = 1..l)
-  double* ce = work;                 // c_{2j}
-  double* co = ce + (l / 2 + 1);     // c_{2j+1}
-  double* se = co + (l + 1) / 2 + 1; // s_{2+2j}
-  double* so = se + l / 2 + 1;       // s_{1+2j}
-  int ne = 0, no = 0;
-  for (int m = 0; m <= l; m += 2) ce[ne++] = v[l + m];
-  for (int m = 1; m <= l; m += 2) co[no++] = v[l + m];
-  int nse = 0, nso = 0;
-  for (int m = 2; m <= l; m += 2) se[nse++] = v[l - m];
-  for (int m = 1; m <= l; m += 2) so[nso++] = v[l - m];
-  // rows of equal parity share their input and length: four rows at a time
-  for (int p = 0; p < 2; ++p) {
-    int mp = p;
-    for (; mp + 6 <= l; mp += 8) {
-      const int len = B.c_off[mp + 1] - B.c_off[mp];
-      const double* src = ((l + mp) & 1) ? co : ce;
-      double r[4];
-      dot4(B.c.data(), B.c_off.data(), mp, src, len, r);
-      for (int k = 0; k < 4; ++k) v[l + mp + 2 * k] = r[k];
+void rotate_band(const BandY90& B, const double* vin, double* vout, bool read_around, const ZTable& za,
+                 const ZTable& zb, const ZTable& zg, const Split& w, const Split& u) {
+  const int l = B.l, n = l + 1;  // n values in each direction, m = 0..l
+  const int nv = B.te;           // vectors of even m; odd m has B.to = nv or nv - 1
+  const M4 iota = {0, 1, 2, 3};
+  const V4 zero = {0, 0, 0, 0};
+  for (int j = 0; j < nv; ++j) {
+    const int k = 8 * j, left = n - k;  // values m = k .. k + 7 valid while < n
+    V4 f0, f1, g0, g1;                  // f: c_{k..k+7}; g: s_{k..k+7}
+    if (left >= 8 || read_around) {
+      // whole vectors; past the band end they read the neighbouring bands (kept in
+      // bounds by the caller), and those lanes are set to zero
+      f0 = load4(vin + l + k);
+      f1 = load4(vin + l + k + 4);
+      g0 = reverse4(load4(vin + l - k - 3));
+      g1 = reverse4(load4(vin + l - k - 7));
+      if (left < 8) {
+        const M4 lim = {left, left, left, left};
+        f0 = iota < lim ? f0 : zero;
+        g0 = iota < lim ? g0 : zero;
+        f1 = iota + 4 < lim ? f1 : zero;
+        g1 = iota + 4 < lim ? g1 : zero;
+      }
+    } else {
+      double f[8] = {0, 0, 0, 0, 0, 0, 0, 0}, g[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+      for (int i = 0; i < left; ++i) {
+        f[i] = vin[l + k + i];
+        g[i] = vin[l - k - i];
+      }
+      f0 = load4(f);
+      f1 = load4(f + 4);
+      g0 = load4(g);
+      g1 = load4(g + 4);
     }
-    for (; mp <= l; mp += 2) {
-      const int len = B.c_off[mp + 1] - B.c_off[mp];
-      const double* src = ((l + mp) & 1) ? co : ce;
-      v[l + mp] = dot(B.c.data() + B.c_off[mp], src, len);
-    }
-    mp = 1 + p;
-    for (; mp + 6 <= l; mp += 8) {
-      const int len = B.s_off[mp + 1] - B.s_off[mp];
-      const double* src = ((l + mp + 1) & 1) ? so : se;
-      double r[4];
-      dot4(B.s.data(), B.s_off.data(), mp, src, len, r);
-      for (int k = 0; k < 4; ++k) v[l - mp - 2 * k] = r[k];
-    }
-    for (; mp <= l; mp += 2) {
-      const int len = B.s_off[mp + 1] - B.s_off[mp];
-      const double* src = ((l + mp + 1) & 1) ? so : se;
-      v[l - mp] = dot(B.s.data() + B.s_off[mp], src, len);
+    if (j == 0) g0 = ATMOSH_SHUFFLE(g0, zero, 4, 1, 2, 3);  // no sine part at m = 0
+    // first z-rotation on the way
+    const int i = 4 * j;
+    rot_store(ATMOSH_SHUFFLE(f0, f1, 0, 2, 4, 6), ATMOSH_SHUFFLE(g0, g1, 0, 2, 4, 6), zg.ce + i, zg.se + i, w.ce + i,
+              w.se + i);
+    if (j < B.to)
+      rot_store(ATMOSH_SHUFFLE(f0, f1, 1, 3, 5, 7), ATMOSH_SHUFFLE(g0, g1, 1, 3, 5, 7), zg.co + i, zg.so + i,
+                w.co + i, w.so + i);
+  }
+  apply_y90(B, w, u);
+  zrot_band(u, zb, B.te, B.to);
+  apply_y90(B, u, w);
+  // back to v[l + m]: sine parts first, so that the m = 0 slot ends as c_0
+  for (int j = nv - 1; j >= 0; --j) {
+    const int k = 8 * j, left = n - k;
+    // last z-rotation on the way
+    const int i = 4 * j;
+    V4 ce, se, co = zero, so = zero;
+    rot(load4(w.ce + i), load4(w.se + i), za.ce + i, za.se + i, ce, se);
+    if (j < B.to) rot(load4(w.co + i), load4(w.so + i), za.co + i, za.so + i, co, so);
+    const V4 f0 = ATMOSH_SHUFFLE(ce, co, 0, 4, 1, 5), f1 = ATMOSH_SHUFFLE(ce, co, 2, 6, 3, 7);
+    const V4 g0 = ATMOSH_SHUFFLE(se, so, 0, 4, 1, 5), g1 = ATMOSH_SHUFFLE(se, so, 2, 6, 3, 7);
+    if (left >= 8) {
+      store4(vout + l - k - 3, reverse4(g0));
+      store4(vout + l - k - 7, reverse4(g1));
+      store4(vout + l + k, f0);
+      store4(vout + l + k + 4, f1);
+    } else {
+      double f[8], g[8];
+      store4(f, f0);
+      store4(f + 4, f1);
+      store4(g, g0);
+      store4(g + 4, g1);
+      for (int i = 0; i < left; ++i) {
+        vout[l - k - i] = g[i];
+        vout[l + k + i] = f[i];
+      }
     }
   }
 }
 
+// Number of doubles per parity vector: whole tiles of the largest band.
+int half_len(int bands) { return 4 * (((bands - 1) / 2 + 1 + 3) / 4); }
+
+// cos/sin(m angle) in the ZTable layout (c = [even m | odd m], s likewise).
 void trig_table(int bands, double angle, std::vector<double>& c, std::vector<double>& s) {
-  c.resize(bands);
-  s.resize(bands);
+  const int nh = half_len(bands);
+  c.assign(2 * static_cast<std::size_t>(nh), 1.0);
+  s.assign(2 * static_cast<std::size_t>(nh), 0.0);
   for (int m = 0; m < bands; ++m) {
-    // direct evaluation (no recurrence drift); reduce m*angle exactly enough
-    c[m] = std::cos(m * angle);
-    s[m] = std::sin(m * angle);
+    // direct evaluation (no recurrence drift)
+    const int i = (m & 1) * nh + m / 2;
+    c[i] = std::cos(m * angle);
+    s[i] = std::sin(m * angle);
   }
 }
 
@@ -310,24 +484,36 @@ Rotation::Rotation(int bands, const glm::dmat3& m) : Rotation(bands, euler_from_
 Rotation::Rotation(int bands, const glm::dquat& q) : Rotation(bands, euler_from_matrix(matrix_from_quaternion(q))) {}
 
 void Rotation::apply(const double* in, double* out) const {
-  std::vector<double> work(2 * bands_ + 16);
+  const int nh = half_len(bands_);
+  // two split buffers of 4 vectors of nh doubles, 32-byte aligned (on the stack when small)
+  constexpr int kStack = 8 * 64 + 4;
+  double stack_buf[kStack];
+  std::vector<double> heap_buf;
+  double* base = stack_buf;
+  if (8 * nh + 4 > kStack) {
+    heap_buf.resize(8 * static_cast<std::size_t>(nh) + 4);
+    base = heap_buf.data();
+  }
+  while (reinterpret_cast<std::uintptr_t>(base) % 32 != 0) ++base;
+  const Split w{base, base + nh, base + 2 * nh, base + 3 * nh};
+  const Split u{base + 4 * nh, base + 5 * nh, base + 6 * nh, base + 7 * nh};
+  auto ztable = [nh](const std::vector<double>& c, const std::vector<double>& s) {
+    return ZTable{c.data(), s.data(), c.data() + nh, s.data() + nh};
+  };
+  const ZTable za = ztable(ca_, sa_), zb = ztable(cb_, sb_), zg = ztable(cg_, sg_);
+  const std::unique_ptr<BandY90>* cache = cached_bands(std::min(bands_, kCacheBands));
   BandY90 local;
   out[0] = in[0];
   for (int l = 1; l < bands_; ++l) {
-    double* v = out + l * l;  // band l occupies [l^2, (l+1)^2), v[l + m]
-    for (int i = 0; i < 2 * l + 1; ++i) v[i] = in[l * l + i];
     const BandY90* B;
     if (l < kCacheBands) {
-      B = &cached_band(l);
+      B = cache[l].get();
     } else {
       build_band(l, local);
       B = &local;
     }
-    zrot_band(l, v, cg_.data(), sg_.data());
-    apply_y90(*B, v, work.data());
-    zrot_band(l, v, cb_.data(), sb_.data());
-    apply_y90(*B, v, work.data());
-    zrot_band(l, v, ca_.data(), sa_.data());
+    // band l reads up to 7 values past both of its ends: inside `in` for 3 <= l < bands - 1
+    rotate_band(*B, in + l * l, out + l * l, l >= 3 && l + 1 < bands_, za, zb, zg, w, u);
   }
 }
 
