@@ -8,6 +8,11 @@
 // CLI). Measured here against our SPA with the same ΔT: see docs/sun.md and
 // `atmosh sun accuracy`.
 //
+// Evaluation: algorithm 5 runs without libm calls (inlined sines and arctangents,
+// within 5e-9 degrees of a libm evaluation of the printed formulas, tested); about
+// 0.15 us per call on a 2.0 GHz AVX2 core, 10-15x faster than SPA (docs/sun.md).
+// Algorithms 1 and 3 use libm as printed.
+//
 // Units: degrees, with azimuth from north towards east; the geocentric
 // declination δ and local hour angle H are also returned. Parallax is Grena's
 // fixed 4.26e-5 rad horizontal parallax; refraction is NOT applied here (the
