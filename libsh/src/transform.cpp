@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <memory>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <string>
 #include <thread>
@@ -305,14 +306,21 @@ static void ana_coefficients(int bands, int m, AnaCoef& c) {
   }
 }
 
+// Two-input lane shuffles (indices 0-3 from a, 4-7 from b), for GCC and Clang.
+#if defined(__clang__)
+#define ATMOSH_SHUFFLE2(a, b, i0, i1, i2, i3) __builtin_shufflevector(a, b, i0, i1, i2, i3)
+#else
+#define ATMOSH_SHUFFLE2(a, b, i0, i1, i2, i3) __builtin_shuffle(a, b, I4{i0, i1, i2, i3})
+#endif
+
 inline V4 hsum4(V4 a0, V4 a1, V4 a2, V4 a3) {
-  const V4 u0 = __builtin_shuffle(a0, a1, I4{0, 4, 2, 6}) + __builtin_shuffle(a0, a1, I4{1, 5, 3, 7});
-  const V4 u1 = __builtin_shuffle(a2, a3, I4{0, 4, 2, 6}) + __builtin_shuffle(a2, a3, I4{1, 5, 3, 7});
-  return __builtin_shuffle(u0, u1, I4{0, 1, 4, 5}) + __builtin_shuffle(u0, u1, I4{2, 3, 6, 7});
+  const V4 u0 = ATMOSH_SHUFFLE2(a0, a1, 0, 4, 2, 6) + ATMOSH_SHUFFLE2(a0, a1, 1, 5, 3, 7);
+  const V4 u1 = ATMOSH_SHUFFLE2(a2, a3, 0, 4, 2, 6) + ATMOSH_SHUFFLE2(a2, a3, 1, 5, 3, 7);
+  return ATMOSH_SHUFFLE2(u0, u1, 0, 1, 4, 5) + ATMOSH_SHUFFLE2(u0, u1, 2, 3, 6, 7);
 }
 
 inline bool any(I4 m) {
-  const I4 t = m | __builtin_shuffle(m, I4{2, 3, 0, 1});
+  const I4 t = m | ATMOSH_SHUFFLE2(m, m, 2, 3, 0, 1);
   return (t[0] | t[1]) != 0;
 }
 
@@ -465,7 +473,11 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
       int nx = 0;
       for (int gi = 0; gi < ngroups; ++gi) {
         AnaGroup& g = nat[gi];
-        std::copy(f + 16 * gi, f + 16 * gi + 16, &g.ec[0]);
+        const double* fg = f + 16 * gi;  // ec, es, oc, os of the group, 4 lanes each
+        std::memcpy(&g.ec, fg, sizeof(V4));
+        std::memcpy(&g.es, fg + 4, sizeof(V4));
+        std::memcpy(&g.oc, fg + 8, sizeof(V4));
+        std::memcpy(&g.os, fg + 12, sizeof(V4));
         bool plain = true;
         for (int k = 0; k < 4; ++k) {
           const int q = 4 * gi + k;
