@@ -563,21 +563,29 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
 }
 }  // namespace
 
+namespace {
+// Ring pairs per lane block of the analysis kernels (B is a multiple of both).
+int analysis_lanes() { return has_avx512() ? 8 : 4; }
+
+// Offset of the ring sums of column m, block of W ring pairs containing pair q, field f
+// (0..3: E cos, E sin, xO cos, xO sin), lane of q: the sums are stored m-major.
+inline std::size_t ring_sum_index(int padded, int W, int m, int q, int f) {
+  return (static_cast<std::size_t>(m) * padded + (q & -W)) * 4 + W * f + (q & (W - 1));
+}
+
+void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads);
+}  // namespace
+
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
                        const double* fourier, bool symmetric, double* coeffs, int threads) {
   threads = resolve_threads(threads);
-  const auto table = legendre_table(bands);
   const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
-  const bool wide = has_avx512();
-  const int W = wide ? 8 : 4;  // ring pairs per block (B is a multiple of both)
-  std::vector<double> smant;
-  std::vector<int> sexp;
-  sectorals(bands, pr, *table, smant, sexp);
+  const int W = analysis_lanes();
 
-  // Ring sums regrouped m-major: per m and block, E cos, E sin, xO cos, xO sin (W lanes
-  // each), in blocks of m so that both the ring rows and the m planes stream.
+  // Ring sums regrouped m-major, in blocks of m so that both the ring rows and the m
+  // planes stream.
   constexpr int MB = 8;
   std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(bands) * padded * 4]);
   parallel_for_m((bands + MB - 1) / MB, threads, [&](int t0, int step) {
@@ -585,8 +593,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
       const int m1 = std::min(bands, mb + MB);
       for (int q = np; q < padded; ++q)
         for (int m = mb; m < m1; ++m)
-          for (int f = 0; f < 4; ++f)
-            fm[(static_cast<std::size_t>(m) * padded + (q & -W)) * 4 + W * f + (q & (W - 1))] = 0.0;
+          for (int f = 0; f < 4; ++f) fm[ring_sum_index(padded, W, m, q, f)] = 0.0;
       for (int q = 0; q < np; ++q) {
         const double* fn = fourier + static_cast<std::size_t>(pr.north[q]) * bands * 2;
         const double* fs = pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * bands * 2 : nullptr;
@@ -594,7 +601,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
         for (int m = mb; m < m1; ++m) {
           const double nc = fn[2 * m], ns = fn[2 * m + 1];
           const double sc = fs ? fs[2 * m] : 0.0, ss = fs ? fs[2 * m + 1] : 0.0;
-          double* o = fm.get() + (static_cast<std::size_t>(m) * padded + (q & -W)) * 4 + (q & (W - 1));
+          double* o = fm.get() + ring_sum_index(padded, W, m, q, 0);
           o[0] = nc + sc;
           o[W] = ns + ss;
           o[2 * W] = x * (nc - sc);
@@ -603,6 +610,19 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
       }
     }
   });
+  analysis_from_ring_sums(bands, pr, W, fm.get(), coeffs, threads);
+}
+
+namespace {
+// Legendre sums of the analysis from the ring sums fm (see ring_sum_index); adds the
+// coefficients to coeffs.
+void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads) {
+  const auto table = legendre_table(bands);
+  const int padded = static_cast<int>(pr.x.size());
+  const bool wide = W == 8;
+  std::vector<double> smant;
+  std::vector<int> sexp;
+  sectorals(bands, pr, *table, smant, sexp);
 
   // per-m results: column m at col_offset(m), 2 (bands - m) values
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
@@ -616,7 +636,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
         ana_coefficients(bands, m, cf);
         for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
         const std::size_t off = static_cast<std::size_t>(m) * padded;
-        ana_column(kmax, pr.x.data(), smant.data() + off, sexp.data() + off, fm.get() + off * 4, cf, work,
+        ana_column(kmax, pr.x.data(), smant.data() + off, sexp.data() + off, fm + off * 4, cf, work,
                    sums.get());
         // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
         // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
@@ -658,6 +678,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
     }
   }
 }
+}  // namespace
 
 void legendre_synthesis(int bands, int nrings, const double* cos_t, const double* sin_t,
                         const double* coeffs, bool symmetric, double* fourier, int threads) {
@@ -847,6 +868,27 @@ void ring_fourier(int bands, int nphi, const double* f1, const double* f2, doubl
     }
   }
 }
+// Weighted ring sums of one ring pair for the Legendre stage: from the ring sums fn
+// (north) and fs (south, null: none) at [2 m + {0, 1}] and the rings' quadrature
+// weights, E cos, E sin, xO cos, xO sin at out[f * bands + m]. Rounded as written (no
+// fused multiply-add), as the sums regrouped by legendre_analysis.
+ATMOSH_DISPATCH_NO_FMA
+void pair_sums(int bands, const double* fn, const double* fs, double wn, double ws, double x, double* out) {
+  double* ec = out;
+  double* es = out + bands;
+  double* oc = out + 2 * bands;
+  double* os = out + 3 * bands;
+  for (int m = 0; m < bands; ++m) {
+    const double sq = m > 0 ? std::numbers::sqrt2 : 1.0;
+    const double wnm = wn * sq, wsm = ws * sq;
+    const double nc = fn[2 * m] * wnm, ns = fn[2 * m + 1] * (m > 0 ? wnm : 0.0);
+    const double sc = fs ? fs[2 * m] * wsm : 0.0, ss = fs ? fs[2 * m + 1] * (m > 0 ? wsm : 0.0) : 0.0;
+    ec[m] = nc + sc;
+    es[m] = ns + ss;
+    oc[m] = x * (nc - sc);
+    os[m] = x * (ns - ss);
+  }
+}
 }  // namespace
 
 double GaussGrid::phi(int j) const { return 2.0 * std::numbers::pi * j / nphi; }
@@ -882,20 +924,46 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
     throw InputError("analyse: grid is not initialised (use gauss_grid)");
   threads = detail::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
-  std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
-  std::vector<double> costab(n), sintab(n);
-  for (int j = 0; j < n; ++j) {
-    costab[j] = std::cos(2.0 * std::numbers::pi * j / n);
-    sintab[j] = std::sin(2.0 * std::numbers::pi * j / n);
+  std::vector<double> costab, sintab;
+  if (!is_pow2(n)) {
+    costab.resize(n);
+    sintab.resize(n);
+    for (int j = 0; j < n; ++j) {
+      costab[j] = std::cos(2.0 * std::numbers::pi * j / n);
+      sintab[j] = std::sin(2.0 * std::numbers::pi * j / n);
+    }
   }
-  const int npairs = (g.nlat + 1) / 2;
+  // Ring sums straight into the m-major layout of the Legendre stage: one block of
+  // ring pairs at a time (its planes stay in cache while its lanes are filled).
+  const detail::Pairs pr = detail::make_pairs(g.nlat, g.cos_t.data(), g.sin_t.data(), true);
+  const int padded = static_cast<int>(pr.x.size()), np = static_cast<int>(pr.north.size());
+  const int W = detail::analysis_lanes();
+  std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(L) * padded * 4]);
+  const double dphi = 2.0 * std::numbers::pi / n;
   auto work = [&](int t0, int step) {
-    std::vector<double> re, im;
-    for (int p = t0; p < npairs; p += step) {
-      const int s = g.nlat - 1 - p;
-      ring_fourier(L, n, values + static_cast<std::size_t>(p) * n,
-                   s != p ? values + static_cast<std::size_t>(s) * n : nullptr, four.data() + static_cast<std::size_t>(p) * L * 2,
-                   s != p ? four.data() + static_cast<std::size_t>(s) * L * 2 : nullptr, re, im, costab, sintab);
+    std::vector<double> re, im, fn(2 * static_cast<std::size_t>(L)), fs(2 * static_cast<std::size_t>(L));
+    std::vector<double> lanes(static_cast<std::size_t>(W) * 4 * L);  // [lane][field][m]
+    for (int blk = t0; blk < padded / W; blk += step) {
+      for (int k = 0; k < W; ++k) {
+        const int q = blk * W + k;
+        double* out = lanes.data() + static_cast<std::size_t>(k) * 4 * L;
+        if (q >= np) {
+          std::fill(out, out + 4 * L, 0.0);
+          continue;
+        }
+        const int r = pr.north[q], s = pr.south[q];
+        ring_fourier(L, n, values + static_cast<std::size_t>(r) * n, s >= 0 ? values + static_cast<std::size_t>(s) * n : nullptr,
+                     fn.data(), s >= 0 ? fs.data() : nullptr, re, im, costab, sintab);
+        // weights of the Gauss rule in latitude and of the uniform rule in longitude
+        pair_sums(L, fn.data(), s >= 0 ? fs.data() : nullptr, g.weights[r] * dphi, s >= 0 ? g.weights[s] * dphi : 0.0,
+                  pr.x[q], out);
+      }
+      // one contiguous run of 4 W values per m
+      for (int m = 0; m < L; ++m) {
+        double* o = fm.get() + detail::ring_sum_index(padded, W, m, blk * W, 0);
+        for (int f = 0; f < 4; ++f)
+          for (int k = 0; k < W; ++k) o[f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * L + m];
+      }
     }
   };
   if (threads <= 1) {
@@ -906,16 +974,8 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
     work(0, threads);
     for (auto& th : pool) th.join();
   }
-  const double dphi = 2.0 * std::numbers::pi / n;
-  for (int r = 0; r < g.nlat; ++r) {
-    for (int m = 0; m < L; ++m) {
-      const double f = g.weights[r] * dphi * (m > 0 ? std::numbers::sqrt2 : 1.0);
-      four[(static_cast<std::size_t>(r) * L + m) * 2] *= f;
-      four[(static_cast<std::size_t>(r) * L + m) * 2 + 1] *= (m > 0 ? f : 0.0);
-    }
-  }
   std::vector<double> c(sh_count(L), 0.0);
-  detail::legendre_analysis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), four.data(), true, c.data(), threads);
+  detail::analysis_from_ring_sums(L, pr, W, fm.get(), c.data(), threads);
   return c;
 }
 
