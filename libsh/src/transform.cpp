@@ -6,6 +6,7 @@
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 #include <algorithm>
+#include <bit>
 #include <memory>
 #include <cmath>
 #include <cstring>
@@ -250,13 +251,25 @@ namespace {
 typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
 typedef long long I4 __attribute__((vector_size(4 * sizeof(long long))));
 
-// One block of 4 ring pairs for one m.
-struct AnaGroup {
-  V4 ec, es, oc, os;  // even sums E (cos, sin parts) and x * odd sums O
-  V4 csq;             // x^2
-  V4 lam1, lam2;      // lam_k-1, lam_k at the block's current step k
-  V4 e;               // extended-range exponent per lane (0: plain range)
+// W lanes (ring pairs) of doubles and of 64-bit lane masks. W = 4: one AVX register
+// per vector in the AVX2/FMA clone; W = 8: one AVX-512 register (x86-64-v4 kernels).
+template <int W>
+struct Lanes {
+  typedef double D __attribute__((vector_size(W * sizeof(double))));
+  typedef long long I __attribute__((vector_size(W * sizeof(long long))));
 };
+
+// One block of W ring pairs for one m (aligned to its vector size: GCC gives wide
+// generic vectors only 16-byte alignment outside functions compiled for AVX).
+template <int W>
+struct alignas(W * sizeof(double)) AnaGroup {
+  using D = typename Lanes<W>::D;
+  D ec, es, oc, os;  // even sums E (cos, sin parts) and x * odd sums O
+  D csq;             // x^2
+  D lam1, lam2;      // lam_k-1, lam_k at the block's current step k
+  D e;               // extended-range exponent per lane (0: plain range)
+};
+static_assert(alignof(AnaGroup<8>) == 64 && sizeof(AnaGroup<8>) == 8 * 64);
 
 struct AnaCoef {
   // a'_k, b'_k, alpha_k (k <= kmax + 2); for the odd degrees l = m + 2k + 1:
@@ -306,78 +319,115 @@ static void ana_coefficients(int bands, int m, AnaCoef& c) {
   }
 }
 
-// Two-input lane shuffles (indices 0-3 from a, 4-7 from b), for GCC and Clang.
-#if defined(__clang__)
-#define ATMOSH_SHUFFLE2(a, b, i0, i1, i2, i3) __builtin_shufflevector(a, b, i0, i1, i2, i3)
-#else
-#define ATMOSH_SHUFFLE2(a, b, i0, i1, i2, i3) __builtin_shuffle(a, b, I4{i0, i1, i2, i3})
-#endif
-
-inline V4 hsum4(V4 a0, V4 a1, V4 a2, V4 a3) {
-  const V4 u0 = ATMOSH_SHUFFLE2(a0, a1, 0, 4, 2, 6) + ATMOSH_SHUFFLE2(a0, a1, 1, 5, 3, 7);
-  const V4 u1 = ATMOSH_SHUFFLE2(a2, a3, 0, 4, 2, 6) + ATMOSH_SHUFFLE2(a2, a3, 1, 5, 3, 7);
-  return ATMOSH_SHUFFLE2(u0, u1, 0, 1, 4, 5) + ATMOSH_SHUFFLE2(u0, u1, 2, 3, 6, 7);
+// {sum of the lanes of a0, ..., of a3}; 8-lane vectors are first folded to 4 lanes.
+__attribute__((always_inline)) inline V4 hsum4(V4 a0, V4 a1, V4 a2, V4 a3) {
+  const V4 u0 = __builtin_shufflevector(a0, a1, 0, 4, 2, 6) + __builtin_shufflevector(a0, a1, 1, 5, 3, 7);
+  const V4 u1 = __builtin_shufflevector(a2, a3, 0, 4, 2, 6) + __builtin_shufflevector(a2, a3, 1, 5, 3, 7);
+  return __builtin_shufflevector(u0, u1, 0, 1, 4, 5) + __builtin_shufflevector(u0, u1, 2, 3, 6, 7);
+}
+template <class D>
+__attribute__((always_inline)) inline V4 fold4(D a) {
+  if constexpr (sizeof(D) == sizeof(V4))
+    return a;
+  else
+    return __builtin_shufflevector(a, a, 0, 1, 2, 3) + __builtin_shufflevector(a, a, 4, 5, 6, 7);
+}
+template <class D>
+__attribute__((always_inline)) inline V4 hsum(D a0, D a1, D a2, D a3) {
+  return hsum4(fold4(a0), fold4(a1), fold4(a2), fold4(a3));
 }
 
-inline bool any(I4 m) {
-  const I4 t = m | ATMOSH_SHUFFLE2(m, m, 2, 3, 0, 1);
-  return (t[0] | t[1]) != 0;
+// Whether any lane of a mask is set.
+template <class I>
+__attribute__((always_inline)) inline bool any(I m) {
+  if constexpr (sizeof(I) == sizeof(I4)) {
+    const I4 t = (I4)m | (I4)__builtin_shufflevector(m, m, 2, 3, 0, 1);
+    return (t[0] | t[1]) != 0;
+  } else {
+    return any((I4)__builtin_shufflevector(m, m, 0, 1, 2, 3) | (I4)__builtin_shufflevector(m, m, 4, 5, 6, 7));
+  }
 }
 
 // Blocks whose sectoral values need the extended range (mant * 2^e, e < 0 a multiple
-// of kScaleExp; values below 2^-500 are dropped: they cannot change a double result).
-// Steps all of them together, two steps at a time (k outer, so that the blocks'
-// recurrences overlap), with a per-lane scale that is folded every second step (the
-// growth over two steps, below 2^60, leaves ample room above the 2^100 fold level);
-// the lanes in the plain range add their terms to sums[k]. A block leaves at the first
-// even step at which all its lanes are plain: join[i] = that step (kmax + 1 if never).
-ATMOSH_DISPATCH
-static void ana_extended(int kmax, const double* ap, const double* bp, AnaGroup* grp, const int* ids, int nx,
-                         int* join, int* live, V4* sums) {
-  const V4 zero{}, fold = V4{} + kFold, down = V4{} + kScaleDown;
-  const V4 step = V4{} + static_cast<double>(kScaleExp);
-  const I4 sign = I4{} + (1LL << 63);
-  int nlive = nx;
+// of kScaleExp; an extended lane's terms are dropped: with the fold below its values
+// are under 2^-250, far below any term that can change a double result). Steps all of
+// them together, two steps at a time (k outer, so that the blocks' recurrences
+// overlap). Every kFoldEvery steps each extended lane whose |lam| passed 2^100 is
+// scaled by 2^-kScaleExp (growth over two steps is below 2^60, so values stay below
+// 2^(100 + 60 kFoldEvery / 2) = 2^340 in between), and the blocks are sorted into those
+// with no plain lane (recurrence only: 4 FMAs per two steps) and those with some
+// (recurrence and masked sums into sums[k]). A block leaves at the first check at
+// which all its lanes are plain: join[i] = that step (kmax + 1 if never).
+constexpr int kFoldEvery = 8;
+template <int W>
+__attribute__((always_inline)) inline void ana_extended(int kmax, const double* ap, const double* bp,
+                                                        AnaGroup<W>* grp, const int* ids, int nx, int* join,
+                                                        int* live, V4* sums) {
+  using D = typename Lanes<W>::D;
+  using I = typename Lanes<W>::I;
+  const D down = D{} + kScaleDown, step = D{} + static_cast<double>(kScaleExp);
+  const I fold = I{} + std::bit_cast<long long>(kFold), magnitude = I{} + 0x7fffffffffffffffLL;
+  int nlive = nx, nall = 0;  // live[0..nall): no plain lane; live[nall..nlive): some
+  int* mixed = live + nx;    // scratch (live has room for 2 nx)
   for (int j = 0; j < nx; ++j) live[j] = ids[j];
   for (int k = 0; k <= kmax && nlive > 0; k += 2) {
-    for (int j = 0; j < nlive; ++j) {
-      const AnaGroup& g = grp[live[j]];
-      if (!any(g.e != zero)) {
-        join[live[j]] = k;
-        live[j--] = live[--nlive];
+    if (k % kFoldEvery == 0) {
+      // Lane masks from the bits alone (no vector comparisons: those would be lowered
+      // before this code is inlined into the wide-vector functions): e is 0 or a
+      // negative multiple of kScaleExp, so its sign bit marks the extended lanes; for
+      // non-negative doubles the bit patterns order like the values.
+      int na = 0, nm = 0;
+      for (int j = 0; j < nlive; ++j) {
+        AnaGroup<W>& g = grp[live[j]];
+        I ext = (I)g.e >> 63;
+        const I big = (((fold - ((I)g.lam2 & magnitude)) | (fold - ((I)g.lam1 & magnitude))) >> 63) & ext;
+        if (any(big)) {
+          g.lam1 = (D)(((I)(g.lam1 * down) & big) | ((I)g.lam1 & ~big));
+          g.lam2 = (D)(((I)(g.lam2 * down) & big) | ((I)g.lam2 & ~big));
+          g.e = (D)(((I)(g.e + step) & big) | ((I)g.e & ~big));
+          ext = (I)g.e >> 63;
+        }
+        if (!any(ext))
+          join[live[j]] = k;
+        else if (any(~ext))
+          mixed[nm++] = live[j];
+        else
+          live[na++] = live[j];
       }
+      for (int j = 0; j < nm; ++j) live[na + j] = mixed[j];
+      nall = na;
+      nlive = na + nm;
     }
     const double a1 = ap[k], b1 = bp[k], a2 = ap[k + 1], b2 = bp[k + 1];
-    V4 c0{}, c1{}, c2{}, c3{}, d0{}, d1{}, d2{}, d3{};
-    for (int j = 0; j < nlive; ++j) {
-      AnaGroup& g = grp[live[j]];
-      const V4 l2 = g.lam2, csq = g.csq;
-      const V4 e = g.e;
-      V4 t1 = (a1 * csq + b1) * l2 + g.lam1;
-      V4 t2 = (a2 * csq + b2) * t1 + l2;
-      const I4 plain = e == zero;
-      if (any(plain)) {
-        const V4 v = (V4)((I4)l2 & plain), w = (V4)((I4)t1 & plain);
-        c0 += v * g.ec;
-        c1 += v * g.es;
-        c2 += v * g.oc;
-        c3 += v * g.os;
-        d0 += w * g.ec;
-        d1 += w * g.es;
-        d2 += w * g.oc;
-        d3 += w * g.os;
-      }
-      const I4 big = ((V4)((I4)t2 & ~sign) > fold) & (e < zero);
-      if (any(big)) {
-        t1 = big ? t1 * down : t1;
-        t2 = big ? t2 * down : t2;
-        g.e = big ? e + step : e;
-      }
+    for (int j = 0; j < nall; ++j) {
+      AnaGroup<W>& g = grp[live[j]];
+      const D csq = g.csq, l2 = g.lam2;
+      const D t1 = (a1 * csq + b1) * l2 + g.lam1;
       g.lam1 = t1;
-      g.lam2 = t2;
+      g.lam2 = (a2 * csq + b2) * t1 + l2;
     }
-    sums[k] += hsum4(c0, c1, c2, c3);
-    sums[k + 1] += hsum4(d0, d1, d2, d3);
+    D c0{}, c1{}, c2{}, c3{}, d0{}, d1{}, d2{}, d3{};
+    for (int j = nall; j < nlive; ++j) {
+      AnaGroup<W>& g = grp[live[j]];
+      const D csq = g.csq, l2 = g.lam2;
+      const I plain = ~((I)g.e >> 63);
+      const D t1 = (a1 * csq + b1) * l2 + g.lam1;
+      const D v = (D)((I)l2 & plain), w = (D)((I)t1 & plain);
+      c0 += v * g.ec;
+      c1 += v * g.es;
+      c2 += v * g.oc;
+      c3 += v * g.os;
+      d0 += w * g.ec;
+      d1 += w * g.es;
+      d2 += w * g.oc;
+      d3 += w * g.os;
+      g.lam1 = t1;
+      g.lam2 = (a2 * csq + b2) * t1 + l2;
+    }
+    if (nlive > nall) {
+      sums[k] += hsum(c0, c1, c2, c3);
+      sums[k + 1] += hsum(d0, d1, d2, d3);
+    }
   }
   for (int j = 0; j < nlive; ++j) join[live[j]] = kmax + 1;
 }
@@ -385,17 +435,18 @@ static void ana_extended(int kmax, const double* ap, const double* bp, AnaGroup*
 // The plain kernel: steps K0, K0+2, ... <= kmax; at step K the blocks grp[0..nact[K])
 // are active (blocks sorted by the step they join at). Adds the lane sums of lam_K and
 // lam_K+1 times (E cos, E sin, xO cos, xO sin) to sums[K] and sums[K+1].
-ATMOSH_DISPATCH
-static void ana_kernel(int K0, int kmax, const int* nact, const double* ap, const double* bp, AnaGroup* grp,
-                       V4* sums) {
+template <int W>
+__attribute__((always_inline)) inline void ana_kernel(int K0, int kmax, const int* nact, const double* ap,
+                                                      const double* bp, AnaGroup<W>* grp, V4* sums) {
+  using D = typename Lanes<W>::D;
   for (int K = K0; K <= kmax; K += 2) {
     const int n = nact[K];
     const double a1 = ap[K], b1 = bp[K], a2 = ap[K + 1], b2 = bp[K + 1];
-    V4 c0{}, c1{}, c2{}, c3{}, d0{}, d1{}, d2{}, d3{};
+    D c0{}, c1{}, c2{}, c3{}, d0{}, d1{}, d2{}, d3{};
     for (int i = 0; i < n; ++i) {
-      AnaGroup& g = grp[i];
-      const V4 csq = g.csq;
-      V4 l2 = g.lam2, l1 = g.lam1;
+      AnaGroup<W>& g = grp[i];
+      const D csq = g.csq;
+      D l2 = g.lam2, l1 = g.lam1;
       c0 += l2 * g.ec;
       c1 += l2 * g.es;
       c2 += l2 * g.oc;
@@ -409,26 +460,128 @@ static void ana_kernel(int K0, int kmax, const int* nact, const double* ap, cons
       g.lam1 = l1;
       g.lam2 = l2;
     }
-    sums[K] += hsum4(c0, c1, c2, c3);
-    sums[K + 1] += hsum4(d0, d1, d2, d3);
+    sums[K] += hsum(c0, c1, c2, c3);
+    sums[K + 1] += hsum(d0, d1, d2, d3);
   }
 }
+
+// Compiled kernels: 4 lanes in the AVX2/FMA clone (and the baseline), 8 lanes with
+// AVX-512 where the CPU has it (one 512-bit register per vector halves the
+// instructions per ring pair; the sums are the same up to rounding order).
+ATMOSH_DISPATCH
+static void ana_extended4(int kmax, const double* ap, const double* bp, AnaGroup<4>* grp, const int* ids, int nx,
+                          int* join, int* live, V4* sums) {
+  ana_extended<4>(kmax, ap, bp, grp, ids, nx, join, live, sums);
+}
+ATMOSH_DISPATCH
+static void ana_kernel4(int K0, int kmax, const int* nact, const double* ap, const double* bp, AnaGroup<4>* grp,
+                        V4* sums) {
+  ana_kernel<4>(K0, kmax, nact, ap, bp, grp, sums);
+}
+#if ATMOSH_HAS_DISPATCH
+#define ATMOSH_V4_KERNEL ATMOSH_TARGET_AVX512
+bool has_avx512() { return cpu_has_avx512(); }
+#else
+#define ATMOSH_V4_KERNEL
+bool has_avx512() { return false; }
+#endif
+ATMOSH_V4_KERNEL
+static void ana_extended8(int kmax, const double* ap, const double* bp, AnaGroup<8>* grp, const int* ids, int nx,
+                          int* join, int* live, V4* sums) {
+  ana_extended<8>(kmax, ap, bp, grp, ids, nx, join, live, sums);
+}
+ATMOSH_V4_KERNEL
+static void ana_kernel8(int K0, int kmax, const int* nact, const double* ap, const double* bp, AnaGroup<8>* grp,
+                        V4* sums) {
+  ana_kernel<8>(K0, kmax, nact, ap, bp, grp, sums);
+}
+#undef ATMOSH_V4_KERNEL
+
+// Per-thread work space of the column sums for blocks of W ring pairs.
+template <int W>
+struct AnaWork {
+  int ngroups;
+  // (not std::vector: GCC drops the vector attribute, and thus the alignment, in template arguments)
+  std::unique_ptr<AnaGroup<W>[]> nat, act;
+  std::vector<int> join, ids, live, nact;
+  AnaWork(int padded, int bands)
+      : ngroups(padded / W), nat(new AnaGroup<W>[ngroups]), act(new AnaGroup<W>[ngroups]), join(ngroups),
+        ids(ngroups), live(2 * ngroups), nact(bands + 4) {}
+};
+
+// sums[k] (k <= kmax + 1) of column m: f = the ring sums of m in blocks of W lanes
+// (E cos, E sin, xO cos, xO sin: 4 W values per block), mant/ex the sectoral values.
+template <int W>
+void ana_column(int kmax, const double* x, const double* mant, const int* ex, const double* f,
+                const AnaCoef& cf, AnaWork<W>& w, V4* sums) {
+  const int ngroups = w.ngroups;
+  int nx = 0;
+  for (int gi = 0; gi < ngroups; ++gi) {
+    AnaGroup<W>& g = w.nat[gi];
+    std::memcpy(&g.ec, f + 4 * W * gi, 4 * W * sizeof(double));  // ec, es, oc, os
+    bool plain = true;
+    for (int k = 0; k < W; ++k) {
+      const int q = W * gi + k;
+      g.csq[k] = x[q] * x[q];
+      g.lam1[k] = 0.0;
+      g.lam2[k] = mant[q];
+      g.e[k] = ex[q];
+      if (ex[q] != 0) plain = false;
+    }
+    w.join[gi] = 0;
+    if (!plain) w.ids[nx++] = gi;
+  }
+  if (nx > 0) {
+    if constexpr (W == 8)
+      ana_extended8(kmax, cf.ap.data(), cf.bp.data(), w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
+    else
+      ana_extended4(kmax, cf.ap.data(), cf.bp.data(), w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
+  }
+  // the plain blocks in ring order, then the others by the step they join at
+  int nlive = 0;
+  for (int gi = 0; gi < ngroups; ++gi)
+    if (w.join[gi] == 0) w.act[nlive++] = w.nat[gi];
+  const int nplain = nlive;
+  const int* join = w.join.data();
+  std::sort(w.ids.begin(), w.ids.begin() + nx, [&](int p, int q) { return join[p] < join[q] || (join[p] == join[q] && p < q); });
+  for (int i = 0; i < nx && join[w.ids[i]] <= kmax; ++i) w.act[nlive++] = w.nat[w.ids[i]];
+  if (nlive == 0) return;
+  int j = nplain, i = 0;
+  for (int k = 0; k <= kmax + 1; ++k) {
+    while (i < nx && join[w.ids[i]] <= k) ++i, ++j;
+    w.nact[k] = std::min(j, nlive);
+  }
+  const int K0 = nplain > 0 ? 0 : join[w.ids[0]];
+  if constexpr (W == 8)
+    ana_kernel8(K0, kmax, w.nact.data(), cf.ap.data(), cf.bp.data(), w.act.get(), sums);
+  else
+    ana_kernel4(K0, kmax, w.nact.data(), cf.ap.data(), cf.bp.data(), w.act.get(), sums);
+}
+}  // namespace
+
+namespace {
+// Ring pairs per lane block of the analysis kernels (B is a multiple of both).
+int analysis_lanes() { return has_avx512() ? 8 : 4; }
+
+// Offset of the ring sums of column m, block of W ring pairs containing pair q, field f
+// (0..3: E cos, E sin, xO cos, xO sin), lane of q: the sums are stored m-major.
+inline std::size_t ring_sum_index(int padded, int W, int m, int q, int f) {
+  return (static_cast<std::size_t>(m) * padded + (q & -W)) * 4 + W * f + (q & (W - 1));
+}
+
+void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads);
 }  // namespace
 
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
                        const double* fourier, bool symmetric, double* coeffs, int threads) {
   threads = resolve_threads(threads);
-  const auto table = legendre_table(bands);
   const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
-  const int ngroups = padded / 4;
-  std::vector<double> smant;
-  std::vector<int> sexp;
-  sectorals(bands, pr, *table, smant, sexp);
+  const int W = analysis_lanes();
 
-  // Ring sums regrouped m-major: per m and block, E cos, E sin, xO cos, xO sin (4 lanes
-  // each), in blocks of m so that both the ring rows and the m planes stream.
+  // Ring sums regrouped m-major, in blocks of m so that both the ring rows and the m
+  // planes stream.
   constexpr int MB = 8;
   std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(bands) * padded * 4]);
   parallel_for_m((bands + MB - 1) / MB, threads, [&](int t0, int step) {
@@ -436,7 +589,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
       const int m1 = std::min(bands, mb + MB);
       for (int q = np; q < padded; ++q)
         for (int m = mb; m < m1; ++m)
-          for (int f = 0; f < 4; ++f) fm[(static_cast<std::size_t>(m) * padded + (q & ~3)) * 4 + 4 * f + (q & 3)] = 0.0;
+          for (int f = 0; f < 4; ++f) fm[ring_sum_index(padded, W, m, q, f)] = 0.0;
       for (int q = 0; q < np; ++q) {
         const double* fn = fourier + static_cast<std::size_t>(pr.north[q]) * bands * 2;
         const double* fs = pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * bands * 2 : nullptr;
@@ -444,87 +597,68 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
         for (int m = mb; m < m1; ++m) {
           const double nc = fn[2 * m], ns = fn[2 * m + 1];
           const double sc = fs ? fs[2 * m] : 0.0, ss = fs ? fs[2 * m + 1] : 0.0;
-          double* o = fm.get() + (static_cast<std::size_t>(m) * padded + (q & ~3)) * 4 + (q & 3);
+          double* o = fm.get() + ring_sum_index(padded, W, m, q, 0);
           o[0] = nc + sc;
-          o[4] = ns + ss;
-          o[8] = x * (nc - sc);
-          o[12] = x * (ns - ss);
+          o[W] = ns + ss;
+          o[2 * W] = x * (nc - sc);
+          o[3 * W] = x * (ns - ss);
         }
       }
     }
   });
+  analysis_from_ring_sums(bands, pr, W, fm.get(), coeffs, threads);
+}
+
+namespace {
+// Legendre sums of the analysis from the ring sums fm (see ring_sum_index); adds the
+// coefficients to coeffs.
+void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads) {
+  const auto table = legendre_table(bands);
+  const int padded = static_cast<int>(pr.x.size());
+  const bool wide = W == 8;
+  std::vector<double> smant;
+  std::vector<int> sexp;
+  sectorals(bands, pr, *table, smant, sexp);
 
   // per-m results: column m at col_offset(m), 2 (bands - m) values
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
   std::unique_ptr<double[]> col(new double[col_offset(bands)]);
   parallel_for_m(bands, threads, [&](int t0, int step) {
-    // (not std::vector: GCC drops the vector attribute, and thus the alignment, in template arguments)
-    std::unique_ptr<AnaGroup[]> nat(new AnaGroup[ngroups]), act(new AnaGroup[ngroups]);
     std::unique_ptr<V4[]> sums(new V4[bands + 4]);
-    std::vector<int> join(ngroups), ids(ngroups), live(ngroups), nact(bands + 4);
     AnaCoef cf;
-    for (int m = t0; m < bands; m += step) {
-      const int kmax = (bands - 1 - m) / 2;
-      ana_coefficients(bands, m, cf);
-      for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
-      const double* mant = smant.data() + static_cast<std::size_t>(m) * padded;
-      const int* ex = sexp.data() + static_cast<std::size_t>(m) * padded;
-      const double* f = fm.get() + static_cast<std::size_t>(m) * padded * 4;
-      int nx = 0;
-      for (int gi = 0; gi < ngroups; ++gi) {
-        AnaGroup& g = nat[gi];
-        const double* fg = f + 16 * gi;  // ec, es, oc, os of the group, 4 lanes each
-        std::memcpy(&g.ec, fg, sizeof(V4));
-        std::memcpy(&g.es, fg + 4, sizeof(V4));
-        std::memcpy(&g.oc, fg + 8, sizeof(V4));
-        std::memcpy(&g.os, fg + 12, sizeof(V4));
-        bool plain = true;
-        for (int k = 0; k < 4; ++k) {
-          const int q = 4 * gi + k;
-          g.csq[k] = pr.x[q] * pr.x[q];
-          g.lam1[k] = 0.0;
-          g.lam2[k] = mant[q];
-          g.e[k] = ex[q];
-          if (ex[q] != 0) plain = false;
-        }
-        join[gi] = 0;
-        if (!plain) ids[nx++] = gi;
-      }
-      if (nx > 0) ana_extended(kmax, cf.ap.data(), cf.bp.data(), nat.get(), ids.data(), nx, join.data(), live.data(),
-                               sums.get());
-      // the plain blocks in ring order, then the others by the step they join at
-      int nlive = 0;
-      for (int gi = 0; gi < ngroups; ++gi)
-        if (join[gi] == 0) act[nlive++] = nat[gi];
-      const int nplain = nlive;
-      std::sort(ids.begin(), ids.begin() + nx, [&](int p, int q) { return join[p] < join[q] || (join[p] == join[q] && p < q); });
-      for (int i = 0; i < nx && join[ids[i]] <= kmax; ++i) act[nlive++] = nat[ids[i]];
-      if (nlive > 0) {
-        int j = nplain, i = 0;
-        for (int k = 0; k <= kmax + 1; ++k) {
-          while (i < nx && join[ids[i]] <= k) ++i, ++j;
-          nact[k] = std::min(j, nlive);
-        }
-        const int K0 = nplain > 0 ? 0 : join[ids[0]];
-        ana_kernel(K0, kmax, nact.data(), cf.ap.data(), cf.bp.data(), act.get(), sums.get());
-      }
-      // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
-      // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
-      double* out = col.get() + col_offset(m);
-      double pc = 0.0, ps = 0.0;  // A_l-1 of the odd parity
-      for (int k = 0; k <= kmax; ++k) {
-        const int i = 2 * k;
-        const V4 sk = sums[k];
-        const double al = cf.alpha[k];
-        out[2 * i] = al * sk[0];
-        out[2 * i + 1] = al * sk[1];
-        if (m + i + 1 < bands) {
-          pc = cf.rb[k] * sk[2] - cf.qa[k] * pc;
-          ps = cf.rb[k] * sk[3] - cf.qa[k] * ps;
-          out[2 * i + 2] = pc;
-          out[2 * i + 3] = ps;
+    auto columns = [&](auto& work) {
+      for (int m = t0; m < bands; m += step) {
+        const int kmax = (bands - 1 - m) / 2;
+        ana_coefficients(bands, m, cf);
+        for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
+        const std::size_t off = static_cast<std::size_t>(m) * padded;
+        ana_column(kmax, pr.x.data(), smant.data() + off, sexp.data() + off, fm + off * 4, cf, work,
+                   sums.get());
+        // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
+        // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
+        double* out = col.get() + col_offset(m);
+        double pc = 0.0, ps = 0.0;  // A_l-1 of the odd parity
+        for (int k = 0; k <= kmax; ++k) {
+          const int i = 2 * k;
+          const V4 sk = sums[k];
+          const double al = cf.alpha[k];
+          out[2 * i] = al * sk[0];
+          out[2 * i + 1] = al * sk[1];
+          if (m + i + 1 < bands) {
+            pc = cf.rb[k] * sk[2] - cf.qa[k] * pc;
+            ps = cf.rb[k] * sk[3] - cf.qa[k] * ps;
+            out[2 * i + 2] = pc;
+            out[2 * i + 3] = ps;
+          }
         }
       }
+    };
+    if (wide) {
+      AnaWork<8> work(padded, bands);
+      columns(work);
+    } else {
+      AnaWork<4> work(padded, bands);
+      columns(work);
     }
   });
   // columns into the coefficient vector, in blocks of m (contiguous in m for each l)
@@ -540,6 +674,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
     }
   }
 }
+}  // namespace
 
 void legendre_synthesis(int bands, int nrings, const double* cos_t, const double* sin_t,
                         const double* coeffs, bool symmetric, double* fourier, int threads) {
@@ -729,6 +864,27 @@ void ring_fourier(int bands, int nphi, const double* f1, const double* f2, doubl
     }
   }
 }
+// Weighted ring sums of one ring pair for the Legendre stage: from the ring sums fn
+// (north) and fs (south, null: none) at [2 m + {0, 1}] and the rings' quadrature
+// weights, E cos, E sin, xO cos, xO sin at out[f * bands + m]. Rounded as written (no
+// fused multiply-add), as the sums regrouped by legendre_analysis.
+ATMOSH_DISPATCH_NO_FMA
+void pair_sums(int bands, const double* fn, const double* fs, double wn, double ws, double x, double* out) {
+  double* ec = out;
+  double* es = out + bands;
+  double* oc = out + 2 * bands;
+  double* os = out + 3 * bands;
+  for (int m = 0; m < bands; ++m) {
+    const double sq = m > 0 ? std::numbers::sqrt2 : 1.0;
+    const double wnm = wn * sq, wsm = ws * sq;
+    const double nc = fn[2 * m] * wnm, ns = fn[2 * m + 1] * (m > 0 ? wnm : 0.0);
+    const double sc = fs ? fs[2 * m] * wsm : 0.0, ss = fs ? fs[2 * m + 1] * (m > 0 ? wsm : 0.0) : 0.0;
+    ec[m] = nc + sc;
+    es[m] = ns + ss;
+    oc[m] = x * (nc - sc);
+    os[m] = x * (ns - ss);
+  }
+}
 }  // namespace
 
 double GaussGrid::phi(int j) const { return 2.0 * std::numbers::pi * j / nphi; }
@@ -764,20 +920,46 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
     throw InputError("analyse: grid is not initialised (use gauss_grid)");
   threads = detail::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
-  std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
-  std::vector<double> costab(n), sintab(n);
-  for (int j = 0; j < n; ++j) {
-    costab[j] = std::cos(2.0 * std::numbers::pi * j / n);
-    sintab[j] = std::sin(2.0 * std::numbers::pi * j / n);
+  std::vector<double> costab, sintab;
+  if (!is_pow2(n)) {
+    costab.resize(n);
+    sintab.resize(n);
+    for (int j = 0; j < n; ++j) {
+      costab[j] = std::cos(2.0 * std::numbers::pi * j / n);
+      sintab[j] = std::sin(2.0 * std::numbers::pi * j / n);
+    }
   }
-  const int npairs = (g.nlat + 1) / 2;
+  // Ring sums straight into the m-major layout of the Legendre stage: one block of
+  // ring pairs at a time (its planes stay in cache while its lanes are filled).
+  const detail::Pairs pr = detail::make_pairs(g.nlat, g.cos_t.data(), g.sin_t.data(), true);
+  const int padded = static_cast<int>(pr.x.size()), np = static_cast<int>(pr.north.size());
+  const int W = detail::analysis_lanes();
+  std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(L) * padded * 4]);
+  const double dphi = 2.0 * std::numbers::pi / n;
   auto work = [&](int t0, int step) {
-    std::vector<double> re, im;
-    for (int p = t0; p < npairs; p += step) {
-      const int s = g.nlat - 1 - p;
-      ring_fourier(L, n, values + static_cast<std::size_t>(p) * n,
-                   s != p ? values + static_cast<std::size_t>(s) * n : nullptr, four.data() + static_cast<std::size_t>(p) * L * 2,
-                   s != p ? four.data() + static_cast<std::size_t>(s) * L * 2 : nullptr, re, im, costab, sintab);
+    std::vector<double> re, im, fn(2 * static_cast<std::size_t>(L)), fs(2 * static_cast<std::size_t>(L));
+    std::vector<double> lanes(static_cast<std::size_t>(W) * 4 * L);  // [lane][field][m]
+    for (int blk = t0; blk < padded / W; blk += step) {
+      for (int k = 0; k < W; ++k) {
+        const int q = blk * W + k;
+        double* out = lanes.data() + static_cast<std::size_t>(k) * 4 * L;
+        if (q >= np) {
+          std::fill(out, out + 4 * L, 0.0);
+          continue;
+        }
+        const int r = pr.north[q], s = pr.south[q];
+        ring_fourier(L, n, values + static_cast<std::size_t>(r) * n, s >= 0 ? values + static_cast<std::size_t>(s) * n : nullptr,
+                     fn.data(), s >= 0 ? fs.data() : nullptr, re, im, costab, sintab);
+        // weights of the Gauss rule in latitude and of the uniform rule in longitude
+        pair_sums(L, fn.data(), s >= 0 ? fs.data() : nullptr, g.weights[r] * dphi, s >= 0 ? g.weights[s] * dphi : 0.0,
+                  pr.x[q], out);
+      }
+      // one contiguous run of 4 W values per m
+      for (int m = 0; m < L; ++m) {
+        double* o = fm.get() + detail::ring_sum_index(padded, W, m, blk * W, 0);
+        for (int f = 0; f < 4; ++f)
+          for (int k = 0; k < W; ++k) o[f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * L + m];
+      }
     }
   };
   if (threads <= 1) {
@@ -788,16 +970,8 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
     work(0, threads);
     for (auto& th : pool) th.join();
   }
-  const double dphi = 2.0 * std::numbers::pi / n;
-  for (int r = 0; r < g.nlat; ++r) {
-    for (int m = 0; m < L; ++m) {
-      const double f = g.weights[r] * dphi * (m > 0 ? std::numbers::sqrt2 : 1.0);
-      four[(static_cast<std::size_t>(r) * L + m) * 2] *= f;
-      four[(static_cast<std::size_t>(r) * L + m) * 2 + 1] *= (m > 0 ? f : 0.0);
-    }
-  }
   std::vector<double> c(sh_count(L), 0.0);
-  detail::legendre_analysis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), four.data(), true, c.data(), threads);
+  detail::analysis_from_ring_sums(L, pr, W, fm.get(), c.data(), threads);
   return c;
 }
 
