@@ -339,15 +339,12 @@ ATMOSH_DISPATCH_NO_ERRNO double exponential_column_sum(std::size_t n, const doub
 glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
   glm::dvec3 sum(0.0);
   if (!(L > 0.0)) return sum;
-  // Smallest relevant scale height at altitude h: exponentials whose density
-  // there is not negligible (> 1e-15).
-  auto scale_at = [&](double h) {
+  // Smallest scale height of the exponential constituents, at every altitude: the
+  // tables store the logarithm of each mean density, so even a constituent far above
+  // its scale height (the Mie layer at 80 km) is integrated to full relative accuracy.
+  auto scale_at = [&](double) {
     double H = std::numeric_limits<double>::infinity();
-    for (int c = 0; c < 3; ++c) {
-      if (!present_[c] || atm_.profile(c).kind() != DensityProfileSpec::Kind::Exponential) continue;
-      double Hc = atm_.profile(c).spec().scale_height_m;
-      if (h < 34.5 * Hc) H = std::min(H, Hc);
-    }
+    for (int c : expo_) H = std::min(H, atm_.profile(c).spec().scale_height_m);
     return H;
   };
   const int n = static_cast<int>(gl_x_.size());

@@ -54,11 +54,10 @@
 // Standard Atmosphere 1976 Rayleigh profile, 200 nodes) stay interpolated.
 // Table entries: tent and tabulated profiles in closed form
 // (PiecewiseLinearColumn, exact to rounding); exponential profiles by fixed
-// Gauss-Legendre rules on the pieces between shell and tangent crossings (each
-// piece spanning at most 1.5 times the smallest scale height whose density is
-// still above 1e-15 at the piece's lowest point), ~1e-9 relative where the mean
-// density along the table ray exceeds 1e-15 (below that, up to ~1e-2 relative of
-// a column too small for any optical depth to notice).
+// Gauss-Legendre rules on the pieces between shell and tangent crossings, each
+// piece spanning at most 1.5 times the smallest exponential scale height in
+// altitude, ~1e-9 relative (also far above a constituent's scale height, where
+// its mean density is tiny: the tables store its logarithm).
 // Error: see `atmosh converge lut` and docs/atmosphere.md (max relative error of
 // the total optical depth, measured over grazing/tangent/random rays): 2e-5 for
 // earth-graphics with the ozone tent at the default 32 x 64 (1119 rays);
