@@ -114,22 +114,25 @@ void batch_avx512(int bands, std::size_t n, const T* xs, const T* ys, const T* z
 bool has_avx512() { return false; }
 #endif
 
-}  // namespace
-
-void fast_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
-                std::size_t stride) {
+// The AVX-512 kernel where the CPU has it, else the AVX2 / baseline clone.
+template <class T>
+void batch_on_this_cpu(int bands, std::size_t n, const T* xs, const T* ys, const T* zs, T* out, std::size_t stride) {
   if (has_avx512())
     batch_avx512(bands, n, xs, ys, zs, out, stride);
   else
     batch_avx2(bands, n, xs, ys, zs, out, stride);
 }
 
+}  // namespace
+
+void fast_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
+                std::size_t stride) {
+  batch_on_this_cpu(bands, n, xs, ys, zs, out, stride);
+}
+
 void fast_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out,
                 std::size_t stride) {
-  if (has_avx512())
-    batch_avx512(bands, n, xs, ys, zs, out, stride);
-  else
-    batch_avx2(bands, n, xs, ys, zs, out, stride);
+  batch_on_this_cpu(bands, n, xs, ys, zs, out, stride);
 }
 
 }  // namespace atmosh::sh::detail
