@@ -2,7 +2,7 @@
 // assembled before this file).
 layout(local_size_x = 64) in;
 
-float gauss_x(int q) { return gl[q]; }            // the rule on [-1, 1], for ATMOSH_SKY_PIECE_NODES
+float gauss_x(int q) { return gl[q]; }            // the rule on [-1, 1]
 float gauss_w(int q) { return gl[n_gauss + q]; }
 
 void main() {
@@ -52,42 +52,69 @@ void main() {
     ViewRayCuts vc = view_ray_cuts(r, mu, mu_s, nu, Rd, double(s_end), rt2, cut_r, n_cuts);
     int nc = vc.n;
     float st = float(-r * mu);
-    vec4 total = lookup(true, h0, muf);
+    // View column from the observer to the start of the current part, and the
+    // density there (SkyIntegrator::radiance; weights sky_part_column_weights).
+    vec3 column = vec3(0.0);
+    vec3 rho_start = density_at(h0);
+    int n_points = n_gauss + 2;
+    int off_pw = 2 * n_gauss;  // part column weights in gl[]
     for (int k = 1; k < nc; ++k) {
       float a0 = float(vc.s[k - 1]), b0 = float(vc.s[k]);
-      if (!(b0 > a0)) continue;
+      if (!(vc.s[k] > vc.s[k - 1])) continue;
       // Densest point of the piece (shared/scatter.glsl.hpp, double overload).
-      float sd = float(piece_densest_point(r, mu, double(st), double(a0), double(b0)));
+      float sd = float(piece_densest_point(r, mu, double(st), vc.s[k - 1], vc.s[k]));
       double usd = double(sd) + r * mu;
       float hd = float((double(sd) * (double(sd) + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) / (sqrt(usd * usd + rt2) + Rd));
       vec3 rho_d = density_at(hd);
       float tau_piece = (ext_max[0] * rho_d[0] + ext_max[1] * rho_d[1] + ext_max[2] * rho_d[2]) * (b0 - a0);
       int parts = piece_parts(tau_piece, max_piece_optical_depth);
-      // One quadrature node (s, w) of the piece: the body of ATMOSH_SKY_PIECE_NODES
-      // (shared/scatter.glsl.hpp), the same steps as SkyIntegrator::radiance's node.
-#define SKY_NODE(s_arg, w_arg)                                                              \
+      // One part [a, b] of the piece: the body of ATMOSH_SKY_PIECE_PARTS
+      // (shared/scatter.glsl.hpp), the same steps as SkyIntegrator::radiance's part.
+#define SKY_PART(a_arg, b_arg)                                                              \
   {                                                                                         \
-    double s = (s_arg);                                                                     \
-    float wq = float(w_arg);                                                                \
-    double u = s + r * mu;                                                                  \
-    double rs = sqrt(u * u + rt2);                                                          \
-    float hs = float((s * (s + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) / (rs + Rd));         \
-    float mus = float(cos_zenith_along(r, mu_s, nu, s, rs));                                \
-    vec4 to_sun = lookup(false, hs, mus);                                                   \
-    if (to_sun.w < 0.5) { /* else in the Earth's shadow */                                  \
-      float mu_p = float(clamp(u / rs, -1.0LF, 1.0LF));                                     \
-      vec4 rest = lookup(true, hs, mu_p);                                                   \
-      vec3 x = max(total.xyz - rest.xyz, vec3(0.0)) + to_sun.xyz;                           \
-      vec3 rho = density_at(hs);                                                            \
-      float sr = rho[0] * p_ray * wq, sm = rho[1] * p_mie * wq;                             \
-      for (int i = 0; i < nwc; ++i)                                                         \
-        acc[i] += scattering_term(exp(-column_optical_depth(spec[i], spec[nw + i],          \
-                                                            spec[2 * nw + i], x[0], x[1], x[2])), \
-                                  spec[3 * nw + i], spec[4 * nw + i], sr, sm);              \
+    double pa = (a_arg), pb = (b_arg);                                                      \
+    double part_half = 0.5LF * (pb - pa), mid = 0.5LF * (pa + pb);                          \
+    double s_q[kMaxPartNodes];                                                              \
+    double r_q[kMaxPartNodes];                                                              \
+    float h_q[kMaxPartNodes];                                                               \
+    vec3 rho_q[kMaxPartNodes];                                                              \
+    for (int q = 0; q < n_gauss; ++q) {                                                     \
+      double s = mid + part_half * double(gauss_x(q));                                      \
+      double u = s + r * mu;                                                                \
+      s_q[q] = s;                                                                           \
+      r_q[q] = sqrt(u * u + rt2);                                                           \
+      h_q[q] = float((s * (s + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) / (r_q[q] + Rd));     \
+      rho_q[q] = density_at(h_q[q]);                                                        \
     }                                                                                       \
+    double ub = pb + r * mu;                                                                \
+    vec3 rho_end = density_at(float((pb * (pb + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) /    \
+                                    (sqrt(ub * ub + rt2) + Rd)));                           \
+    float part_halff = float(part_half);                                                    \
+    for (int q = 0; q <= n_gauss; ++q) {                                                    \
+      int row = off_pw + q * n_points;                                                      \
+      vec3 part_col = gl[row] * rho_start + gl[row + n_gauss + 1] * rho_end;                \
+      for (int j = 0; j < n_gauss; ++j) part_col += gl[row + 1 + j] * rho_q[j];             \
+      part_col = max(part_halff * part_col, vec3(0.0));                                     \
+      if (q == n_gauss) {                                                                   \
+        column += part_col;                                                                 \
+        break;                                                                              \
+      }                                                                                     \
+      float mus = float(cos_zenith_along(r, mu_s, nu, s_q[q], r_q[q]));                     \
+      vec4 to_sun = lookup(false, h_q[q], mus);                                             \
+      if (to_sun.w < 0.5) { /* else in the Earth's shadow */                                \
+        vec3 x = column + part_col + to_sun.xyz;                                            \
+        float wq = part_halff * gauss_w(q);                                                 \
+        float sr = rho_q[q][0] * p_ray * wq, sm = rho_q[q][1] * p_mie * wq;                 \
+        for (int i = 0; i < nwc; ++i)                                                       \
+          acc[i] += scattering_term(exp(-column_optical_depth(spec[i], spec[nw + i],        \
+                                                              spec[2 * nw + i], x[0], x[1], x[2])), \
+                                    spec[3 * nw + i], spec[4 * nw + i], sr, sm);            \
+      }                                                                                     \
+    }                                                                                       \
+    rho_start = rho_end;                                                                    \
   }
-      ATMOSH_SKY_PIECE_NODES(double, double(a0), double(b0), parts, n_gauss, gauss_x, gauss_w, SKY_NODE);
-#undef SKY_NODE
+      ATMOSH_SKY_PIECE_PARTS(double, vc.s[k - 1], vc.s[k], parts, SKY_PART);
+#undef SKY_PART
     }
     for (int i = 0; i < nwc; ++i) acc[i] *= spec[6 * nw + i] * irradiance_scale;
     if (ground && albedo > 0.0) {
@@ -98,7 +125,7 @@ void main() {
       if (mus_g > 0.0) {
         vec4 to_sun = lookup(false, 0.0, mus_g);
         if (to_sun.w < 0.5) {
-          vec3 xg = total.xyz + to_sun.xyz;
+          vec3 xg = column + to_sun.xyz;
           for (int i = 0; i < nwc; ++i)
             acc[i] += spec[6 * nw + i] * irradiance_scale *
                       ground_term(albedo, mus_g, exp(-column_optical_depth(spec[i], spec[nw + i], spec[2 * nw + i],

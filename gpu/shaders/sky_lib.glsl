@@ -2,7 +2,8 @@
 // shared/geometry.glsl.hpp (float), shared/lut.glsl.hpp (float and double
 // builds) and shared/view_ray.glsl.hpp (double). The GPU version of
 // atmo::SkyIntegrator::radiance (libatmo/src/sky.cpp), same cuts, pieces,
-// Gauss-Legendre nodes and table lookups (OpticalDepthLut). Assembled after
+// Gauss-Legendre nodes, view column accumulated along the ray and sun-table
+// lookups (OpticalDepthLut). Assembled after
 // shared/geometry.glsl.hpp (ray geometry, densities, phase functions, closed-form
 // linear-piece columns). Positions along the ray are formed in double precision
 // (altitudes to ~1 mm; float radii would carry ~0.5 m); everything else is float.
@@ -15,7 +16,7 @@ layout(std430, binding = 1) readonly buffer Tables { float tab[]; };          //
 layout(std430, binding = 2) readonly buffer Shells { float shell[]; };        // rho, 1/den, cut radii, ozone nodes
 layout(std430, binding = 3) readonly buffer Spectral { float spec[]; };       // ext[3][nw], sca[3][nw], solar[nw]
 layout(std430, binding = 4) writeonly buffer Radiance { float radiance[]; };  // [pixel][nw]
-layout(std430, binding = 5) readonly buffer Quadrature { float gl[]; };       // nodes[n], weights[n]
+layout(std430, binding = 5) readonly buffer Quadrature { float gl[]; };       // nodes[n], weights[n], part column weights[n+1][n+2]
 layout(std430, binding = 6) readonly buffer ShellsD { double shell_d[]; };    // rho[S], 1/den[(S-3)*4], cut radii
 
 uniform int n_pixels;

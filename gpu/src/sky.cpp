@@ -277,6 +277,8 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   std::vector<float> quad;
   for (double x : gl.nodes) quad.push_back(static_cast<float>(x));
   for (double w : gl.weights) quad.push_back(static_cast<float>(w));
+  for (double c : atmo::sky_part_column_weights(sky.options().samples_per_segment))  // view column in a part
+    quad.push_back(static_cast<float>(c));
 
   // Pixel directions (the CPU projection).
   const std::size_t n = static_cast<std::size_t>(width) * height;

@@ -124,6 +124,37 @@ ATMOSH_DISPATCH void accumulate_node(std::size_t n, const double* __restrict er,
 
 // ---------------------------------------------------------------- fast path
 
+std::vector<double> sky_part_column_weights(int n) {
+  if (n < 1 || n > sg::kMaxPartNodes)
+    throw InputError("samples per segment " + std::to_string(n) + " is outside [1, 8]");
+  const auto gl = sh::gauss_legendre(n);
+  std::vector<double> t{-1.0};
+  t.insert(t.end(), gl.nodes.begin(), gl.nodes.end());
+  t.push_back(1.0);
+  const int m = n + 2;
+  // Lagrange basis polynomial j through the points t at u.
+  auto basis = [&](int j, double u) {
+    double p = 1.0;
+    for (int i = 0; i < m; ++i)
+      if (i != j) p *= (u - t[i]) / (t[j] - t[i]);
+    return p;
+  };
+  // Integrals from -1 to the upper limit by an (n + 2)-point Gauss-Legendre rule:
+  // exact for the degree n + 1 of the basis polynomials.
+  const auto q = sh::gauss_legendre(m);
+  std::vector<double> w(static_cast<std::size_t>((n + 1) * m), 0.0);
+  for (int row = 0; row <= n; ++row) {
+    const double hi = row < n ? gl.nodes[static_cast<std::size_t>(row)] : 1.0;
+    const double half = 0.5 * (hi + 1.0), mid = 0.5 * (hi - 1.0);
+    for (int j = 0; j < m; ++j) {
+      double sum = 0.0;
+      for (int k = 0; k < m; ++k) sum += q.weights[static_cast<std::size_t>(k)] * basis(j, mid + half * q.nodes[static_cast<std::size_t>(k)]);
+      w[static_cast<std::size_t>(row * m + j)] = half * sum;
+    }
+  }
+  return w;
+}
+
 SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, SkyOptions options)
     : atm_(atmosphere), solar_(std::move(solar)), opt_(options) {
   check_solar(atm_, solar_);
@@ -142,6 +173,7 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
   const auto gl = sh::gauss_legendre(opt_.samples_per_segment);
   gl_x_ = gl.nodes;
   gl_w_ = gl.weights;
+  part_w_ = sky_part_column_weights(opt_.samples_per_segment);
   const auto& radii = lut_->shell_radii();
   const int S = static_cast<int>(radii.size());
   for (int i = 1; i < opt_.segments; ++i)  // ground and top are ray ends already
@@ -182,7 +214,6 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
     return glm::dot(ext_max_, atm_.density(sg::radius_along(ray.r, ray.mu, s) - R));
   };
 
-  const LutColumn total = lut_->view(ray.r, ray.mu);
   double acc_small[64];
   std::vector<double> acc_big;
   double* acc = acc_small;
@@ -197,28 +228,46 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   const double* eo = em + nw;
   const double* cr = sca_.data();
   const double* cm = cr + nw;
+  const int n_nodes = static_cast<int>(gl_x_.size());
+  const int n_points = n_nodes + 2;
+  // View column from the observer to the start of the current part, and the
+  // density there (shared/scatter.glsl.hpp; weights: sky_part_column_weights).
+  glm::dvec3 column(0.0);
+  glm::dvec3 rho_start = atm_.density(ray.r - R);
+  auto part = [&](double a, double b) {
+    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
+    double s_q[sg::kMaxPartNodes], r_q[sg::kMaxPartNodes];
+    glm::dvec3 rho_q[sg::kMaxPartNodes];
+    for (int q = 0; q < n_nodes; ++q) {
+      s_q[q] = mid + half * gl_x_[static_cast<std::size_t>(q)];
+      r_q[q] = sg::radius_along(ray.r, ray.mu, s_q[q]);
+      rho_q[q] = atm_.density(r_q[q] - R);
+    }
+    const glm::dvec3 rho_end = atm_.density(sg::radius_along(ray.r, ray.mu, b) - R);
+    auto column_to = [&](int row) {  // from a, to node `row` (row n_nodes: to b)
+      const double* c = &part_w_[static_cast<std::size_t>(row * n_points)];
+      glm::dvec3 x = c[0] * rho_start + c[n_nodes + 1] * rho_end;
+      for (int j = 0; j < n_nodes; ++j) x += c[j + 1] * rho_q[j];
+      return half * x;
+    };
+    for (int q = 0; q < n_nodes; ++q) {
+      const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, s_q[q], r_q[q]);
+      const LutColumn to_sun = lut_->sun(r_q[q], mus);
+      if (to_sun.hits_ground) continue;  // in the Earth's shadow
+      const glm::dvec3 x = column + glm::max(column_to(q), glm::dvec3(0.0)) + to_sun.column;
+      const double w = half * gl_w_[static_cast<std::size_t>(q)];
+      const double sr = rho_q[q][kRayleigh] * p_ray * w, sm = rho_q[q][kMie] * p_mie * w;
+      accumulate_node(nw, er, em, eo, cr, cm, x[0], x[1], x[2], sr, sm, acc);
+    }
+    column += glm::max(column_to(n_nodes), glm::dvec3(0.0));
+    rho_start = rho_end;
+  };
   for (int k = 1; k < nc; ++k) {
     const double a0 = cuts[k - 1], b0 = cuts[k];
     if (!(b0 > a0)) continue;
     const double tau_piece = piece_extinction(a0, b0) * (b0 - a0);
     const int parts = sg::piece_parts(tau_piece, opt_.max_piece_optical_depth);
-    auto node = [&](double s, double w) {
-      const double rs = sg::radius_along(ray.r, ray.mu, s);
-      const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, s, rs);
-      const LutColumn to_sun = lut_->sun(rs, mus);
-      if (to_sun.hits_ground) return;  // in the Earth's shadow
-      const double mu_p = sg::mu_along(ray.r, ray.mu, s, rs);
-      const LutColumn rest = lut_->view(rs, mu_p);
-      const glm::dvec3 xv = glm::max(total.column - rest.column, glm::dvec3(0.0));
-      const glm::dvec3 x = xv + to_sun.column;
-      const glm::dvec3 rho = atm_.density(rs - R);
-      const double sr = rho[kRayleigh] * p_ray * w, sm = rho[kMie] * p_mie * w;
-      accumulate_node(nw, er, em, eo, cr, cm, x[0], x[1], x[2], sr, sm, acc);
-    };
-    auto node_x = [&](int q) { return gl_x_[static_cast<std::size_t>(q)]; };
-    auto node_w = [&](int q) { return gl_w_[static_cast<std::size_t>(q)]; };
-    const int n_nodes = static_cast<int>(gl_x_.size());
-    ATMOSH_SKY_PIECE_NODES(double, a0, b0, parts, n_nodes, node_x, node_w, node);
+    ATMOSH_SKY_PIECE_PARTS(double, a0, b0, parts, part);
   }
   const double scale = 1.0 / (opt_.sun_distance_au * opt_.sun_distance_au);
   for (std::size_t i = 0; i < nw; ++i) out[i] = solar_[i] * scale * acc[i];
@@ -231,7 +280,7 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
       const LutColumn to_sun = lut_->sun(R, mus_g);
       if (!to_sun.hits_ground)
         for (std::size_t i = 0; i < nw; ++i) {
-          const glm::dvec3 xg = total.column + to_sun.column;
+          const glm::dvec3 xg = column + to_sun.column;
           const double tau = sg::column_optical_depth(er[i], em[i], eo[i], xg[0], xg[1], xg[2]);
           out[i] += solar_[i] * scale * sg::ground_term(albedo, mus_g, std::exp(-tau));
         }

@@ -276,3 +276,56 @@ TEST(Sky, TwilightCutAtTheShadowEdge) {
         }
       }
 }
+
+// The view-column weights of a part integrate every polynomial of degree <= n + 1
+// exactly from -1 to each Gauss-Legendre node and to 1 (closed form: the integral
+// of t^k from -1 to u is (u^(k+1) - (-1)^(k+1)) / (k + 1)); nodes of the rule:
+// Abramowitz & Stegun 1964, table 25.4 (n = 2: +-1/sqrt(3); n = 3: 0, +-sqrt(3/5)).
+TEST(Sky, PartColumnWeightsIntegratePolynomialsExactly) {
+  const double n2[2] = {-1.0 / std::sqrt(3.0), 1.0 / std::sqrt(3.0)};
+  const double n3[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
+  for (int n = 1; n <= 8; ++n) {
+    const std::vector<double> w = sky_part_column_weights(n);
+    ASSERT_EQ(w.size(), static_cast<std::size_t>((n + 1) * (n + 2)));
+    // The points: -1, the nodes (roots of P_n, found here by bisection on the
+    // Legendre recurrence, independent of the library's rule), 1.
+    std::vector<double> t{-1.0};
+    auto legendre = [&](double x) {
+      double p0 = 1, p1 = x;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      return n == 1 ? x : p1;
+    };
+    const int grid = 20000;
+    for (int i = 0; i < grid; ++i) {
+      double lo = -1.0 + 2.0 * i / grid, hi = -1.0 + 2.0 * (i + 1) / grid;
+      if (legendre(lo) == 0.0) t.push_back(lo);
+      if (legendre(lo) * legendre(hi) >= 0) continue;
+      for (int it = 0; it < 200; ++it) {
+        const double m = 0.5 * (lo + hi);
+        (legendre(lo) * legendre(m) <= 0 ? hi : lo) = m;
+      }
+      t.push_back(0.5 * (lo + hi));
+    }
+    t.push_back(1.0);
+    ASSERT_EQ(t.size(), static_cast<std::size_t>(n + 2)) << n;
+    if (n == 2)
+      for (int q = 0; q < 2; ++q) EXPECT_NEAR(t[q + 1], n2[q], 1e-15);
+    if (n == 3)
+      for (int q = 0; q < 3; ++q) EXPECT_NEAR(t[q + 1], n3[q], 1e-15);
+    for (int row = 0; row <= n; ++row) {
+      const double u = row < n ? t[row + 1] : 1.0;
+      for (int k = 0; k <= n + 1; ++k) {
+        double sum = 0;
+        for (int j = 0; j < n + 2; ++j) sum += w[row * (n + 2) + j] * std::pow(t[j], k);
+        const double exact = (std::pow(u, k + 1) - std::pow(-1.0, k + 1)) / (k + 1);
+        EXPECT_NEAR(sum, exact, 1e-13) << "n " << n << " row " << row << " degree " << k;
+      }
+    }
+  }
+  EXPECT_THROW(sky_part_column_weights(0), atmosh::InputError);
+  EXPECT_THROW(sky_part_column_weights(9), atmosh::InputError);
+}

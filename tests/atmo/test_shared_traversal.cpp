@@ -293,21 +293,25 @@ TEST(SharedScatter, DensestPointSplitAndNodes) {
   EXPECT_EQ(sg::piece_parts(0.25, 0.1), 3);
   EXPECT_EQ(sg::piece_parts(0.3, 0.1), 3);
   EXPECT_EQ(sg::piece_parts(1e9, 0.1), 64);
-  // n = 3 nodes, 4 parts: x^5 over [2, 7] exactly; sum of weights = length.
+  // 4 parts of [2, 7] with the 3-point rule on each: x^5 exactly; sum of weights = length.
   const double x3[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, w3[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
-  auto nx = [&](int q) { return x3[q]; };
-  auto nw = [&](int q) { return w3[q]; };
-  double integral = 0, weights = 0, last = -1;
+  double integral = 0, weights = 0, last = -1, last_b = 2.0;
   int count = 0;
-  auto node = [&](double s, double w) {
-    integral += w * std::pow(s, 5);
-    weights += w;
-    EXPECT_GT(s, last);  // in order along the ray
-    last = s;
-    ++count;
+  auto part = [&](double a, double b) {
+    EXPECT_EQ(a, last_b);  // contiguous
+    last_b = b;
+    for (int q = 0; q < 3; ++q) {
+      const double s = 0.5 * (a + b) + 0.5 * (b - a) * x3[q], w = 0.5 * (b - a) * w3[q];
+      integral += w * std::pow(s, 5);
+      weights += w;
+      EXPECT_GT(s, last);  // in order along the ray
+      last = s;
+      ++count;
+    }
   };
-  const int parts = 4, n = 3;
-  ATMOSH_SKY_PIECE_NODES(double, 2.0, 7.0, parts, n, nx, nw, node);
+  const int parts = 4;
+  ATMOSH_SKY_PIECE_PARTS(double, 2.0, 7.0, parts, part);
+  EXPECT_EQ(last_b, 7.0);  // the last part ends exactly at the piece's end
   EXPECT_EQ(count, 12);
   EXPECT_NEAR(weights, 5.0, 1e-14);
   EXPECT_NEAR(integral, (std::pow(7.0, 6) - std::pow(2.0, 6)) / 6, 1e-12 * std::pow(7.0, 6));

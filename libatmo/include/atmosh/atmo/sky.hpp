@@ -23,10 +23,10 @@
 // shells of the Nishita tables (OpticalDepthLut; shells sit at equal optical mass)
 // at the tangent point and at the edge of the Earth's shadow; pieces longer than `max_piece_optical_depth` in
 // extinction are split further (near-horizontal rays near the ground), and each
-// piece gets an n-point Gauss-Legendre rule (n = samples_per_segment). Optical depths come from
-// the tables: view depth from the observer to a sample as the difference of the
-// two table columns to the end of the ray (Bruneton & Neyret 2008), sun depth by
-// one lookup. Error against the reference: `atmosh converge sky` and
+// piece gets an n-point Gauss-Legendre rule (n = samples_per_segment). The view
+// depth from the observer to a node is accumulated along the ray from the
+// densities at the nodes and part ends (sky_part_column_weights; as in Nishita et
+// al. 1993, no table), the sun depth is one lookup in the sun table. Error against the reference: `atmosh converge sky` and
 // docs/sky.md (<= 1 % above the horizon for sun elevations >= 0 with the default
 // settings, measured).
 //
@@ -55,6 +55,16 @@ struct SkyOptions {
                                          // (most extinct wavelength, densest end) stays below this
   double sun_distance_au = 1.0;   // Earth-Sun distance; irradiance scales as 1/d^2
 };
+
+// Weights of the view column inside a part of a view ray (SkyIntegrator and the GPU
+// sky): for the n-point Gauss-Legendre rule (1 <= n <= 8) on [-1, 1] and the n + 2
+// points t_0 = -1, t_1..t_n = its nodes x_0..x_{n-1}, t_{n+1} = 1, row q < n holds
+// c_j = integral from -1 to x_q of l_j(t) dt (l_j the Lagrange basis polynomial of
+// point j) and row n the same integral up to 1. The column of a constituent from the
+// start of a part of half-length h [m] to its node q is h * sum_j c_j rho(t_j): exact
+// when the density along the part is a polynomial of degree <= n + 1. (n + 1) x
+// (n + 2) values, row-major; InputError for n outside [1, 8].
+std::vector<double> sky_part_column_weights(int n);
 
 // Where the light comes from: E(lambda) at 1 AU for each wavelength of the
 // atmosphere [W m^-2 nm^-1].
@@ -85,6 +95,7 @@ class SkyIntegrator {
   std::unique_ptr<OpticalDepthLut> lut_;
   std::vector<PhaseFunction> phase_;  // per present scattering constituent
   std::vector<double> gl_x_, gl_w_;
+  std::vector<double> part_w_;        // sky_part_column_weights(samples_per_segment)
   std::vector<double> ext_, sca_;     // [constituent][wavelength]
   std::vector<double> cut_radii_;     // shells that cut the view ray
   glm::dvec3 ext_max_{0.0};           // largest extinction per constituent over wavelengths

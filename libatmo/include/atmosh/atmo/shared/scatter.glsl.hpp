@@ -11,7 +11,10 @@
 // equivalent) and beta the scattering coefficients at the ground [1/m]. Each
 // piece between two cuts (view_ray.glsl.hpp) is split into equal parts of at
 // most `max_tau` extinction optical depth, judged at its densest point, and each
-// part gets the same Gauss-Legendre rule.
+// part gets the same Gauss-Legendre rule. The view optical depth from the observer
+// to a node is accumulated along the ray itself: the columns of the parts before it
+// plus the integral, from the start of its part to the node, of the polynomial
+// through the densities at the part's ends and nodes (sky_part_column_weights).
 // Accuracy: exact up to rounding in the real type.
 #pragma once
 
@@ -59,21 +62,20 @@ ATMOSH_FN real ground_term(real albedo, real mu_s_ground, real transmittance) {
 
 #ifndef ATMOSH_SHARED_SCATTER_ONCE  // parts without `real`: once, however often the block is pasted
 #define ATMOSH_SHARED_SCATTER_ONCE
-// The quadrature nodes of a piece [a0, b0] split into `parts` equal parts, each with
-// the n-point Gauss-Legendre rule NODE_X(q), NODE_W(q) on [-1, 1]: NODE(s, w) for
-// every node, s its distance along the ray [m] and w its weight [m], in order. T is
-// the position type (double on both sides). A macro because the node body differs
-// (a lambda on the CPU, a local macro on the GPU) and the common subset has no
-// function arguments.
-#define ATMOSH_SKY_PIECE_NODES(T, a0, b0, parts, n, NODE_X, NODE_W, NODE)                   \
-  for (int sky_part_ = 0; sky_part_ < (parts); ++sky_part_) {                               \
-    T sky_a_ = (a0) + ((b0) - (a0)) * T(sky_part_) / T(parts);                              \
-    T sky_b_ = (a0) + ((b0) - (a0)) * T(sky_part_ + 1) / T(parts);                          \
-    T sky_half_ = T(0.5) * (sky_b_ - sky_a_);                                               \
-    T sky_mid_ = T(0.5) * (sky_a_ + sky_b_);                                                \
-    for (int sky_q_ = 0; sky_q_ < (n); ++sky_q_) {                                          \
-      NODE(sky_mid_ + sky_half_ * T(NODE_X(sky_q_)), sky_half_ * T(NODE_W(sky_q_)));         \
-    }                                                                                       \
+const int kMaxPartNodes = 8;  // Gauss-Legendre nodes per part (SkyOptions::samples_per_segment <= 8)
+
+// The parts of a piece [a0, b0] split into `parts` equal parts: PART(a, b) for each,
+// in order along the ray (distances [m]). T is the position type (double on both
+// sides). The caller puts the n-point Gauss-Legendre rule on each part, at
+// s = (a + b)/2 + (b - a)/2 x_q with weight (b - a)/2 w_q, and accumulates the view
+// column from the observer with the part weights of sky_part_column_weights
+// (sky.hpp). A macro because the part body differs (a lambda on the CPU, a local
+// macro on the GPU) and the common subset has no function arguments.
+#define ATMOSH_SKY_PIECE_PARTS(T, a0, b0, parts, PART)                  \
+  for (int sky_part_ = 0; sky_part_ < (parts); ++sky_part_) {           \
+    T sky_a_ = (a0) + ((b0) - (a0)) * T(sky_part_) / T(parts);          \
+    T sky_b_ = sky_part_ + 1 == (parts) ? T(b0) : (a0) + ((b0) - (a0)) * T(sky_part_ + 1) / T(parts); \
+    PART(sky_a_, sky_b_);                                               \
   }
 #endif
 
