@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -336,6 +337,27 @@ ATMOSH_DISPATCH_NO_ERRNO double exponential_column_sum(std::size_t n, const doub
 }
 }  // namespace
 
+namespace {
+// The 4 x 4 window of a table lookup: out[c] = sum_i lw[i] sum_m xw[m] e[i][m][c] over
+// the entries e (padded to 4 per sample: one vector each) of 4 shells `stride`
+// apart, 4 consecutive directions from `base`. Compiled for AVX2/FMA as well.
+ATMOSH_DISPATCH void window_sum(const double* __restrict base, std::size_t stride, const double* __restrict lw,
+                                const double* __restrict xw, double* __restrict out) {
+  using v4d = double __attribute__((vector_size(32)));  // one sample's entries
+  v4d acc = {0.0, 0.0, 0.0, 0.0};
+  for (int i = 0; i < 4; ++i) {
+    const double* row = base + static_cast<std::size_t>(i) * stride;
+    v4d e0, e1, e2, e3;
+    std::memcpy(&e0, row, sizeof e0);
+    std::memcpy(&e1, row + 4, sizeof e1);
+    std::memcpy(&e2, row + 8, sizeof e2);
+    std::memcpy(&e3, row + 12, sizeof e3);
+    acc += lw[i] * (xw[0] * e0 + xw[1] * e1 + xw[2] * e2 + xw[3] * e3);
+  }
+  std::memcpy(out, &acc, sizeof acc);
+}
+}  // namespace
+
 glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
   glm::dvec3 sum(0.0);
   if (!(L > 0.0)) return sum;
@@ -394,7 +416,7 @@ void OpticalDepthLut::fill(Table& t, int n, bool ground) {
   const int S = static_cast<int>(radii_.size());
   t.n = n;
   t.ground = ground;
-  t.v.assign(static_cast<std::size_t>(S) * n * 3, 0.0);
+  t.v.assign(static_cast<std::size_t>(S) * n * 4, 0.0);
   for (int k = 0; k < S; ++k) {
     double r = radii_[k], rho = rho_[k];
     glm::dvec3 at_r = atm_.density(r - R_);
@@ -421,7 +443,7 @@ void OpticalDepthLut::fill(Table& t, int n, bool ground) {
         }
       }
       glm::dvec3 e = encode(mean);
-      double* dst = &t.v[(static_cast<std::size_t>(k) * n + j) * 3];
+      double* dst = &t.v[(static_cast<std::size_t>(k) * n + j) * 4];
       dst[0] = e[0];
       dst[1] = e[1];
       dst[2] = e[2];
@@ -429,23 +451,20 @@ void OpticalDepthLut::fill(Table& t, int n, bool ground) {
   }
 }
 
-double OpticalDepthLut::x_up(double r, double mu, double& d) const {
-  double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
+double OpticalDepthLut::x_up(double r, double rho, double mu, double& d) const {
   d = sg::distance_to_top(r, mu, T_);
   double dmin = T_ - r, dmax = rho + Hh_;
   return sg::lut_x(d, dmin, dmax);
 }
 
-double OpticalDepthLut::x_ground(double r, double mu, double& d) const {
-  double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
+double OpticalDepthLut::x_ground(double r, double rho, double mu, double& d) const {
   d = sg::distance_to_ground(r, mu, R_);
   double dmin = r - R_, dmax = rho;
   return sg::lut_x(d, dmin, dmax);
 }
 
-glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double r, double x) const {
+glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double rho, double x) const {
   const int S = static_cast<int>(radii_.size()), n = t.n;
-  double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
   // Window choice and weights: shared/lut.glsl.hpp (the GPU's interpolate too).
   // Shell search: the same k as the GPU's bisection (ATMOSH_LUT_SHELL_INDEX), in O(1).
   const int k = shell_index_.find(rho);
@@ -457,13 +476,9 @@ glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double r, double x) cons
   const double p = sg::lut_direction_offset(x, n, jw);
   double xw[4];
   for (int m = 0; m < 4; ++m) xw[m] = sg::lagrange_cubic_weight(p, m);
-  glm::dvec3 acc(0.0);
-  for (int i = 0; i < 4; ++i) {
-    const double* row = &t.v[(static_cast<std::size_t>(w + i) * n + jw) * 3];
-    glm::dvec3 inner(0.0);
-    for (int m = 0; m < 4; ++m) inner += xw[m] * glm::dvec3(row[3 * m], row[3 * m + 1], row[3 * m + 2]);
-    acc += lw[i] * inner;
-  }
+  double acc[4];
+  window_sum(&t.v[(static_cast<std::size_t>(w) * n + jw) * 4], static_cast<std::size_t>(n) * 4, lw, xw, acc);
+  glm::dvec3 out(acc[0], acc[1], acc[2]);
   if (has_kinks_) {
     // Profiles with kinks: Lagrange in rho only over shells of the same smooth
     // region (between kinks), of degree <= 3 (window and inverse denominators
@@ -481,13 +496,13 @@ glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double r, double x) cons
       if (log_encoded_[c] || !present_[c]) continue;
       double v = 0.0;
       for (int i = 0; i < kw.count; ++i) {
-        const double* row = &t.v[(static_cast<std::size_t>(kw.lo + i) * n + jw) * 3];
-        v += li[i] * (xw[0] * row[c] + xw[1] * row[3 + c] + xw[2] * row[6 + c] + xw[3] * row[9 + c]);
+        const double* row = &t.v[(static_cast<std::size_t>(kw.lo + i) * n + jw) * 4];
+        v += li[i] * (xw[0] * row[c] + xw[1] * row[4 + c] + xw[2] * row[8 + c] + xw[3] * row[12 + c]);
       }
-      acc[c] = v;
+      out[c] = v;
     }
   }
-  return acc;
+  return out;
 }
 
 LutColumn OpticalDepthLut::lookup(const Table& up, const Table* ground, double r, double mu) const {
@@ -503,16 +518,18 @@ LutColumn OpticalDepthLut::lookup(const Table& up, const Table* ground, double r
   if (sg::ray_hits_ground(r, mu, R_)) {
     out.hits_ground = true;
     if (!ground) return out;
+    const double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
     double d;
-    double x = x_ground(r, mu, d);
-    out.column = decode(interpolate(*ground, r, x)) * d;
+    double x = x_ground(r, rho, mu, d);
+    out.column = decode(interpolate(*ground, rho, x)) * d;
     for (int c = 0; c < 3; ++c)
       if (analytic_[c]) out.column[c] = linear_[c](r, mu, d);
     return out;
   }
+  const double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
   double d;
-  double x = x_up(r, mu, d);
-  out.column = decode(interpolate(up, r, x)) * d;
+  double x = x_up(r, rho, mu, d);
+  out.column = decode(interpolate(up, rho, x)) * d;
   for (int c = 0; c < 3; ++c)
     if (analytic_[c]) out.column[c] = linear_[c](r, mu, d);
   if (has_kinks_) {
@@ -537,9 +554,10 @@ void OpticalDepthLut::replace_log_tables(const std::vector<float>& log_mean, int
   for (std::size_t i = 0; i < log_mean.size(); ++i)
     if (log_encoded_[i % 3] && !std::isfinite(log_mean[i]))
       throw InputError("replacement tables: entry " + std::to_string(i) + " is not finite");
-  auto copy = [&](Table& t, std::size_t off) {
-    for (std::size_t i = 0; i < t.v.size(); ++i)
-      if (log_encoded_[i % 3]) t.v[i] = static_cast<double>(log_mean[off + i]);
+  auto copy = [&](Table& t, std::size_t off) {  // [..][3] into the padded [..][4]
+    for (std::size_t e = 0; e < t.v.size() / 4; ++e)
+      for (std::size_t c = 0; c < 3; ++c)
+        if (log_encoded_[c]) t.v[4 * e + c] = static_cast<double>(log_mean[off + 3 * e + c]);
   };
   copy(view_up_, 0);
   copy(view_ground_, nv);

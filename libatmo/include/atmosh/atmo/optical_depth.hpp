@@ -188,15 +188,15 @@ class OpticalDepthLut {
   struct Table {
     int n = 0;
     bool ground = false;  // ground branch
-    std::vector<double> v;  // [shell][dir][3]
+    std::vector<double> v;  // [shell][dir][4]: constituents 0..2, padding 0
   };
   glm::dvec3 build_column(double r, double mu, double length) const;
-  glm::dvec3 interpolate(const Table& t, double r, double x) const;
+  glm::dvec3 interpolate(const Table& t, double rho, double x) const;  // rho = sqrt(r^2 - R^2)
   glm::dvec3 encode(const glm::dvec3& mean) const;
   glm::dvec3 decode(const glm::dvec3& stored) const;
   void fill(Table& t, int n, bool ground);
-  double x_up(double r, double mu, double& d) const;
-  double x_ground(double r, double mu, double& d) const;
+  double x_up(double r, double rho, double mu, double& d) const;
+  double x_ground(double r, double rho, double mu, double& d) const;
   LutColumn lookup(const Table& up, const Table* ground, double r, double mu) const;
 
   const Atmosphere& atm_;

@@ -97,6 +97,7 @@ class SkyIntegrator {
   std::vector<double> gl_x_, gl_w_;
   std::vector<double> part_w_;        // sky_part_column_weights(samples_per_segment)
   std::vector<double> ext_, sca_;     // [constituent][wavelength]
+  std::vector<float> ext_f_, sca_f_;  // the same in single precision (spectral loop)
   std::vector<double> cut_radii_;     // shells that cut the view ray
   glm::dvec3 ext_max_{0.0};           // largest extinction per constituent over wavelengths
 };
