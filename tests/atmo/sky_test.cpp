@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/presets.hpp"
@@ -262,6 +263,7 @@ TEST(Sky, TwilightCutAtTheShadowEdge) {
   SkyReferenceOptions ro;
   ro.rel_tol = 1e-6;
   const SkyReference ref(atm, e, ro);
+  double worst_fast = 0, worst_precise = 0;
   for (double sun_el : {-3.0, -6.0})
     for (double el : {2.0, 20.0, 60.0})
       for (double az : {0.0, 180.0}) {
@@ -271,10 +273,14 @@ TEST(Sky, TwilightCutAtTheShadowEdge) {
         const double peak = *std::max_element(r.radiance.begin(), r.radiance.end());
         for (std::size_t i = 0; i < f.size(); ++i) {
           if (!(r.radiance[i] > 1e-6 * peak)) continue;
+          worst_fast = std::max(worst_fast, rel(f[i], r.radiance[i]));
+          worst_precise = std::max(worst_precise, rel(p[i], r.radiance[i]));
           EXPECT_LT(rel(f[i], r.radiance[i]), 1e-1) << "sun " << sun_el << " view " << el << " az " << az;
           EXPECT_LT(rel(p[i], r.radiance[i]), 2e-3) << "sun " << sun_el << " view " << el << " az " << az;
         }
       }
+  std::printf("  twilight: max rel error %.3g (default), %.3g (64 shells, 24 segments, 4 points)\n", worst_fast,
+              worst_precise);
 }
 
 // The view-column weights of a part integrate every polynomial of degree <= n + 1
