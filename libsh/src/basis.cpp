@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <mutex>
@@ -396,7 +397,18 @@ __attribute__((always_inline)) inline void batch_all(int bands, std::size_t n, c
                                                      const double* zs, double* out, std::size_t stride) {
   using VB = typename Lane<kLanes>::V;
   const ColTable& t = col_table();
-  for (std::size_t k0 = 0; k0 < n; k0 += kLanes) {
+  // Where every output row has the same alignment but not on a vector boundary, the
+  // first pass stores unaligned and the next starts at the first aligned direction
+  // `head` (directions head..kLanes-1 are computed twice, to the same values): every
+  // later store is aligned (a store that straddles two cache lines costs about twice as
+  // much). (A loop, not a lambda: a lambda would not inherit the target of the clone.)
+  std::size_t head = 0;
+  constexpr std::size_t kBytes = kLanes * sizeof(double);
+  if (n >= 4 * kLanes && (stride * sizeof(double)) % kBytes == 0) {
+    const std::size_t mis = reinterpret_cast<std::uintptr_t>(out) % kBytes;
+    if (mis != 0 && mis % sizeof(double) == 0) head = (kBytes - mis) / sizeof(double);
+  }
+  for (std::size_t k0 = 0; k0 < n; k0 = (k0 == 0 && head > 0) ? head : k0 + kLanes) {
     const int count = static_cast<int>(std::min<std::size_t>(kLanes, n - k0));
     VB ct, st, c1, s1;
     batch_setup(xs + k0, ys + k0, zs + k0, count, ct, st, c1, s1);

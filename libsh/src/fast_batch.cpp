@@ -1,6 +1,8 @@
 // Compiled batch kernels of the straight-line low-band basis (fast.hpp): the generated
 // code of fast_generated.hpp run on packs of directions (one SIMD lane per direction),
 // so that every line of it is one vector operation whatever the output stride.
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
 
 #include "atmosh/sh/fast.hpp"
@@ -49,8 +51,19 @@ __attribute__((always_inline)) inline void batch(std::size_t n, const T* xs, con
   constexpr int W = Bytes / static_cast<int>(sizeof(T));
   using P = Pack<T, W>;
   using V = typename P::V;
+  // Stores dominate: where every output row has the same alignment (stride a multiple of
+  // the pack) but the rows do not start on a pack boundary, the first pack is stored
+  // unaligned and the next starts at the first aligned direction `head` (directions
+  // head..W-1 are computed twice, to the same values): every later store is aligned. A
+  // store that straddles two cache lines costs about twice as much (1.2 vs 0.7 ns per
+  // direction at L = 4, float, AVX-512).
+  std::size_t head = 0;
+  if (n >= 2 * W && (stride * sizeof(T)) % Bytes == 0) {
+    const std::size_t mis = reinterpret_cast<std::uintptr_t>(out) % Bytes;
+    if (mis != 0 && mis % sizeof(T) == 0) head = (Bytes - mis) / sizeof(T);
+  }
   std::size_t k = 0;
-  for (; k + W <= n; k += W) {
+  for (; k + W <= n; k = (k == 0 && head > 0) ? head : k + W) {
     using U = typename P::U;
     P o[B * B];
     eval_pack<B, T>(P(V(*reinterpret_cast<const U*>(xs + k))), P(V(*reinterpret_cast<const U*>(ys + k))),

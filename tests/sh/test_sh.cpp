@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <complex>
 #include <numbers>
 #include <random>
@@ -188,6 +189,53 @@ TEST(Basis, BatchAgreesWithGeneralPath) {
   EXPECT_THROW(evaluate_batch(4, 1, zero, zero, zero, out.data(), 4), atmosh::InputError);
   EXPECT_THROW(evaluate_batch(4, 2, bad_y, bad_y, bad_z, out.data(), 1), atmosh::InputError);  // stride < n
   EXPECT_THROW(evaluate_batch(129, 1, bad_y, bad_y, bad_z, out.data(), 1), atmosh::InputError);
+}
+
+// The batch kernels align their stores: when every output row has the same alignment
+// (stride a multiple of 16 floats / 8 doubles) but rows start off a 64-byte boundary,
+// the first directions take a separate short pass. Every start offset, against the
+// per-direction general path, and nothing written outside the n columns of each row.
+TEST(Basis, BatchesAgreeAtEveryOutputAlignment) {
+  const auto dirs = test_dirs(40, 5);  // n = 40: a short pass, full passes, a partial one
+  const std::size_t n = dirs.size();
+  std::vector<double> xd, yd, zd;
+  std::vector<float> xf, yf, zf;
+  for (const auto& d : dirs) {
+    xd.push_back(d.x), yd.push_back(d.y), zd.push_back(d.z);
+    xf.push_back(float(d.x)), yf.push_back(float(d.y)), zf.push_back(float(d.z));
+  }
+  for (std::size_t stride : {std::size_t{64}, n + 1}) {
+    for (std::size_t off = 0; off < 16; ++off) {
+      for (int L : {4, 16}) {
+        std::vector<double> bufd(sh_count(L) * stride + 32, -7.0);
+        double* outd = bufd.data();
+        while (reinterpret_cast<std::uintptr_t>(outd) % 64) ++outd;
+        outd += off % 8;
+        evaluate_batch(L, n, xd.data(), yd.data(), zd.data(), outd, stride);
+        std::vector<float> buff(16 * stride + 32, -7.0f);
+        float* outf = buff.data();
+        while (reinterpret_cast<std::uintptr_t>(outf) % 64) ++outf;
+        outf += off;
+        if (L == 4) ASSERT_TRUE(evaluate_fast_batch(4, n, xf.data(), yf.data(), zf.data(), outf, stride));
+        for (std::size_t k = 0; k < n; ++k) {
+          const auto g = evaluate(L, dirs[k]);
+          for (int i = 0; i < sh_count(L); ++i) {
+            const int l = static_cast<int>(std::sqrt(double(i)));
+            const double scale = std::sqrt((2 * l + 1) / (4 * kPi));
+            ASSERT_LE(std::abs(outd[i * stride + k] - g[i]), 1e-13 * scale) << "off " << off << " k " << k;
+            if (L == 4) ASSERT_LE(std::abs(outf[i * stride + k] - g[i]), 1e-6 * scale) << "off " << off << " k " << k;
+          }
+        }
+        for (int i = 0; i < sh_count(L); ++i)
+          for (std::size_t k = n; k < stride; ++k) {
+            ASSERT_EQ(outd[i * stride + k], -7.0) << "wrote past n";
+            if (L == 4) ASSERT_EQ(outf[i * stride + k], -7.0f) << "wrote past n";
+          }
+        for (double* p = bufd.data(); p < outd; ++p) ASSERT_EQ(*p, -7.0) << "wrote before the buffer";
+        for (float* p = buff.data(); p < outf; ++p) ASSERT_EQ(*p, -7.0f) << "wrote before the buffer";
+      }
+    }
+  }
 }
 
 TEST(Basis, RowPathAgreesWithSingleColumnsAndSumRule) {
