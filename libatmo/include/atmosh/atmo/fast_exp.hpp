@@ -19,63 +19,66 @@
 
 namespace atmosh::atmo {
 
-// exp(-x) for x in [-700, 700] (x = +inf or huge gives exactly 0), branch-free so that loops
-// over wavelengths vectorise: Cody-Waite reduction x = n ln2 + r, |r| <= ln2/2,
-// degree-12 Taylor polynomial (truncation < 2e-17 relative), 2^-n assembled in the
-// exponent bits.
-inline double exp_neg(double x) {
-  const double xc = std::min(x, 700.0);  // also maps +inf; NaN is not expected (finite sums)
-  // Round to nearest by the 1.5 * 2^52 shift (no libm call, vectorises).
-  constexpr double kShift = 6755399441055744.0;
-  const double n = (xc * 1.4426950408889634 + kShift) - kShift;
-  const double r = (n * 0.6931471803691238 - xc) + n * 1.9082149292705877e-10;  // -(x - n ln2)
-  double p = 1.0 / 479001600.0;
-  p = p * r + 1.0 / 39916800.0;
-  p = p * r + 1.0 / 3628800.0;
-  p = p * r + 1.0 / 362880.0;
-  p = p * r + 1.0 / 40320.0;
-  p = p * r + 1.0 / 5040.0;
-  p = p * r + 1.0 / 720.0;
-  p = p * r + 1.0 / 120.0;
-  p = p * r + 1.0 / 24.0;
-  p = p * r + 1.0 / 6.0;
-  p = p * r + 0.5;
-  p = p * r + 1.0;
-  p = p * r + 1.0;
-  // 2^-n: the integer 1023 - n (in [13, 2033]) sits in the low mantissa bits of
-  // k + 1.5 * 2^52; shifting it into the exponent field is a 64-bit integer op.
-  const double k = (1023.0 - n) + kShift;
-  std::uint64_t bits;
-  std::memcpy(&bits, &k, sizeof bits);
-  bits <<= 52;
-  double scale;
-  std::memcpy(&scale, &bits, sizeof scale);
-  return x < 700.0 ? p * scale : 0.0;
+namespace detail {
+// The constants of exp_neg for one floating-point type: the largest argument (above it
+// the result is exactly 0), the round-to-nearest shift 1.5 * 2^(mantissa bits), log2(e),
+// ln 2 split into a high part with trailing zero bits and the rest (Cody-Waite), the
+// exponent bias, the mantissa bits and the degree of the Taylor polynomial.
+template <class F>
+struct ExpNegConstants;
+template <>
+struct ExpNegConstants<double> {
+  using Bits = std::uint64_t;
+  static constexpr double kMax = 700.0, kShift = 6755399441055744.0, kLog2e = 1.4426950408889634,
+                          kLn2Hi = 0.6931471803691238, kLn2Lo = 1.9082149292705877e-10;
+  static constexpr int kBias = 1023, kMantissa = 52, kDegree = 12;  // truncation < 2e-17
+};
+template <>
+struct ExpNegConstants<float> {
+  using Bits = std::uint32_t;
+  static constexpr float kMax = 87.0f, kShift = 12582912.0f, kLog2e = 1.44269504f, kLn2Hi = 0.693359375f,
+                         kLn2Lo = -2.12194440e-4f;
+  static constexpr int kBias = 127, kMantissa = 23, kDegree = 7;  // truncation < 6e-9
+};
+
+constexpr double factorial(int k) { return k <= 1 ? 1.0 : k * factorial(k - 1); }
+
+// sum_{j=k..K} r^(j-k) k!/j! ... by Horner: 1/k! + r (1/(k+1)! + r (...)), from the top.
+template <class F, int K, int k = 0>
+inline F exp_taylor(F r) {
+  if constexpr (k == K)
+    return F(1) / F(factorial(K));
+  else
+    return exp_taylor<F, K, k + 1>(r) * r + F(1) / F(factorial(k));
 }
 
-// exp(-x) in single precision for x >= 0: the same scheme as exp_neg with a
-// degree-7 Taylor polynomial (truncation < 6e-9 relative on |r| <= ln2/2).
-inline float exp_neg_f(float x) {
-  const float xc = std::min(x, 87.0f);
-  constexpr float kShift = 12582912.0f;  // 1.5 * 2^23
-  const float n = (xc * 1.44269504f + kShift) - kShift;
-  const float r = (n * 0.693359375f - xc) + n * -2.12194440e-4f;  // -(x - n ln2), ln2 split in two
-  float p = 1.0f / 5040.0f;
-  p = p * r + 1.0f / 720.0f;
-  p = p * r + 1.0f / 120.0f;
-  p = p * r + 1.0f / 24.0f;
-  p = p * r + 1.0f / 6.0f;
-  p = p * r + 0.5f;
-  p = p * r + 1.0f;
-  p = p * r + 1.0f;
-  // 2^-n from the integer 127 - n (in [1, 127]) in the low mantissa bits of k.
-  const float k = (127.0f - n) + kShift;
-  std::uint32_t bits;
+// exp(-x), branch-free so that loops over wavelengths vectorise: Cody-Waite reduction
+// x = n ln2 + r, |r| <= ln2/2, Taylor polynomial, 2^-n assembled in the exponent bits.
+template <class F>
+inline F exp_neg(F x) {
+  using C = ExpNegConstants<F>;
+  const F xc = std::min(x, C::kMax);  // also maps +inf; NaN is not expected (finite sums)
+  // Round to nearest by the shift (no libm call, vectorises).
+  const F n = (xc * C::kLog2e + C::kShift) - C::kShift;
+  const F r = (n * C::kLn2Hi - xc) + n * C::kLn2Lo;  // -(x - n ln2)
+  const F p = exp_taylor<F, C::kDegree>(r);
+  // 2^-n: the integer bias - n sits in the low mantissa bits of k (it is at most
+  // 2 bias - 1 over the domain, so it fits the exponent field); shifting it there is
+  // an integer op.
+  const F k = (F(C::kBias) - n) + C::kShift;
+  typename C::Bits bits;
   std::memcpy(&bits, &k, sizeof bits);
-  bits <<= 23;
-  float scale;
+  bits <<= C::kMantissa;
+  F scale;
   std::memcpy(&scale, &bits, sizeof scale);
-  return x < 87.0f ? p * scale : 0.0f;
+  return x < C::kMax ? p * scale : F(0);
 }
+}  // namespace detail
+
+// exp(-x) for x in [-700, 700] in double precision (x = +inf or huge gives exactly 0).
+inline double exp_neg(double x) { return detail::exp_neg(x); }
+
+// exp(-x) for x >= 0 in single precision (x = +inf or >= 87 gives exactly 0).
+inline float exp_neg_f(float x) { return detail::exp_neg(x); }
 
 }  // namespace atmosh::atmo
