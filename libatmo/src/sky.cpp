@@ -150,7 +150,7 @@ std::vector<double> sky_part_column_weights(int n) {
     const double half = 0.5 * (hi + 1.0), mid = 0.5 * (hi - 1.0);
     for (int j = 0; j < m; ++j) {
       double sum = 0.0;
-      for (int k = 0; k < m; ++k) sum += q.weights[static_cast<std::size_t>(k)] * basis(j, mid + half * q.nodes[static_cast<std::size_t>(k)]);
+      for (std::size_t k = 0; k < q.nodes.size(); ++k) sum += q.weights[k] * basis(j, mid + half * q.nodes[k]);
       w[static_cast<std::size_t>(row * m + j)] = half * sum;
     }
   }
