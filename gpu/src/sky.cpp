@@ -70,7 +70,9 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
   const auto& radii = lut.shell_radii();
   const double R = atm.ground_radius(), T = atm.top_radius(), Hh = std::sqrt((T - R) * (T + R));
   const int S = static_cast<int>(radii.size());
-  const int nv = lut.options().view_directions, ns = lut.options().sun_directions;
+  // No view tables in a sun-only build (LutOptions::view_tables, e.g. the sky's): the
+  // view parts are empty and off_ground = off_sun = 0.
+  const int nv = lut.options().view_tables ? lut.options().view_directions : 0, ns = lut.options().sun_directions;
   std::vector<float> out;
   out.reserve(static_cast<std::size_t>(S) * (2 * nv + ns) * 3);
   auto table = [&](int n, int kind) {  // 0 view up, 1 view ground, 2 sun
@@ -429,7 +431,7 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
     for (double x : v) nodes.push_back(static_cast<float>(x));
   }
   const int S = static_cast<int>(radii.size());
-  const int nv = lo.view_directions, ns = lo.sun_directions;
+  const int nv = lo.view_tables ? lo.view_directions : 0, ns = lo.sun_directions;  // as lut_tables_from_cpu
   Buffer b_nodes(nodes.size() * sizeof(float) + 4, nodes.data()), b_cross(cross.size() * sizeof(double), cross.data()),
       b_rule(rule.size() * sizeof(double), rule.data()), b_radii(radii.size() * sizeof(double), radii.data());
   b_nodes.bind(2);
@@ -453,6 +455,7 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
   std::vector<float> out;
   auto run = [&](int n, int kind) {
     const int entries = S * n;
+    if (entries == 0) return;
     Buffer b_out(static_cast<std::size_t>(entries) * 3 * sizeof(float));
     b_out.bind(10);
     prog.set("n_dirs", n);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -309,8 +310,10 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     gl_x_.push_back(0.5 * (gl.nodes[i] + 1.0));
     gl_w_.push_back(0.5 * gl.weights[i]);
   }
-  fill(view_up_, opt_.view_directions, false);
-  fill(view_ground_, opt_.view_directions, true);
+  if (opt_.view_tables) {
+    fill(view_up_, opt_.view_directions, false);
+    fill(view_ground_, opt_.view_directions, true);
+  }
   fill(sun_up_, opt_.sun_directions, false);
   build_time_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -564,7 +567,11 @@ void OpticalDepthLut::replace_log_tables(const std::vector<float>& log_mean, int
   copy(sun_up_, 2 * nv);
 }
 
-LutColumn OpticalDepthLut::view(double r, double mu) const { return lookup(view_up_, &view_ground_, r, mu); }
+LutColumn OpticalDepthLut::view(double r, double mu) const {
+  if (!opt_.view_tables)
+    throw std::logic_error("OpticalDepthLut::view: the tables were built without view tables (LutOptions::view_tables)");
+  return lookup(view_up_, &view_ground_, r, mu);
+}
 LutColumn OpticalDepthLut::sun(double r, double mu) const { return lookup(sun_up_, nullptr, r, mu); }
 
 double OpticalDepthLut::estimate_max_rel_error() const {
@@ -575,20 +582,31 @@ double OpticalDepthLut::estimate_max_rel_error() const {
     double ta = optical_depth(kc, a), tb = optical_depth(kc, b);
     return tb > 0.0 ? std::abs(ta - tb) / tb : std::abs(ta);
   };
+  // Fresh build-quality columns, with the closed-form constituents that the tables do
+  // not hold added in (as lookup() does).
+  auto exact = [&](double r, double mu, double L) {
+    glm::dvec3 c = build_column(r, mu, L);
+    for (int i = 0; i < 3; ++i)
+      if (analytic_[i]) c[i] = linear_[i](r, mu, L);
+    return c;
+  };
   const int S = static_cast<int>(radii_.size());
   for (int k = 1; k < S - 1; k += 2) {
     // mid-shell radius (in rho), mid-direction samples
     double rho = 0.5 * (rho_[k] + rho_[k + 1]);
     double r = std::sqrt(rho * rho + R_ * R_);
-    for (int j = 0; j + 1 < opt_.view_directions; j += 3) {
-      double x = (j + 0.5) / (opt_.view_directions - 1);
+    const int nd = opt_.view_tables ? opt_.view_directions : opt_.sun_directions;
+    for (int j = 0; j + 1 < nd; j += 3) {
+      double x = (j + 0.5) / (nd - 1);
       double dmin = T_ - r, dmax = rho + Hh_, d = dmin + x * (dmax - dmin);
       double mu = std::clamp(((T_ - r) * (T_ + r) - d * d) / (2.0 * r * d), -1.0, 1.0);
-      worst = std::max(worst, rel(view(r, mu).column, build_column(r, mu, sg::distance_to_top(r, mu, T_))));
+      const LutColumn up = opt_.view_tables ? view(r, mu) : sun(r, mu);
+      worst = std::max(worst, rel(up.column, exact(r, mu, sg::distance_to_top(r, mu, T_))));
+      if (!opt_.view_tables) continue;
       double dg = (r - R_) + x * (rho - (r - R_));
       double mug = std::clamp(-(rho * rho + dg * dg) / (2.0 * r * dg), -1.0, 1.0);
       if (sg::ray_hits_ground(r, mug, R_))
-        worst = std::max(worst, rel(view(r, mug).column, build_column(r, mug, sg::distance_to_ground(r, mug, R_))));
+        worst = std::max(worst, rel(view(r, mug).column, exact(r, mug, sg::distance_to_ground(r, mug, R_))));
     }
   }
   return worst;

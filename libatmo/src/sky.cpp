@@ -170,6 +170,7 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
     throw InputError("max piece optical depth " + std::to_string(opt_.max_piece_optical_depth) + " must be > 0");
   if (!(opt_.sun_distance_au > 0) || !std::isfinite(opt_.sun_distance_au))
     throw InputError("sun distance " + std::to_string(opt_.sun_distance_au) + " AU must be > 0");
+  opt_.lut.view_tables = false;  // view depths are accumulated along the ray: the sun table only
   lut_ = std::make_unique<OpticalDepthLut>(atm_, opt_.lut);
   phase_ = make_phases(atm_);
   const auto gl = sh::gauss_legendre(opt_.samples_per_segment);
@@ -304,7 +305,7 @@ std::vector<double> SkyIntegrator::sun_transmittance(double altitude_m, const gl
   std::vector<double> t(solar_.size(), 1.0);
   if (ray.empty) return t;
   if (ray.ground) return std::vector<double>(solar_.size(), 0.0);
-  const LutColumn c = lut_->view(ray.r, ray.mu);
+  const LutColumn c = lut_->sun(ray.r, ray.mu);  // a ray toward the top: the sun table
   for (std::size_t i = 0; i < t.size(); ++i)
     t[i] = transmittance(optical_depth(atm_.coefficients(i), c.column));
   return t;

@@ -58,6 +58,8 @@ TEST(Scene, OmittedTablesLeaveConstituentsOut) {
   EXPECT_FALSE(s.atmosphere.ozone.has_value());
   const auto ps = plan(s);
   EXPECT_TRUE(find(ps, "constituent:rayleigh").needed);
+  EXPECT_TRUE(find(ps, "optical-depth-lut:sun").needed);
+  EXPECT_FALSE(find(ps, "optical-depth-lut:view").needed);  // view depths accumulated along each ray
   EXPECT_FALSE(find(ps, "constituent:mie").needed);
   EXPECT_NE(find(ps, "constituent:mie").reason.find("[mie]"), std::string::npos);
   EXPECT_FALSE(find(ps, "constituent:ozone").needed);

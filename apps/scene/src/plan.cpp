@@ -53,8 +53,9 @@ std::vector<Pass> plan(const Scene& s) {
   int constituents = 0;
   for (const auto& c : cs) constituents += c.present ? 1 : 0;
   const bool tables = sky && constituents > 0;
-  p.push_back({"optical-depth-lut:view", tables,
-               tables ? "view-ray optical depths for " + std::to_string(constituents) + " constituent(s)"
+  // The sky accumulates view-ray optical depths along each ray: no view table is built.
+  p.push_back({"optical-depth-lut:view", false,
+               tables ? "the sky accumulates view-ray optical depths along each ray"
                       : "no sky output (or no constituent)"});
   p.push_back({"optical-depth-lut:sun", tables,
                tables ? "sun-ray optical depths for " + std::to_string(constituents) + " constituent(s)"

@@ -147,6 +147,10 @@ struct LutOptions {
   // their column is computed in closed form at lookup (PiecewiseLinearColumn),
   // exact to rounding. 0 interpolates every constituent from the tables.
   int analytic_max_nodes = 16;
+  // Build the two view tables (view() lookups). A user that needs only rays toward
+  // the top (the sky integrator: view depths are accumulated along the ray) leaves
+  // them out: the sun table alone, a third of the build.
+  bool view_tables = true;
 };
 
 struct LutColumn {
@@ -160,6 +164,7 @@ class OpticalDepthLut {
   OpticalDepthLut(const Atmosphere& atmosphere, LutOptions options = {});
 
   // Column along a view ray (to the top, or to the ground when it hits it).
+  // std::logic_error if the tables were built without view tables.
   LutColumn view(double r, double mu) const;
   // Column toward the sun (to the top); hits_ground = true means blocked.
   LutColumn sun(double r, double mu) const;
@@ -170,7 +175,8 @@ class OpticalDepthLut {
   std::size_t table_bytes() const;
   // Max relative error of the total optical depth (middle wavelength of the
   // atmosphere's grid) at midpoints between table samples on
-  // a subset of shells and directions, against fresh build-quality integrals:
+  // a subset of shells and directions (view tables, or the sun table if there are
+  // none), against fresh build-quality integrals:
   // an a-posteriori estimate (costs ~ a build; not part of build_time_s).
   double estimate_max_rel_error() const;
 
