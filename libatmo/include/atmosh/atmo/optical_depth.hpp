@@ -36,6 +36,7 @@
 //     rays that hit the ground, each with `view_directions` samples;
 //   * sun table: rays toward the top only, `sun_directions` samples (a sun ray
 //     that hits the ground is blocked: transmittance 0).
+// (LutOptions::view_tables = false leaves the view tables out: sun() only.)
 // Direction parametrisation (Bruneton 2017): x = (d - d_min)/(d_max - d_min)
 // with d the distance to the top (d_min = T - r, d_max = rho + sqrt(T^2-R^2)) or
 // to the ground (d_min = r - R, d_max = rho): uniform in x, it resolves grazing
