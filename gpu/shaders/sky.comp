@@ -65,7 +65,7 @@ void main() {
       float sd = float(piece_densest_point(r, mu, double(st), vc.s[k - 1], vc.s[k]));
       double usd = double(sd) + r * mu;
       float hd = float((double(sd) * (double(sd) + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) / (sqrt(usd * usd + rt2) + Rd));
-      vec3 rho_d = density_at(hd);
+      vec3 rho_d = density_at(max(hd, 0.0));  // below the ground only by rounding
       float tau_piece = (ext_max[0] * rho_d[0] + ext_max[1] * rho_d[1] + ext_max[2] * rho_d[2]) * (b0 - a0);
       int parts = piece_parts(tau_piece, max_piece_optical_depth);
       // One part [a, b] of the piece: the body of ATMOSH_SKY_PIECE_PARTS
@@ -83,12 +83,12 @@ void main() {
       double u = s + r * mu;                                                                \
       s_q[q] = s;                                                                           \
       r_q[q] = sqrt(u * u + rt2);                                                           \
-      h_q[q] = float((s * (s + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) / (r_q[q] + Rd));     \
+      h_q[q] = max(float((s * (s + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) / (r_q[q] + Rd)), 0.0); \
       rho_q[q] = density_at(h_q[q]);                                                        \
     }                                                                                       \
     double ub = pb + r * mu;                                                                \
-    vec3 rho_end = density_at(float((pb * (pb + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) /    \
-                                    (sqrt(ub * ub + rt2) + Rd)));                           \
+    vec3 rho_end = density_at(max(float((pb * (pb + 2.0LF * r * mu) + (r - Rd) * (r + Rd)) / \
+                                        (sqrt(ub * ub + rt2) + Rd)), 0.0));                 \
     float part_halff = float(part_half);                                                    \
     for (int q = 0; q <= n_gauss; ++q) {                                                    \
       int row = off_pw + q * n_points;                                                      \

@@ -213,10 +213,10 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   const double* cuts = vc.s;
   const int nc = vc.n;
   const double st = sg::tangent_distance(ray.r, ray.mu);
-  // Extinction per metre at the densest point of a piece (shared/scatter.glsl.hpp).
-  auto piece_extinction = [&](double a, double b) {
-    const double s = sg::piece_densest_point(ray.r, ray.mu, st, a, b);
-    return glm::dot(ext_max_, atm_.density(sg::radius_along(ray.r, ray.mu, s) - R));
+  // Densities along the ray; an altitude that rounds below the ground (a ray's end on
+  // it) counts as the ground: a tabulated profile is 0 below its first node.
+  auto density_at = [&](double s) {
+    return atm_.density(std::max(sg::radius_along(ray.r, ray.mu, s) - R, 0.0));
   };
 
   double acc_small[64];
@@ -239,6 +239,8 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   // density there (shared/scatter.glsl.hpp; weights: sky_part_column_weights).
   glm::dvec3 column(0.0);
   glm::dvec3 rho_start = atm_.density(ray.r - R);
+  double piece_end = -1.0;     // the current piece's end, where its density is known if
+  glm::dvec3 rho_piece_end(0.0);  // piece_end >= 0 (its densest point)
   auto part = [&](double a, double b) {
     const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
     double s_q[sg::kMaxPartNodes], r_q[sg::kMaxPartNodes];
@@ -246,9 +248,9 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
     for (int q = 0; q < n_nodes; ++q) {
       s_q[q] = mid + half * gl_x_[static_cast<std::size_t>(q)];
       r_q[q] = sg::radius_along(ray.r, ray.mu, s_q[q]);
-      rho_q[q] = atm_.density(r_q[q] - R);
+      rho_q[q] = atm_.density(std::max(r_q[q] - R, 0.0));
     }
-    const glm::dvec3 rho_end = atm_.density(sg::radius_along(ray.r, ray.mu, b) - R);
+    const glm::dvec3 rho_end = b == piece_end ? rho_piece_end : density_at(b);
     auto column_to = [&](int row) {  // from a, to node `row` (row n_nodes: to b)
       const double* c = &part_w_[static_cast<std::size_t>(row * n_points)];
       glm::dvec3 x = c[0] * rho_start + c[n_nodes + 1] * rho_end;
@@ -271,7 +273,21 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   for (int k = 1; k < nc; ++k) {
     const double a0 = cuts[k - 1], b0 = cuts[k];
     if (!(b0 > a0)) continue;
-    const double tau_piece = piece_extinction(a0, b0) * (b0 - a0);
+    // Extinction per metre at the densest point of the piece (shared/scatter.glsl.hpp):
+    // an end of the piece unless the tangent point lies inside; the densities at the
+    // ends are those of the parts' ends (same point, same value), computed once.
+    const double sd = sg::piece_densest_point(ray.r, ray.mu, st, a0, b0);
+    piece_end = -1.0;
+    glm::dvec3 rho_d;
+    if (sd == a0) {
+      rho_d = rho_start;
+    } else if (sd == b0) {
+      rho_piece_end = rho_d = density_at(b0);
+      piece_end = b0;
+    } else {
+      rho_d = density_at(sd);
+    }
+    const double tau_piece = glm::dot(ext_max_, rho_d) * (b0 - a0);
     const int parts = sg::piece_parts(tau_piece, opt_.max_piece_optical_depth);
     ATMOSH_SKY_PIECE_PARTS(double, a0, b0, parts, part);
   }
