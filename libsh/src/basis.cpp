@@ -399,9 +399,10 @@ __attribute__((always_inline)) inline void batch_all(int bands, std::size_t n, c
   const ColTable& t = col_table();
   // Where every output row has the same alignment but not on a vector boundary, the
   // first pass stores unaligned and the next starts at the first aligned direction
-  // `head` (directions head..kLanes-1 are computed twice, to the same values): every
-  // later store is aligned (a store that straddles two cache lines costs about twice as
-  // much). (A loop, not a lambda: a lambda would not inherit the target of the clone.)
+  // `head` (directions head..kLanes-1 are computed twice; the second pass's values
+  // stand): every later store is aligned (a store that straddles two cache lines costs
+  // about twice as much). (A loop, not a lambda: a lambda would not inherit the target
+  // of the clone.)
   std::size_t head = 0;
   constexpr std::size_t kBytes = kLanes * sizeof(double);
   if (n >= 4 * kLanes && (stride * sizeof(double)) % kBytes == 0) {
