@@ -98,12 +98,14 @@ void BM_EvalGeneral(benchmark::State& st) {
 // n directions at once (general path, recurrence vectorised across directions), per
 // direction. Output L^2 * n doubles, coefficient-major, stride padded by 16, rows
 // 64-byte aligned (third argument 0) or one value past (1).
+// Template argument: double, or float (the recurrence in single precision).
+template <class T>
 void BM_EvalBatch(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0));
   const std::size_t n = static_cast<std::size_t>(st.range(1));
-  Dirs<double> d(n);
+  Dirs<T> d(n);
   const std::size_t stride = n + 16;
-  Out<double> out(static_cast<std::size_t>(L) * L * stride, static_cast<std::size_t>(st.range(2)));
+  Out<T> out(static_cast<std::size_t>(L) * L * stride, static_cast<std::size_t>(st.range(2)));
   for (auto _ : st) {
     evaluate_batch(L, n, d.x.data(), d.y.data(), d.z.data(), out.p, stride);
     benchmark::DoNotOptimize(out.p);
@@ -175,7 +177,8 @@ BENCHMARK_TEMPLATE(BM_EvalFastBatch, float)->ArgsProduct({{2, 4, 8}, {256, 1024}
 BENCHMARK_TEMPLATE(BM_EvalFastBatch, double)->ArgsProduct({{2, 4, 8}, {256, 1024}, {0}})->Args({4, 256, 1});
 BENCHMARK_TEMPLATE(BM_EvalFastBatchInline, float)->Args({4, 256})->Args({4, 1024});
 BENCHMARK(BM_EvalGeneral)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Arg(64);
-BENCHMARK(BM_EvalBatch)->ArgsProduct({{4, 8, 16, 64}, {8, 32, 64, 256}, {0}})->Args({16, 8, 1})->Args({16, 256, 1});
+BENCHMARK_TEMPLATE(BM_EvalBatch, double)->ArgsProduct({{4, 8, 16, 64}, {8, 32, 64, 256}, {0}})->Args({16, 8, 1})->Args({16, 256, 1});
+BENCHMARK_TEMPLATE(BM_EvalBatch, float)->ArgsProduct({{4, 8, 16, 64}, {16, 64, 256}, {0}})->Args({16, 16, 1})->Args({16, 256, 1});
 BENCHMARK(BM_EvalGeneralFloat)->Arg(16)->Arg(64);
 BENCHMARK(BM_CubeProject)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RotationBuild)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);

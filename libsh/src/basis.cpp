@@ -241,56 +241,114 @@ void evaluate_rows_kernel(int bands, double ct, double c1, double s1, const doub
 // ---- batches: the column recurrence vectorised across directions ----------------------
 // One lane per direction (kLanes directions per pass), structure-of-arrays input,
 // coefficient-major output. Per order m the column l = m..bands-1 is run in registers,
-// P_lm = a_lm cos t P_l-1,m - b_lm P_l-2,m: every step is one vector operation on 4
-// directions (one AVX register in the AVX2/FMA clone, two SSE2 registers otherwise).
-// (8-double generic vectors were lowered by GCC 12 through integer registers in those
-// clones: 5x slower.) Where the CPU has AVX-512, an 8-lane instance (one zmm register
-// per step) runs instead (atmosh/dispatch.hpp).
-template <int Lanes>
+// P_lm = a_lm cos t P_l-1,m - b_lm P_l-2,m: every step is one vector operation on a pack
+// of directions. Doubles: 4 per pack (one AVX register in the AVX2/FMA clone, two SSE2
+// registers otherwise; 8-double generic vectors were lowered by GCC 12 through integer
+// registers in those clones: 5x slower), 8 (one zmm register) where the CPU has AVX-512
+// (atmosh/dispatch.hpp). Floats: twice as many lanes in the same registers.
+template <class T, int Lanes>
 struct Lane {
-  typedef double V __attribute__((vector_size(Lanes * sizeof(double))));
-  typedef double Vu __attribute__((vector_size(Lanes * sizeof(double)), aligned(sizeof(double))));
+  typedef T V __attribute__((vector_size(Lanes * sizeof(T))));
 };
 
-template <bool Full, class VB>
-__attribute__((always_inline)) inline void put(double* p, VB v, int count) {
+template <bool Full, class T, class VB>
+__attribute__((always_inline)) inline void put(T* p, VB v, int count) {
   if constexpr (Full) {
-    typedef double Vu __attribute__((vector_size(sizeof(VB)), aligned(sizeof(double))));
+    typedef T Vu __attribute__((vector_size(sizeof(VB)), aligned(sizeof(T))));
     *reinterpret_cast<Vu*>(p) = v;
   } else {
     for (int k = 0; k < count; ++k) p[k] = v[k];
   }
 }
 
+// Smallest sectoral term the plain-range pass accepts: below it a lane takes the
+// extended-range path. Double: the single-direction row path's threshold (2^-800, 2^222
+// above the smallest normal double); float: 2^-100, 2^26 above the smallest normal float.
+template <class T>
+inline T small_sectoral() {
+  if constexpr (sizeof(T) == sizeof(double)) return detail::kSmall;
+  else return std::ldexp(1.0f, -100);
+}
+
+// a_lm, b_lm column-major (column m at m * kRowStride, entry l), for bands <= kRowBands,
+// in double and rounded to float.
+struct ColTable {
+  std::vector<double> a, b;
+  std::vector<float> af, bf;
+  double s[kRowBands];
+  float sf[kRowBands];
+  ColTable() : a(static_cast<std::size_t>(kRowBands) * kRowStride, 0.0), b(a) {
+    s[0] = 0.0;
+    for (int m = 1; m < kRowBands; ++m) s[m] = std::sqrt((2.0 * m + 1.0) / (2.0 * m));
+    for (int m = 0; m < kRowBands; ++m)
+      for (int l = m + 2; l < kRowBands; ++l) {
+        const double ll = l, mm = m;
+        const double den = ll * ll - mm * mm;
+        a[m * kRowStride + l] = std::sqrt((4.0 * ll * ll - 1.0) / den);
+        b[m * kRowStride + l] =
+            std::sqrt((2.0 * ll + 1.0) * ((ll - 1.0) * (ll - 1.0) - mm * mm) / ((2.0 * ll - 3.0) * den));
+      }
+    af.assign(a.begin(), a.end());
+    bf.assign(b.begin(), b.end());
+    for (int m = 0; m < kRowBands; ++m) sf[m] = static_cast<float>(s[m]);
+  }
+  template <class T>
+  const T* ta() const {
+    if constexpr (sizeof(T) == sizeof(double)) return a.data();
+    else return af.data();
+  }
+  template <class T>
+  const T* tb() const {
+    if constexpr (sizeof(T) == sizeof(double)) return b.data();
+    else return bf.data();
+  }
+  template <class T>
+  const T* ts() const {
+    if constexpr (sizeof(T) == sizeof(double)) return s;
+    else return sf;
+  }
+};
+
+const ColTable& col_table() {
+  static const ColTable* t = new ColTable();  // built once, never freed
+  return *t;
+}
+
 // One pass over `count` <= kLanes directions given by cos t, sin t (>= 0), cos p, sin p.
-// Returns false, writing nothing, if a sectoral term of a lane leaves the plain double
-// range (the same test as the single-direction row path).
-template <int NB, bool Full, class VB>
-__attribute__((always_inline)) inline bool batch_pass(int bands_rt, VB ct, VB st, VB c1, VB s1,
-                                                      const double* ta, const double* tb, const double* ts,
-                                                      double* out, std::size_t stride, int count) {
+// Returns a bit mask of the lanes whose last sectoral term leaves the plain range
+// (small_sectoral): their values are written too (finite, but not accurate) and must be
+// replaced by the caller.
+template <int NB, bool Full, class T, class VB>
+__attribute__((always_inline)) inline unsigned batch_pass(int bands_rt, VB ct, VB st, VB c1, VB s1, const T* ta,
+                                                      const T* tb, const T* ts, T* out, std::size_t stride,
+                                                      int count) {
   const int bands = NB > 0 ? NB : bands_rt;
-  const double y00 = 1.0 / std::sqrt(4.0 * std::numbers::pi);
+  const T y00 = static_cast<T>(1.0 / std::sqrt(4.0 * std::numbers::pi));
   VB p = VB{} + y00;
   for (int m = 1; m < bands; ++m) p = p * (-ts[m] * st);
   // |P_mm| is unimodal in m (the factors s_m sin t decrease), so the last one is the smallest
+  const T small = small_sectoral<T>();
+  unsigned bad = 0;
   for (int k = 0; k < count; ++k)
-    if (st[k] > 0.0 && std::abs(p[k]) < detail::kSmall) return false;
-  const double r2 = std::numbers::sqrt2;
+    if (st[k] > 0 && std::abs(p[k]) < small) {
+      bad |= 1u << k;
+      st[k] = 0;  // the lane's m > 0 terms become exact zeros, not subnormals (which are slow)
+    }
+  const T r2 = static_cast<T>(std::numbers::sqrt2);
   const std::size_t step = 2 * stride;  // row l(l+1) -> (l+1)(l+2): + 2(l+1) rows
-  VB pmm = VB{} + y00, cm = VB{} + 1.0, sm = VB{};
+  VB pmm = VB{} + y00, cm = VB{} + T(1), sm = VB{};
   {  // m = 0
-    double* o = out;  // row l(l+1)
+    T* o = out;  // row l(l+1)
     std::size_t inc = step;
     VB p2 = pmm;
     put<Full>(o, p2, count);
-    if (bands < 2) return true;
-    VB p1 = (std::sqrt(3.0) * ct) * p2;
+    if (bands < 2) return bad;
+    VB p1 = (static_cast<T>(std::sqrt(3.0)) * ct) * p2;
     o += inc;
     inc += step;
     put<Full>(o, p1, count);
-    const double* a = ta;
-    const double* b = tb;
+    const T* a = ta;
+    const T* b = tb;
     for (int l = 2; l < bands; ++l) {
       const VB q = a[l] * ct * p1 - b[l] * p2;
       o += inc;
@@ -307,19 +365,19 @@ __attribute__((always_inline)) inline bool batch_pass(int bands_rt, VB ct, VB st
     cm = cn;
     const VB C = r2 * cm, S = r2 * sm;
     const std::size_t mo = static_cast<std::size_t>(m) * stride;
-    double* o = out + static_cast<std::size_t>(m) * (m + 1) * stride;  // row m(m+1), centre of band m
+    T* o = out + static_cast<std::size_t>(m) * (m + 1) * stride;  // row m(m+1), centre of band m
     std::size_t inc = static_cast<std::size_t>(m + 1) * step;
     VB p2 = pmm;
     put<Full>(o + mo, p2 * C, count);
     put<Full>(o - mo, p2 * S, count);
     if (m + 1 >= bands) break;
-    VB p1 = (std::sqrt(2.0 * m + 3.0) * ct) * p2;
+    VB p1 = (static_cast<T>(std::sqrt(2.0 * m + 3.0)) * ct) * p2;
     o += inc;
     inc += step;
     put<Full>(o + mo, p1 * C, count);
     put<Full>(o - mo, p1 * S, count);
-    const double* a = ta + m * kRowStride;  // column m of the column-major table
-    const double* b = tb + m * kRowStride;
+    const T* a = ta + m * kRowStride;  // column m of the column-major table
+    const T* b = tb + m * kRowStride;
     for (int l = m + 2; l < bands; ++l) {
       const VB q = a[l] * ct * p1 - b[l] * p2;
       o += inc;
@@ -330,51 +388,38 @@ __attribute__((always_inline)) inline bool batch_pass(int bands_rt, VB ct, VB st
       p1 = q;
     }
   }
-  return true;
-}
-
-// a_lm, b_lm column-major (column m at m * kRowStride, entry l), for bands <= kRowBands.
-struct ColTable {
-  std::vector<double> a, b;
-  double s[kRowBands];
-  ColTable() : a(static_cast<std::size_t>(kRowBands) * kRowStride, 0.0), b(a) {
-    s[0] = 0.0;
-    for (int m = 1; m < kRowBands; ++m) s[m] = std::sqrt((2.0 * m + 1.0) / (2.0 * m));
-    for (int m = 0; m < kRowBands; ++m)
-      for (int l = m + 2; l < kRowBands; ++l) {
-        const double ll = l, mm = m;
-        const double den = ll * ll - mm * mm;
-        a[m * kRowStride + l] = std::sqrt((4.0 * ll * ll - 1.0) / den);
-        b[m * kRowStride + l] =
-            std::sqrt((2.0 * ll + 1.0) * ((ll - 1.0) * (ll - 1.0) - mm * mm) / ((2.0 * ll - 3.0) * den));
-      }
-  }
-};
-
-const ColTable& col_table() {
-  static const ColTable* t = new ColTable();  // built once, never freed
-  return *t;
+  return bad;
 }
 
 void evaluate_unit(int bands, const glm::dvec3& d, double* out);
 
 // Set-up of a pass: lanes k < count from (xs, ys, zs), the rest (0, 0, 1).
 // cos t = z/|d|, sin t = h/|d|, cos p = x/h, sin p = y/h with h = sqrt(x^2 + y^2)
-// (cos p = 1, sin p = 0 at h = 0), as vector operations.
-template <class VB>
-__attribute__((always_inline)) inline void batch_setup(const double* xs, const double* ys, const double* zs,
-                                                       int count, VB& ct, VB& st, VB& c1, VB& s1) {
-  constexpr int kLanes = sizeof(VB) / sizeof(double);
-  alignas(64) double X[kLanes] = {}, Y[kLanes] = {}, Z[kLanes];
-  for (int k = 0; k < kLanes; ++k) Z[k] = 1.0;
+// (cos p = 1, sin p = 0 at h = 0), as vector operations. A float direction whose squares
+// would leave the normal float range is first scaled by a power of two (exact).
+template <class T, class VB>
+__attribute__((always_inline)) inline void batch_setup(const T* xs, const T* ys, const T* zs, int count, VB& ct,
+                                                       VB& st, VB& c1, VB& s1) {
+  constexpr int kLanes = sizeof(VB) / sizeof(T);
+  alignas(64) T X[kLanes] = {}, Y[kLanes] = {}, Z[kLanes];
+  for (int k = 0; k < kLanes; ++k) Z[k] = 1;
   for (int k = 0; k < count; ++k) {
     X[k] = xs[k];
     Y[k] = ys[k];
     Z[k] = zs[k];
+    if constexpr (sizeof(T) == sizeof(float)) {
+      const float big = std::max({std::abs(X[k]), std::abs(Y[k]), std::abs(Z[k])});
+      if (big > 0x1p60f || big < 0x1p-60f) {
+        const int e = std::ilogb(big);
+        X[k] = std::ldexp(X[k], -e);
+        Y[k] = std::ldexp(Y[k], -e);
+        Z[k] = std::ldexp(Z[k], -e);
+      }
+    }
   }
-  alignas(64) double H[kLanes], N[kLanes];
+  alignas(64) T H[kLanes], N[kLanes];
   for (int k = 0; k < kLanes; ++k) {
-    const double h2 = X[k] * X[k] + Y[k] * Y[k];
+    const T h2 = X[k] * X[k] + Y[k] * Y[k];
     H[k] = std::sqrt(h2);
     N[k] = std::sqrt(h2 + Z[k] * Z[k]);
   }
@@ -384,19 +429,22 @@ __attribute__((always_inline)) inline void batch_setup(const double* xs, const d
   std::memcpy(&z, Z, sizeof z);
   std::memcpy(&h, H, sizeof h);
   std::memcpy(&n, N, sizeof n);
-  const VB one = VB{} + 1.0;
+  const VB one = VB{} + T(1);
   const VB in = one / n, ih = one / h;
   ct = z * in;
   st = h * in;
-  c1 = h > 0.0 ? x * ih : one;
-  s1 = h > 0.0 ? y * ih : VB{};
+  c1 = h > 0 ? x * ih : one;
+  s1 = h > 0 ? y * ih : VB{};
 }
 
-template <int NB, int kLanes>
-__attribute__((always_inline)) inline void batch_all(int bands, std::size_t n, const double* xs, const double* ys,
-                                                     const double* zs, double* out, std::size_t stride) {
-  using VB = typename Lane<kLanes>::V;
+template <int NB, int kLanes, class T>
+__attribute__((always_inline)) inline void batch_all(int bands, std::size_t n, const T* xs, const T* ys,
+                                                     const T* zs, T* out, std::size_t stride) {
+  using VB = typename Lane<T, kLanes>::V;
   const ColTable& t = col_table();
+  const T* ta = t.ta<T>();
+  const T* tb = t.tb<T>();
+  const T* ts = t.ts<T>();
   // Where every output row has the same alignment but not on a vector boundary, the
   // first pass stores unaligned and the next starts at the first aligned direction
   // `head` (directions head..kLanes-1 are computed twice; the second pass's values
@@ -404,30 +452,30 @@ __attribute__((always_inline)) inline void batch_all(int bands, std::size_t n, c
   // about twice as much). (A loop, not a lambda: a lambda would not inherit the target
   // of the clone.)
   std::size_t head = 0;
-  constexpr std::size_t kBytes = kLanes * sizeof(double);
-  if (n >= 4 * kLanes && (stride * sizeof(double)) % kBytes == 0) {
+  constexpr std::size_t kBytes = kLanes * sizeof(T);
+  if (n >= 4 * kLanes && (stride * sizeof(T)) % kBytes == 0) {
     const std::size_t mis = reinterpret_cast<std::uintptr_t>(out) % kBytes;
-    if (mis != 0 && mis % sizeof(double) == 0) head = (kBytes - mis) / sizeof(double);
+    if (mis != 0 && mis % sizeof(T) == 0) head = (kBytes - mis) / sizeof(T);
   }
   for (std::size_t k0 = 0; k0 < n; k0 = (k0 == 0 && head > 0) ? head : k0 + kLanes) {
     const int count = static_cast<int>(std::min<std::size_t>(kLanes, n - k0));
     VB ct, st, c1, s1;
     batch_setup(xs + k0, ys + k0, zs + k0, count, ct, st, c1, s1);
-    double* o = out + k0;
-    const bool done = count == kLanes
-                          ? batch_pass<NB, true>(bands, ct, st, c1, s1, t.a.data(), t.b.data(), t.s, o, stride, count)
-                          : batch_pass<NB, false>(bands, ct, st, c1, s1, t.a.data(), t.b.data(), t.s, o, stride, count);
-    if (!done) {  // a lane within ~1e-240^(1/bands) of a pole: extended range, one by one
+    T* o = out + k0;
+    const unsigned bad = count == kLanes
+                             ? batch_pass<NB, true>(bands, ct, st, c1, s1, ta, tb, ts, o, stride, count)
+                             : batch_pass<NB, false>(bands, ct, st, c1, s1, ta, tb, ts, o, stride, count);
+    if (bad != 0) {  // lanes near a pole (small_sectoral): extended range in double, one by one
       std::vector<double> y(sh_count(bands));
       for (int k = 0; k < count; ++k) {
+        if (!(bad >> k & 1u)) continue;
         evaluate_unit(bands, checked_direction({xs[k0 + k], ys[k0 + k], zs[k0 + k]}, "evaluate_batch"),
                       y.data());
-        for (int i = 0; i < sh_count(bands); ++i) o[i * stride + k] = y[i];
+        for (int i = 0; i < sh_count(bands); ++i) o[i * stride + k] = static_cast<T>(y[i]);
       }
     }
   }
 }
-
 
 ATMOSH_DISPATCH_NO_ERRNO
 void evaluate_batch_kernel(int bands, std::size_t n, const double* xs, const double* ys, const double* zs,
@@ -435,10 +483,21 @@ void evaluate_batch_kernel(int bands, std::size_t n, const double* xs, const dou
   batch_all<0, 4>(bands, n, xs, ys, zs, out, stride);
 }
 
+ATMOSH_DISPATCH_NO_ERRNO
+void evaluate_batch_kernel_f(int bands, std::size_t n, const float* xs, const float* ys, const float* zs,
+                             float* out, std::size_t stride) {
+  batch_all<0, 8>(bands, n, xs, ys, zs, out, stride);
+}
+
 #if ATMOSH_HAS_DISPATCH
 ATMOSH_TARGET_AVX512 __attribute__((optimize("no-math-errno"))) void evaluate_batch_kernel_avx512(
     int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out, std::size_t stride) {
   batch_all<0, 8>(bands, n, xs, ys, zs, out, stride);
+}
+
+ATMOSH_TARGET_AVX512 __attribute__((optimize("no-math-errno"))) void evaluate_batch_kernel_f_avx512(
+    int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out, std::size_t stride) {
+  batch_all<0, 16>(bands, n, xs, ys, zs, out, stride);
 }
 #endif
 
@@ -483,18 +542,25 @@ void evaluate(int bands, const glm::dvec3& dir, double* out) {
   evaluate_unit(bands, d, out);
 }
 
-void evaluate_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out,
-                    std::size_t stride) {
+namespace {
+template <class T>
+void check_batch(int bands, std::size_t n, const T* xs, const T* ys, const T* zs, std::size_t stride) {
   check_bands(bands, "evaluate_batch", kRowBands);
   if (stride < n)
     throw InputError("evaluate_batch: stride " + std::to_string(stride) + " is less than n = " + std::to_string(n));
   for (std::size_t k = 0; k < n; ++k) {
-    const double r2 = xs[k] * xs[k] + ys[k] * ys[k] + zs[k] * zs[k];
+    const double x = xs[k], y = ys[k], z = zs[k];  // squares in double: no float overflow
+    const double r2 = x * x + y * y + z * z;
     if (!(r2 > 0.0 && r2 < std::numeric_limits<double>::infinity()))
-      throw InputError("evaluate_batch: direction " + std::to_string(k) + " (" + std::to_string(xs[k]) + ", " +
-                       std::to_string(ys[k]) + ", " + std::to_string(zs[k]) +
-                       ") is zero, not finite or too long");
+      throw InputError("evaluate_batch: direction " + std::to_string(k) + " (" + std::to_string(x) + ", " +
+                       std::to_string(y) + ", " + std::to_string(z) + ") is zero, not finite or too long");
   }
+}
+}  // namespace
+
+void evaluate_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out,
+                    std::size_t stride) {
+  check_batch(bands, n, xs, ys, zs, stride);
 #if ATMOSH_HAS_DISPATCH
   if (cpu_has_avx512()) {
     evaluate_batch_kernel_avx512(bands, n, xs, ys, zs, out, stride);
@@ -502,6 +568,18 @@ void evaluate_batch(int bands, std::size_t n, const double* xs, const double* ys
   }
 #endif
   evaluate_batch_kernel(bands, n, xs, ys, zs, out, stride);
+}
+
+void evaluate_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
+                    std::size_t stride) {
+  check_batch(bands, n, xs, ys, zs, stride);
+#if ATMOSH_HAS_DISPATCH
+  if (cpu_has_avx512()) {
+    evaluate_batch_kernel_f_avx512(bands, n, xs, ys, zs, out, stride);
+    return;
+  }
+#endif
+  evaluate_batch_kernel_f(bands, n, xs, ys, zs, out, stride);
 }
 
 std::vector<double> evaluate(int bands, const glm::dvec3& dir) {

@@ -191,6 +191,56 @@ TEST(Basis, BatchAgreesWithGeneralPath) {
   EXPECT_THROW(evaluate_batch(129, 1, bad_y, bad_y, bad_z, out.data(), 1), atmosh::InputError);
 }
 
+TEST(Basis, FloatBatchAgreesWithGeneralPath) {
+  // evaluate_batch() in float: the recurrence in single precision. Against evaluate() in
+  // double at the same (float) directions: random ones, both poles, directions 1e-3 rad
+  // and 1e-20 rad off a pole (the latter below the float sectoral threshold at every L
+  // here: computed in double and rounded), and directions whose squares overflow or
+  // underflow in float. Bound from the header: 2e-6 (l + 1) sqrt((2l+1)/4pi).
+  std::vector<glm::vec3> dirs;
+  for (const auto& d : test_dirs(60, 13)) dirs.push_back(glm::vec3(d));
+  dirs.push_back({0, 0, 1});
+  dirs.push_back({0, 0, -2});
+  dirs.push_back({1e-3f, 0, 1});
+  dirs.push_back({0, -1e-20f, -1});
+  dirs.push_back({3e30f, -1e30f, 2e30f});
+  dirs.push_back({1e-30f, 2e-30f, -1e-30f});
+  dirs.push_back({1e-44f, 0, 0});  // a denormal float
+  const std::size_t n = dirs.size(), stride = n + 3;
+  std::vector<float> xs, ys, zs;
+  for (const auto& d : dirs) xs.push_back(d.x), ys.push_back(d.y), zs.push_back(d.z);
+  double worst = 0;
+  for (int L : {1, 2, 3, 4, 9, 16, 17, 33, 64, 128}) {
+    for (std::size_t cnt : {n, std::size_t{5}}) {
+      std::vector<float> out(sh_count(L) * stride, -7.0f);
+      evaluate_batch(L, cnt, xs.data(), ys.data(), zs.data(), out.data(), stride);
+      for (std::size_t k = 0; k < cnt; ++k) {
+        const auto g = evaluate(L, glm::dvec3(dirs[k]));
+        for (int l = 0; l < L; ++l) {
+          const double bound = 2e-6 * (l + 1) * std::sqrt((2 * l + 1) / (4 * kPi));
+          for (int m = -l; m <= l; ++m) {
+            const int i = sh_index(l, m);
+            const double e = std::abs(out[i * stride + k] - g[i]);
+            ASSERT_TRUE(std::isfinite(out[i * stride + k])) << "L=" << L << " k=" << k << " i=" << i;
+            worst = std::max(worst, e / bound);
+            EXPECT_LE(e, bound) << "L=" << L << " k=" << k << " i=" << i;
+          }
+        }
+      }
+      for (int i = 0; i < sh_count(L); ++i)
+        for (std::size_t k = cnt; k < stride; ++k) ASSERT_EQ(out[i * stride + k], -7.0f) << "wrote past n";
+    }
+  }
+  std::printf("float batch: worst error %.3g of the bound\n", worst);
+  std::vector<float> out(16 * 4);
+  const float bad_x[2] = {0, NAN}, bad_y[2] = {0, 0}, bad_z[2] = {1, 1};
+  EXPECT_THROW(evaluate_batch(4, 2, bad_x, bad_y, bad_z, out.data(), 4), atmosh::InputError);
+  const float zero[1] = {0}, inf[1] = {INFINITY};
+  EXPECT_THROW(evaluate_batch(4, 1, zero, zero, zero, out.data(), 4), atmosh::InputError);
+  EXPECT_THROW(evaluate_batch(4, 1, inf, zero, zero, out.data(), 4), atmosh::InputError);
+  EXPECT_THROW(evaluate_batch(129, 1, bad_y, bad_y, bad_z, out.data(), 1), atmosh::InputError);
+}
+
 // The batch kernels align their stores: when every output row has the same alignment
 // (stride a multiple of 16 floats / 8 doubles) but rows start off a 64-byte boundary,
 // the first directions take a separate short pass. Every start offset, against the
@@ -212,24 +262,27 @@ TEST(Basis, BatchesAgreeAtEveryOutputAlignment) {
         while (reinterpret_cast<std::uintptr_t>(outd) % 64) ++outd;
         outd += off % 8;
         evaluate_batch(L, n, xd.data(), yd.data(), zd.data(), outd, stride);
-        std::vector<float> buff(16 * stride + 32, -7.0f);
+        std::vector<float> buff(sh_count(L) * stride + 32, -7.0f);
         float* outf = buff.data();
         while (reinterpret_cast<std::uintptr_t>(outf) % 64) ++outf;
         outf += off;
         if (L == 4) ASSERT_TRUE(evaluate_fast_batch(4, n, xf.data(), yf.data(), zf.data(), outf, stride));
+        else evaluate_batch(L, n, xf.data(), yf.data(), zf.data(), outf, stride);
         for (std::size_t k = 0; k < n; ++k) {
           const auto g = evaluate(L, dirs[k]);
+          const auto gf = evaluate(L, glm::dvec3(xf[k], yf[k], zf[k]));  // at the float direction
           for (int i = 0; i < sh_count(L); ++i) {
             const int l = static_cast<int>(std::sqrt(double(i)));
             const double scale = std::sqrt((2 * l + 1) / (4 * kPi));
             ASSERT_LE(std::abs(outd[i * stride + k] - g[i]), 1e-13 * scale) << "off " << off << " k " << k;
-            if (L == 4) ASSERT_LE(std::abs(outf[i * stride + k] - g[i]), 1e-6 * scale) << "off " << off << " k " << k;
+            const double tolf = L == 4 ? 1e-6 * scale : 2e-6 * (l + 1) * scale;  // headers' bounds
+            ASSERT_LE(std::abs(outf[i * stride + k] - gf[i]), tolf) << "off " << off << " k " << k;
           }
         }
         for (int i = 0; i < sh_count(L); ++i)
           for (std::size_t k = n; k < stride; ++k) {
             ASSERT_EQ(outd[i * stride + k], -7.0) << "wrote past n";
-            if (L == 4) ASSERT_EQ(outf[i * stride + k], -7.0f) << "wrote past n";
+            ASSERT_EQ(outf[i * stride + k], -7.0f) << "wrote past n";
           }
         for (double* p = bufd.data(); p < outd; ++p) ASSERT_EQ(*p, -7.0) << "wrote before the buffer";
         for (float* p = buff.data(); p < outf; ++p) ASSERT_EQ(*p, -7.0f) << "wrote before the buffer";
