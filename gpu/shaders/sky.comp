@@ -100,7 +100,7 @@ void main() {
         break;                                                                              \
       }                                                                                     \
       float mus = float(cos_zenith_along(r, mu_s, nu, s_q[q], r_q[q]));                     \
-      vec4 to_sun = lookup(false, h_q[q], mus);                                             \
+      vec4 to_sun = sun_lookup(h_q[q], mus);                                             \
       if (to_sun.w < 0.5) { /* else in the Earth's shadow */                                \
         vec3 x = column + part_col + to_sun.xyz;                                            \
         float wq = part_halff * gauss_w(q);                                                 \
@@ -123,7 +123,7 @@ void main() {
       double rg = sqrt(ug * ug + rt2);
       float mus_g = float(cos_zenith_along(r, mu_s, nu, sg_end, rg));
       if (mus_g > 0.0) {
-        vec4 to_sun = lookup(false, 0.0, mus_g);
+        vec4 to_sun = sun_lookup(0.0, mus_g);
         if (to_sun.w < 0.5) {
           vec3 xg = column + to_sun.xyz;
           for (int i = 0; i < nwc; ++i)

@@ -22,8 +22,8 @@ layout(std430, binding = 6) readonly buffer ShellsD { double shell_d[]; };    //
 uniform int n_pixels;
 uniform int nw;
 uniform int n_shells;
-uniform int n_view, n_sun;           // directions per table
-uniform int off_view_ground, off_sun;  // offsets into tab[] (view_up starts at 0)
+uniform int n_sun;                 // directions of the sun table
+uniform int off_sun;               // its offset into tab[] (the sky builds no view tables)
 uniform int off_den, off_cuts, n_cuts, off_oz, n_oz;
 uniform int off_nodes[3], n_nodes[3];  // piecewise-linear densities: altitudes[n], values[n] (n = 0: exponential)
 uniform int n_gauss;
@@ -122,31 +122,21 @@ float ozone_column(float r, float mu, float len) {
   return piecewise_linear_column(r, mu, len, radius, value, slope, n, q);
 }
 
-// OpticalDepthLut::lookup for an origin inside the atmosphere: h = r - R given
-// separately (accurately); returns the column, w = 1 when the ray hits the ground.
-vec4 lookup(bool view_table, float h, float mu) {
+// OpticalDepthLut::sun for an origin inside the atmosphere: h = r - R given
+// separately (accurately); returns the column to the top, or w = 1 (and no column)
+// when the ray hits the ground.
+vec4 sun_lookup(float h, float mu) {
   float R = ground_radius, T = top_radius;
   h = max(h, 0.0);
   float r = R + h;
   mu = clamp(mu, -1.0, 1.0);
   double hd = double(h), rho = sqrt(hd * (hd + 2.0LF * ground_radius_d));
-  vec3 col;
-  float d;
-  bool ground = ray_hits_ground(r, mu, R);
-  if (ground) {
-    if (!view_table) return vec4(0.0, 0.0, 0.0, 1.0);
-    d = distance_to_ground(r, mu, R);
-    double dmin = hd, dmax = rho;
-    double x = lut_x(double(d), dmin, dmax);
-    col = decode_times(interpolate(off_view_ground, n_view, rho, x), d);
-  } else {
-    d = distance_to_top(r, mu, T);
-    double dmin = double(T - r), dmax = rho + double(horizon_rho);
-    double x = lut_x(double(d), dmin, dmax);
-    col = view_table ? decode_times(interpolate(0, n_view, rho, x), d)
-                     : decode_times(interpolate(off_sun, n_sun, rho, x), d);
-  }
+  if (ray_hits_ground(r, mu, R)) return vec4(0.0, 0.0, 0.0, 1.0);
+  float d = distance_to_top(r, mu, T);
+  double dmin = double(T - r), dmax = rho + double(horizon_rho);
+  double x = lut_x(double(d), dmin, dmax);
+  vec3 col = decode_times(interpolate(off_sun, n_sun, rho, x), d);
   if (has_ext[2] != 0 && tabulated[2] == 0) col[2] = ozone_column(r, mu, d);
-  return vec4(col, ground ? 1.0 : 0.0);
+  return vec4(col, 0.0);
 }
 

@@ -319,9 +319,7 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   prog.set("n_pixels", static_cast<int>(n));
   prog.set("nw", nw);
   prog.set("n_shells", S);
-  prog.set("n_view", lut.options().view_directions);
   prog.set("n_sun", lut.options().sun_directions);
-  prog.set("off_view_ground", off_ground);
   prog.set("off_sun", off_sun);
   prog.set("off_den", off_den);
   prog.set("off_cuts", off_cuts);
