@@ -484,7 +484,7 @@ void evaluate_batch_kernel(int bands, std::size_t n, const double* xs, const dou
 }
 
 ATMOSH_DISPATCH_NO_ERRNO
-void evaluate_batch_kernel_f(int bands, std::size_t n, const float* xs, const float* ys, const float* zs,
+void evaluate_batch_kernel(int bands, std::size_t n, const float* xs, const float* ys, const float* zs,
                              float* out, std::size_t stride) {
   batch_all<0, 8>(bands, n, xs, ys, zs, out, stride);
 }
@@ -495,7 +495,7 @@ ATMOSH_TARGET_AVX512 __attribute__((optimize("no-math-errno"))) void evaluate_ba
   batch_all<0, 8>(bands, n, xs, ys, zs, out, stride);
 }
 
-ATMOSH_TARGET_AVX512 __attribute__((optimize("no-math-errno"))) void evaluate_batch_kernel_f_avx512(
+ATMOSH_TARGET_AVX512 __attribute__((optimize("no-math-errno"))) void evaluate_batch_kernel_avx512(
     int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out, std::size_t stride) {
   batch_all<0, 16>(bands, n, xs, ys, zs, out, stride);
 }
@@ -556,10 +556,10 @@ void check_batch(int bands, std::size_t n, const T* xs, const T* ys, const T* zs
                        std::to_string(y) + ", " + std::to_string(z) + ") is zero, not finite or too long");
   }
 }
-}  // namespace
 
-void evaluate_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out,
-                    std::size_t stride) {
+// Checks, then the AVX-512 kernel where the CPU has it, else the AVX2/baseline clones.
+template <class T>
+void run_batch(int bands, std::size_t n, const T* xs, const T* ys, const T* zs, T* out, std::size_t stride) {
   check_batch(bands, n, xs, ys, zs, stride);
 #if ATMOSH_HAS_DISPATCH
   if (cpu_has_avx512()) {
@@ -569,17 +569,16 @@ void evaluate_batch(int bands, std::size_t n, const double* xs, const double* ys
 #endif
   evaluate_batch_kernel(bands, n, xs, ys, zs, out, stride);
 }
+}  // namespace
+
+void evaluate_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out,
+                    std::size_t stride) {
+  run_batch(bands, n, xs, ys, zs, out, stride);
+}
 
 void evaluate_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
                     std::size_t stride) {
-  check_batch(bands, n, xs, ys, zs, stride);
-#if ATMOSH_HAS_DISPATCH
-  if (cpu_has_avx512()) {
-    evaluate_batch_kernel_f_avx512(bands, n, xs, ys, zs, out, stride);
-    return;
-  }
-#endif
-  evaluate_batch_kernel_f(bands, n, xs, ys, zs, out, stride);
+  run_batch(bands, n, xs, ys, zs, out, stride);
 }
 
 std::vector<double> evaluate(int bands, const glm::dvec3& dir) {
