@@ -57,6 +57,34 @@ TEST(CliAreas, OpticalDepthJsonContract) {
   expect_bad("optical-depth --preset nowhere --wavelength 550 --altitude 0 --zenith 0", "nowhere");
 }
 
+// The error estimate of --method lut is the table's a-posteriori estimate at the
+// requested wavelength; it must cover the actual error against --method reference
+// (independent adaptive quadrature). Rays: earth-physical (US 1976 Rayleigh) horizontal
+// at 10-11 km, just below the tropopause kink at 11.1 km, where the default table's
+// error is largest (~3e-3), a slant and a vertical ray; earth-graphics vertical, whose
+// estimate is also below the 1e-4 target the default table meets there.
+TEST(CliAreas, OpticalDepthLutErrorEstimateCoversTheError) {
+  struct Case {
+    const char* preset;
+    double altitude_m, zenith_deg;
+  };
+  for (const Case& c : {Case{"earth-physical", 10000, 90}, Case{"earth-physical", 10500, 90},
+                        Case{"earth-physical", 11000, 90}, Case{"earth-physical", 0, 60},
+                        Case{"earth-graphics", 0, 0}, Case{"earth-graphics", 50000, 96}}) {
+    const std::string args = std::string("optical-depth --preset ") + c.preset + " --wavelength 550 --altitude " +
+                             std::to_string(c.altitude_m) + " --zenith " + std::to_string(c.zenith_deg) + " --json";
+    const auto lut = run_cli(args + " --method lut"), ref = run_cli(args + " --method reference");
+    ASSERT_EQ(lut.exit_code, 0) << lut.err;
+    ASSERT_EQ(ref.exit_code, 0) << ref.err;
+    const auto jl = nlohmann::json::parse(lut.out), jr = nlohmann::json::parse(ref.out);
+    const double total = jl["total"].get<double>(), estimate = jl["error_estimate"].get<double>();
+    const double error = std::abs(total - jr["total"].get<double>());
+    EXPECT_GT(estimate, 0.0) << args;
+    EXPECT_LE(error, estimate) << args;
+    if (std::string(c.preset) == "earth-graphics") EXPECT_LT(estimate, 1e-4 * total) << args;
+  }
+}
+
 TEST(CliAreas, ShProjectEvalRoundTripAndBadInput) {
   const fs::path d = scratch("sh");
   // A constant radiance image c: its only coefficient is c00 = c sqrt(4 pi), and the
