@@ -574,10 +574,12 @@ LutColumn OpticalDepthLut::view(double r, double mu) const {
 }
 LutColumn OpticalDepthLut::sun(double r, double mu) const { return lookup(sun_up_, nullptr, r, mu); }
 
-double OpticalDepthLut::estimate_max_rel_error() const {
+double OpticalDepthLut::estimate_max_rel_error(double wavelength_nm) const {
+  if (!(wavelength_nm >= 0.0) || !std::isfinite(wavelength_nm))
+    throw InputError("wavelength " + std::to_string(wavelength_nm) + " nm for the LUT error estimate is not >= 0");
   double worst = 0.0;
   const auto& wl = atm_.wavelengths_nm();
-  Coefficients kc = atm_.coefficients_at(wl.empty() ? 550.0 : wl[wl.size() / 2]);
+  Coefficients kc = atm_.coefficients_at(wavelength_nm > 0.0 ? wavelength_nm : wl.empty() ? 550.0 : wl[wl.size() / 2]);
   auto rel = [&](const glm::dvec3& a, const glm::dvec3& b) {
     double ta = optical_depth(kc, a), tb = optical_depth(kc, b);
     return tb > 0.0 ? std::abs(ta - tb) / tb : std::abs(ta);

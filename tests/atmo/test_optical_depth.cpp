@@ -200,6 +200,16 @@ TEST(OpticalDepthLut, SunOnlyBuildLeavesTheViewTablesOut) {
     const double e = lut->estimate_max_rel_error();
     EXPECT_GT(e, 0.0);
     EXPECT_LT(e, 1e-4);
+    // The default is the middle wavelength of the grid; another wavelength weighs the
+    // constituents differently; a negative or NaN one is bad input.
+    const auto& wl = atm.wavelengths_nm();
+    EXPECT_EQ(lut->estimate_max_rel_error(wl[wl.size() / 2]), e);
+    const double e400 = lut->estimate_max_rel_error(400.0);
+    EXPECT_GT(e400, 0.0);
+    EXPECT_LT(e400, 1e-4);
+    EXPECT_NE(e400, e);
+    EXPECT_THROW(lut->estimate_max_rel_error(-1.0), atmosh::InputError);
+    EXPECT_THROW(lut->estimate_max_rel_error(std::nan("")), atmosh::InputError);
   }
 }
 
