@@ -576,7 +576,7 @@ LutColumn OpticalDepthLut::sun(double r, double mu) const { return lookup(sun_up
 
 double OpticalDepthLut::estimate_max_rel_error(double wavelength_nm) const {
   if (!(wavelength_nm >= 0.0) || !std::isfinite(wavelength_nm))
-    throw InputError("wavelength " + std::to_string(wavelength_nm) + " nm for the LUT error estimate is not >= 0");
+    throw InputError("wavelength " + std::to_string(wavelength_nm) + " nm for the LUT error estimate is not a finite value >= 0");
   double worst = 0.0;
   const auto& wl = atm_.wavelengths_nm();
   Coefficients kc = atm_.coefficients_at(wavelength_nm > 0.0 ? wavelength_nm : wl.empty() ? 550.0 : wl[wl.size() / 2]);
