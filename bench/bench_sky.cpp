@@ -1,5 +1,5 @@
 // Sky benchmarks: time per view ray of the single-scattering integrator (16 and
-// 40 wavelengths), table build, a whole image with 1 and 2 threads, and the exact
+// 40 wavelengths), per view of an image row, table build, a whole image with 1 and 2 threads, and the exact
 // reference. Run: build/bin/bench_sky
 #include <benchmark/benchmark.h>
 
@@ -39,6 +39,27 @@ static void BM_SkyRay(benchmark::State& st) {
   st.SetLabel("rays; " + std::to_string(L.size()) + " wavelengths");
 }
 BENCHMARK(BM_SkyRay)->Arg(16)->Arg(40);
+
+// An image row: 1024 views at one elevation (the arg, deg; azimuths all around), sun at
+// 20 deg, 40 wavelengths, through radiance_same_zenith (nodes shared by the row, the
+// sun table reduced per node radius). Items: views. Compare with BM_SkyRay/40.
+static void BM_SkyRow(benchmark::State& st) {
+  const AtmosphereSpec spec = spec_with(40);
+  const Atmosphere atm(spec);
+  const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
+  const glm::dvec3 sun = sun_direction_enu(70.0, 180.0);
+  const int n = 1024;
+  std::vector<glm::dvec3> views;
+  for (int x = 0; x < n; ++x) views.push_back(sun_direction_enu(90.0 - static_cast<double>(st.range(0)), (x + 0.5) * 360.0 / n));
+  std::vector<double> L(views.size() * atm.wavelengths_nm().size());
+  for (auto _ : st) {
+    sky.radiance_same_zenith(0.0, views.data(), views.size(), sun, L.data());
+    benchmark::DoNotOptimize(L.data());
+  }
+  st.SetItemsProcessed(st.iterations() * n);
+  st.SetLabel("views; elevation " + std::to_string(st.range(0)) + " deg");
+}
+BENCHMARK(BM_SkyRow)->Arg(1)->Arg(30)->Arg(80)->Unit(benchmark::kMillisecond);
 
 static void BM_SkyTables(benchmark::State& st) {
   const AtmosphereSpec spec = spec_with(16);

@@ -334,7 +334,7 @@ ATMOSH_DISPATCH_NO_ERRNO double exponential_column_sum(std::size_t n, const doub
   for (std::size_t k = 0; k < n; ++k) {
     const double d = s[k] + u0;
     const double h = std::sqrt(d * d + c2) - R;
-    sum += w[k] * exp_neg(std::max(h, 0.0) * inv_H);
+    sum += w[k] * exp_neg((h > 0.0 ? h : 0.0) * inv_H);  // max(h, 0), inlined in every clone
   }
   return sum;
 }
@@ -466,44 +466,70 @@ double OpticalDepthLut::x_ground(double r, double rho, double mu, double& d) con
   return sg::lut_x(d, dmin, dmax);
 }
 
-glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double rho, double x) const {
-  const int S = static_cast<int>(radii_.size()), n = t.n;
+OpticalDepthLut::ShellWeights OpticalDepthLut::shell_weights(double rho) const {
+  const int S = static_cast<int>(radii_.size());
+  ShellWeights sw;
   // Window choice and weights: shared/lut.glsl.hpp (the GPU's interpolate too).
   // Shell search: the same k as the GPU's bisection (ATMOSH_LUT_SHELL_INDEX), in O(1).
-  const int k = shell_index_.find(rho);
-  const int w = sg::lut_window_start(k, S);
-  double lw[4];
+  sw.k = shell_index_.find(rho);
+  sw.w = sg::lut_window_start(sw.k, S);
+  const int w = sw.w;
   for (int i = 0; i < 4; ++i)
-    lw[i] = sg::lut_shell_weight(rho, lagrange_den_[w * 4 + i], rho_[w], rho_[w + 1], rho_[w + 2], rho_[w + 3], i);
+    sw.lw[i] = sg::lut_shell_weight(rho, lagrange_den_[w * 4 + i], rho_[w], rho_[w + 1], rho_[w + 2], rho_[w + 3], i);
+  if (has_kinks_) {
+    // Profiles with kinks: Lagrange in rho only over shells of the same smooth
+    // region (between kinks), of degree <= 3 (window and inverse denominators
+    // precomputed per shell interval).
+    const KinkWindow& kw = kink_windows_[std::clamp(sw.k, 0, S - 2)];
+    sw.klo = kw.lo;
+    sw.kcount = kw.count;
+    for (int i = 0; i < kw.count; ++i) {
+      double p = kw.inv_den[i];
+      for (int j = 0; j < kw.count; ++j)
+        if (j != i) p *= rho - rho_[kw.lo + j];
+      sw.li[i] = p;
+    }
+  }
+  return sw;
+}
+
+double OpticalDepthLut::kinked_shell_sum(const Table& t, const ShellWeights& sw, int j, int c) const {
+  double v = 0.0;
+  for (int i = 0; i < sw.kcount; ++i) v += sw.li[i] * t.v[(static_cast<std::size_t>(sw.klo + i) * t.n + j) * 4 + c];
+  return v;
+}
+
+glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double rho, double x) const {
+  const int n = t.n;
+  const ShellWeights sw = shell_weights(rho);
   const int jw = sg::lut_direction_window(x, n);
   const double p = sg::lut_direction_offset(x, n, jw);
   double xw[4];
   for (int m = 0; m < 4; ++m) xw[m] = sg::lagrange_cubic_weight(p, m);
   double acc[4];
-  window_sum(&t.v[(static_cast<std::size_t>(w) * n + jw) * 4], static_cast<std::size_t>(n) * 4, lw, xw, acc);
+  window_sum(&t.v[(static_cast<std::size_t>(sw.w) * n + jw) * 4], static_cast<std::size_t>(n) * 4, sw.lw, xw, acc);
   glm::dvec3 out(acc[0], acc[1], acc[2]);
-  if (has_kinks_) {
-    // Profiles with kinks: Lagrange in rho only over shells of the same smooth
-    // region (between kinks), of degree <= 3 (window and inverse denominators
-    // precomputed per shell interval).
-    int kk = std::clamp(k, 0, S - 2);
-    const KinkWindow& kw = kink_windows_[kk];
-    double li[4];
-    for (int i = 0; i < kw.count; ++i) {
-      double p = kw.inv_den[i];
-      for (int j = 0; j < kw.count; ++j)
-        if (j != i) p *= rho - rho_[kw.lo + j];
-      li[i] = p;
-    }
+  if (has_kinks_)
     for (int c = 0; c < 3; ++c) {
       if (log_encoded_[c] || !present_[c]) continue;
       double v = 0.0;
-      for (int i = 0; i < kw.count; ++i) {
-        const double* row = &t.v[(static_cast<std::size_t>(kw.lo + i) * n + jw) * 4];
-        v += li[i] * (xw[0] * row[c] + xw[1] * row[4 + c] + xw[2] * row[8 + c] + xw[3] * row[12 + c]);
-      }
+      for (int m = 0; m < 4; ++m) v += xw[m] * kinked_shell_sum(t, sw, jw + m, c);
       out[c] = v;
     }
+  return out;
+}
+
+LutColumn OpticalDepthLut::finish_up(const glm::dvec3& e, double r, double mu, double d) const {
+  LutColumn out;
+  out.column = decode(e) * d;
+  for (int c = 0; c < 3; ++c)
+    if (analytic_[c]) out.column[c] = linear_[c](r, mu, d);
+  if (has_kinks_) {
+    // A ray that stays above the top of a profile with compact support has an
+    // exactly zero column of it (removes interpolation ringing across the kink).
+    double h_min = (mu < 0.0 ? std::sqrt(sg::tangent_radius_sq(r, mu)) : r) - R_;
+    for (int c = 0; c < 3; ++c)
+      if (present_[c] && !log_encoded_[c] && h_min >= support_top_[c]) out.column[c] = 0.0;
   }
   return out;
 }
@@ -532,17 +558,56 @@ LutColumn OpticalDepthLut::lookup(const Table& up, const Table* ground, double r
   const double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
   double d;
   double x = x_up(r, rho, mu, d);
-  out.column = decode(interpolate(up, rho, x)) * d;
-  for (int c = 0; c < 3; ++c)
-    if (analytic_[c]) out.column[c] = linear_[c](r, mu, d);
-  if (has_kinks_) {
-    // A ray that stays above the top of a profile with compact support has an
-    // exactly zero column of it (removes interpolation ringing across the kink).
-    double h_min = (mu < 0.0 ? std::sqrt(sg::tangent_radius_sq(r, mu)) : r) - R_;
-    for (int c = 0; c < 3; ++c)
-      if (present_[c] && !log_encoded_[c] && h_min >= support_top_[c]) out.column[c] = 0.0;
+  return finish_up(interpolate(up, rho, x), r, mu, d);
+}
+
+OpticalDepthLut::SunAtRadius OpticalDepthLut::sun_at(double r) const {
+  SunAtRadius s;
+  s.lut_ = this;
+  if (!(r <= T_)) {  // above the top (or NaN): lookups transport the origin, per direction
+    s.outside_ = true;
+    s.r_ = r;
+    return s;
   }
-  return out;
+  s.r_ = std::max(r, R_);
+  s.rho_ = std::sqrt(std::max(0.0, (s.r_ - R_) * (s.r_ + R_)));
+  const Table& t = sun_up_;
+  const ShellWeights sw = shell_weights(s.rho_);
+  s.v_.assign(static_cast<std::size_t>(t.n) * 4, 0.0);
+  for (int j = 0; j < t.n; ++j) {
+    double* dst = &s.v_[static_cast<std::size_t>(j) * 4];
+    for (int i = 0; i < 4; ++i) {
+      const double* e = &t.v[(static_cast<std::size_t>(sw.w + i) * t.n + j) * 4];
+      for (int c = 0; c < 4; ++c) dst[c] += sw.lw[i] * e[c];
+    }
+    if (has_kinks_)
+      for (int c = 0; c < 3; ++c)
+        if (!log_encoded_[c] && present_[c]) dst[c] = kinked_shell_sum(t, sw, j, c);
+  }
+  return s;
+}
+
+LutColumn OpticalDepthLut::SunAtRadius::operator()(double mu) const {
+  const OpticalDepthLut& L = *lut_;
+  if (outside_) return L.sun(r_, mu);
+  mu = std::clamp(mu, -1.0, 1.0);
+  if (sg::ray_hits_ground(r_, mu, L.R_)) {
+    LutColumn out;
+    out.hits_ground = true;
+    return out;
+  }
+  double d;
+  const double x = L.x_up(r_, rho_, mu, d);
+  const int n = L.sun_up_.n;
+  const int jw = sg::lut_direction_window(x, n);
+  const double p = sg::lut_direction_offset(x, n, jw);
+  glm::dvec3 e(0.0);
+  for (int m = 0; m < 4; ++m) {
+    const double wm = sg::lagrange_cubic_weight(p, m);
+    const double* v = &v_[static_cast<std::size_t>(jw + m) * 4];
+    e += wm * glm::dvec3(v[0], v[1], v[2]);
+  }
+  return L.finish_up(e, r_, mu, d);
 }
 
 void OpticalDepthLut::replace_log_tables(const std::vector<float>& log_mean, int off_ground, int off_sun) {

@@ -25,15 +25,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A view ray reduced to the planet-centred 2-D geometry, clipped to the atmosphere.
-struct Ray {
-  bool empty = false;   // misses the atmosphere (observer in space)
-  double r = 0, mu = 0; // origin radius and view zenith cosine (at the entry point)
-  double mu_s = 0;      // sun zenith cosine at the origin
-  double nu = 0;        // cos(view, sun): constant along the ray
-  double s_end = 0;     // length inside the atmosphere
-  bool ground = false;  // ends on the ground
-};
+using Ray = detail::SkyRay;
 
 glm::dvec3 unit(const glm::dvec3& v, const char* what) {
   const double n = glm::length(v);
@@ -122,6 +114,16 @@ ATMOSH_DISPATCH void accumulate_node(std::size_t n, const float* __restrict er, 
     acc[i] += static_cast<double>(exp_neg_f(er[i] * x0 + em[i] * x1 + eo[i] * x2) * (cr[i] * sr + cm[i] * sm));
 }
 
+// The light reflected by the ground: out[i] += e[i] ground_term(albedo, mu_s, T_i) with
+// T_i = exp(-tau_i) of the column x (view + sun) at each wavelength i < n; er, em, eo
+// the extinction coefficients [1/m]. Branch-free exp (vectorises).
+void add_ground_terms(std::size_t n, const double* __restrict er, const double* __restrict em,
+                                               const double* __restrict eo, const double* __restrict e, double albedo,
+                                               double mu_s, glm::dvec3 x, double* __restrict out) {
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] += e[i] * sg::ground_term(albedo, mu_s, exp_neg(sg::column_optical_depth(er[i], em[i], eo[i], x[0], x[1], x[2])));
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- fast path
@@ -193,46 +195,21 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
     }
   }
   ext_f_.assign(ext_.begin(), ext_.end());
+  const double scale = 1.0 / (opt_.sun_distance_au * opt_.sun_distance_au);
+  for (double e : solar_) solar_scaled_.push_back(e * scale);
   sca_f_.assign(sca_.begin(), sca_.end());
 }
 
-void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const glm::dvec3& sun, double* out) const {
-  const std::size_t nw = solar_.size();
-  std::fill(out, out + nw, 0.0);
-  const Ray ray = make_ray(atm_, altitude_m, view, sun);
-  if (ray.empty || !(ray.s_end > 0)) return;
+void SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, std::vector<detail::SkyViewNode>& nodes,
+                          glm::dvec3& column_end) const {
+  nodes.clear();
   const double R = atm_.ground_radius();
-  const double p_ray = atm_.has(kRayleigh) ? phase_[0].value(ray.nu) : 0.0;
-  const double p_mie = atm_.has(kMie) ? phase_[1].value(ray.nu) : 0.0;
-
-  // Pieces between shell crossings, the tangent point and the shadow edges
-  // (shared/view_ray.glsl.hpp, the same function as the GPU's).
-  const sg::ViewRayCuts vc = sg::view_ray_cuts(ray.r, ray.mu, ray.mu_s, ray.nu, R, ray.s_end,
-                                               sg::tangent_radius_sq(ray.r, ray.mu), cut_radii_.data(),
-                                               static_cast<int>(cut_radii_.size()));
-  const double* cuts = vc.s;
-  const int nc = vc.n;
   const double st = sg::tangent_distance(ray.r, ray.mu);
   // Densities along the ray; an altitude that rounds below the ground (a ray's end on
   // it) counts as the ground: a tabulated profile is 0 below its first node.
   auto density_at = [&](double s) {
     return atm_.density(std::max(sg::radius_along(ray.r, ray.mu, s) - R, 0.0));
   };
-
-  double acc_small[64];
-  std::vector<double> acc_big;
-  double* acc = acc_small;
-  if (nw > 64) {
-    acc_big.assign(nw, 0.0);
-    acc = acc_big.data();
-  } else {
-    std::fill(acc_small, acc_small + nw, 0.0);
-  }
-  const float* er = ext_f_.data();
-  const float* em = er + nw;
-  const float* eo = em + nw;
-  const float* cr = sca_f_.data();
-  const float* cm = cr + nw;
   const int n_nodes = static_cast<int>(gl_x_.size());
   const int n_points = n_nodes + 2;
   // View column from the observer to the start of the current part, and the
@@ -243,30 +220,24 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   glm::dvec3 rho_piece_end(0.0);  // piece_end >= 0 (its densest point)
   auto part = [&](double a, double b) {
     const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
-    double s_q[sg::kMaxPartNodes], r_q[sg::kMaxPartNodes];
-    glm::dvec3 rho_q[sg::kMaxPartNodes];
+    const std::size_t first = nodes.size();
     for (int q = 0; q < n_nodes; ++q) {
-      s_q[q] = mid + half * gl_x_[static_cast<std::size_t>(q)];
-      r_q[q] = sg::radius_along(ray.r, ray.mu, s_q[q]);
-      rho_q[q] = atm_.density(std::max(r_q[q] - R, 0.0));
+      detail::SkyViewNode nd;
+      nd.s = mid + half * gl_x_[static_cast<std::size_t>(q)];
+      nd.r = sg::radius_along(ray.r, ray.mu, nd.s);
+      nd.rho = atm_.density(std::max(nd.r - R, 0.0));
+      nd.w = half * gl_w_[static_cast<std::size_t>(q)];
+      nodes.push_back(nd);
     }
+    const detail::SkyViewNode* nq = nodes.data() + first;
     const glm::dvec3 rho_end = b == piece_end ? rho_piece_end : density_at(b);
     auto column_to = [&](int row) {  // from a, to node `row` (row n_nodes: to b)
       const double* c = &part_w_[static_cast<std::size_t>(row * n_points)];
       glm::dvec3 x = c[0] * rho_start + c[n_nodes + 1] * rho_end;
-      for (int j = 0; j < n_nodes; ++j) x += c[j + 1] * rho_q[j];
+      for (int j = 0; j < n_nodes; ++j) x += c[j + 1] * nq[j].rho;
       return half * x;
     };
-    for (int q = 0; q < n_nodes; ++q) {
-      const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, s_q[q], r_q[q]);
-      const LutColumn to_sun = lut_->sun(r_q[q], mus);
-      if (to_sun.hits_ground) continue;  // in the Earth's shadow
-      const glm::dvec3 x = column + glm::max(column_to(q), glm::dvec3(0.0)) + to_sun.column;
-      const double w = half * gl_w_[static_cast<std::size_t>(q)];
-      const double sr = rho_q[q][kRayleigh] * p_ray * w, sm = rho_q[q][kMie] * p_mie * w;
-      accumulate_node(nw, er, em, eo, cr, cm, static_cast<float>(x[0]), static_cast<float>(x[1]),
-                      static_cast<float>(x[2]), static_cast<float>(sr), static_cast<float>(sm), acc);
-    }
+    for (int q = 0; q < n_nodes; ++q) nodes[first + q].column = column + glm::max(column_to(q), glm::dvec3(0.0));
     column += glm::max(column_to(n_nodes), glm::dvec3(0.0));
     rho_start = rho_end;
   };
@@ -291,22 +262,106 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
     const int parts = sg::piece_parts(tau_piece, opt_.max_piece_optical_depth);
     ATMOSH_SKY_PIECE_PARTS(double, a0, b0, parts, part);
   }
-  const double scale = 1.0 / (opt_.sun_distance_au * opt_.sun_distance_au);
-  for (std::size_t i = 0; i < nw; ++i) out[i] = solar_[i] * scale * acc[i];
+  column_end = column;
+}
+
+template <class SunColumn>
+void SkyIntegrator::shade(const Ray& ray, const std::vector<detail::SkyViewNode>& nodes, const glm::dvec3& column_end,
+                          SunColumn&& sun, double* out) const {
+  const std::size_t nw = solar_.size();
+  const double p_ray = atm_.has(kRayleigh) ? phase_[0].value(ray.nu) : 0.0;
+  const double p_mie = atm_.has(kMie) ? phase_[1].value(ray.nu) : 0.0;
+  double acc_small[64];
+  std::vector<double> acc_big;
+  double* acc = acc_small;
+  if (nw > 64) {
+    acc_big.assign(nw, 0.0);
+    acc = acc_big.data();
+  } else {
+    std::fill(acc_small, acc_small + nw, 0.0);
+  }
+  const float* er = ext_f_.data();
+  const float* em = er + nw;
+  const float* eo = em + nw;
+  const float* cr = sca_f_.data();
+  const float* cm = cr + nw;
+  for (std::size_t q = 0; q < nodes.size(); ++q) {
+    const detail::SkyViewNode& nd = nodes[q];
+    const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, nd.s, nd.r);
+    const LutColumn to_sun = sun(q, mus);
+    if (to_sun.hits_ground) continue;  // in the Earth's shadow
+    const glm::dvec3 x = nd.column + to_sun.column;
+    const double sr = nd.rho[kRayleigh] * p_ray * nd.w, sm = nd.rho[kMie] * p_mie * nd.w;
+    accumulate_node(nw, er, em, eo, cr, cm, static_cast<float>(x[0]), static_cast<float>(x[1]),
+                    static_cast<float>(x[2]), static_cast<float>(sr), static_cast<float>(sm), acc);
+  }
+  for (std::size_t i = 0; i < nw; ++i) out[i] = solar_scaled_[i] * acc[i];
 
   const double albedo = atm_.spec().planet.ground_albedo;
   if (ray.ground && albedo > 0) {
+    const double R = atm_.ground_radius();
     const double rg = sg::radius_along(ray.r, ray.mu, ray.s_end);
     const double mus_g = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, ray.s_end, rg);
     if (mus_g > 0) {
       const LutColumn to_sun = lut_->sun(R, mus_g);
       if (!to_sun.hits_ground)
-        for (std::size_t i = 0; i < nw; ++i) {
-          const glm::dvec3 xg = column + to_sun.column;
-          const double tau = sg::column_optical_depth(ext_[i], ext_[nw + i], ext_[2 * nw + i], xg[0], xg[1], xg[2]);
-          out[i] += solar_[i] * scale * sg::ground_term(albedo, mus_g, std::exp(-tau));
-        }
+        add_ground_terms(nw, ext_.data(), ext_.data() + nw, ext_.data() + 2 * nw, solar_scaled_.data(), albedo, mus_g,
+                         column_end + to_sun.column, out);
     }
+  }
+}
+
+void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const glm::dvec3& sun, double* out) const {
+  std::fill(out, out + solar_.size(), 0.0);
+  const Ray ray = make_ray(atm_, altitude_m, view, sun);
+  if (ray.empty || !(ray.s_end > 0)) return;
+  // Pieces between shell crossings, the tangent point and the shadow edges
+  // (shared/view_ray.glsl.hpp, the same function as the GPU's).
+  const sg::ViewRayCuts vc = sg::view_ray_cuts(ray.r, ray.mu, ray.mu_s, ray.nu, atm_.ground_radius(), ray.s_end,
+                                               sg::tangent_radius_sq(ray.r, ray.mu), cut_radii_.data(),
+                                               static_cast<int>(cut_radii_.size()));
+  thread_local std::vector<detail::SkyViewNode> nodes;
+  glm::dvec3 column_end;
+  trace(ray, vc.s, vc.n, nodes, column_end);
+  shade(ray, nodes, column_end, [&](std::size_t q, double mus) { return lut_->sun(nodes[q].r, mus); }, out);
+}
+
+void SkyIntegrator::radiance_same_zenith(double altitude_m, const glm::dvec3* views, std::size_t count,
+                                         const glm::dvec3& sun, double* out) const {
+  const std::size_t nw = solar_.size();
+  if (count == 0) return;
+  for (std::size_t k = 1; k < count; ++k)
+    if (!(std::fabs(views[k].z - views[0].z) <= 1e-12))
+      throw InputError("views of one zenith angle: z = " + std::to_string(views[k].z) + " differs from " +
+                       std::to_string(views[0].z));
+  std::fill(out, out + count * nw, 0.0);
+  // The view ray of the row (the first view's; the others differ in the azimuth only).
+  const Ray ray0 = make_ray(atm_, altitude_m, views[0], sun);
+  if (ray0.empty || !(ray0.s_end > 0)) {  // nothing to share
+    for (std::size_t k = 0; k < count; ++k) radiance(altitude_m, views[k], sun, out + k * nw);
+    return;
+  }
+  const double R = atm_.ground_radius();
+  const sg::ViewRayCuts vc = sg::view_ray_sphere_cuts(ray0.r, ray0.mu, ray0.s_end, sg::tangent_radius_sq(ray0.r, ray0.mu),
+                                                      cut_radii_.data(), static_cast<int>(cut_radii_.size()));
+  std::vector<detail::SkyViewNode> nodes;
+  glm::dvec3 column_end;
+  trace(ray0, vc.s, vc.n, nodes, column_end);
+  std::vector<OpticalDepthLut::SunAtRadius> sun_at;
+  sun_at.reserve(nodes.size());
+  for (const auto& nd : nodes) sun_at.push_back(lut_->sun_at(nd.r));
+  for (std::size_t k = 0; k < count; ++k) {
+    Ray ray = make_ray(atm_, altitude_m, views[k], sun);
+    if (ray.empty || ray.ground != ray0.ground ||
+        sg::view_ray_crosses_shadow(ray.r, ray.mu, ray.mu_s, ray.nu, R, ray.s_end)) {
+      radiance(altitude_m, views[k], sun, out + k * nw);
+      continue;
+    }
+    ray.r = ray0.r;  // the row's geometry (equal up to rounding in the azimuth)
+    ray.mu = ray0.mu;
+    ray.s_end = ray0.s_end;
+    ray.ground = ray0.ground;
+    shade(ray, nodes, column_end, [&](std::size_t q, double mus) { return sun_at[q](mus); }, out + k * nw);
   }
 }
 

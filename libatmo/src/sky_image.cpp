@@ -83,14 +83,26 @@ SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int widt
   }
   std::atomic<long> rays{0};
   parallel_for_ranges(static_cast<std::size_t>(height), 1, threads, [&](std::size_t y0, std::size_t y1) {
-    std::vector<double> L(nw);
+    std::vector<double> L(nw), row_L;
+    std::vector<glm::dvec3> row_dir;
     long local_rays = 0;
     for (int y = static_cast<int>(y0); y < static_cast<int>(y1); ++y) {
+      if (projection == SkyProjection::Equirect) {
+        // A row shares its zenith angle: its view-ray nodes are computed once.
+        row_dir.resize(static_cast<std::size_t>(width));
+        for (int x = 0; x < width; ++x) sky_pixel_direction(projection, width, height, x, y, row_dir[x]);
+        row_L.resize(static_cast<std::size_t>(width) * nw);
+        sky.radiance_same_zenith(altitude_m, row_dir.data(), row_dir.size(), sun, row_L.data());
+      }
       for (int x = 0; x < width; ++x) {
-        glm::dvec3 dir;
-        if (!sky_pixel_direction(projection, width, height, x, y, dir)) continue;
         const std::size_t p = static_cast<std::size_t>(y) * width + x;
-        sky.radiance(altitude_m, dir, sun, L.data());
+        if (projection == SkyProjection::Equirect) {
+          std::copy_n(row_L.begin() + static_cast<std::ptrdiff_t>(x * nw), nw, L.begin());
+        } else {
+          glm::dvec3 dir;
+          if (!sky_pixel_direction(projection, width, height, x, y, dir)) continue;
+          sky.radiance(altitude_m, dir, sun, L.data());
+        }
         ++local_rays;
         const Xyz c = cmf(L);
         const Rgb rgb = linear_srgb_from_xyz(c);

@@ -1,6 +1,7 @@
 // Exact optical-depth reference and Nishita lookup tables against closed forms.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <limits>
@@ -211,6 +212,49 @@ TEST(OpticalDepthLut, SunOnlyBuildLeavesTheViewTablesOut) {
     EXPECT_THROW(lut->estimate_max_rel_error(-1.0), atmosh::InputError);
     EXPECT_THROW(lut->estimate_max_rel_error(std::nan("")), atmosh::InputError);
   }
+}
+
+// The sun table reduced to one radius (SunAtRadius, the sky's image rows) gives the
+// same columns as a full lookup at that radius: the same Lagrange weights summed in
+// another order, so equal to rounding (1e-12 relative), and the same blocked rays.
+// Exponential and tabulated (log-encoded) profiles, the closed-form ozone tent, and
+// the ozone tent interpolated across its kinks (analytic_max_nodes = 0); radii at the
+// ground, between and on shells, near profile kinks, at and above the top; directions up, horizontal, at
+// the horizon +-1e-9 and down.
+TEST(OpticalDepthLut, SunAtRadiusEqualsSunLookup) {
+  for (const char* name : {"earth-graphics", "earth-physical", "test-planet"})
+    for (int analytic : {16, 0}) {
+      const Atmosphere atm(preset(name));
+      LutOptions o;
+      o.view_tables = false;
+      o.analytic_max_nodes = analytic;
+      const OpticalDepthLut lut(atm, o);
+      const double R = atm.ground_radius(), T = atm.top_radius();
+      std::vector<double> radii{R, R + 1.0, R + 777.0, T, T - 1e-3, T + 5e3};
+      for (double r : lut.shell_radii()) radii.push_back(r);
+      for (double f : {0.013, 0.21, 0.5, 0.77}) radii.push_back(R + f * (T - R));
+      for (double k : atm.kinks())  // windows that stop at a profile kink
+        for (double dh : {-700.0, -90.0, 0.0, 90.0, 700.0}) radii.push_back(std::clamp(R + k + dh, R, T));
+      int compared = 0, blocked = 0;
+      for (double r : radii) {
+        const OpticalDepthLut::SunAtRadius at = lut.sun_at(r);
+        const double muh = r > R ? shared::mu_horizon(r, R) : 0.0;
+        for (double mu : {1.0, 0.7, 0.2, 0.01, 0.0, -0.01, -0.1, muh + 1e-9, muh - 1e-9, muh + 1e-4, -0.6, -1.0}) {
+          if (mu < -1.0 || mu > 1.0) continue;
+          const LutColumn a = lut.sun(r, mu), b = at(mu);
+          ASSERT_EQ(a.hits_ground, b.hits_ground) << name << " r " << r << " mu " << mu;
+          blocked += a.hits_ground;
+          for (int c = 0; c < 3; ++c) {
+            ASSERT_TRUE(std::isfinite(b.column[c]));
+            EXPECT_LE(std::abs(a.column[c] - b.column[c]), 1e-12 * std::abs(a.column[c]) + 1e-300)
+                << name << " analytic " << analytic << " r - R " << r - R << " mu " << mu << " c " << c;
+          }
+          ++compared;
+        }
+      }
+      EXPECT_GT(blocked, 10);
+      EXPECT_GT(compared, 200);
+    }
 }
 
 TEST(OpticalDepthLut, BadOptions) {

@@ -45,7 +45,7 @@ constexpr double factorial(int k) { return k <= 1 ? 1.0 : k * factorial(k - 1); 
 
 // sum_{j=k..K} r^(j-k) k!/j! ... by Horner: 1/k! + r (1/(k+1)! + r (...)), from the top.
 template <class F, int K, int k = 0>
-inline F exp_taylor(F r) {
+[[gnu::always_inline]] inline F exp_taylor(F r) {
   if constexpr (k == K)
     return F(1) / F(factorial(K));
   else
@@ -55,9 +55,11 @@ inline F exp_taylor(F r) {
 // exp(-x), branch-free so that loops over wavelengths vectorise: Cody-Waite reduction
 // x = n ln2 + r, |r| <= ln2/2, Taylor polynomial, 2^-n assembled in the exponent bits.
 template <class F>
-inline F exp_neg(F x) {
+[[gnu::always_inline]] inline F exp_neg(F x) {
   using C = ExpNegConstants<F>;
-  const F xc = std::min(x, C::kMax);  // also maps +inf; NaN is not expected (finite sums)
+  // std::min(x, kMax), spelt out: the helpers' calls are not inlined into the
+  // target_clones copies of the callers (atmosh/dispatch.hpp), this is.
+  const F xc = C::kMax < x ? C::kMax : x;  // also maps +inf; NaN is not expected (finite sums)
   // Round to nearest by the shift (no libm call, vectorises).
   const F n = (xc * C::kLog2e + C::kShift) - C::kShift;
   const F r = (n * C::kLn2Hi - xc) + n * C::kLn2Lo;  // -(x - n ln2)
@@ -76,9 +78,9 @@ inline F exp_neg(F x) {
 }  // namespace detail
 
 // exp(-x) for x in [-700, 700] in double precision (x = +inf or huge gives exactly 0).
-inline double exp_neg(double x) { return detail::exp_neg(x); }
+[[gnu::always_inline]] inline double exp_neg(double x) { return detail::exp_neg(x); }
 
 // exp(-x) for x >= 0 in single precision (x = +inf or >= 87 gives exactly 0).
-inline float exp_neg_f(float x) { return detail::exp_neg(x); }
+[[gnu::always_inline]] inline float exp_neg_f(float x) { return detail::exp_neg(x); }
 
 }  // namespace atmosh::atmo

@@ -170,6 +170,25 @@ class OpticalDepthLut {
   // Column toward the sun (to the top); hits_ground = true means blocked.
   LutColumn sun(double r, double mu) const;
 
+  // The sun table at one radius as a function of the direction alone: the
+  // interpolation across shells is done once for every direction sample
+  // (sun_directions x 4 values), a lookup then costs the direction interpolation
+  // only. For many lookups at one radius (the sky integrator's image rows: each node
+  // radius meets every azimuth). at(mu) equals sun(r, mu) up to rounding (the same
+  // weights, summed in another order). Refers to this table: valid while it lives.
+  class SunAtRadius {
+   public:
+    LutColumn operator()(double mu) const;
+
+   private:
+    friend class OpticalDepthLut;
+    const OpticalDepthLut* lut_ = nullptr;
+    double r_ = 0, rho_ = 0;
+    bool outside_ = false;   // r above the top: every lookup goes through sun(r, mu)
+    std::vector<double> v_;  // [direction][4]
+  };
+  SunAtRadius sun_at(double r) const;
+
   const std::vector<double>& shell_radii() const { return radii_; }
   const LutOptions& options() const { return opt_; }
   double build_time_s() const { return build_time_s_; }
@@ -203,6 +222,19 @@ class OpticalDepthLut {
   };
   glm::dvec3 build_column(double r, double mu, double length) const;
   glm::dvec3 interpolate(const Table& t, double rho, double x) const;  // rho = sqrt(r^2 - R^2)
+  // The shells an interpolation at rho uses and their Lagrange weights (lw: window
+  // of 4 from w; li: the smooth region's window of kinked profiles, if any).
+  struct ShellWeights {
+    int k = 0, w = 0;
+    double lw[4] = {0, 0, 0, 0};
+    int klo = 0, kcount = 0;
+    double li[4] = {0, 0, 0, 0};
+  };
+  ShellWeights shell_weights(double rho) const;
+  // Channel c of direction sample j summed over the kinked region's shells.
+  double kinked_shell_sum(const Table& t, const ShellWeights& sw, int j, int c) const;
+  // Decoded column toward the top from interpolated entries e, for a ray of length d.
+  LutColumn finish_up(const glm::dvec3& e, double r, double mu, double d) const;
   glm::dvec3 encode(const glm::dvec3& mean) const;
   glm::dvec3 decode(const glm::dvec3& stored) const;
   void fill(Table& t, int n, bool ground);

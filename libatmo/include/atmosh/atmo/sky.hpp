@@ -70,6 +70,26 @@ std::vector<double> sky_part_column_weights(int n);
 // atmosphere [W m^-2 nm^-1].
 using SolarSpectrum = std::vector<double>;
 
+namespace detail {
+// A view ray reduced to the planet-centred 2-D geometry, clipped to the atmosphere
+// (sky.cpp; lengths in m).
+struct SkyRay {
+  bool empty = false;    // misses the atmosphere (observer in space)
+  double r = 0, mu = 0;  // origin radius and view zenith cosine (at the entry point)
+  double mu_s = 0;       // sun zenith cosine at the origin
+  double nu = 0;         // cos(view, sun): constant along the ray
+  double s_end = 0;      // length inside the atmosphere
+  bool ground = false;   // ends on the ground
+};
+// A quadrature node of a view ray: what does not depend on the sun.
+struct SkyViewNode {
+  double s = 0, r = 0;       // distance from the origin, radius [m]
+  double w = 0;              // quadrature weight [m]
+  glm::dvec3 rho{0.0};       // relative densities
+  glm::dvec3 column{0.0};    // view column from the origin to the node [m]
+};
+}  // namespace detail
+
 class SkyIntegrator {
  public:
   // Builds the optical-depth tables the atmosphere needs (only its constituents).
@@ -79,6 +99,17 @@ class SkyIntegrator {
   // non-unit or non-finite directions or altitude below the ground.
   void radiance(double altitude_m, const glm::dvec3& view, const glm::dvec3& sun, double* out) const;
   std::vector<double> radiance(double altitude_m, const glm::dvec3& view, const glm::dvec3& sun) const;
+  // Spectral radiance along `count` views that share one zenith angle (a row of an
+  // equirect image) into out[k * n_wavelengths + i]. The nodes of the view ray, their
+  // densities and view columns depend on the zenith angle only and are computed once;
+  // the sun table is reduced once per node radius (OpticalDepthLut::sun_at). Per view
+  // only the sun columns, the phase functions and the spectral loop remain. Equal to
+  // radiance() per view up to rounding (the same nodes and table weights, summed in
+  // another order). A view whose ray crosses the edge of the Earth's shadow (its cuts
+  // depend on the azimuth) is integrated on its own by radiance(). InputError as
+  // radiance(), or if the views' z components differ by more than 1e-12.
+  void radiance_same_zenith(double altitude_m, const glm::dvec3* views, std::size_t count, const glm::dvec3& sun,
+                            double* out) const;
   // Direct-beam transmittance from the observer toward the sun, per wavelength
   // (0 when the ground blocks it).
   std::vector<double> sun_transmittance(double altitude_m, const glm::dvec3& sun) const;
@@ -89,9 +120,17 @@ class SkyIntegrator {
   const SolarSpectrum& solar() const { return solar_; }
 
  private:
+  // The nodes of a view ray cut at cuts[0..n_cuts), and its whole view column.
+  void trace(const detail::SkyRay& ray, const double* cuts, int n_cuts, std::vector<detail::SkyViewNode>& nodes,
+             glm::dvec3& column_end) const;
+  // Radiance from the nodes; sun(q, mu_s) is the sun-table column of node q.
+  template <class SunColumn>
+  void shade(const detail::SkyRay& ray, const std::vector<detail::SkyViewNode>& nodes, const glm::dvec3& column_end,
+             SunColumn&& sun, double* out) const;
   const Atmosphere& atm_;
   SolarSpectrum solar_;
   SkyOptions opt_;
+  std::vector<double> solar_scaled_;  // solar_ / sun_distance_au^2
   std::unique_ptr<OpticalDepthLut> lut_;
   std::vector<PhaseFunction> phase_;  // per present scattering constituent
   std::vector<double> gl_x_, gl_w_;

@@ -38,8 +38,10 @@ struct ViewRayCuts {
   int n;
 };
 
-ATMOSH_FN ViewRayCuts view_ray_cuts(real r, real mu, real mu_s, real nu, real R, real s_end, real rt2,
-                                    const real radii[kMaxCutSpheres], int n_radii) {
+// The cuts without the shadow edges: they depend on the view ray only (an image
+// row of one zenith angle shares them; SkyIntegrator::radiance_same_zenith).
+ATMOSH_FN ViewRayCuts view_ray_sphere_cuts(real r, real mu, real s_end, real rt2, const real radii[kMaxCutSpheres],
+                                           int n_radii) {
   ViewRayCuts c;
   c.s[0] = real(0);
   c.n = 1;
@@ -68,6 +70,22 @@ ATMOSH_FN ViewRayCuts view_ray_cuts(real r, real mu, real mu_s, real nu, real R,
   }
   c.s[c.n] = s_end;
   c.n += 1;
+  return c;
+}
+
+// True when the view ray crosses an edge of the Earth's shadow inside (0, s_end):
+// exactly when view_ray_cuts has more cuts than view_ray_sphere_cuts.
+ATMOSH_FN bool view_ray_crosses_shadow(real r, real mu, real mu_s, real nu, real R, real s_end) {
+  for (int i = 0; i < 2; ++i) {
+    real se = shadow_edge_distance(r, mu, mu_s, nu, R, i);
+    if (se > real(0) && se < s_end) return true;
+  }
+  return false;
+}
+
+ATMOSH_FN ViewRayCuts view_ray_cuts(real r, real mu, real mu_s, real nu, real R, real s_end, real rt2,
+                                    const real radii[kMaxCutSpheres], int n_radii) {
+  ViewRayCuts c = view_ray_sphere_cuts(r, mu, s_end, rt2, radii, n_radii);
   for (int i = 0; i < 2; ++i) {
     real se = shadow_edge_distance(r, mu, mu_s, nu, R, i);
     if (se > real(0) && se < s_end) {
