@@ -200,9 +200,8 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
   sca_f_.assign(sca_.begin(), sca_.end());
 }
 
-void SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, std::vector<detail::SkyViewNode>& nodes,
-                          glm::dvec3& column_end) const {
-  nodes.clear();
+template <class Visit>
+glm::dvec3 SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, Visit&& visit) const {
   const double R = atm_.ground_radius();
   const double st = sg::tangent_distance(ray.r, ray.mu);
   // Densities along the ray; an altitude that rounds below the ground (a ray's end on
@@ -220,16 +219,14 @@ void SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, std::vecto
   glm::dvec3 rho_piece_end(0.0);  // piece_end >= 0 (its densest point)
   auto part = [&](double a, double b) {
     const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
-    const std::size_t first = nodes.size();
+    detail::SkyViewNode nq[sg::kMaxPartNodes];
     for (int q = 0; q < n_nodes; ++q) {
-      detail::SkyViewNode nd;
+      detail::SkyViewNode& nd = nq[q];
       nd.s = mid + half * gl_x_[static_cast<std::size_t>(q)];
       nd.r = sg::radius_along(ray.r, ray.mu, nd.s);
       nd.rho = atm_.density(std::max(nd.r - R, 0.0));
       nd.w = half * gl_w_[static_cast<std::size_t>(q)];
-      nodes.push_back(nd);
     }
-    const detail::SkyViewNode* nq = nodes.data() + first;
     const glm::dvec3 rho_end = b == piece_end ? rho_piece_end : density_at(b);
     auto column_to = [&](int row) {  // from a, to node `row` (row n_nodes: to b)
       const double* c = &part_w_[static_cast<std::size_t>(row * n_points)];
@@ -237,7 +234,10 @@ void SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, std::vecto
       for (int j = 0; j < n_nodes; ++j) x += c[j + 1] * nq[j].rho;
       return half * x;
     };
-    for (int q = 0; q < n_nodes; ++q) nodes[first + q].column = column + glm::max(column_to(q), glm::dvec3(0.0));
+    for (int q = 0; q < n_nodes; ++q) {
+      nq[q].column = column + glm::max(column_to(q), glm::dvec3(0.0));
+      visit(static_cast<const detail::SkyViewNode&>(nq[q]));
+    }
     column += glm::max(column_to(n_nodes), glm::dvec3(0.0));
     rho_start = rho_end;
   };
@@ -262,12 +262,11 @@ void SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, std::vecto
     const int parts = sg::piece_parts(tau_piece, opt_.max_piece_optical_depth);
     ATMOSH_SKY_PIECE_PARTS(double, a0, b0, parts, part);
   }
-  column_end = column;
+  return column;
 }
 
-template <class SunColumn>
-void SkyIntegrator::shade(const Ray& ray, const std::vector<detail::SkyViewNode>& nodes, const glm::dvec3& column_end,
-                          SunColumn&& sun, double* out) const {
+template <class ForEachNode, class SunColumn>
+void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn&& sun, double* out) const {
   const std::size_t nw = solar_.size();
   const double p_ray = atm_.has(kRayleigh) ? phase_[0].value(ray.nu) : 0.0;
   const double p_mie = atm_.has(kMie) ? phase_[1].value(ray.nu) : 0.0;
@@ -285,16 +284,15 @@ void SkyIntegrator::shade(const Ray& ray, const std::vector<detail::SkyViewNode>
   const float* eo = em + nw;
   const float* cr = sca_f_.data();
   const float* cm = cr + nw;
-  for (std::size_t q = 0; q < nodes.size(); ++q) {
-    const detail::SkyViewNode& nd = nodes[q];
+  const glm::dvec3 column_end = for_each_node([&](const detail::SkyViewNode& nd) {
     const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, nd.s, nd.r);
-    const LutColumn to_sun = sun(q, mus);
-    if (to_sun.hits_ground) continue;  // in the Earth's shadow
+    const LutColumn to_sun = sun(nd, mus);
+    if (to_sun.hits_ground) return;  // in the Earth's shadow
     const glm::dvec3 x = nd.column + to_sun.column;
     const double sr = nd.rho[kRayleigh] * p_ray * nd.w, sm = nd.rho[kMie] * p_mie * nd.w;
     accumulate_node(nw, er, em, eo, cr, cm, static_cast<float>(x[0]), static_cast<float>(x[1]),
                     static_cast<float>(x[2]), static_cast<float>(sr), static_cast<float>(sm), acc);
-  }
+  });
   for (std::size_t i = 0; i < nw; ++i) out[i] = solar_scaled_[i] * acc[i];
 
   const double albedo = atm_.spec().planet.ground_albedo;
@@ -320,10 +318,10 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   const sg::ViewRayCuts vc = sg::view_ray_cuts(ray.r, ray.mu, ray.mu_s, ray.nu, atm_.ground_radius(), ray.s_end,
                                                sg::tangent_radius_sq(ray.r, ray.mu), cut_radii_.data(),
                                                static_cast<int>(cut_radii_.size()));
-  thread_local std::vector<detail::SkyViewNode> nodes;
-  glm::dvec3 column_end;
-  trace(ray, vc.s, vc.n, nodes, column_end);
-  shade(ray, nodes, column_end, [&](std::size_t q, double mus) { return lut_->sun(nodes[q].r, mus); }, out);
+  // The nodes are shaded as they are traced (nothing stored).
+  shade(
+      ray, [&](auto&& visit) { return trace(ray, vc.s, vc.n, visit); },
+      [&](const detail::SkyViewNode& nd, double mus) { return lut_->sun(nd.r, mus); }, out);
 }
 
 void SkyIntegrator::radiance_same_zenith(double altitude_m, const glm::dvec3* views, std::size_t count,
@@ -344,12 +342,11 @@ void SkyIntegrator::radiance_same_zenith(double altitude_m, const glm::dvec3* vi
   const double R = atm_.ground_radius();
   const sg::ViewRayCuts vc = sg::view_ray_sphere_cuts(ray0.r, ray0.mu, ray0.s_end, sg::tangent_radius_sq(ray0.r, ray0.mu),
                                                       cut_radii_.data(), static_cast<int>(cut_radii_.size()));
+  // Built on first use: in twilight most views of a row cross the shadow edge.
   std::vector<detail::SkyViewNode> nodes;
-  glm::dvec3 column_end;
-  trace(ray0, vc.s, vc.n, nodes, column_end);
+  glm::dvec3 column_end(0.0);
   std::vector<OpticalDepthLut::SunAtRadius> sun_at;
-  sun_at.reserve(nodes.size());
-  for (const auto& nd : nodes) sun_at.push_back(lut_->sun_at(nd.r));
+  bool shared = false;
   for (std::size_t k = 0; k < count; ++k) {
     Ray ray = make_ray(atm_, altitude_m, views[k], sun);
     if (ray.empty || ray.ground != ray0.ground ||
@@ -357,11 +354,26 @@ void SkyIntegrator::radiance_same_zenith(double altitude_m, const glm::dvec3* vi
       radiance(altitude_m, views[k], sun, out + k * nw);
       continue;
     }
+    if (!shared) {
+      column_end = trace(ray0, vc.s, vc.n, [&](const detail::SkyViewNode& nd) { nodes.push_back(nd); });
+      sun_at.reserve(nodes.size());
+      for (const auto& nd : nodes) sun_at.push_back(lut_->sun_at(nd.r));
+      shared = true;
+    }
     ray.r = ray0.r;  // the row's geometry (equal up to rounding in the azimuth)
     ray.mu = ray0.mu;
     ray.s_end = ray0.s_end;
     ray.ground = ray0.ground;
-    shade(ray, nodes, column_end, [&](std::size_t q, double mus) { return sun_at[q](mus); }, out + k * nw);
+    shade(
+        ray,
+        [&](auto&& visit) {
+          for (const auto& nd : nodes) visit(nd);
+          return column_end;
+        },
+        [&](const detail::SkyViewNode& nd, double mus) {
+          return sun_at[static_cast<std::size_t>(&nd - nodes.data())](mus);
+        },
+        out + k * nw);
   }
 }
 

@@ -120,13 +120,15 @@ class SkyIntegrator {
   const SolarSpectrum& solar() const { return solar_; }
 
  private:
-  // The nodes of a view ray cut at cuts[0..n_cuts), and its whole view column.
-  void trace(const detail::SkyRay& ray, const double* cuts, int n_cuts, std::vector<detail::SkyViewNode>& nodes,
-             glm::dvec3& column_end) const;
-  // Radiance from the nodes; sun(q, mu_s) is the sun-table column of node q.
-  template <class SunColumn>
-  void shade(const detail::SkyRay& ray, const std::vector<detail::SkyViewNode>& nodes, const glm::dvec3& column_end,
-             SunColumn&& sun, double* out) const;
+  // Calls visit(node) for the nodes of a view ray cut at cuts[0..n_cuts), in order;
+  // returns the ray's whole view column.
+  template <class Visit>
+  glm::dvec3 trace(const detail::SkyRay& ray, const double* cuts, int n_cuts, Visit&& visit) const;
+  // Radiance from the nodes that for_each_node(visit) visits (it returns the whole view
+  // column); sun(node, mu_s) is the sun-table column of a node.
+  template <class ForEachNode, class SunColumn>
+  void shade(const detail::SkyRay& ray, ForEachNode&& for_each_node, SunColumn&& sun, double* out) const;
+
   const Atmosphere& atm_;
   SolarSpectrum solar_;
   SkyOptions opt_;
