@@ -49,6 +49,16 @@ AtmosphereSpec simple_spec(bool with_mie) {
   return s;
 }
 
+// The preset `name` on `count` equal bins from `from_nm` to `to_nm`.
+AtmosphereSpec preset_on_bins(const char* name, double from_nm, double to_nm, int count) {
+  AtmosphereSpec s = preset(name);
+  s.spectrum.wavelengths_nm.clear();
+  s.spectrum.from_nm = from_nm;
+  s.spectrum.to_nm = to_nm;
+  s.spectrum.count = count;
+  return s;
+}
+
 glm::dvec3 dir(double elevation_deg, double azimuth_deg) { return sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
 
 double rel(double a, double b) { return std::fabs(a - b) / std::fabs(b); }
@@ -120,11 +130,7 @@ TEST(Sky, SymmetricAboutTheSunAzimuth) {
 // As the sun lowers, the horizon toward it reddens (CIE x grows) and the direct
 // sunlight too — on the physically based Earth, 16 wavelengths.
 TEST(Sky, HorizonReddensMonotonicallyAsTheSunSets) {
-  AtmosphereSpec spec = preset("earth-physical");
-  spec.spectrum.wavelengths_nm.clear();
-  spec.spectrum.from_nm = 380;
-  spec.spectrum.to_nm = 780;
-  spec.spectrum.count = 16;
+  AtmosphereSpec spec = preset_on_bins("earth-physical", 380, 780, 16);
   const Atmosphere atm(spec);
   const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
   double prev_x = 0, prev_sun_x = 0;
@@ -218,11 +224,7 @@ TEST(Sky, StiffCasesAreFinite) {
 // for view directions above the horizon and sun elevations down to 0 deg (the
 // full sweep is `atmosh converge sky`).
 TEST(Sky, FastWithinOnePercentOfReference) {
-  AtmosphereSpec spec = preset("earth-graphics");  // exponential Rayleigh/Mie + ozone tent
-  spec.spectrum.wavelengths_nm.clear();
-  spec.spectrum.from_nm = 380;
-  spec.spectrum.to_nm = 780;
-  spec.spectrum.count = 6;
+  AtmosphereSpec spec = preset_on_bins("earth-graphics", 380, 780, 6);  // exponential Rayleigh/Mie + ozone tent
   const Atmosphere atm(spec);
   const SolarSpectrum e = solar_spectrum_for_bins(spec.spectrum);
   const SkyIntegrator fast(atm, e);
@@ -248,11 +250,7 @@ TEST(Sky, FastWithinOnePercentOfReference) {
 // 24 segments, 4 points reach 0.11 % (bound 0.2 %). `converge sky` reports
 // twilight rays separately.
 TEST(Sky, TwilightCutAtTheShadowEdge) {
-  AtmosphereSpec spec = preset("earth-graphics");
-  spec.spectrum.wavelengths_nm.clear();
-  spec.spectrum.from_nm = 400;
-  spec.spectrum.to_nm = 700;
-  spec.spectrum.count = 3;
+  AtmosphereSpec spec = preset_on_bins("earth-graphics", 400, 700, 3);
   const Atmosphere atm(spec);
   const SolarSpectrum e = solar_spectrum_for_bins(spec.spectrum);
   SkyOptions fine;
@@ -291,11 +289,7 @@ TEST(Sky, TwilightCutAtTheShadowEdge) {
 // 30 km and in space looking through the limb; both presets' profile kinds.
 TEST(Sky, SameZenithRowEqualsPerRayRadiance) {
   for (const char* name : {"earth-graphics", "earth-physical"}) {
-    AtmosphereSpec spec = preset(name);
-    spec.spectrum.wavelengths_nm.clear();
-    spec.spectrum.from_nm = 380;
-    spec.spectrum.to_nm = 780;
-    spec.spectrum.count = 11;
+    AtmosphereSpec spec = preset_on_bins(name, 380, 780, 11);
     const Atmosphere atm(spec);
     const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
     const std::size_t nw = 11;
