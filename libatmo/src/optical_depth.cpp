@@ -519,11 +519,14 @@ glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double rho, double x) co
   return out;
 }
 
-LutColumn OpticalDepthLut::finish_up(const glm::dvec3& e, double r, double mu, double d) const {
+LutColumn OpticalDepthLut::finish_up(const glm::dvec3& e, double r, double mu, double d,
+                                     const std::array<ChebyshevFit, 3>* fits) const {
   LutColumn out;
   out.column = decode(e) * d;
   for (int c = 0; c < 3; ++c)
-    if (analytic_[c]) out.column[c] = linear_[c](r, mu, d);
+    if (analytic_[c])
+      out.column[c] = fits && (*fits)[static_cast<std::size_t>(c)].covers(mu) ? (*fits)[static_cast<std::size_t>(c)](mu)
+                                                                              : linear_[c](r, mu, d);
   if (has_kinks_) {
     // A ray that stays above the top of a profile with compact support has an
     // exactly zero column of it (removes interpolation ringing across the kink).
@@ -587,6 +590,45 @@ OpticalDepthLut::SunAtRadius OpticalDepthLut::sun_at(double r) const {
   return s;
 }
 
+OpticalDepthLut::SunAtRadius OpticalDepthLut::sun_at(double r, double mu_lo, double mu_hi, int max_samples) const {
+  // Points per part of the fit: degree 7 is cheap to evaluate (~20 flops); ranges
+  // it cannot fit to 1e-10 in one part get 2, 4, ... equal parts.
+  constexpr int kFitPoints = 8;
+  SunAtRadius s = sun_at(r);
+  if (s.outside_ || !(mu_lo <= mu_hi)) return s;
+  mu_lo = std::clamp(mu_lo, -1.0, 1.0);
+  mu_hi = std::clamp(mu_hi, -1.0, 1.0);
+  const double rr = s.r_;
+  // Blocked rays have no column; ray_hits_ground is monotone in mu.
+  if (sg::ray_hits_ground(rr, mu_lo, R_)) return s;
+  // A degenerate range (one direction): a 1-point fit, exact there.
+  const double lo = mu_lo, hi = mu_hi > mu_lo ? mu_hi : std::min(1.0, mu_lo + 1e-12);
+  for (int c = 0; c < 3; ++c) {
+    if (!analytic_[c]) continue;
+    // The column has a kink in mu where the tangent point of the ray lies on a
+    // node sphere of the profile (below r): mu_k = -sqrt(1 - (R_k / r)^2).
+    bool kink = false;
+    for (double Rk : linear_[c].node_radii()) {
+      if (!(Rk < rr)) continue;
+      const double mu_k = -std::sqrt((rr - Rk) * (rr + Rk)) / rr;
+      if (mu_k >= lo && mu_k <= hi) kink = true;
+    }
+    if (kink) continue;
+    const auto f = [&](double mu) { return linear_[c](rr, mu, sg::distance_to_top(rr, mu, T_)); };
+    int used = 0;
+    for (int pieces = 1; pieces <= 64; pieces *= 2) {
+      used += pieces * (2 * kFitPoints + 1);
+      if (used > max_samples) break;
+      ChebyshevFit fit = ChebyshevFit::checked(f, lo, hi, kFitPoints, pieces, 1e-10);
+      if (fit.valid()) {
+        s.fit_[static_cast<std::size_t>(c)] = fit;
+        break;
+      }
+    }
+  }
+  return s;
+}
+
 LutColumn OpticalDepthLut::SunAtRadius::operator()(double mu) const {
   const OpticalDepthLut& L = *lut_;
   if (outside_) return L.sun(r_, mu);
@@ -607,7 +649,7 @@ LutColumn OpticalDepthLut::SunAtRadius::operator()(double mu) const {
     const double* v = &v_[static_cast<std::size_t>(jw + m) * 4];
     e += wm * glm::dvec3(v[0], v[1], v[2]);
   }
-  return L.finish_up(e, r_, mu, d);
+  return L.finish_up(e, r_, mu, d, &fit_);
 }
 
 void OpticalDepthLut::replace_log_tables(const std::vector<float>& log_mean, int off_ground, int off_sun) {

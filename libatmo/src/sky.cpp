@@ -342,30 +342,52 @@ void SkyIntegrator::radiance_same_zenith(double altitude_m, const glm::dvec3* vi
   const double R = atm_.ground_radius();
   const sg::ViewRayCuts vc = sg::view_ray_sphere_cuts(ray0.r, ray0.mu, ray0.s_end, sg::tangent_radius_sq(ray0.r, ray0.mu),
                                                       cut_radii_.data(), static_cast<int>(cut_radii_.size()));
-  // Built on first use: in twilight most views of a row cross the shadow edge.
-  std::vector<detail::SkyViewNode> nodes;
-  glm::dvec3 column_end(0.0);
-  std::vector<OpticalDepthLut::SunAtRadius> sun_at;
-  bool shared = false;
+  // Which views share the row's nodes: not those whose ray crosses the edge of the
+  // Earth's shadow (their cuts depend on the azimuth) or differs in kind.
+  std::vector<Ray> rays(count);
+  std::vector<char> own(count);
+  std::size_t n_shared = 0;
   for (std::size_t k = 0; k < count; ++k) {
-    Ray ray = make_ray(atm_, altitude_m, views[k], sun);
-    if (ray.empty || ray.ground != ray0.ground ||
-        sg::view_ray_crosses_shadow(ray.r, ray.mu, ray.mu_s, ray.nu, R, ray.s_end)) {
-      radiance(altitude_m, views[k], sun, out + k * nw);
-      continue;
-    }
-    if (!shared) {
-      column_end = trace(ray0, vc.s, vc.n, [&](const detail::SkyViewNode& nd) { nodes.push_back(nd); });
-      sun_at.reserve(nodes.size());
-      for (const auto& nd : nodes) sun_at.push_back(lut_->sun_at(nd.r));
-      shared = true;
-    }
+    Ray& ray = rays[k];
+    ray = make_ray(atm_, altitude_m, views[k], sun);
+    own[k] = ray.empty || ray.ground != ray0.ground ||
+             sg::view_ray_crosses_shadow(ray.r, ray.mu, ray.mu_s, ray.nu, R, ray.s_end);
+    if (own[k]) continue;
+    ++n_shared;
     ray.r = ray0.r;  // the row's geometry (equal up to rounding in the azimuth)
     ray.mu = ray0.mu;
     ray.s_end = ray0.s_end;
     ray.ground = ray0.ground;
+  }
+  std::vector<detail::SkyViewNode> nodes;
+  glm::dvec3 column_end(0.0);
+  std::vector<OpticalDepthLut::SunAtRadius> sun_at;
+  if (n_shared > 0) {
+    column_end = trace(ray0, vc.s, vc.n, [&](const detail::SkyViewNode& nd) { nodes.push_back(nd); });
+    sun_at.reserve(nodes.size());
+    // The sun's zenith cosine at a node over the row's views: the same expression
+    // shade() evaluates, so every view's value lies in the node's range. The
+    // closed-form sun columns are fitted over that range when the row is long
+    // enough to pay for it (at most a quarter of the evaluations it replaces).
+    const int budget = static_cast<int>(std::min<std::size_t>(n_shared / 4, 1 << 20));
+    for (const auto& nd : nodes) {
+      double lo = 2.0, hi = -2.0;
+      for (std::size_t k = 0; k < count; ++k) {
+        if (own[k]) continue;
+        const double mus = sg::cos_zenith_along(rays[k].r, rays[k].mu_s, rays[k].nu, nd.s, nd.r);
+        lo = std::min(lo, mus);
+        hi = std::max(hi, mus);
+      }
+      sun_at.push_back(budget >= 17 ? lut_->sun_at(nd.r, lo, hi, budget) : lut_->sun_at(nd.r));
+    }
+  }
+  for (std::size_t k = 0; k < count; ++k) {
+    if (own[k]) {
+      radiance(altitude_m, views[k], sun, out + k * nw);
+      continue;
+    }
     shade(
-        ray,
+        rays[k],
         [&](auto&& visit) {
           for (const auto& nd : nodes) visit(nd);
           return column_end;

@@ -286,7 +286,9 @@ TEST(Sky, TwilightCutAtTheShadowEdge) {
 // rounding (the spectral terms are formed in float: 1e-6 relative). Rows above,
 // at and below the horizon; day, low sun and twilight (rays that cross the shadow
 // edge at some azimuths, integrated on their own); an observer on the ground, at
-// 30 km and in space looking through the limb; both presets' profile kinds.
+// 30 km and in space looking through the limb; both presets' profile kinds; rows
+// short and long enough for the closed-form ozone columns to be fitted per node
+// (OpticalDepthLut::sun_at with a range).
 TEST(Sky, SameZenithRowEqualsPerRayRadiance) {
   for (const char* name : {"earth-graphics", "earth-physical"}) {
     AtmosphereSpec spec = preset_on_bins(name, 380, 780, 11);
@@ -301,27 +303,29 @@ TEST(Sky, SameZenithRowEqualsPerRayRadiance) {
     };
     for (const Case c : {Case{0.0, 30.0}, Case{0.0, 0.5}, Case{0.0, -0.2}, Case{0.0, -40.0}, Case{30e3, -1.0},
                          Case{30e3, 80.0}, Case{h_space, limb}})
-      for (double sun_el : {20.0, 2.0, -4.0, -9.0}) {
-        std::vector<glm::dvec3> views;
-        for (int x = 0; x < 48; ++x) views.push_back(dir(c.el, (x + 0.5) * 7.5));
-        std::vector<double> row(views.size() * nw);
-        const glm::dvec3 sun = dir(sun_el, 33.0);
-        sky.radiance_same_zenith(c.h, views.data(), views.size(), sun, row.data());
-        double peak = 0.0;
-        for (double v : row) peak = std::max(peak, v);
-        if (c.el > 0 && sun_el > 0) {
-          EXPECT_GT(peak, 0.0) << name;
-        }
-        for (std::size_t k = 0; k < views.size(); ++k) {
-          const auto L = sky.radiance(c.h, views[k], sun);
-          for (std::size_t i = 0; i < nw; ++i) {
-            ASSERT_TRUE(std::isfinite(row[k * nw + i]));
-            EXPECT_LE(std::fabs(row[k * nw + i] - L[i]), 1e-6 * L[i] + 1e-12 * peak)
-                << name << " h " << c.h << " el " << c.el << " az " << (k + 0.5) * 7.5 << " sun " << sun_el
-                << " wavelength " << i;
+      for (double sun_el : {20.0, 2.0, -4.0, -9.0})
+        for (int width : {48, 480}) {  // 480: the row fits the ozone columns of its nodes
+          std::vector<glm::dvec3> views;
+          const double step = 360.0 / width;
+          for (int x = 0; x < width; ++x) views.push_back(dir(c.el, (x + 0.5) * step));
+          std::vector<double> row(views.size() * nw);
+          const glm::dvec3 sun = dir(sun_el, 33.0);
+          sky.radiance_same_zenith(c.h, views.data(), views.size(), sun, row.data());
+          double peak = 0.0;
+          for (double v : row) peak = std::max(peak, v);
+          if (c.el > 0 && sun_el > 0) {
+            EXPECT_GT(peak, 0.0) << name;
+          }
+          for (std::size_t k = 0; k < views.size(); ++k) {
+            const auto L = sky.radiance(c.h, views[k], sun);
+            for (std::size_t i = 0; i < nw; ++i) {
+              ASSERT_TRUE(std::isfinite(row[k * nw + i]));
+              EXPECT_LE(std::fabs(row[k * nw + i] - L[i]), 1e-6 * L[i] + 1e-12 * peak)
+                  << name << " h " << c.h << " el " << c.el << " az " << (k + 0.5) * step << " sun " << sun_el
+                  << " wavelength " << i;
+            }
           }
         }
-      }
     const glm::dvec3 bad[2] = {dir(10.0, 0.0), dir(10.001, 90.0)};
     double out[2 * 11];
     EXPECT_THROW(sky.radiance_same_zenith(0.0, bad, 2, dir(10.0, 0.0), out), atmosh::InputError);

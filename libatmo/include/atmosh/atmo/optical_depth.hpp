@@ -67,11 +67,13 @@
 // Cost (measured on a 2-core machine): ~100-200 ns per lookup.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "atmosh/atmo/atmosphere.hpp"
+#include "atmosh/atmo/chebyshev.hpp"
 #include "atmosh/atmo/sorted_index.hpp"
 
 namespace atmosh::atmo {
@@ -113,6 +115,8 @@ class PiecewiseLinearColumn {
   PiecewiseLinearColumn(const DensityProfile& profile, double ground_radius);
   double operator()(double r, double mu, double length) const;
   int nodes() const { return static_cast<int>(radius_.size()); }
+  // Node radii [m], ascending: the kinks of the profile.
+  const std::vector<double>& node_radii() const { return radius_; }
 
  private:
   std::vector<double> radius_, value_, slope_;  // slope_[i] on (radius_[i], radius_[i+1]) [1/m]
@@ -179,6 +183,9 @@ class OpticalDepthLut {
   class SunAtRadius {
    public:
     LutColumn operator()(double mu) const;
+    // The fit of constituent c's closed-form column (!valid(): none, the column is
+    // computed at each lookup).
+    const ChebyshevFit& fit(int c) const { return fit_[static_cast<std::size_t>(c)]; }
 
    private:
     friend class OpticalDepthLut;
@@ -186,8 +193,22 @@ class OpticalDepthLut {
     double r_ = 0, rho_ = 0;
     bool outside_ = false;   // r above the top: every lookup goes through sun(r, mu)
     std::vector<double> v_;  // [direction][4]
+    std::array<ChebyshevFit, 3> fit_;  // closed-form columns over a range of mu
   };
   SunAtRadius sun_at(double r) const;
+  // The same, and the closed-form columns (constituents with analytic lookups,
+  // e.g. the ozone tent) fitted as functions of mu on [mu_lo, mu_hi] by a checked
+  // piecewise Chebyshev interpolant (chebyshev.hpp): 8 points on each of 1, 2, 4,
+  // ... equal parts, the first split whose check at 17 points per part is within
+  // 1e-10 of the largest column in the range, using at most max_samples
+  // closed-form evaluations in all. Lookups inside the range then cost ~20 flops
+  // instead of the closed form (~400 instructions for a tent); outside it, or
+  // where no fit passed, they are the closed form. No fit is tried when a ray in
+  // the range is blocked by the ground or has its tangent point on a node sphere
+  // of the profile (a kink of the column in mu), or when r is above the top.
+  // Worth it for >= ~4 max_samples lookups (an image row: every pixel's sun
+  // direction at one node radius).
+  SunAtRadius sun_at(double r, double mu_lo, double mu_hi, int max_samples) const;
 
   const std::vector<double>& shell_radii() const { return radii_; }
   const LutOptions& options() const { return opt_; }
@@ -234,7 +255,9 @@ class OpticalDepthLut {
   // Channel c of direction sample j summed over the kinked region's shells.
   double kinked_shell_sum(const Table& t, const ShellWeights& sw, int j, int c) const;
   // Decoded column toward the top from interpolated entries e, for a ray of length d.
-  LutColumn finish_up(const glm::dvec3& e, double r, double mu, double d) const;
+  // fits: closed-form columns fitted over a range of mu (SunAtRadius), or null.
+  LutColumn finish_up(const glm::dvec3& e, double r, double mu, double d,
+                      const std::array<ChebyshevFit, 3>* fits = nullptr) const;
   glm::dvec3 encode(const glm::dvec3& mean) const;
   glm::dvec3 decode(const glm::dvec3& stored) const;
   void fill(Table& t, int n, bool ground);

@@ -102,10 +102,13 @@ class SkyIntegrator {
   // Spectral radiance along `count` views that share one zenith angle (a row of an
   // equirect image) into out[k * n_wavelengths + i]. The nodes of the view ray, their
   // densities and view columns depend on the zenith angle only and are computed once;
-  // the sun table is reduced once per node radius (OpticalDepthLut::sun_at). Per view
-  // only the sun columns, the phase functions and the spectral loop remain. Equal to
-  // radiance() per view up to rounding (the same nodes and table weights, summed in
-  // another order). A view whose ray crosses the edge of the Earth's shadow (its cuts
+  // the sun table is reduced once per node radius (OpticalDepthLut::sun_at), and for
+  // rows of >= 68 views the closed-form sun columns (the ozone tent) are fitted per
+  // node over the range of the sun's direction across the row (checked to 1e-10 of
+  // the range's largest column; at most a quarter of the closed-form evaluations it
+  // replaces). Per view only the sun columns, the phase functions and the spectral
+  // loop remain. Equal to radiance() per view up to rounding (the same nodes and
+  // table weights, summed in another order) and the fit's 1e-10. A view whose ray crosses the edge of the Earth's shadow (its cuts
   // depend on the azimuth) is integrated on its own by radiance(). InputError as
   // radiance(), or if the views' z components differ by more than 1e-12.
   void radiance_same_zenith(double altitude_m, const glm::dvec3* views, std::size_t count, const glm::dvec3& sun,
