@@ -519,14 +519,11 @@ glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double rho, double x) co
   return out;
 }
 
-LutColumn OpticalDepthLut::finish_up(const glm::dvec3& e, double r, double mu, double d,
-                                     const std::array<ChebyshevFit, 3>* fits) const {
+LutColumn OpticalDepthLut::finish_up(const glm::dvec3& e, double r, double mu, double d) const {
   LutColumn out;
   out.column = decode(e) * d;
   for (int c = 0; c < 3; ++c)
-    if (analytic_[c])
-      out.column[c] = fits && (*fits)[static_cast<std::size_t>(c)].covers(mu) ? (*fits)[static_cast<std::size_t>(c)](mu)
-                                                                              : linear_[c](r, mu, d);
+    if (analytic_[c]) out.column[c] = linear_[c](r, mu, d);
   if (has_kinks_) {
     // A ray that stays above the top of a profile with compact support has an
     // exactly zero column of it (removes interpolation ringing across the kink).
@@ -591,41 +588,45 @@ OpticalDepthLut::SunAtRadius OpticalDepthLut::sun_at(double r) const {
 }
 
 OpticalDepthLut::SunAtRadius OpticalDepthLut::sun_at(double r, double mu_lo, double mu_hi, int max_samples) const {
-  // Points per part of the fit: degree 7 is cheap to evaluate (~20 flops); ranges
-  // it cannot fit to 1e-10 in one part get 2, 4, ... equal parts.
-  constexpr int kFitPoints = 8;
   SunAtRadius s = sun_at(r);
   if (s.outside_ || !(mu_lo <= mu_hi)) return s;
-  mu_lo = std::clamp(mu_lo, -1.0, 1.0);
-  mu_hi = std::clamp(mu_hi, -1.0, 1.0);
   const double rr = s.r_;
+  const double lo = std::clamp(mu_lo, -1.0, 1.0);
+  // A degenerate range (one direction) gets a width of 1e-12.
+  const double hi = mu_hi > lo ? std::min(mu_hi, 1.0) : std::min(1.0, lo + 1e-12);
   // Blocked rays have no column; ray_hits_ground is monotone in mu.
-  if (sg::ray_hits_ground(rr, mu_lo, R_)) return s;
-  // A degenerate range (one direction): a 1-point fit, exact there.
-  const double lo = mu_lo, hi = mu_hi > mu_lo ? mu_hi : std::min(1.0, mu_lo + 1e-12);
-  for (int c = 0; c < 3; ++c) {
-    if (!analytic_[c]) continue;
-    // The column has a kink in mu where the tangent point of the ray lies on a
-    // node sphere of the profile (below r): mu_k = -sqrt(1 - (R_k / r)^2).
-    bool kink = false;
-    for (double Rk : linear_[c].node_radii()) {
-      if (!(Rk < rr)) continue;
-      const double mu_k = -std::sqrt((rr - Rk) * (rr + Rk)) / rr;
-      if (mu_k >= lo && mu_k <= hi) kink = true;
-    }
-    if (kink) continue;
-    const auto f = [&](double mu) { return linear_[c](rr, mu, sg::distance_to_top(rr, mu, T_)); };
-    int used = 0;
-    for (int pieces = 1; pieces <= 64; pieces *= 2) {
-      used += pieces * (2 * kFitPoints + 1);
-      if (used > max_samples) break;
-      ChebyshevFit fit = ChebyshevFit::checked(f, lo, hi, kFitPoints, pieces, 1e-10);
-      if (fit.valid()) {
-        s.fit_[static_cast<std::size_t>(c)] = fit;
-        break;
-      }
-    }
+  if (!(hi > lo) || sg::ray_hits_ground(rr, lo, R_)) return s;
+  // Where the lookup is not smooth in mu: at the table's direction samples (between
+  // two, the interpolation is one cubic in x, and x is smooth in mu), and where the
+  // tangent point of the ray lies on a node sphere of a closed-form profile (a kink
+  // of its column) or at the top of a kinked interpolated one (its column is set to
+  // 0 above: finish_up).
+  std::vector<double> breaks{lo, hi};
+  const auto add = [&](double mu) {
+    if (mu > lo && mu < hi) breaks.push_back(mu);
+  };
+  const int n = sun_up_.n;
+  const double dmin = T_ - rr, dmax = s.rho_ + Hh_;
+  for (int j = 1; j + 1 < n; ++j) {
+    const double d = dmin + (dmax - dmin) * j / (n - 1);  // x = j / (n - 1): T^2 = r^2 + d^2 + 2 r d mu
+    if (d > 0.0) add(((T_ - rr) * (T_ + rr) - d * d) / (2.0 * rr * d));
   }
+  const auto add_tangent = [&](double Rk) {
+    if (Rk < rr) add(-std::sqrt((rr - Rk) * (rr + Rk)) / rr);
+  };
+  for (int c = 0; c < 3; ++c) {
+    if (analytic_[c])
+      for (double Rk : linear_[c].node_radii()) add_tangent(Rk);
+    if (has_kinks_ && present_[c] && !log_encoded_[c]) add_tangent(R_ + support_top_[c]);
+  }
+  std::sort(breaks.begin(), breaks.end());
+  breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
+  // The lookups themselves (s has no fit yet), degree 7 per part.
+  const auto f = [&](double mu, double* out) {
+    const LutColumn col = s(mu);
+    for (int c = 0; c < 3; ++c) out[c] = col.column[c];
+  };
+  s.fit_ = ChebyshevFit::checked(f, std::move(breaks), 8, 3, 1e-10, max_samples);
   return s;
 }
 
@@ -633,6 +634,13 @@ LutColumn OpticalDepthLut::SunAtRadius::operator()(double mu) const {
   const OpticalDepthLut& L = *lut_;
   if (outside_) return L.sun(r_, mu);
   mu = std::clamp(mu, -1.0, 1.0);
+  if (fit_.covers(mu)) {
+    LutColumn out;
+    double v[3];
+    fit_(mu, v);
+    out.column = glm::dvec3(v[0], v[1], v[2]);
+    return out;
+  }
   if (sg::ray_hits_ground(r_, mu, L.R_)) {
     LutColumn out;
     out.hits_ground = true;
@@ -649,7 +657,7 @@ LutColumn OpticalDepthLut::SunAtRadius::operator()(double mu) const {
     const double* v = &v_[static_cast<std::size_t>(jw + m) * 4];
     e += wm * glm::dvec3(v[0], v[1], v[2]);
   }
-  return L.finish_up(e, r_, mu, d, &fit_);
+  return L.finish_up(e, r_, mu, d);
 }
 
 void OpticalDepthLut::replace_log_tables(const std::vector<float>& log_mean, int off_ground, int off_sun) {

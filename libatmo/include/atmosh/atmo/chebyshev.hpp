@@ -1,26 +1,30 @@
-// atmosh/atmo/chebyshev.hpp — a checked piecewise Chebyshev interpolant of a smooth
-// function on an interval, for functions that are evaluated very many times over a
-// narrow range of their argument (the closed-form sun-ray columns of one node of a
-// sky image row, which every pixel of the row needs at its own sun direction).
+// atmosh/atmo/chebyshev.hpp — a checked piecewise Chebyshev interpolant of a
+// piecewise-smooth function on an interval (a few channels at once), for functions
+// that are evaluated very many times over a narrow range of their argument: the
+// sun-ray columns of one node of a sky image row, which every pixel of the row
+// needs at its own sun direction.
 //
-// ChebyshevFit::checked(f, a, b, n, pieces, tol) cuts [a, b] into `pieces` equal
-// parts and on each samples f at the n Chebyshev points of the first kind
+// ChebyshevFit::checked(f, breaks, n, channels, tol, max_samples) starts from the
+// parts between the given breakpoints (where the caller knows f to be non-smooth)
+// and on each samples f at the n Chebyshev points of the first kind
 // (x_j = m + h cos(pi (j + 1/2) / n)), forms the coefficients of the degree n - 1
 // interpolant by the discrete cosine sums (Trefethen, Approximation Theory and
 // Approximation Practice, SIAM 2013, ch. 3-4), converted to powers of the part's
-// local variable t in [-1, 1] and evaluated by Horner's rule (n <= 16: the power
-// form of a degree <= 15 polynomial on [-1, 1] loses at most ~(1 + sqrt 2)^15
-// ~ 6e5 ulp of the largest coefficient, which the check below sees). Each part is then checked against f at the n + 1 extrema of T_n,
-// x = m + h cos(pi j / n) for j = 0..n (both ends and the points between the
-// interpolation nodes, where the error of an interpolant of an analytic function
-// peaks): valid() only if every check is within tol * scale, scale = the largest
-// |f| over all samples (an all-zero f fits exactly). The check is sampled, not a
-// proof; it is sharp for functions analytic near [a, b] (geometric convergence,
-// error oscillating with the extrema of T_n). A caller must keep known
-// singularities (kinks) out of [a, b]; the check catches near-singular cases by
-// failing. n <= kMaxPoints = 16.
-// Units: those of f and of its argument. Cost: pieces (2n + 1) evaluations of f and
-// ~pieces n^2 flops to fit; n multiply-adds per evaluation.
+// local variable t in [-1, 1] (evaluated by Horner's rule; n <= 16: the power form
+// of a degree <= 15 polynomial on [-1, 1] loses at most ~(1 + sqrt 2)^15 ~ 6e5 ulp
+// of the largest coefficient, which the check below sees). Each part is then
+// checked against f at the n + 1 extrema of T_n, x = m + h cos(pi j / n) for
+// j = 0..n (both ends and the points between the interpolation nodes, where the
+// error of an interpolant of an analytic function peaks): a part passes if every
+// channel c is within tol * scale_c there (scale_c = the largest |f_c| sampled so
+// far; an all-zero channel fits exactly); a part that fails is halved and tried
+// again. valid() once every part passes within max_samples evaluations of f in
+// all (and parts no narrower than 1e-9 of the interval). The check is sampled, not
+// a proof; it is sharp for functions analytic near each part (geometric
+// convergence, error oscillating with the extrema of T_n).
+// Units: those of f and of its argument. Cost: 2n + 1 evaluations of f and ~n^2
+// flops per part tried; per evaluation a search over the parts and n
+// multiply-adds per channel.
 #pragma once
 
 #include <algorithm>
@@ -33,79 +37,113 @@ namespace atmosh::atmo {
 class ChebyshevFit {
  public:
   static constexpr int kMaxPoints = 16;
+  static constexpr int kMaxChannels = 4;
 
   ChebyshevFit() = default;  // empty: !valid()
 
-  // n in [1, kMaxPoints], pieces >= 1, a < b finite; otherwise an invalid fit
-  // (no sample taken). Stops sampling at the first part that fails its check.
+  // f(x, out) writes out[0..channels). breaks: ascending, finite, >= 2 values
+  // (the interval is [breaks.front(), breaks.back()]). n in [1, kMaxPoints],
+  // channels in [1, kMaxChannels]; otherwise an invalid fit (no sample taken).
   template <class F>
-  static ChebyshevFit checked(F&& f, double a, double b, int n, int pieces, double tol) {
+  static ChebyshevFit checked(F&& f, std::vector<double> breaks, int n, int channels, double tol, int max_samples) {
     ChebyshevFit c;
-    if (!(n >= 1 && n <= kMaxPoints && pieces >= 1 && a < b && std::isfinite(a) && std::isfinite(b))) return c;
-    c.a_ = a;
-    c.b_ = b;
+    if (!(n >= 1 && n <= kMaxPoints && channels >= 1 && channels <= kMaxChannels && breaks.size() >= 2)) return c;
+    for (std::size_t i = 0; i < breaks.size(); ++i)
+      if (!std::isfinite(breaks[i]) || (i > 0 && !(breaks[i] > breaks[i - 1]))) return c;
     c.n_ = n;
-    c.pieces_ = pieces;
-    c.inv_width_ = pieces / (b - a);
-    c.c_.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(pieces), 0.0);
+    c.channels_ = channels;
+    const double min_width = 1e-9 * (breaks.back() - breaks.front());
     constexpr double kPi = 3.14159265358979323846;
-    double scale = 0.0, worst = 0.0;
-    std::array<double, kMaxPoints> v{};
-    for (int p = 0; p < pieces; ++p) {
-      const double pa = p == 0 ? a : a + (b - a) * p / pieces, pb = p + 1 == pieces ? b : a + (b - a) * (p + 1) / pieces;
+    std::array<double, kMaxChannels> scale{};
+    int samples = 0;
+    // Parts still to fit, in order: (start, end), the front one first.
+    std::vector<std::pair<double, double>> todo;
+    for (std::size_t i = breaks.size() - 1; i > 0; --i) todo.emplace_back(breaks[i - 1], breaks[i]);
+    std::array<std::array<double, kMaxChannels>, kMaxPoints> v{};
+    std::vector<double> coef(static_cast<std::size_t>(n * channels));
+    double out[kMaxChannels];
+    c.breaks_.push_back(breaks.front());
+    while (!todo.empty()) {
+      const auto [pa, pb] = todo.back();
+      todo.pop_back();
+      samples += 2 * n + 1;
+      if (samples > max_samples || !(pb - pa >= min_width)) return ChebyshevFit{};
       const double m = 0.5 * (pa + pb), h = 0.5 * (pb - pa);
       for (int j = 0; j < n; ++j) {
-        v[static_cast<std::size_t>(j)] = f(m + h * std::cos(kPi * (j + 0.5) / n));
-        if (!std::isfinite(v[static_cast<std::size_t>(j)])) return ChebyshevFit{};
-        scale = std::max(scale, std::fabs(v[static_cast<std::size_t>(j)]));
+        f(m + h * std::cos(kPi * (j + 0.5) / n), out);
+        for (int ch = 0; ch < channels; ++ch) {
+          if (!std::isfinite(out[ch])) return ChebyshevFit{};
+          v[static_cast<std::size_t>(j)][static_cast<std::size_t>(ch)] = out[ch];
+          scale[static_cast<std::size_t>(ch)] = std::max(scale[static_cast<std::size_t>(ch)], std::fabs(out[ch]));
+        }
       }
+      std::fill(coef.begin(), coef.end(), 0.0);
       // Chebyshev coefficients, then the powers of t: T_{k+1} = 2 t T_k - T_{k-1}.
-      double* cp = &c.c_[static_cast<std::size_t>(p) * static_cast<std::size_t>(n)];
       std::array<double, kMaxPoints + 1> tk{}, prev{};  // T_k and T_{k-1} in powers of t
       tk[0] = 1.0;
       for (int k = 0; k < n; ++k) {
-        double s = 0.0;
-        for (int j = 0; j < n; ++j) s += v[static_cast<std::size_t>(j)] * std::cos(kPi * k * (j + 0.5) / n);
-        const double ck = (k == 0 ? 1.0 : 2.0) * s / n;
-        for (int i = 0; i <= k; ++i) cp[i] += ck * tk[static_cast<std::size_t>(i)];
-        std::array<double, kMaxPoints + 1> next{};  // T_{k+1} = 2 t T_k - T_{k-1} (T_1 = t)
-        for (int i = 0; i <= k; ++i) next[static_cast<std::size_t>(i) + 1] = (k == 0 ? 1.0 : 2.0) * tk[static_cast<std::size_t>(i)];
+        for (int ch = 0; ch < channels; ++ch) {
+          double s = 0.0;
+          for (int j = 0; j < n; ++j)
+            s += v[static_cast<std::size_t>(j)][static_cast<std::size_t>(ch)] * std::cos(kPi * k * (j + 0.5) / n);
+          const double ck = (k == 0 ? 1.0 : 2.0) * s / n;
+          for (int i = 0; i <= k; ++i) coef[static_cast<std::size_t>(ch * n + i)] += ck * tk[static_cast<std::size_t>(i)];
+        }
+        std::array<double, kMaxPoints + 1> next{};
+        for (int i = 0; i <= k; ++i)
+          next[static_cast<std::size_t>(i) + 1] = (k == 0 ? 1.0 : 2.0) * tk[static_cast<std::size_t>(i)];
         for (int i = 0; i < k; ++i) next[static_cast<std::size_t>(i)] -= prev[static_cast<std::size_t>(i)];
         prev = tk;
         tk = next;
       }
-      double piece_worst = 0.0, piece_scale = 0.0;
-      for (int j = 0; j <= n; ++j) {
+      bool pass = true;
+      double worst = 0.0;
+      for (int j = 0; j <= n && pass; ++j) {
         // Clamped: rounding must not put the ends outside the part.
         const double x = std::clamp(m + h * std::cos(kPi * j / n), pa, pb);
-        const double fx = f(x);
-        if (!std::isfinite(fx)) return ChebyshevFit{};
-        piece_scale = std::max(piece_scale, std::fabs(fx));
-        piece_worst = std::max(piece_worst, std::fabs(horner(cp, n, (x - m) / h) - fx));
+        f(x, out);
+        for (int ch = 0; ch < channels; ++ch) {
+          if (!std::isfinite(out[ch])) return ChebyshevFit{};
+          scale[static_cast<std::size_t>(ch)] = std::max(scale[static_cast<std::size_t>(ch)], std::fabs(out[ch]));
+          const double e = std::fabs(horner(&coef[static_cast<std::size_t>(ch * n)], n, (x - m) / h) - out[ch]);
+          worst = std::max(worst, e / std::max(scale[static_cast<std::size_t>(ch)], 1e-300));
+          if (!(e <= tol * scale[static_cast<std::size_t>(ch)])) pass = false;
+        }
       }
-      scale = std::max(scale, piece_scale);
-      worst = std::max(worst, piece_worst);
-      if (!(piece_worst <= tol * scale)) return ChebyshevFit{};
+      if (!pass) {  // halve it: the front half next
+        todo.emplace_back(m, pb);
+        todo.emplace_back(pa, m);
+        continue;
+      }
+      c.breaks_.push_back(pb);
+      c.mid_.push_back(m);
+      c.inv_half_.push_back(1.0 / h);
+      c.coef_.insert(c.coef_.end(), coef.begin(), coef.end());
+      c.check_error_ = std::max(c.check_error_, worst);
     }
-    c.check_error_ = worst;
-    c.valid_ = worst <= tol * scale;
+    c.samples_ = samples;
+    c.valid_ = true;
     return c;
   }
 
   bool valid() const { return valid_; }
   // valid() and lo() <= x <= hi().
-  bool covers(double x) const { return valid_ && x >= a_ && x <= b_; }
-  double lo() const { return a_; }
-  double hi() const { return b_; }
+  bool covers(double x) const { return valid_ && x >= breaks_.front() && x <= breaks_.back(); }
+  double lo() const { return breaks_.empty() ? 0.0 : breaks_.front(); }
+  double hi() const { return breaks_.empty() ? 0.0 : breaks_.back(); }
   int points() const { return n_; }
-  int pieces() const { return pieces_; }
-  // Largest |fit - f| seen by the check.
+  int pieces() const { return static_cast<int>(mid_.size()); }
+  int samples() const { return samples_; }
+  // Largest |fit - f| / scale seen by the checks of the parts kept.
   double check_error() const { return check_error_; }
-  // The interpolant at x (meant for x in [lo, hi]).
-  double operator()(double x) const {
-    const double u = (x - a_) * inv_width_;
-    const int p = std::clamp(static_cast<int>(u), 0, pieces_ - 1);
-    return horner(&c_[static_cast<std::size_t>(p) * static_cast<std::size_t>(n_)], n_, 2.0 * (u - p) - 1.0);
+  // The interpolant at x (meant for x in [lo, hi]) into out[0..channels).
+  void operator()(double x, double* out) const {
+    // The part holding x: the last whose start is <= x (the first part below lo).
+    const auto it = std::upper_bound(breaks_.begin() + 1, breaks_.end() - 1, x);
+    const std::size_t p = static_cast<std::size_t>(it - (breaks_.begin() + 1));
+    const double t = (x - mid_[p]) * inv_half_[p];
+    const double* cp = &coef_[p * static_cast<std::size_t>(n_ * channels_)];
+    for (int ch = 0; ch < channels_; ++ch) out[ch] = horner(cp + ch * n_, n_, t);
   }
 
  private:
@@ -116,9 +154,11 @@ class ChebyshevFit {
     return v;
   }
 
-  std::vector<double> c_;  // [piece][n]: powers of the local t
-  double a_ = 0.0, b_ = 0.0, inv_width_ = 0.0, check_error_ = 0.0;
-  int n_ = 0, pieces_ = 0;
+  std::vector<double> breaks_;           // part p is [breaks_[p], breaks_[p + 1]]
+  std::vector<double> mid_, inv_half_;   // per part
+  std::vector<double> coef_;             // [part][channel][n]: powers of the local t
+  double check_error_ = 0.0;
+  int n_ = 0, channels_ = 0, samples_ = 0;
   bool valid_ = false;
 };
 

@@ -183,9 +183,9 @@ class OpticalDepthLut {
   class SunAtRadius {
    public:
     LutColumn operator()(double mu) const;
-    // The fit of constituent c's closed-form column (!valid(): none, the column is
-    // computed at each lookup).
-    const ChebyshevFit& fit(int c) const { return fit_[static_cast<std::size_t>(c)]; }
+    // The fit over a range of mu (!valid(): none; lookups interpolate the table and
+    // compute closed-form columns).
+    const ChebyshevFit& fit() const { return fit_; }
 
    private:
     friend class OpticalDepthLut;
@@ -193,21 +193,24 @@ class OpticalDepthLut {
     double r_ = 0, rho_ = 0;
     bool outside_ = false;   // r above the top: every lookup goes through sun(r, mu)
     std::vector<double> v_;  // [direction][4]
-    std::array<ChebyshevFit, 3> fit_;  // closed-form columns over a range of mu
+    ChebyshevFit fit_;       // the three columns over a range of mu
   };
   SunAtRadius sun_at(double r) const;
-  // The same, and the closed-form columns (constituents with analytic lookups,
-  // e.g. the ozone tent) fitted as functions of mu on [mu_lo, mu_hi] by a checked
-  // piecewise Chebyshev interpolant (chebyshev.hpp): 8 points on each of 1, 2, 4,
-  // ... equal parts, the first split whose check at 17 points per part is within
-  // 1e-10 of the largest column in the range, using at most max_samples
-  // closed-form evaluations in all. Lookups inside the range then cost ~20 flops
-  // instead of the closed form (~400 instructions for a tent); outside it, or
-  // where no fit passed, they are the closed form. No fit is tried when a ray in
-  // the range is blocked by the ground or has its tangent point on a node sphere
-  // of the profile (a kink of the column in mu), or when r is above the top.
-  // Worth it for >= ~4 max_samples lookups (an image row: every pixel's sun
-  // direction at one node radius).
+  // The same, and its lookups fitted as functions of mu on [mu_lo, mu_hi] by a
+  // checked piecewise Chebyshev interpolant (chebyshev.hpp: degree 7 per part, all
+  // three columns): parts between the table's direction samples that fall in the
+  // range (the lookup is one cubic in the table's direction coordinate between
+  // two, smooth in mu) and the mu where a ray's tangent point lies on a node sphere
+  // of a closed-form profile (a kink of its column), halved where a check fails.
+  // Each column is checked to 1e-10 of its largest value in the range at 17 points
+  // per part, so an optical depth is within 1e-10 of the largest in the range of
+  // the lookup's. The fit uses at most max_samples lookups, else there is none.
+  // Lookups inside the range then cost a search over the parts and 3 x 8
+  // multiply-adds instead of the interpolation, two exp and the closed-form
+  // columns (~500 instructions with the ozone tent); outside it, or with no fit,
+  // they are the lookups. No fit when a ray in the range is blocked by the ground
+  // or r is above the top. Worth it for >= ~4 max_samples lookups (an image row:
+  // every pixel's sun direction at one node radius).
   SunAtRadius sun_at(double r, double mu_lo, double mu_hi, int max_samples) const;
 
   const std::vector<double>& shell_radii() const { return radii_; }
@@ -255,9 +258,7 @@ class OpticalDepthLut {
   // Channel c of direction sample j summed over the kinked region's shells.
   double kinked_shell_sum(const Table& t, const ShellWeights& sw, int j, int c) const;
   // Decoded column toward the top from interpolated entries e, for a ray of length d.
-  // fits: closed-form columns fitted over a range of mu (SunAtRadius), or null.
-  LutColumn finish_up(const glm::dvec3& e, double r, double mu, double d,
-                      const std::array<ChebyshevFit, 3>* fits = nullptr) const;
+  LutColumn finish_up(const glm::dvec3& e, double r, double mu, double d) const;
   glm::dvec3 encode(const glm::dvec3& mean) const;
   glm::dvec3 decode(const glm::dvec3& stored) const;
   void fill(Table& t, int n, bool ground);
