@@ -59,8 +59,17 @@ class ChebyshevFit {
     // Parts still to fit, in order: (start, end), the front one first.
     std::vector<std::pair<double, double>> todo;
     for (std::size_t i = breaks.size() - 1; i > 0; --i) todo.emplace_back(breaks[i - 1], breaks[i]);
+    // The cosines, once for every part and channel: nodes, the cosine transform, checks.
+    std::array<double, kMaxPoints> node{};
+    std::array<std::array<double, kMaxPoints>, kMaxPoints> dct{};
+    std::array<double, kMaxPoints + 1> extremum{};
+    for (int j = 0; j < n; ++j) node[static_cast<std::size_t>(j)] = std::cos(kPi * (j + 0.5) / n);
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        dct[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)] = std::cos(kPi * k * (j + 0.5) / n);
+    for (int j = 0; j <= n; ++j) extremum[static_cast<std::size_t>(j)] = std::cos(kPi * j / n);
     std::array<std::array<double, kMaxChannels>, kMaxPoints> v{};
-    std::vector<double> coef(static_cast<std::size_t>(n * channels));
+    std::vector<double> coef(static_cast<std::size_t>(n * kMaxChannels));  // [i][channel]
     double out[kMaxChannels];
     c.breaks_.push_back(breaks.front());
     while (!todo.empty()) {
@@ -70,7 +79,7 @@ class ChebyshevFit {
       if (samples > max_samples || !(pb - pa >= min_width)) return ChebyshevFit{};
       const double m = 0.5 * (pa + pb), h = 0.5 * (pb - pa);
       for (int j = 0; j < n; ++j) {
-        f(m + h * std::cos(kPi * (j + 0.5) / n), out);
+        f(m + h * node[static_cast<std::size_t>(j)], out);
         for (int ch = 0; ch < channels; ++ch) {
           if (!std::isfinite(out[ch])) return ChebyshevFit{};
           v[static_cast<std::size_t>(j)][static_cast<std::size_t>(ch)] = out[ch];
@@ -85,9 +94,11 @@ class ChebyshevFit {
         for (int ch = 0; ch < channels; ++ch) {
           double s = 0.0;
           for (int j = 0; j < n; ++j)
-            s += v[static_cast<std::size_t>(j)][static_cast<std::size_t>(ch)] * std::cos(kPi * k * (j + 0.5) / n);
+            s += v[static_cast<std::size_t>(j)][static_cast<std::size_t>(ch)] *
+                 dct[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)];
           const double ck = (k == 0 ? 1.0 : 2.0) * s / n;
-          for (int i = 0; i <= k; ++i) coef[static_cast<std::size_t>(ch * n + i)] += ck * tk[static_cast<std::size_t>(i)];
+          for (int i = 0; i <= k; ++i)
+            coef[static_cast<std::size_t>(i * kMaxChannels + ch)] += ck * tk[static_cast<std::size_t>(i)];
         }
         std::array<double, kMaxPoints + 1> next{};
         for (int i = 0; i <= k; ++i)
@@ -100,12 +111,14 @@ class ChebyshevFit {
       double worst = 0.0;
       for (int j = 0; j <= n && pass; ++j) {
         // Clamped: rounding must not put the ends outside the part.
-        const double x = std::clamp(m + h * std::cos(kPi * j / n), pa, pb);
+        const double x = std::clamp(m + h * extremum[static_cast<std::size_t>(j)], pa, pb);
         f(x, out);
+        double fit[kMaxChannels];
+        horner(coef.data(), n, (x - m) / h, fit);
         for (int ch = 0; ch < channels; ++ch) {
           if (!std::isfinite(out[ch])) return ChebyshevFit{};
           scale[static_cast<std::size_t>(ch)] = std::max(scale[static_cast<std::size_t>(ch)], std::fabs(out[ch]));
-          const double e = std::fabs(horner(&coef[static_cast<std::size_t>(ch * n)], n, (x - m) / h) - out[ch]);
+          const double e = std::fabs(fit[ch] - out[ch]);
           worst = std::max(worst, e / std::max(scale[static_cast<std::size_t>(ch)], 1e-300));
           if (!(e <= tol * scale[static_cast<std::size_t>(ch)])) pass = false;
         }
@@ -142,21 +155,33 @@ class ChebyshevFit {
     const auto it = std::upper_bound(breaks_.begin() + 1, breaks_.end() - 1, x);
     const std::size_t p = static_cast<std::size_t>(it - (breaks_.begin() + 1));
     const double t = (x - mid_[p]) * inv_half_[p];
-    const double* cp = &coef_[p * static_cast<std::size_t>(n_ * channels_)];
-    for (int ch = 0; ch < channels_; ++ch) out[ch] = horner(cp + ch * n_, n_, t);
+    double v[kMaxChannels];
+    horner(&coef_[p * static_cast<std::size_t>(n_ * kMaxChannels)], n_, t, v);
+    for (int ch = 0; ch < channels_; ++ch) out[ch] = v[ch];
   }
 
  private:
-  // sum_i c[i] t^i.
-  static double horner(const double* c, int n, double t) {
-    double v = c[n - 1];
-    for (int i = n - 2; i >= 0; --i) v = v * t + c[i];
-    return v;
+  // v[ch] = sum_i c[i][ch] t^i for all kMaxChannels channels at once (independent
+  // chains; unused channels have zero coefficients).
+  static void horner(const double* c, int n, double t, double* v) {
+    double v0 = c[(n - 1) * kMaxChannels], v1 = c[(n - 1) * kMaxChannels + 1], v2 = c[(n - 1) * kMaxChannels + 2],
+           v3 = c[(n - 1) * kMaxChannels + 3];
+    for (int i = n - 2; i >= 0; --i) {
+      const double* ci = c + i * kMaxChannels;
+      v0 = v0 * t + ci[0];
+      v1 = v1 * t + ci[1];
+      v2 = v2 * t + ci[2];
+      v3 = v3 * t + ci[3];
+    }
+    v[0] = v0;
+    v[1] = v1;
+    v[2] = v2;
+    v[3] = v3;
   }
 
   std::vector<double> breaks_;           // part p is [breaks_[p], breaks_[p + 1]]
   std::vector<double> mid_, inv_half_;   // per part
-  std::vector<double> coef_;             // [part][channel][n]: powers of the local t
+  std::vector<double> coef_;             // [part][n][kMaxChannels]: powers of the local t
   double check_error_ = 0.0;
   int n_ = 0, channels_ = 0, samples_ = 0;
   bool valid_ = false;
