@@ -214,6 +214,25 @@ TEST(OpticalDepthLut, SunOnlyBuildLeavesTheViewTablesOut) {
   }
 }
 
+namespace {
+// Calls f(name, analytic, atmosphere, lut) with the sun table alone (as the sky
+// builds it) of each preset, with the ozone tent in closed form (analytic = 16) and
+// interpolated across its kinks (analytic = 0).
+template <class F>
+void for_each_sun_table(F&& f) {
+  for (const char* name : {"earth-graphics", "earth-physical", "test-planet"})
+    for (int analytic : {16, 0}) {
+      const Atmosphere atm(preset(name));
+      LutOptions o;
+      o.view_tables = false;
+      o.analytic_max_nodes = analytic;
+      const OpticalDepthLut lut(atm, o);
+      f(name, analytic, atm, lut);
+    }
+}
+
+}  // namespace
+
 // The sun table reduced to one radius (SunAtRadius, the sky's image rows) gives the
 // same columns as a full lookup at that radius: the same Lagrange weights summed in
 // another order, so equal to rounding (1e-12 relative), and the same blocked rays.
@@ -222,39 +241,33 @@ TEST(OpticalDepthLut, SunOnlyBuildLeavesTheViewTablesOut) {
 // ground, between and on shells, near profile kinks, at and above the top; directions up, horizontal, at
 // the horizon +-1e-9 and down.
 TEST(OpticalDepthLut, SunAtRadiusEqualsSunLookup) {
-  for (const char* name : {"earth-graphics", "earth-physical", "test-planet"})
-    for (int analytic : {16, 0}) {
-      const Atmosphere atm(preset(name));
-      LutOptions o;
-      o.view_tables = false;
-      o.analytic_max_nodes = analytic;
-      const OpticalDepthLut lut(atm, o);
-      const double R = atm.ground_radius(), T = atm.top_radius();
-      std::vector<double> radii{R, R + 1.0, R + 777.0, T, T - 1e-3, T + 5e3};
-      for (double r : lut.shell_radii()) radii.push_back(r);
-      for (double f : {0.013, 0.21, 0.5, 0.77}) radii.push_back(R + f * (T - R));
-      for (double k : atm.kinks())  // windows that stop at a profile kink
-        for (double dh : {-700.0, -90.0, 0.0, 90.0, 700.0}) radii.push_back(std::clamp(R + k + dh, R, T));
-      int compared = 0, blocked = 0;
-      for (double r : radii) {
-        const OpticalDepthLut::SunAtRadius at = lut.sun_at(r);
-        const double muh = r > R ? shared::mu_horizon(r, R) : 0.0;
-        for (double mu : {1.0, 0.7, 0.2, 0.01, 0.0, -0.01, -0.1, muh + 1e-9, muh - 1e-9, muh + 1e-4, -0.6, -1.0}) {
-          if (mu < -1.0 || mu > 1.0) continue;
-          const LutColumn a = lut.sun(r, mu), b = at(mu);
-          ASSERT_EQ(a.hits_ground, b.hits_ground) << name << " r " << r << " mu " << mu;
-          blocked += a.hits_ground;
-          for (int c = 0; c < 3; ++c) {
-            ASSERT_TRUE(std::isfinite(b.column[c]));
-            EXPECT_LE(std::abs(a.column[c] - b.column[c]), 1e-12 * std::abs(a.column[c]) + 1e-300)
-                << name << " analytic " << analytic << " r - R " << r - R << " mu " << mu << " c " << c;
-          }
-          ++compared;
+  for_each_sun_table([](const char* name, int analytic, const Atmosphere& atm, const OpticalDepthLut& lut) {
+    const double R = atm.ground_radius(), T = atm.top_radius();
+    std::vector<double> radii{R, R + 1.0, R + 777.0, T, T - 1e-3, T + 5e3};
+    for (double r : lut.shell_radii()) radii.push_back(r);
+    for (double f : {0.013, 0.21, 0.5, 0.77}) radii.push_back(R + f * (T - R));
+    for (double k : atm.kinks())  // windows that stop at a profile kink
+      for (double dh : {-700.0, -90.0, 0.0, 90.0, 700.0}) radii.push_back(std::clamp(R + k + dh, R, T));
+    int compared = 0, blocked = 0;
+    for (double r : radii) {
+      const OpticalDepthLut::SunAtRadius at = lut.sun_at(r);
+      const double muh = r > R ? shared::mu_horizon(r, R) : 0.0;
+      for (double mu : {1.0, 0.7, 0.2, 0.01, 0.0, -0.01, -0.1, muh + 1e-9, muh - 1e-9, muh + 1e-4, -0.6, -1.0}) {
+        if (mu < -1.0 || mu > 1.0) continue;
+        const LutColumn a = lut.sun(r, mu), b = at(mu);
+        ASSERT_EQ(a.hits_ground, b.hits_ground) << name << " r " << r << " mu " << mu;
+        blocked += a.hits_ground;
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_TRUE(std::isfinite(b.column[c]));
+          EXPECT_LE(std::abs(a.column[c] - b.column[c]), 1e-12 * std::abs(a.column[c]) + 1e-300)
+              << name << " analytic " << analytic << " r - R " << r - R << " mu " << mu << " c " << c;
         }
+        ++compared;
       }
-      EXPECT_GT(blocked, 10);
-      EXPECT_GT(compared, 200);
     }
+    EXPECT_GT(blocked, 10);
+    EXPECT_GT(compared, 200);
+  });
 }
 
 // sun_at(r, mu_lo, mu_hi, budget) fits the lookups of the sun table over a range of
@@ -265,62 +278,55 @@ TEST(OpticalDepthLut, SunAtRadiusEqualsSunLookup) {
 // presets and their profile kinds; no fit where a ray of the range is blocked or r
 // is above the top.
 TEST(OpticalDepthLut, SunAtRadiusFitEqualsSunLookup) {
-  for (const char* name : {"earth-graphics", "earth-physical", "test-planet"})
-    for (int analytic : {16, 0}) {
-      const Atmosphere atm(preset(name));
-      LutOptions o;
-      o.view_tables = false;
-      o.analytic_max_nodes = analytic;
-      const OpticalDepthLut lut(atm, o);
-      const double R = atm.ground_radius(), T = atm.top_radius();
-      int fitted = 0, eligible = 0, tried = 0;
-      for (double h : {0.0, 1500.0, 9e3, 10e3, 17e3, 25e3, 33e3, 40e3, 45e3, (T - R) * 0.99, T - R + 1e3}) {
-        const double r = R + h;
-        const double muh = h > 0 ? shared::mu_horizon(r, R) : 0.0;
-        struct Range {
-          double lo, hi;
-        };
-        for (const Range g : {Range{0.30, 0.31}, Range{0.05, 0.6}, Range{0.2, 1.0}, Range{-0.05, 0.05},
-                              Range{muh + 1e-3, muh + 0.05}, Range{-0.3, 0.1}, Range{0.5, 0.5},
-                              Range{muh - 0.01, 0.2}}) {
-          if (g.lo < -1.0 || g.hi > 1.0) continue;
-          ++tried;
-          const OpticalDepthLut::SunAtRadius at = lut.sun_at(r, g.lo, g.hi, 1000);
-          const bool has_fit = at.fit().valid();
-          fitted += has_fit;
-          if (r > T || lut.sun(r, g.lo).hits_ground) {
-            EXPECT_FALSE(has_fit) << name << " h " << h << " [" << g.lo << ", " << g.hi << "]";
-          } else {
-            ++eligible;
-            // Narrow ranges (an image row's nodes near the observer) always fit.
-            if (g.hi - g.lo <= 0.01) {
-              EXPECT_TRUE(has_fit) << name << " h " << h << " [" << g.lo << ", " << g.hi << "]";
-            }
+  for_each_sun_table([](const char* name, int analytic, const Atmosphere& atm, const OpticalDepthLut& lut) {
+    const double R = atm.ground_radius(), T = atm.top_radius();
+    int fitted = 0, eligible = 0, tried = 0;
+    for (double h : {0.0, 1500.0, 9e3, 10e3, 17e3, 25e3, 33e3, 40e3, 45e3, (T - R) * 0.99, T - R + 1e3}) {
+      const double r = R + h;
+      const double muh = h > 0 ? shared::mu_horizon(r, R) : 0.0;
+      struct Range {
+        double lo, hi;
+      };
+      for (const Range g : {Range{0.30, 0.31}, Range{0.05, 0.6}, Range{0.2, 1.0}, Range{-0.05, 0.05},
+                            Range{muh + 1e-3, muh + 0.05}, Range{-0.3, 0.1}, Range{0.5, 0.5}, Range{muh - 0.01, 0.2}}) {
+        if (g.lo < -1.0 || g.hi > 1.0) continue;
+        ++tried;
+        const OpticalDepthLut::SunAtRadius at = lut.sun_at(r, g.lo, g.hi, 1000);
+        const bool has_fit = at.fit().valid();
+        fitted += has_fit;
+        if (r > T || lut.sun(r, g.lo).hits_ground) {
+          EXPECT_FALSE(has_fit) << name << " h " << h << " [" << g.lo << ", " << g.hi << "]";
+        } else {
+          ++eligible;
+          // Narrow ranges (an image row's nodes near the observer) always fit.
+          if (g.hi - g.lo <= 0.01) {
+            EXPECT_TRUE(has_fit) << name << " h " << h << " [" << g.lo << ", " << g.hi << "]";
           }
-          glm::dvec3 scale(0.0);
-          std::vector<double> mus;
-          for (int i = 0; i <= 100; ++i) mus.push_back(g.lo + (g.hi - g.lo) * i / 100.0);
-          for (double mu : mus) scale = glm::max(scale, lut.sun(r, mu).column);
-          mus.insert(mus.end(), {g.lo - 0.01, g.hi + 0.01, -1.0, 1.0});
-          for (double mu : mus) {
-            if (mu < -1.0 || mu > 1.0) continue;
-            const LutColumn a = lut.sun(r, mu), b = at(mu);
-            ASSERT_EQ(a.hits_ground, b.hits_ground) << name << " h " << h << " mu " << mu;
-            for (int c = 0; c < 3; ++c) {
-              ASSERT_TRUE(std::isfinite(b.column[c]));
-              EXPECT_LE(std::abs(a.column[c] - b.column[c]), 1e-10 * scale[c] + 1e-12 * std::abs(a.column[c]) + 1e-300)
-                  << name << " analytic " << analytic << " h " << h << " [" << g.lo << ", " << g.hi << "] mu " << mu
-                  << " c " << c;
-            }
+        }
+        glm::dvec3 scale(0.0);
+        std::vector<double> mus;
+        for (int i = 0; i <= 100; ++i) mus.push_back(g.lo + (g.hi - g.lo) * i / 100.0);
+        for (double mu : mus) scale = glm::max(scale, lut.sun(r, mu).column);
+        mus.insert(mus.end(), {g.lo - 0.01, g.hi + 0.01, -1.0, 1.0});
+        for (double mu : mus) {
+          if (mu < -1.0 || mu > 1.0) continue;
+          const LutColumn a = lut.sun(r, mu), b = at(mu);
+          ASSERT_EQ(a.hits_ground, b.hits_ground) << name << " h " << h << " mu " << mu;
+          for (int c = 0; c < 3; ++c) {
+            ASSERT_TRUE(std::isfinite(b.column[c]));
+            EXPECT_LE(std::abs(a.column[c] - b.column[c]), 1e-10 * scale[c] + 1e-12 * std::abs(a.column[c]) + 1e-300)
+                << name << " analytic " << analytic << " h " << h << " [" << g.lo << ", " << g.hi << "] mu " << mu
+                << " c " << c;
           }
         }
       }
-      // Most eligible ranges are fitted (the comparison above is not vacuous); the
-      // widest ones reaching mu ~ 0.05, where the columns grow like 1/mu, may need
-      // more parts than the budget allows.
-      EXPECT_GE(5 * fitted, 4 * eligible) << name << " analytic " << analytic;
-      EXPECT_LT(eligible, tried) << name;
     }
+    // Most eligible ranges are fitted (the comparison above is not vacuous); the
+    // widest ones reaching mu ~ 0.05, where the columns grow like 1/mu, may need
+    // more parts than the budget allows.
+    EXPECT_GE(5 * fitted, 4 * eligible) << name << " analytic " << analytic;
+    EXPECT_LT(eligible, tried) << name;
+  });
 }
 
 TEST(OpticalDepthLut, BadOptions) {
