@@ -366,9 +366,9 @@ void SkyIntegrator::radiance_same_zenith(double altitude_m, const glm::dvec3* vi
     column_end = trace(ray0, vc.s, vc.n, [&](const detail::SkyViewNode& nd) { nodes.push_back(nd); });
     sun_at.reserve(nodes.size());
     // The sun's zenith cosine at a node over the row's views: the same expression
-    // shade() evaluates, so every view's value lies in the node's range. The
-    // closed-form sun columns are fitted over that range when the row is long
-    // enough to pay for it (at most a quarter of the evaluations it replaces).
+    // shade() evaluates, so every view's value lies in the node's range. The node's
+    // sun lookups are fitted over that range when the row is long enough to pay for
+    // it (at most a quarter of the lookups it replaces).
     const int budget = static_cast<int>(std::min<std::size_t>(n_shared / 4, 1 << 20));
     for (const auto& nd : nodes) {
       double lo = 2.0, hi = -2.0;

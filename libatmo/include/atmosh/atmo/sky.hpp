@@ -103,9 +103,9 @@ class SkyIntegrator {
   // equirect image) into out[k * n_wavelengths + i]. The nodes of the view ray, their
   // densities and view columns depend on the zenith angle only and are computed once;
   // the sun table is reduced once per node radius (OpticalDepthLut::sun_at), and for
-  // rows of >= 68 views the closed-form sun columns (the ozone tent) are fitted per
-  // node over the range of the sun's direction across the row (checked to 1e-10 of
-  // the range's largest column; at most a quarter of the closed-form evaluations it
+  // rows of >= 68 views each node's sun lookups (closed-form ozone included) are
+  // fitted over the range of the sun's direction across the row (checked to 1e-10 of
+  // each column's largest value in the range; at most a quarter of the lookups it
   // replaces). Per view only the sun columns, the phase functions and the spectral
   // loop remain. Equal to radiance() per view up to rounding (the same nodes and
   // table weights, summed in another order) and the fit's 1e-10. A view whose ray crosses the edge of the Earth's shadow (its cuts
