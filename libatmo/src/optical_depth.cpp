@@ -630,17 +630,10 @@ OpticalDepthLut::SunAtRadius OpticalDepthLut::sun_at(double r, double mu_lo, dou
   return s;
 }
 
-LutColumn OpticalDepthLut::SunAtRadius::operator()(double mu) const {
+LutColumn OpticalDepthLut::SunAtRadius::lookup(double mu) const {
   const OpticalDepthLut& L = *lut_;
   if (outside_) return L.sun(r_, mu);
   mu = std::clamp(mu, -1.0, 1.0);
-  if (fit_.covers(mu)) {
-    LutColumn out;
-    double v[3];
-    fit_(mu, v);
-    out.column = glm::dvec3(v[0], v[1], v[2]);
-    return out;
-  }
   if (sg::ray_hits_ground(r_, mu, L.R_)) {
     LutColumn out;
     out.hits_ground = true;

@@ -99,20 +99,39 @@ void shadow_crossings(const Ray& ray, double R, Out&& out) {
   }
 }
 
-// The spectral loop of one quadrature node: acc[i] += T_i (sca_r,i sr + sca_m,i sm) with
-// T_i = exp(-tau_i) over the wavelengths i < n, structure of arrays, branch-free exp.
-// The terms are formed in single precision (8 per AVX2 vector; relative error ~1e-6
-// for tau <= 10, far below the quadrature's) and summed into double accumulators.
-// Compiled for AVX2/FMA as well as the x86-64 baseline (atmosh/dispatch.hpp).
-ATMOSH_DISPATCH void accumulate_node(std::size_t n, const float* __restrict er, const float* __restrict em,
-                                     const float* __restrict eo, const float* __restrict cr,
-                                     const float* __restrict cm, float x0, float x1, float x2, float sr, float sm,
-                                     double* __restrict acc) {
-  // sg::column_optical_depth and sg::scattering_term, spelt out in float (the shared
-  // functions take `real`, double on the CPU).
-  for (std::size_t i = 0; i < n; ++i)
-    acc[i] += static_cast<double>(exp_neg_f(er[i] * x0 + em[i] * x1 + eo[i] * x2) * (cr[i] * sr + cm[i] * sm));
+// The spectral loop (detail::accumulate_sky_nodes): sg::column_optical_depth and
+// sg::scattering_term spelt out in float (the shared functions take `real`, double on
+// the CPU), for a block of nodes so that the constants of exp_neg_f are loaded once.
+[[gnu::always_inline]] inline void accumulate_nodes_body(std::size_t n, const float* __restrict ext,
+                                                         const float* __restrict sca,
+                                                         const detail::SkyNodeTerms* __restrict nodes,
+                                                         std::size_t count, double* __restrict acc) {
+  const float* __restrict er = ext;
+  const float* __restrict em = ext + n;
+  const float* __restrict eo = ext + 2 * n;
+  const float* __restrict cr = sca;
+  const float* __restrict cm = sca + n;
+  for (std::size_t k = 0; k < count; ++k) {
+    const float x0 = nodes[k].x[0], x1 = nodes[k].x[1], x2 = nodes[k].x[2], sr = nodes[k].sr, sm = nodes[k].sm;
+    for (std::size_t i = 0; i < n; ++i)
+      acc[i] += static_cast<double>(exp_neg_f(er[i] * x0 + em[i] * x1 + eo[i] * x2) * (cr[i] * sr + cm[i] * sm));
+  }
 }
+
+// AVX2/FMA (8 wavelengths per vector) and baseline clones.
+ATMOSH_DISPATCH void accumulate_nodes_avx2(std::size_t n, const float* ext, const float* sca,
+                                           const detail::SkyNodeTerms* nodes, std::size_t count, double* acc) {
+  accumulate_nodes_body(n, ext, sca, nodes, count, acc);
+}
+
+#if ATMOSH_HAS_DISPATCH
+// 16 wavelengths per vector (GCC's x86-64-v4 prefers 256-bit vectors unless told).
+ATMOSH_TARGET_AVX512 __attribute__((target("prefer-vector-width=512"))) void accumulate_nodes_avx512(
+    std::size_t n, const float* ext, const float* sca, const detail::SkyNodeTerms* nodes, std::size_t count,
+    double* acc) {
+  accumulate_nodes_body(n, ext, sca, nodes, count, acc);
+}
+#endif
 
 // The light reflected by the ground: out[i] += e[i] ground_term(albedo, mu_s, T_i) with
 // T_i = exp(-tau_i) of the column x (view + sun) at each wavelength i < n; er, em, eo
@@ -127,6 +146,21 @@ void add_ground_terms(std::size_t n, const double* __restrict er, const double* 
 }  // namespace
 
 // ---------------------------------------------------------------- fast path
+
+void detail::accumulate_sky_nodes(std::size_t n, const float* ext, const float* sca, const SkyNodeTerms* nodes,
+                                  std::size_t count, double* acc) {
+#if ATMOSH_HAS_DISPATCH
+  if (cpu_has_avx512()) return accumulate_nodes_avx512(n, ext, sca, nodes, count, acc);
+#endif
+  accumulate_nodes_avx2(n, ext, sca, nodes, count, acc);
+}
+
+std::size_t detail::sky_spectral_lanes() {
+#if ATMOSH_HAS_DISPATCH
+  if (cpu_has_avx512()) return 16;
+#endif
+  return 8;
+}
 
 std::vector<double> sky_part_column_weights(int n) {
   if (n < 1 || n > sg::kMaxPartNodes)
@@ -194,10 +228,19 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
       sca_[c * n + i] = atm_.has(c) ? k.scattering[c] : 0.0;
     }
   }
-  ext_f_.assign(ext_.begin(), ext_.end());
+  // Single precision, each constituent's row padded with zero coefficients (their
+  // terms are exp(0) x 0 = 0).
+  const std::size_t lanes = detail::sky_spectral_lanes();
+  n_pad_ = (n + lanes - 1) / lanes * lanes;
+  ext_f_.assign(3 * n_pad_, 0.0f);
+  sca_f_.assign(2 * n_pad_, 0.0f);
+  for (std::size_t c = 0; c < 3; ++c)
+    for (std::size_t i = 0; i < n; ++i) {
+      ext_f_[c * n_pad_ + i] = static_cast<float>(ext_[c * n + i]);
+      if (c < 2) sca_f_[c * n_pad_ + i] = static_cast<float>(sca_[c * n + i]);
+    }
   const double scale = 1.0 / (opt_.sun_distance_au * opt_.sun_distance_au);
   for (double e : solar_) solar_scaled_.push_back(e * scale);
-  sca_f_.assign(sca_.begin(), sca_.end());
 }
 
 template <class Visit>
@@ -273,26 +316,33 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
   double acc_small[64];
   std::vector<double> acc_big;
   double* acc = acc_small;
-  if (nw > 64) {
-    acc_big.assign(nw, 0.0);
+  if (n_pad_ > 64) {
+    acc_big.assign(n_pad_, 0.0);
     acc = acc_big.data();
   } else {
-    std::fill(acc_small, acc_small + nw, 0.0);
+    std::fill(acc_small, acc_small + n_pad_, 0.0);
   }
-  const float* er = ext_f_.data();
-  const float* em = er + nw;
-  const float* eo = em + nw;
-  const float* cr = sca_f_.data();
-  const float* cm = cr + nw;
+  // The nodes' terms go to the spectral loop in blocks, in order.
+  constexpr std::size_t kBlock = 32;
+  detail::SkyNodeTerms block[kBlock];
+  std::size_t nb = 0;
   const glm::dvec3 column_end = for_each_node([&](const detail::SkyViewNode& nd) {
     const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, nd.s, nd.r);
     const LutColumn to_sun = sun(nd, mus);
     if (to_sun.hits_ground) return;  // in the Earth's shadow
     const glm::dvec3 x = nd.column + to_sun.column;
-    const double sr = nd.rho[kRayleigh] * p_ray * nd.w, sm = nd.rho[kMie] * p_mie * nd.w;
-    accumulate_node(nw, er, em, eo, cr, cm, static_cast<float>(x[0]), static_cast<float>(x[1]),
-                    static_cast<float>(x[2]), static_cast<float>(sr), static_cast<float>(sm), acc);
+    detail::SkyNodeTerms& t = block[nb];
+    t.x[0] = static_cast<float>(x[0]);
+    t.x[1] = static_cast<float>(x[1]);
+    t.x[2] = static_cast<float>(x[2]);
+    t.sr = static_cast<float>(nd.rho[kRayleigh] * p_ray * nd.w);
+    t.sm = static_cast<float>(nd.rho[kMie] * p_mie * nd.w);
+    if (++nb == kBlock) {
+      detail::accumulate_sky_nodes(n_pad_, ext_f_.data(), sca_f_.data(), block, nb, acc);
+      nb = 0;
+    }
   });
+  if (nb > 0) detail::accumulate_sky_nodes(n_pad_, ext_f_.data(), sca_f_.data(), block, nb, acc);
   for (std::size_t i = 0; i < nw; ++i) out[i] = solar_scaled_[i] * acc[i];
 
   const double albedo = atm_.spec().planet.ground_albedo;
@@ -365,19 +415,26 @@ void SkyIntegrator::radiance_same_zenith(double altitude_m, const glm::dvec3* vi
   if (n_shared > 0) {
     column_end = trace(ray0, vc.s, vc.n, [&](const detail::SkyViewNode& nd) { nodes.push_back(nd); });
     sun_at.reserve(nodes.size());
-    // The sun's zenith cosine at a node over the row's views: the same expression
-    // shade() evaluates, so every view's value lies in the node's range. The node's
+    // The sun's zenith cosine at a node over the row's views: the expression shade()
+    // evaluates, (r mu_s + s nu) / r_node, is non-decreasing in nu and in mu_s, and a
+    // view's mu_s is the same for the row or (observer above the top, mu_s carried
+    // to the entry point) non-decreasing in its nu. Rounding keeps that order, so
+    // the views of least and largest nu give every node's range (a value that
+    // rounding still puts outside, e.g. from the 1e-12 spread of the views' z, is
+    // looked up in the table instead of the fit). The node's
     // sun lookups are fitted over that range when the row is long enough to pay for
     // it (at most a quarter of the lookups it replaces).
+    std::size_t k_lo = count, k_hi = count;
+    for (std::size_t k = 0; k < count; ++k) {
+      if (own[k]) continue;
+      if (k_lo == count || rays[k].nu < rays[k_lo].nu) k_lo = k;
+      if (k_hi == count || rays[k].nu > rays[k_hi].nu) k_hi = k;
+    }
     const int budget = static_cast<int>(std::min<std::size_t>(n_shared / 4, 1 << 20));
     for (const auto& nd : nodes) {
-      double lo = 2.0, hi = -2.0;
-      for (std::size_t k = 0; k < count; ++k) {
-        if (own[k]) continue;
-        const double mus = sg::cos_zenith_along(rays[k].r, rays[k].mu_s, rays[k].nu, nd.s, nd.r);
-        lo = std::min(lo, mus);
-        hi = std::max(hi, mus);
-      }
+      const Ray &a = rays[k_lo], &b = rays[k_hi];
+      const double lo = sg::cos_zenith_along(a.r, a.mu_s, a.nu, nd.s, nd.r);
+      const double hi = sg::cos_zenith_along(b.r, b.mu_s, b.nu, nd.s, nd.r);
       sun_at.push_back(budget >= 17 ? lut_->sun_at(nd.r, lo, hi, budget) : lut_->sun_at(nd.r));
     }
   }

@@ -23,14 +23,16 @@
 // a proof; it is sharp for functions analytic near each part (geometric
 // convergence, error oscillating with the extrema of T_n).
 // Units: those of f and of its argument. Cost: 2n + 1 evaluations of f and ~n^2
-// flops per part tried; per evaluation a search over the parts and n
-// multiply-adds per channel.
+// flops per part tried; per evaluation a constant-time search over the parts
+// (SortedIndex) and n multiply-adds per channel.
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
+
+#include "atmosh/atmo/sorted_index.hpp"
 
 namespace atmosh::atmo {
 
@@ -114,7 +116,7 @@ class ChebyshevFit {
         const double x = std::clamp(m + h * extremum[static_cast<std::size_t>(j)], pa, pb);
         f(x, out);
         double fit[kMaxChannels];
-        horner(coef.data(), n, (x - m) / h, fit);
+        polynomial(coef.data(), n, (x - m) / h, fit);
         for (int ch = 0; ch < channels; ++ch) {
           if (!std::isfinite(out[ch])) return ChebyshevFit{};
           scale[static_cast<std::size_t>(ch)] = std::max(scale[static_cast<std::size_t>(ch)], std::fabs(out[ch]));
@@ -135,6 +137,7 @@ class ChebyshevFit {
       c.check_error_ = std::max(c.check_error_, worst);
     }
     c.samples_ = samples;
+    c.index_ = SortedIndex(c.breaks_);
     c.valid_ = true;
     return c;
   }
@@ -151,23 +154,40 @@ class ChebyshevFit {
   double check_error() const { return check_error_; }
   // The interpolant at x (meant for x in [lo, hi]) into out[0..channels).
   void operator()(double x, double* out) const {
-    // The part holding x: the last whose start is <= x (the first part below lo).
-    const auto it = std::upper_bound(breaks_.begin() + 1, breaks_.end() - 1, x);
-    const std::size_t p = static_cast<std::size_t>(it - (breaks_.begin() + 1));
-    const double t = (x - mid_[p]) * inv_half_[p];
     double v[kMaxChannels];
-    horner(&coef_[p * static_cast<std::size_t>(n_ * kMaxChannels)], n_, t, v);
+    evaluate_all(x, v);
     for (int ch = 0; ch < channels_; ++ch) out[ch] = v[ch];
+  }
+  // The same for all kMaxChannels channels (those past channels() are 0): no
+  // run-time count, for the callers' fast paths.
+  void evaluate_all(double x, double (&out)[kMaxChannels]) const {
+    // The part holding x: the last whose start is <= x (the first part below lo,
+    // the last at or above hi); constant time (SortedIndex).
+    const int k = std::clamp(index_.find(x), 0, static_cast<int>(mid_.size()) - 1);
+    const std::size_t p = static_cast<std::size_t>(k);
+    const double t = (x - mid_[p]) * inv_half_[p];
+    polynomial(&coef_[p * static_cast<std::size_t>(n_ * kMaxChannels)], n_, t, out);
   }
 
  private:
-  // v[ch] = sum_i c[i][ch] t^i for all kMaxChannels channels at once (independent
-  // chains; unused channels have zero coefficients).
-  static void horner(const double* c, int n, double t, double* v) {
-    double v0 = c[(n - 1) * kMaxChannels], v1 = c[(n - 1) * kMaxChannels + 1], v2 = c[(n - 1) * kMaxChannels + 2],
-           v3 = c[(n - 1) * kMaxChannels + 3];
+  // v[ch] = sum_i c[i][ch] t^i for all kMaxChannels channels at once (unused
+  // channels have zero coefficients). Horner's rule, except for n = 8 (the sky's
+  // fits): Estrin's scheme, whose multiply-adds form a tree of depth 3 instead of a
+  // chain of 7 (the same bound on rounding for |t| <= 1).
+  static void polynomial(const double* c, int n, double t, double* v) {
+    constexpr int C = kMaxChannels;
+    if (n == 8) {
+      const double t2 = t * t, t4 = t2 * t2;
+      for (int ch = 0; ch < C; ++ch) {
+        const double a0 = c[0 * C + ch] + c[1 * C + ch] * t, a1 = c[2 * C + ch] + c[3 * C + ch] * t;
+        const double a2 = c[4 * C + ch] + c[5 * C + ch] * t, a3 = c[6 * C + ch] + c[7 * C + ch] * t;
+        v[ch] = (a0 + a1 * t2) + (a2 + a3 * t2) * t4;
+      }
+      return;
+    }
+    double v0 = c[(n - 1) * C], v1 = c[(n - 1) * C + 1], v2 = c[(n - 1) * C + 2], v3 = c[(n - 1) * C + 3];
     for (int i = n - 2; i >= 0; --i) {
-      const double* ci = c + i * kMaxChannels;
+      const double* ci = c + i * C;
       v0 = v0 * t + ci[0];
       v1 = v1 * t + ci[1];
       v2 = v2 * t + ci[2];
@@ -180,6 +200,7 @@ class ChebyshevFit {
   }
 
   std::vector<double> breaks_;           // part p is [breaks_[p], breaks_[p + 1]]
+  SortedIndex index_;                    // over breaks_
   std::vector<double> mid_, inv_half_;   // per part
   std::vector<double> coef_;             // [part][n][kMaxChannels]: powers of the local t
   double check_error_ = 0.0;

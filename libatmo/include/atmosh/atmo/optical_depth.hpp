@@ -182,13 +182,23 @@ class OpticalDepthLut {
   // weights, summed in another order). Refers to this table: valid while it lives.
   class SunAtRadius {
    public:
-    LutColumn operator()(double mu) const;
+    LutColumn operator()(double mu) const {
+      if (fit_.covers(mu)) {  // inline: an image row's pixels
+        double v[ChebyshevFit::kMaxChannels];
+        fit_.evaluate_all(mu, v);
+        LutColumn out;
+        out.column = glm::dvec3(v[0], v[1], v[2]);
+        return out;
+      }
+      return lookup(mu);
+    }
     // The fit over a range of mu (!valid(): none; lookups interpolate the table and
     // compute closed-form columns).
     const ChebyshevFit& fit() const { return fit_; }
 
    private:
     friend class OpticalDepthLut;
+    LutColumn lookup(double mu) const;  // the table (no fit, or mu outside it)
     const OpticalDepthLut* lut_ = nullptr;
     double r_ = 0, rho_ = 0;
     bool outside_ = false;   // r above the top: every lookup goes through sun(r, mu)

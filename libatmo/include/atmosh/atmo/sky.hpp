@@ -36,6 +36,7 @@
 // an error estimate. ~0.05-0.5 s per ray.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -88,6 +89,28 @@ struct SkyViewNode {
   glm::dvec3 rho{0.0};       // relative densities
   glm::dvec3 column{0.0};    // view column from the origin to the node [m]
 };
+// What the spectral loop needs of one quadrature node, in single precision: the
+// column from the sun through the node to the observer per constituent (Rayleigh,
+// Mie, ozone) [m], and the node's scattering weights sr = rho_R p_R w, sm = rho_M p_M w
+// (relative density x phase function [1/sr] x quadrature weight [m]).
+struct SkyNodeTerms {
+  float x[3];
+  float sr, sm;
+};
+// The spectral loop of a view ray over `count` nodes, in order: for every wavelength
+// i < n, acc[i] += sum over the nodes of exp(-tau_i) (cr[i] sr + cm[i] sm) with
+// tau_i = er[i] x0 + em[i] x1 + eo[i] x2, where ext = [er | em | eo] and sca = [cr | cm]
+// hold n values each [1/m]. The terms are formed in single precision (exp_neg_f:
+// relative error ~1e-6 for tau <= 10, far below the quadrature's) and summed into the
+// double accumulators node by node, so the result does not depend on how a ray's
+// nodes are split into calls. Runs on AVX-512 (16 wavelengths per instruction) where
+// atmosh::cpu_has_avx512(), else on AVX2/FMA or the baseline (atmosh/dispatch.hpp);
+// the paths differ by float rounding only. n a multiple of sky_spectral_lanes() (16 on
+// AVX-512, else 8) wastes no lane: the integrator pads its wavelengths with zero
+// coefficients to it.
+std::size_t sky_spectral_lanes();
+void accumulate_sky_nodes(std::size_t n, const float* ext, const float* sca, const SkyNodeTerms* nodes,
+                          std::size_t count, double* acc);
 }  // namespace detail
 
 class SkyIntegrator {
@@ -141,7 +164,9 @@ class SkyIntegrator {
   std::vector<double> gl_x_, gl_w_;
   std::vector<double> part_w_;        // sky_part_column_weights(samples_per_segment)
   std::vector<double> ext_, sca_;     // [constituent][wavelength]
-  std::vector<float> ext_f_, sca_f_;  // the same in single precision (spectral loop)
+  std::vector<float> ext_f_, sca_f_;  // the same in single precision, each row padded with
+                                      // zeros to n_pad_ wavelengths (spectral loop)
+  std::size_t n_pad_ = 0;             // wavelengths rounded up to detail::sky_spectral_lanes()
   std::vector<double> cut_radii_;     // shells that cut the view ray
   glm::dvec3 ext_max_{0.0};           // largest extinction per constituent over wavelengths
 };
