@@ -10,9 +10,10 @@
 // (x_j = m + h cos(pi (j + 1/2) / n)), forms the coefficients of the degree n - 1
 // interpolant by the discrete cosine sums (Trefethen, Approximation Theory and
 // Approximation Practice, SIAM 2013, ch. 3-4), converted to powers of the part's
-// local variable t in [-1, 1] (evaluated by Horner's rule; n <= 16: the power form
-// of a degree <= 15 polynomial on [-1, 1] loses at most ~(1 + sqrt 2)^15 ~ 6e5 ulp
-// of the largest coefficient, which the check below sees). Each part is then
+// local variable t in [-1, 1] (evaluated by Horner's rule, or Estrin's scheme for
+// n = 8; n <= 16: the power form of a degree <= 15 polynomial on [-1, 1] loses at
+// most ~(1 + sqrt 2)^15 ~ 6e5 ulp of the largest coefficient, which the check below
+// sees). Each part is then
 // checked against f at the n + 1 extrema of T_n, x = m + h cos(pi j / n) for
 // j = 0..n (both ends and the points between the interpolation nodes, where the
 // error of an interpolant of an analytic function peaks): a part passes if every

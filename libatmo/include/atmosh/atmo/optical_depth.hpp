@@ -215,8 +215,8 @@ class OpticalDepthLut {
   // Each column is checked to 1e-10 of its largest value in the range at 17 points
   // per part, so an optical depth is within 1e-10 of the largest in the range of
   // the lookup's. The fit uses at most max_samples lookups, else there is none.
-  // Lookups inside the range then cost a search over the parts and 3 x 8
-  // multiply-adds instead of the interpolation, two exp and the closed-form
+  // Lookups inside the range then cost a constant-time search over the parts and
+  // 3 x 8 multiply-adds (inline) instead of the interpolation, two exp and the closed-form
   // columns (~500 instructions with the ozone tent); outside it, or with no fit,
   // they are the lookups. No fit when a ray in the range is blocked by the ground
   // or r is above the top. Worth it for >= ~4 max_samples lookups (an image row:
