@@ -50,6 +50,31 @@ static void BM_LutLookupSun(benchmark::State& st) {
 }
 BENCHMARK(BM_LutLookupSun);
 
+// Sun lookups the way the sky integrator makes them (docs/sky.md): an image row's
+// node at one radius meets the row's pixels, whose sun directions span a range of
+// mu. Arg: pixels per row. The fit (sun_at with a range, built per row and node) is
+// included, so the time per item is the amortised cost of one lookup.
+static void BM_LutSunRow(benchmark::State& st) {
+  Atmosphere atm(preset("earth-graphics"));
+  LutOptions o;
+  o.view_tables = false;
+  OpticalDepthLut lut(atm, o);
+  const double R = atm.ground_radius();
+  const int n = static_cast<int>(st.range(0));
+  int row = 0;
+  for (auto _ : st) {
+    const double r = R + 250.0 * (row % 200);         // node altitudes 0-50 km
+    const double lo = -0.05 + 0.004 * (row % 100), hi = lo + 0.5;  // the row's sun cosines
+    auto at = lut.sun_at(r, lo, hi, n / 4);
+    double acc = 0.0;
+    for (int i = 0; i < n; ++i) acc += at(lo + (hi - lo) * (i + 0.5) / n).column.x;
+    benchmark::DoNotOptimize(acc);
+    ++row;
+  }
+  st.SetItemsProcessed(st.iterations() * n);
+}
+BENCHMARK(BM_LutSunRow)->Arg(256)->Arg(1024)->Arg(4096);
+
 // Closed-form column of the ozone tent alone (rays as in BM_LutLookupView).
 static void BM_TentColumnClosedForm(benchmark::State& st) {
   Atmosphere atm(preset("earth-graphics"));

@@ -2,7 +2,8 @@
 // libatmo/src/optical_depth.cpp), one invocation per table entry: the ray from
 // shell k in direction sample j is cut at the tangent point and at every
 // crossing of the shells and profile kinks (shared ATMOSH_LUT_RAY_PIECES), pieces
-// are split so that each spans at most 1.5 scale heights in altitude (shared
+// are split so that each spans at most 1.5 scale heights in altitude and is short
+// enough for the curvature of the altitude near the tangent point (shared
 // lut_piece_count), and each gets the same Gauss-Legendre rule. Positions and sums in double, densities in float (shared
 // density functions through sky_lib.glsl's density_at). Output: log of the mean
 // relative density for the tabulated (log-encoded) constituents, 0 otherwise.
@@ -48,7 +49,7 @@ dvec3 piece(double r, double mu, double rt2, double a, double b) {
   dvec3 sum = dvec3(0.0LF);
   double ua = a + r * mu, ub = b + r * mu;
   double ra = sqrt(ua * ua + rt2), rb = sqrt(ub * ub + rt2);
-  int m = lut_piece_count(ra, rb, scale_at(min(ra, rb) - ground_radius_d));
+  int m = lut_piece_count(ra, rb, b - a, rt2, scale_at(min(ra, rb) - ground_radius_d));
   double len = (b - a) / double(m);
   for (int p = 0; p < m; ++p) {
     double lo = a + double(p) * len;

@@ -169,6 +169,8 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     throw InputError("lut sun_directions = " + std::to_string(opt_.sun_directions) + ": must be in [4, 65536]");
   if (!std::isfinite(opt_.uniform_share) || opt_.uniform_share < 0.0)
     throw InputError("lut uniform_share = " + num(opt_.uniform_share) + ": must be >= 0");
+  if (!std::isfinite(opt_.altitude_share) || opt_.altitude_share < 0.0)
+    throw InputError("lut altitude_share = " + num(opt_.altitude_share) + ": must be >= 0");
   if (opt_.gauss_points < 2 || opt_.gauss_points > 64)
     throw InputError("lut gauss_points = " + std::to_string(opt_.gauss_points) + ": must be in [2, 64]");
   if (opt_.analytic_max_nodes < 0)
@@ -207,7 +209,10 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
       if (!ks.empty() && atm_.profile(c)(ks.back() + 1e-9 * top) == 0.0 && atm_.profile(c)(top) == 0.0) support_top_[c] = ks.back();
     }
   }
-  double u = (n_present == 0 && opt_.uniform_share == 0.0) ? 1.0 : opt_.uniform_share;
+  // Shares of the two geometric coordinates (uniform in rho and in altitude); with no
+  // tabulated constituent and both shares 0, rho-uniform alone.
+  const double a = opt_.altitude_share;
+  const double u = (n_present == 0 && opt_.uniform_share == 0.0 && a == 0.0) ? 1.0 : opt_.uniform_share;
   // Tabulated profiles positive up to the top: their coordinate is the fraction
   // of the e-folds of density below h, sum |d ln rho| (the table stores ln of the
   // mean density, whose variation across a shell interval this bounds), not of
@@ -236,8 +241,8 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
       if (present_[c])
         m += efolds[c] > 0.0 ? (efolds_below(c, h) - efolds0[c]) / efolds[c]
                              : atm_.profile(c).vertical_column(0.0, h) / vc[c];
-    m += u * std::sqrt(h * (2.0 * R_ + h)) / Hh_;
-    return m / (n_present + u);
+    m += u * std::sqrt(h * (2.0 * R_ + h)) / Hh_ + a * h / top;
+    return m / (n_present + u + a);
   };
   const int S = opt_.shells;
   radii_.assign(S, R_);
@@ -378,9 +383,10 @@ glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
   thread_local std::vector<double> node_s, node_w;
   node_s.clear();
   node_w.clear();
+  const double rt2 = std::max(0.0, r * r * ((1.0 - mu) * (1.0 + mu)));
   auto piece = [&](double a, double b) {
     const double ra = sg::radius_along(r, mu, a), rb = sg::radius_along(r, mu, b);
-    const int m = sg::lut_piece_count(ra, rb, scale_at(std::min(ra, rb) - R_));
+    const int m = sg::lut_piece_count(ra, rb, b - a, rt2, scale_at(std::min(ra, rb) - R_));
     const double h = (b - a) / m;
     for (int p = 0; p < m; ++p) {
       const double lo = a + p * h;

@@ -256,6 +256,20 @@ TEST(OpticalDepthLutPiecewise, EarthGraphicsWithOzoneWithin1e4) {
   EXPECT_LT(lut_max_error(atm, lut, true), 1e-4);
 }
 
+// The built-in default scene's atmosphere: earth-graphics with the top at 100 km
+// instead of 60 km (exponential Rayleigh and Mie, ozone tent). Above a few scale
+// heights the column fractions that place the shells saturate; the default tables
+// must still meet 1e-4 on every ray up to just below the top (with shells placed by
+// column fraction and rho alone the worst, upward rays from 50 km, had 2.0e-4).
+TEST(OpticalDepthLutPiecewise, HundredKilometreAtmosphereWithin1e4) {
+  auto spec = preset("earth-graphics");
+  spec.planet.atmosphere_top_m = 100e3;
+  Atmosphere atm(spec);
+  OpticalDepthLut lut(atm);
+  EXPECT_LT(lut_max_error(atm, lut, false), 1e-4);
+  EXPECT_LT(lut_max_error(atm, lut, true), 1e-4);
+}
+
 // A tabulated ozone profile with few nodes is also computed in closed form: the
 // ozone column of the LUT equals the reference to quadrature accuracy.
 TEST(OpticalDepthLutPiecewise, TabulatedOzoneColumnIsExact) {

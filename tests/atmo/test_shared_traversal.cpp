@@ -261,15 +261,45 @@ TEST(SharedTraversal, TableRayPiecesTileTheRayAtEveryCrossing) {
 }
 
 TEST(SharedTraversal, PieceCountSpansAtMostOneAndAHalfScaleHeights) {
-  EXPECT_EQ(sg::lut_piece_count(kR, kR + 12000.0, 8000.0), 1);   // exactly 1.5 H
-  EXPECT_EQ(sg::lut_piece_count(kR, kR + 12001.0, 8000.0), 2);
-  EXPECT_EQ(sg::lut_piece_count(kR + 5e4, kR, 1200.0), 28);      // ceil(50000 / 1800)
-  EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, 100.0), 64);       // capped
-  EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, 0.0), 1);          // no exponential matters
-  EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, std::numeric_limits<double>::infinity()), 1);
-  EXPECT_EQ(sg::lut_piece_count(kR, kR, 8000.0), 1);
+  // Radial pieces (rt2 = 0, no curvature): the altitude bound alone.
+  EXPECT_EQ(sg::lut_piece_count(kR, kR + 12000.0, 12000.0, 0.0, 8000.0), 1);  // exactly 1.5 H
+  EXPECT_EQ(sg::lut_piece_count(kR, kR + 12001.0, 12001.0, 0.0, 8000.0), 2);
+  EXPECT_EQ(sg::lut_piece_count(kR + 5e4, kR, 5e4, 0.0, 1200.0), 28);  // ceil(50000 / 1800)
+  EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, 1e6, 0.0, 100.0), 64);   // capped
+  EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, 1e6, 0.0, 0.0), 1);      // no exponential matters
+  EXPECT_EQ(sg::lut_piece_count(kR, kR + 1e6, 1e6, 0.0, std::numeric_limits<double>::infinity()), 1);
+  EXPECT_EQ(sg::lut_piece_count(kR, kR, 0.0, 0.0, 8000.0), 1);
 }
-}  // namespace
+
+// A piece that starts at the tangent point: the altitude along it is ~s^2 / (2 r_t),
+// so exp(-h/H) is a Gaussian in s of width sqrt(r_t H). The curvature bound splits
+// it into pieces of at most sqrt(r_t H); the composite 4-point Gauss-Legendre
+// rule then matches the Gaussian's closed form (erf) to 1e-8 relative, where one
+// piece spanning 1.5 H in altitude (the altitude bound alone) is off by ~4e-6.
+TEST(SharedTraversal, PieceCountResolvesTheTangentPoint) {
+  const double H = 1200.0, rt = kR + 5000.0;
+  const double x[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
+  const double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
+  auto composite = [&](double len, int m) {
+    double sum = 0.0;
+    for (int p = 0; p < m; ++p)
+      for (int g = 0; g < 4; ++g) {
+        const double s = len * (p + 0.5 * (1.0 + x[g])) / m;
+        sum += 0.5 * w[g] * (len / m) * std::exp(-s * s / (2.0 * rt * H));
+      }
+    return sum;
+  };
+  for (double span : {0.1, 0.5, 1.0, 1.5, 3.0, 10.0}) {  // altitude span in scale heights
+    const double len = std::sqrt(2.0 * rt * span * H);
+    const double exact = std::sqrt(M_PI * rt * H / 2.0) * std::erf(len / std::sqrt(2.0 * rt * H));
+    const int m = sg::lut_piece_count(rt, std::sqrt(rt * rt + len * len), len, rt * rt, H);
+    EXPECT_GE(m, static_cast<int>(std::ceil(len / std::sqrt(rt * H)))) << span;
+    EXPECT_LT(std::abs(composite(len, m) - exact) / exact, 1e-8) << span << " " << m;
+  }
+  const double len = std::sqrt(2.0 * rt * 1.5 * H);
+  const double exact = std::sqrt(M_PI * rt * H / 2.0) * std::erf(len / std::sqrt(2.0 * rt * H));
+  EXPECT_GT(std::abs(composite(len, 1) - exact) / exact, 1e-6);  // the altitude bound alone
+}}  // namespace
 
 namespace {
 // The single-scattering pieces (shared/scatter.glsl.hpp): the densest point is the

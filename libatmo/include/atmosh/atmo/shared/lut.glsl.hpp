@@ -49,13 +49,24 @@ ATMOSH_FN int lut_direction_window(real x, int n) {
 // Position of x inside the window starting at jw, in sample units (0..3 inside).
 ATMOSH_FN real lut_direction_offset(real x, int n, int jw) { return x * real(n - 1) - real(jw); }
 
-// Table build: equal sub-pieces of a piece whose ends are at radii ra, rb so that
-// each spans at most 1.5 scale heights H in radius (H <= 0 or >= 1e30: no
-// exponential constituent matters there, one piece), at most 64.
-ATMOSH_FN int lut_piece_count(real ra, real rb, real H) {
+// Table build: equal sub-pieces of a piece of length len [m] whose ends are at
+// radii ra, rb, of a ray with squared tangent radius rt2, so that on each the
+// exponent h/H of an exp(-h/H) density (H [m] the smallest scale height there;
+// H <= 0 or >= 1e30: none matters, one piece) changes by at most 1.5 and its
+// curvature term len_sub^2 kappa / (2 H) is at most 1/2, kappa = rt2 / r_lo^3 the
+// largest curvature of the altitude along the piece (r_lo its lowest radius; the
+// ray's altitude is smallest at the tangent point, where kappa ~ 1/r). Without the
+// curvature bound a piece starting at the tangent point and spanning 1.5 H, a
+// Gaussian in s over 1.7 of its widths, had 4e-6 relative error with 4
+// Gauss-Legendre points; with it, at most 8e-9 (tangent pieces of any length).
+// At most 64 sub-pieces.
+ATMOSH_FN int lut_piece_count(real ra, real rb, real len, real rt2, real H) {
   if (!(H > real(0) && H < real(1e30))) return 1;
-  int m = int(glm::ceil(glm::abs(rb - ra) / (real(1.5) * H)));
-  return glm::clamp(m, 1, 64);
+  real r_lo = glm::min(ra, rb);
+  real kappa = rt2 / (r_lo * r_lo * r_lo);
+  real m_alt = glm::ceil(glm::abs(rb - ra) / (real(1.5) * H));
+  real m_curv = glm::ceil(len * glm::sqrt(kappa / H));
+  return glm::clamp(int(glm::min(glm::max(m_alt, m_curv), real(64))), 1, 64);
 }
 
 // Lagrange weight of node i (0..3) of the shell window (r0..r3 the window's rho
