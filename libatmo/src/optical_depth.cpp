@@ -707,7 +707,9 @@ double OpticalDepthLut::estimate_max_rel_error(double wavelength_nm) const {
     return c;
   };
   const int S = static_cast<int>(radii_.size());
-  for (int k = 1; k < S - 1; k += 2) {
+  // Every other shell interval, and the lowest one: the errors of the densest
+  // constituent (aerosol, ~1 km scale height) peak there, on short rays to the ground.
+  for (int k = 0; k < S - 1; k = (k == 0 ? 1 : k + 2)) {
     // mid-shell radius (in rho), mid-direction samples
     double rho = 0.5 * (rho_[k] + rho_[k + 1]);
     double r = std::sqrt(rho * rho + R_ * R_);

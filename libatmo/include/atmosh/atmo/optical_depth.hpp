@@ -61,11 +61,13 @@
 // (PiecewiseLinearColumn, exact to rounding); exponential profiles by fixed
 // Gauss-Legendre rules on the pieces between shell and tangent crossings, each
 // piece spanning at most 1.5 times the smallest exponential scale height in
-// altitude, ~1e-9 relative (also far above a constituent's scale height, where
-// its mean density is tiny: the tables store its logarithm).
+// altitude and short enough for the curvature of the altitude near the tangent
+// point (shared lut_piece_count), ~1e-8 relative (also far above a constituent's
+// scale height, where its mean density is tiny: the tables store its logarithm).
 // Error: see `atmosh converge lut` and docs/atmosphere.md (max relative error of
-// the total optical depth, measured over grazing/tangent/random rays): 2e-5 for
-// earth-graphics with the ozone tent at the default 32 x 64 (1119 rays);
+// the total optical depth, measured over grazing/tangent/random rays): 2.9e-5 for
+// earth-graphics with the ozone tent at the default 32 x 64 (1119 rays), 6.7e-5
+// for the default scene's atmosphere (the same with the top at 100 km);
 // 2.3e-3 for earth-physical at 32 x 64, 4.2e-4 at 48 x 128 (interpolated
 // 200-node tabulated Rayleigh: its layer boundaries are kinks of ln rho).
 // Cost (measured on a 2-core machine): ~100-200 ns per lookup.
@@ -234,12 +236,13 @@ class OpticalDepthLut {
   std::size_t table_bytes() const;
   // Max relative error of the total optical depth at `wavelength_nm` (default, 0:
   // the middle wavelength of the atmosphere's grid) at midpoints between table samples
-  // on a subset of shells and directions (view tables, or the sun table if there are
-  // none), against fresh build-quality integrals: an a-posteriori estimate (costs
-  // ~ a build; not part of build_time_s). Sampled, not a proven bound: against the
-  // largest error measured on the rays of `atmosh converge lut` it was 0.65-6 times
-  // that error over 16-64 shells x 32-128 directions for the three presets, and
-  // 1.6-2.8 times at the default 32 x 64 (docs/atmosphere.md). InputError for a
+  // in the lowest and every other shell interval and on a subset of directions (view
+  // tables, or the sun table if there are none), against fresh build-quality
+  // integrals: an a-posteriori estimate (costs ~ a build; not part of build_time_s).
+  // Sampled, not a proven bound: against the largest error measured on the rays of
+  // `atmosh converge lut` it was 0.57-1.7 times that error over 16-64 shells x 32-64
+  // directions for the three presets and the default scene's atmosphere, and
+  // 0.88-1.7 times at the default 32 x 64 (docs/atmosphere.md). InputError for a
   // negative or non-finite wavelength.
   double estimate_max_rel_error(double wavelength_nm = 0.0) const;
 
