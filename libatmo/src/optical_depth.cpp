@@ -210,7 +210,7 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     }
   }
   // Shares of the two geometric coordinates (uniform in rho and in altitude); with no
-  // tabulated constituent and both shares 0, rho-uniform alone.
+  // interpolated constituent and both shares 0, rho-uniform alone.
   const double a = opt_.altitude_share;
   const double u = (n_present == 0 && opt_.uniform_share == 0.0 && a == 0.0) ? 1.0 : opt_.uniform_share;
   // Tabulated profiles positive up to the top: their coordinate is the fraction

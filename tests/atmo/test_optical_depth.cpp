@@ -334,6 +334,11 @@ TEST(OpticalDepthLut, BadOptions) {
   LutOptions o;
   o.shells = 2;
   EXPECT_THROW(OpticalDepthLut(atm, o), atmosh::InputError);
+  o = LutOptions{};
+  o.altitude_share = -1.0;
+  EXPECT_THROW(OpticalDepthLut(atm, o), atmosh::InputError);
+  o.altitude_share = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(OpticalDepthLut(atm, o), atmosh::InputError);
 }
 
 // Shell placement for a tabulated profile positive up to the top: equal steps of
