@@ -319,7 +319,12 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     fill(view_up_, opt_.view_directions, false);
     fill(view_ground_, opt_.view_directions, true);
   }
-  fill(sun_up_, opt_.sun_directions, false);
+  // The sun table's rays are those of the view table's sky branch (same shells,
+  // same direction coordinate): with as many directions, the same entries.
+  if (opt_.view_tables && opt_.sun_directions == opt_.view_directions)
+    sun_up_ = view_up_;
+  else
+    fill(sun_up_, opt_.sun_directions, false);
   build_time_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

@@ -194,6 +194,22 @@ TEST(OpticalDepthLut, SunOnlyBuildLeavesTheViewTablesOut) {
     }
   EXPECT_EQ(3 * sun_only.table_bytes(), full.table_bytes());
   EXPECT_THROW(sun_only.view(R, 1.0), std::logic_error);
+  // With as many sun as view directions (the default) the full build reuses the view
+  // table's sky branch for the sun table; with another count it builds its own. Both
+  // equal a sun-only build of that count.
+  LutOptions full48 = full_o, sun48 = sun_o;
+  full48.sun_directions = sun48.sun_directions = 48;
+  const OpticalDepthLut full_b(atm, full48), sun_only_b(atm, sun48);
+  for (double h : {0.0, 1500.0, 30e3, 99e3})
+    for (double mu : {1.0, 0.3, 0.0, -0.05, -0.15}) {
+      const auto a = full_b.sun(R + h, mu), b = sun_only_b.sun(R + h, mu);
+      EXPECT_EQ(a.hits_ground, b.hits_ground);
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(a.column[c], b.column[c]) << h << " " << mu;
+      // The view lookup of a ray toward the top reads the same entries at 64.
+      const auto v = full.view(R + h, mu), s = full.sun(R + h, mu);
+      if (!v.hits_ground)
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(v.column[c], s.column[c]) << h << " " << mu;
+    }
   // The a-posteriori estimate (midpoints between table samples against fresh
   // integrals, the closed-form ozone column included): below the 1e-4 target
   // for earth-graphics at the default 32 x 64 (measured 2.7e-5 for both builds).
