@@ -1,5 +1,6 @@
 // atmosh optical-depth, phase, stability, converge lut; and the atmosphere part
 // of the main job (demo_atmo).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -53,7 +54,11 @@ struct Ray {
 // Rays for the study: altitudes from the ground to the top (including just
 // above the ground and just below the top), directions on a uniform grid in mu
 // plus grazing rays at 1e-9..3e-2 either side of the horizon and of mu = 0, and
-// rays whose tangent point lies 1 mm..1 km above the ground.
+// rays whose tangent point lies 1 mm..1 km above the ground. Then, at every kink
+// of a present profile (tent corners, table nodes: where a column's derivative in
+// the ray's direction jumps and table interpolation is worst), near-horizontal rays
+// from 100 m below and above it and rays from just below the top whose tangent point
+// lies 1 m and 100 m either side of it.
 std::vector<Ray> study_rays(const Atmosphere& atm) {
   const double R = atm.ground_radius(), top = atm.top_altitude();
   std::vector<Ray> rays;
@@ -71,6 +76,25 @@ std::vector<Ray> study_rays(const Atmosphere& atm) {
       if (r > R + th) mus.push_back(-std::sqrt(1.0 - std::pow((R + th) / r, 2.0)));
     for (double mu : mus)
       if (mu >= -1.0 && mu <= 1.0) rays.push_back({r, mu});
+  }
+  std::vector<double> kinks;
+  for (int c = 0; c < 3; ++c)
+    if (atm.has(c))
+      for (double hk : atm.profile(c).kinks())
+        if (hk > 0.0 && hk < top) kinks.push_back(hk);
+  std::sort(kinks.begin(), kinks.end());
+  kinks.erase(std::unique(kinks.begin(), kinks.end()), kinks.end());
+  const double r_top = R + 0.99999 * top;
+  for (double hk : kinks) {
+    for (double dh : {-100.0, 100.0}) {
+      const double h = hk + dh;
+      if (h > 0.0 && h < top)
+        for (double mu : {0.0, 1e-3, -1e-3, 1e-2, -1e-2}) rays.push_back({R + h, mu});
+    }
+    for (double dt : {-100.0, -1.0, 1.0, 100.0}) {
+      const double rt = R + hk + dt;
+      if (rt > R && rt < r_top) rays.push_back({r_top, -std::sqrt((r_top - rt) * (r_top + rt)) / r_top});
+    }
   }
   return rays;
 }
