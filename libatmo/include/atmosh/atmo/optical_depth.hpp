@@ -66,11 +66,12 @@
 // point (shared lut_piece_count), ~1e-8 relative (also far above a constituent's
 // scale height, where its mean density is tiny: the tables store its logarithm).
 // Error: see `atmosh converge lut` and docs/atmosphere.md (max relative error of
-// the total optical depth, measured over grazing/tangent/random rays): 2.9e-5 for
-// earth-graphics with the ozone tent at the default 32 x 64 (1119 rays), 6.7e-5
-// for the default scene's atmosphere (the same with the top at 100 km);
-// 2.3e-3 for earth-physical at 32 x 64, 4.2e-4 at 48 x 128 (interpolated
+// the total optical depth, measured over grazing/tangent rays and rays beside every
+// profile kink): 2.9e-5 for earth-graphics with the ozone tent at the default
+// 32 x 64 (1064 rays), 6.7e-5 for the default scene's atmosphere (the same with the
+// top at 100 km); 4.1e-3 for earth-physical at 32 x 64 (3808 rays; interpolated
 // 200-node tabulated Rayleigh: its layer boundaries are kinks of ln rho).
+// Build of the default 32 x 64 tables: ~20-35 ms (2-core machine).
 // Cost (measured on a 2-core machine): ~100-200 ns per lookup.
 #pragma once
 
@@ -243,9 +244,10 @@ class OpticalDepthLut {
   // tables, or the sun table if there are none), against fresh build-quality
   // integrals: an a-posteriori estimate (costs ~ a build; not part of build_time_s).
   // Sampled, not a proven bound: against the largest error measured on the rays of
-  // `atmosh converge lut` it was 0.57-1.7 times that error over 16-64 shells x 32-64
-  // directions for the three presets and the default scene's atmosphere, and
-  // 0.88-1.7 times at the default 32 x 64 (docs/atmosphere.md). InputError for a
+  // `atmosh converge lut` (kink rays included) it was 0.47-1.54 times that error over
+  // 16-64 shells x 32-64 directions for the three presets and the default scene's
+  // atmosphere, and 0.88-1.49 times at the default 32 x 64 (docs/atmosphere.md):
+  // it can be below the true maximum by ~2x. InputError for a
   // negative or non-finite wavelength.
   double estimate_max_rel_error(double wavelength_nm = 0.0) const;
 
