@@ -86,6 +86,39 @@ TEST(Zonal, LegendreAndZonalCoefficientsOfExponential) {
   EXPECT_NEAR(p[3], 0.5 * (5 * 0.027 - 3 * 0.3), 1e-16);  // P_3 = (5x^3-3x)/2
 }
 
+// Composite quadrature over given pieces: the clamped cosine max(0, mu) is linear on
+// [-1, 0] and [0, 1], so with a break at its kink the projection is exact; its
+// moments in closed form (Abramowitz & Stegun 22.13.8 / the classic result for the
+// clamped cosine): 2 pi int_0^1 mu P_l dmu = 2 pi * {1/2, 1/3, 1/8, 0, -1/48, 0, 1/128}
+// for l = 0..6. Without the break (one piece) the same rule is not exact. And a
+// Henyey-Greenstein lobe g = 0.999 (4 pi p = (1 - g^2)/(1 + g^2 - 2 g mu)^1.5,
+// Legendre coefficients (2l+1) g^l) with pieces graded toward mu = 1.
+TEST(Zonal, PiecewiseQuadratureResolvesKinksAndPeaks) {
+  const double m[7] = {1.0 / 2, 1.0 / 3, 1.0 / 8, 0.0, -1.0 / 48, 0.0, 1.0 / 128};
+  auto clamped = [](double mu) { return std::max(0.0, mu); };
+  const auto z = zonal_coefficients(clamped, 7, std::vector<double>{-1.0, 0.0, 1.0}, 4);
+  const auto z1 = zonal_coefficients(clamped, 7, std::vector<double>{-1.0, 1.0}, 4);
+  double off1 = 0.0;
+  for (int l = 0; l < 7; ++l) {
+    const double y = std::sqrt((2 * l + 1) / (4 * kPi));
+    EXPECT_NEAR(z[l], 2 * kPi * y * m[l], 1e-14) << l;
+    off1 = std::max(off1, std::abs(z1[l] - 2 * kPi * y * m[l]));
+  }
+  EXPECT_GT(off1, 1e-6);
+  const double g = 0.999;
+  auto hg = [g](double mu) { return (1 - g * g) / std::pow((1 - g) * (1 - g) + 2 * g * (1 - mu), 1.5) / (4 * kPi); };
+  std::vector<double> breaks{-1.0, 0.0};
+  for (double s = 0.5; s > 1e-7; s *= 0.5) breaks.push_back(1.0 - s);
+  breaks.push_back(1.0);
+  const int L = 64;
+  const auto zh = zonal_coefficients(hg, L, breaks, 20);
+  for (int l = 0; l < L; ++l) EXPECT_NEAR(zh[l] / std::sqrt((2 * l + 1) / (4 * kPi)), std::pow(g, l), 1e-9) << l;
+  EXPECT_THROW(zonal_coefficients(hg, L, std::vector<double>{0.5, 0.2}, 4), atmosh::InputError);
+  EXPECT_THROW(zonal_coefficients(hg, L, std::vector<double>{-1.0, 1.5}, 4), atmosh::InputError);
+  EXPECT_THROW(zonal_coefficients(hg, L, std::vector<double>{-1.0}, 4), atmosh::InputError);
+  EXPECT_THROW(zonal_coefficients(hg, L, std::vector<double>{-1.0, 1.0}, 0), atmosh::InputError);
+}
+
 // ---- basis ------------------------------------------------------------------------------
 TEST(Basis, ClosedFormsLowBands) {
   // Real SH with Condon–Shortley phase, e.g. Wikipedia "Table of spherical harmonics"

@@ -18,9 +18,14 @@
 //    interpolation (error < 1e-9 in u); double HG picks the lobe by u; tabulated
 //    inverts its exact piecewise-quadratic CDF. pdf(mu) = 2 pi p(mu).
 //  * legendre_moments(n): chi_l = 2 pi int p P_l dmu, l < n, through the libsh
-//    zonal projection (chi_l = z_l / sqrt((2l+1)/(4 pi))), with enough
-//    Gauss-Legendre points to resolve the forward peak (error estimate by
-//    doubling them, returned alongside); HG uses its closed form chi_l = g^l.
+//    zonal projection (chi_l = z_l / sqrt((2l+1)/(4 pi))): composite
+//    Gauss-Legendre on pieces graded geometrically toward mu = +-1 from the peak
+//    width (1 - |g|)^2 / 2 (24 points per piece plus n dtheta / pi; error
+//    estimate against 12 points per piece, returned alongside); tabulated: one
+//    Gauss-Legendre rule of 16 points per table node. HG uses its closed form
+//    chi_l = g^l. Accuracy: ~1e-15 for smooth functions; 3e-11 at g = 0.999
+//    (closed-form Cornette-Shanks and double-HG moments, tests), limited by the
+//    rounding of 1 - mu within the 5e-7-wide peak.
 //  * delta_m(n): delta-M truncation (Wiscombe 1977, J. Atmos. Sci. 34, 1408):
 //    f = chi_n, truncated moments chi*_l = (chi_l - f) / (1 - f), l < n; the
 //    scaled optical depth is (1 - omega f) tau.

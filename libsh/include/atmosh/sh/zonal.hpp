@@ -30,6 +30,18 @@ namespace atmosh::sh {
 std::vector<double> zonal_coefficients(const std::function<double(double)>& f, int bands,
                                        int quadrature_points = 0);
 
+/// The same by composite Gauss–Legendre quadrature over the pieces between the
+/// ascending `breaks` in [-1, 1] (f is taken as 0 outside them): for functions
+/// with narrow features whose place and width the caller knows, such as the
+/// forward peak of a phase function with g -> 1 (graded pieces toward mu = 1).
+/// A piece of angular width dtheta gets min_points + ceil(bands * dtheta / pi)
+/// points, so that the oscillations of P_l are resolved on wide pieces. Error:
+/// that of Gauss–Legendre on each piece (geometric in the points when f is
+/// analytic near the piece). InputError for bands < 1, min_points < 1, fewer
+/// than 2 breaks, or breaks not ascending in [-1, 1].
+std::vector<double> zonal_coefficients(const std::function<double(double)>& f, int bands,
+                                       const std::vector<double>& breaks, int min_points);
+
 /// Legendre polynomials P_0(mu) .. P_{bands-1}(mu).
 std::vector<double> legendre_polynomials(double mu, int bands);
 
