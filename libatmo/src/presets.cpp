@@ -80,19 +80,24 @@ std::vector<double> spectrum_wavelengths(const SpectrumSpec& s) {
 }
 
 void validate(const AtmosphereSpec& s) {
-  require(std::isfinite(s.planet.radius_m) && s.planet.radius_m > 0.0, "planet.radius_m", s.planet.radius_m,
-          "must be > 0");
-  require(std::isfinite(s.planet.atmosphere_top_m) && s.planet.atmosphere_top_m > 0.0, "planet.atmosphere_top_m",
-          s.planet.atmosphere_top_m, "must be > 0 (the top must lie above the ground)");
+  // Upper bounds well beyond any planet (the Sun's radius is 7e8 m) keep every derived
+  // quantity finite.
+  require(std::isfinite(s.planet.radius_m) && s.planet.radius_m > 0.0 && s.planet.radius_m <= 1e9, "planet.radius_m",
+          s.planet.radius_m, "must be in (0, 1e9] m");
+  require(std::isfinite(s.planet.atmosphere_top_m) && s.planet.atmosphere_top_m > 0.0 &&
+              s.planet.atmosphere_top_m <= 1e8,
+          "planet.atmosphere_top_m", s.planet.atmosphere_top_m,
+          "must be in (0, 1e8] m (the top must lie above the ground)");
   require(std::isfinite(s.planet.ground_albedo) && s.planet.ground_albedo >= 0.0 && s.planet.ground_albedo <= 1.0,
           "planet.ground_albedo", s.planet.ground_albedo, "must be in [0, 1]");
   if (s.rayleigh) {
     const auto& r = *s.rayleigh;
     if (r.model == RayleighSpec::Model::Physical) {
-      require(std::isfinite(r.pressure_pa) && r.pressure_pa > 0.0, "rayleigh.pressure_pa", r.pressure_pa,
-              "must be > 0");
-      require(std::isfinite(r.temperature_k) && r.temperature_k > 0.0, "rayleigh.temperature_k", r.temperature_k,
-              "must be > 0");
+      // Bounds keep the number density p / (k T) finite (Venus: 9.2e6 Pa, 737 K).
+      require(std::isfinite(r.pressure_pa) && r.pressure_pa > 0.0 && r.pressure_pa <= 1e9, "rayleigh.pressure_pa",
+              r.pressure_pa, "must be in (0, 1e9] Pa");
+      require(std::isfinite(r.temperature_k) && r.temperature_k >= 1.0 && r.temperature_k <= 1e5,
+              "rayleigh.temperature_k", r.temperature_k, "must be in [1, 1e5] K");
       require(std::isfinite(r.co2_ppm) && r.co2_ppm >= 0.0 && r.co2_ppm < 1e6, "rayleigh.co2_ppm", r.co2_ppm,
               "must be in [0, 1e6)");
     } else {

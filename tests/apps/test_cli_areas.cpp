@@ -167,3 +167,46 @@ TEST(CliAreas, RunComputesOnlyTheListedOutputs) {
   EXPECT_NE(r.out.find("skip  optical-depth-lut:view"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("skip  constituent:mie"), std::string::npos) << r.out;
 }
+
+// `atmosh stability`: every stiff case finite and within its bound (exit 0), the same
+// cases in the printed table, the JSON and the CSV; the horizontal Chapman values
+// near the large-x asymptote sqrt(pi x / 2) (1 + 3 / (8 x)) (x = r / H: 35.35 for an
+// 8 km scale height, 91.25 for 1.2 km at r = 6360 km; the issue's ~35 and ~91).
+TEST(CliAreas, StabilityTableJsonAndCsvAgree) {
+  const fs::path d = scratch("stability");
+  const auto r = run_cli("stability --json -o '" + (d / "s.csv").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["all_pass"].get<bool>());
+  const auto& cases = j["cases"];
+  ASSERT_GE(cases.size(), 10u);
+  for (const auto& c : cases) {
+    const double v = c["value"].get<double>(), e = c["error"].get<double>(), b = c["bound"].get<double>();
+    EXPECT_TRUE(std::isfinite(v) && std::isfinite(e)) << c["case"];
+    EXPECT_LE(e, b) << c["case"];
+    EXPECT_TRUE(c["pass"].get<bool>()) << c["case"];
+  }
+  auto chapman_asymptote = [](double x) { return std::sqrt(M_PI * x / 2) * (1 + 3 / (8 * x)); };
+  bool seen8 = false, seen12 = false;
+  for (const auto& c : cases) {
+    const std::string name = c["case"];
+    if (name == "horizontal_sea_level_H8km") {
+      seen8 = true;
+      EXPECT_NEAR(c["reference"].get<double>(), chapman_asymptote(6360e3 / 8e3), 0.01);
+    }
+    if (name == "horizontal_sea_level_H1.2km") {
+      seen12 = true;
+      EXPECT_NEAR(c["reference"].get<double>(), chapman_asymptote(6360e3 / 1.2e3), 0.01);
+    }
+  }
+  EXPECT_TRUE(seen8 && seen12);
+  ASSERT_TRUE(fs::exists(d / "s.csv"));
+  const auto table = run_cli("stability");
+  EXPECT_EQ(table.exit_code, 0) << table.err;
+  for (const auto& c : cases) {
+    const std::string name = c["case"];
+    EXPECT_NE(table.out.find(name), std::string::npos) << name;
+    EXPECT_NE(atmosh::test::slurp(d / "s.csv").find(name), std::string::npos) << name;
+  }
+  EXPECT_EQ(table.out.find("FAIL"), std::string::npos);
+}

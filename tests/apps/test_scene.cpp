@@ -103,6 +103,12 @@ TEST(Scene, PhysicalRangesNamedByKey) {
   expect_bad("version = 1\n[planet]\natmosphere_top_m = -1", "planet.atmosphere_top_m");
   expect_bad("version = 1\n[planet]\nradius_m = 0", "planet.radius_m");
   expect_bad("version = 1\n[rayleigh]\npressure_pa = -3", "rayleigh.pressure_pa");
+  // Finite but extreme: the number density p / (k T) or the tables' sizes would
+  // overflow (they gave null optical depths with exit 0, or a failure with exit 1).
+  expect_bad("version = 1\n[rayleigh]\npressure_pa = 1e300", "rayleigh.pressure_pa");
+  expect_bad("version = 1\n[rayleigh]\ntemperature_k = 1e-300", "rayleigh.temperature_k");
+  expect_bad("version = 1\n[planet]\nradius_m = 1e300\natmosphere_top_m = 1e300", "planet.radius_m");
+  expect_bad("version = 1\n[planet]\natmosphere_top_m = 1e300", "planet.atmosphere_top_m");
   expect_bad("version = 1\n[mie]\nphase = { model = \"hg\", g = 1.5 }", "mie.phase.g");
   expect_bad("version = 1\n[ozone]\ncolumn_du = -300", "ozone.column_du");
   expect_bad("version = 1\n[spectrum]\nfrom_nm = 500\nto_nm = 400", "spectrum.to_nm");
