@@ -12,7 +12,8 @@ namespace atmosh::atmo {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kCsNodes = 2049;
+constexpr int kCsNodes = 2049;    // uniform in the HG-CDF variable
+constexpr int kCsMuNodes = 512;   // and uniform in mu
 
 std::string num(double v) {
   char buf[64];
@@ -53,17 +54,32 @@ PhaseFunction::PhaseFunction(const PhaseSpec& spec, const std::string& key) : sp
       double g = spec_.g;
       mean_cos_ = 3.0 * g * (4.0 + g * g) / (5.0 * (2.0 + g * g));
       // CDF in the HG-CDF variable v: dG/dv = p_CS / p_HG = 1.5 (1 + mu(v)^2) / (2 + g^2).
-      cs_cdf_.assign(kCsNodes, 0.0);
+      // Nodes: uniform in v, plus the v of mu uniform in [-1, 1] (v = the HG CDF of mu),
+      // so that no cell spans a wide range of mu: for g -> 1 the whole backward
+      // hemisphere lies within v < ~1e-4, one cell of the uniform grid.
+      cs_v_.clear();
+      for (int i = 0; i < kCsNodes; ++i) cs_v_.push_back(static_cast<double>(i) / (kCsNodes - 1));
+      if (std::abs(g) > 1e-3)
+        for (int j = 1; j < kCsMuNodes; ++j) {
+          const double mu = -1.0 + 2.0 * j / kCsMuNodes;
+          const double v = (1.0 - g) * (1.0 + g) / (2.0 * g) *
+                           (1.0 / std::sqrt(shared::hg_denominator(mu, g)) - 1.0 / (1.0 + g));
+          if (v > 0.0 && v < 1.0) cs_v_.push_back(v);
+        }
+      std::sort(cs_v_.begin(), cs_v_.end());
+      cs_v_.erase(std::unique(cs_v_.begin(), cs_v_.end(), [](double a, double b) { return b - a < 1e-13; }),
+                  cs_v_.end());
+      cs_v_.back() = 1.0;
+      cs_cdf_.assign(cs_v_.size(), 0.0);
       auto dens = [&](double v) {
         double mu = sample_hg(g, v);
         return 1.5 * (1.0 + mu * mu) / (2.0 + g * g);
       };
-      const double h = 1.0 / (kCsNodes - 1);
       // 4-point Gauss-Legendre per cell (nodes on [0,1]).
       const double gx[4] = {0.0694318442029737, 0.3300094782075719, 0.6699905217924281, 0.9305681557970263};
       const double gw[4] = {0.1739274225687269, 0.3260725774312731, 0.3260725774312731, 0.1739274225687269};
-      for (int i = 1; i < kCsNodes; ++i) {
-        double a = (i - 1) * h, s = 0.0;
+      for (std::size_t i = 1; i < cs_v_.size(); ++i) {
+        double a = cs_v_[i - 1], h = cs_v_[i] - a, s = 0.0;
         for (int q = 0; q < 4; ++q) s += gw[q] * dens(a + gx[q] * h);
         cs_cdf_[i] = cs_cdf_[i - 1] + s * h;
       }
@@ -170,9 +186,9 @@ double PhaseFunction::sample(double u) const {
         return 1.5 * (1.0 + mu * mu) / (2.0 + g * g) / cs_cdf_.back();
       };
       auto it = std::upper_bound(cs_cdf_.begin(), cs_cdf_.end(), u);
-      int i = std::clamp(static_cast<int>(it - cs_cdf_.begin()), 1, kCsNodes - 1);
-      const double h = 1.0 / (kCsNodes - 1);
-      double v0 = (i - 1) * h, G0 = cs_cdf_[i - 1], G1 = cs_cdf_[i];
+      int i = std::clamp(static_cast<int>(it - cs_cdf_.begin()), 1, static_cast<int>(cs_cdf_.size()) - 1);
+      const double v0 = cs_v_[static_cast<std::size_t>(i) - 1], h = cs_v_[static_cast<std::size_t>(i)] - v0;
+      double G0 = cs_cdf_[i - 1], G1 = cs_cdf_[i];
       double d0 = slope(v0) * h, d1 = slope(v0 + h) * h;
       double t = (G1 > G0) ? (u - G0) / (G1 - G0) : 0.0;
       for (int k = 0; k < 30; ++k) {

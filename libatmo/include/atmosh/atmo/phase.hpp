@@ -13,9 +13,11 @@
 //    3 g (4 + g^2) / (5 (2 + g^2)); Rayleigh: 0), exact quadrature for tables.
 //  * sample(u): inverse-CDF map of u in [0, 1) to cos_theta distributed with
 //    density 2 pi p: closed form for HG; Newton on the closed-form cubic CDF
-//    for Rayleigh; for Cornette-Shanks the CDF is tabulated (2049 points) in the
-//    HG-CDF variable, where it is smooth, and inverted by monotone cubic
-//    interpolation (error < 1e-9 in u); double HG picks the lobe by u; tabulated
+//    for Rayleigh; for Cornette-Shanks the CDF is tabulated in the HG-CDF variable,
+//    where it is smooth (2049 points uniform in it, plus 511 at mu uniform in
+//    [-1, 1], which keep the backward hemisphere resolved for g -> 1), and inverted
+//    by cubic Hermite interpolation (error < 1e-9 in u, g = +-0.999 included, test
+//    against the exact CDF); double HG picks the lobe by u; tabulated
 //    inverts its exact piecewise-quadratic CDF. pdf(mu) = 2 pi p(mu).
 //  * legendre_moments(n): chi_l = 2 pi int p P_l dmu, l < n, through the libsh
 //    zonal projection (chi_l = z_l / sqrt((2l+1)/(4 pi))): composite
@@ -65,7 +67,8 @@ class PhaseFunction {
   PhaseSpec spec_;
   double table_norm_ = 1.0;
   std::vector<double> table_cdf_;  // tabulated model
-  std::vector<double> cs_cdf_;     // Cornette-Shanks CDF against HG-CDF variable
+  std::vector<double> cs_v_;       // Cornette-Shanks CDF nodes in the HG-CDF variable
+  std::vector<double> cs_cdf_;     // Cornette-Shanks CDF at cs_v_
   double mean_cos_ = 0.0;
 };
 
