@@ -7,7 +7,9 @@
 #include "atmosh/atmo/integrate.hpp"
 #include "atmosh/atmo/optical_depth.hpp"
 #include "atmosh/atmo/phase.hpp"
+#include "atmosh/atmo/ozone.hpp"
 #include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/rayleigh.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 
 namespace atmosh::atmo {
@@ -83,19 +85,30 @@ std::vector<StiffCase> run_stiff_cases(int lut_shells, int lut_directions) {
     auto c = ref.column(atm.ground_radius() + 1000.0, -1.0);
     out.push_back(make("ray_hits_planet_nadir_from_1km", "column [m]", c.column[kRayleigh],
                        8000.0 * -std::expm1(-1000.0 / 8000.0), 1e-12));
-    auto g = ref.column(atm.ground_radius() + 1000.0, shared::mu_horizon(atm.ground_radius() + 1000.0, atm.ground_radius()) - 1e-12);
-    out.push_back(make("ray_hits_planet_just_below_horizon", "column finite, > 0 [m]", g.column[kRayleigh] > 0.0 && g.hits_ground ? 1.0 : 0.0, 1.0, 0.0));
+    // Just below the horizon from 1 km: the ray meets the ground ~1 m from its tangent
+    // point, so its column is that from the origin back to a tangent point on the
+    // ground, H [Ch(R/H, 90 deg) - e^{-1000/H} Ch(r/H, -mu)] (the half chord minus the
+    // rest of the ray beyond the origin), up to ~2 m of ground-level density (~1e-5).
+    const double R = atm.ground_radius(), r = R + 1000.0, H = 8000.0;
+    const double mu_h = shared::mu_horizon(r, R);
+    auto g = ref.column(r, mu_h - 1e-12);
+    const double half_chord = H * (chapman_horizontal_exact(R / H) - std::exp(-1000.0 / H) * chapman_exact(r / H, -mu_h));
+    out.push_back(make("ray_hits_planet_just_below_horizon", "column [m] (hits the ground)",
+                       g.hits_ground ? g.column[kRayleigh] : NAN, half_chord, 1e-4));
   }
-  // Observer 500 km above the top looking through the limb (tangent 30 km):
-  // equals the column from the entry point.
+  // Observer 500 km above the top of a single exponential (H = 8 km, top at 480 km)
+  // looking through the limb, tangent at 30 km: the whole chord,
+  // 2 H e^{-h_t/H} Ch(r_t/H, 90 deg) (Bessel form; the density beyond the top,
+  // e^{-60}, is negligible).
   {
-    Atmosphere atm(preset("earth-graphics"));
+    const double H = 8000.0;
+    Atmosphere atm(single_exponential(H));
     OpticalDepthReference ref(atm);
-    double R = atm.ground_radius(), T = atm.top_radius(), r = T + 500e3;
-    double mu = -std::sqrt(1.0 - std::pow((R + 30e3) / r, 2.0));
-    double s0 = shared::distance_to_top_from_outside(r, mu, T);
-    auto a = ref.column(r, mu), b = ref.column(T, (r * mu + s0) / T);
-    out.push_back(make("limb_from_500km_above_top", "rayleigh column [m]", a.column[kRayleigh], b.column[kRayleigh], 1e-12));
+    const double R = atm.ground_radius(), T = atm.top_radius(), r = T + 500e3, rt = R + 30e3;
+    const double mu = -std::sqrt((r - rt) * (r + rt)) / r;
+    auto a = ref.column(r, mu);
+    out.push_back(make("limb_from_500km_above_top", "column [m]", a.column[kRayleigh],
+                       2.0 * H * std::exp(-30e3 / H) * chapman_horizontal_exact(rt / H), 1e-9));
   }
   // Transmittance underflow: a dense aerosol (1e-2 /m, H = 1.2 km) seen
   // horizontally at sea level has tau ~ 1e3: transmittance exactly 0, not NaN.
@@ -129,13 +142,51 @@ std::vector<StiffCase> run_stiff_cases(int lut_shells, int lut_directions) {
                        }(),
                        g, 1e-4));
   }
-  // Wavelengths at the ends of the grid: lambda^-4 law exactly, ozone finite.
+  // Cornette-Shanks at g = +-0.999: Legendre moments chi_0 = 1 and chi_1 = the closed
+  // mean cosine 3 g (4 + g^2) / (5 (2 + g^2)) through the zonal projection, and the
+  // probability of the back (for g < 0: front) hemisphere from inverting sample() by
+  // bisection against the exact CDF by adaptive quadrature (~1.3e-4 of the total).
+  for (double g : {0.999, -0.999}) {
+    PhaseSpec s;
+    s.model = PhaseSpec::Model::CornetteShanks;
+    s.g = g;
+    PhaseFunction p(s);
+    const std::string tag = std::string(g > 0 ? "+" : "-") + "0.999";
+    const auto m = p.legendre_moments(64);
+    out.push_back(make("cornette_shanks_chi0_g" + tag, "chi_0 (zonal projection)", m.chi[0], 1.0, 1e-10));
+    out.push_back(make("cornette_shanks_chi1_g" + tag, "chi_1 (zonal projection)", m.chi[1],
+                       3.0 * g * (4.0 + g * g) / (5.0 * (2.0 + g * g)), 1e-9));
+    double lo = 0.0, hi = 1.0;  // u with sample(u) = 0
+    for (int it = 0; it < 80; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (p.sample(mid) < 0.0 ? lo : hi) = mid;
+    }
+    const double back = sphere_integral([&](double mu) { return mu <= 0.0 ? p.value(mu) : 0.0; });
+    out.push_back(make("cornette_shanks_sampling_p_mu_le_0_g" + tag, "u at which sample(u) = 0", 0.5 * (lo + hi),
+                       back, 1e-5));
+  }
+  // Wavelengths at the ends of the grid (360 and 830 nm).
+  //  * Physical Rayleigh: the cross-section (King factor, refractive index of air)
+  //    times Bodhaine et al. (1999)'s column, P A / (m_a g) with g at the column's
+  //    mass-weighted height (their eqs. 10-11, 17, 27), against their eq. (30) fit,
+  //    good to 0.01 %.
+  //  * Ozone: the vertical optical depth through the preset's tent, from its
+  //    extinction and the exact column of the profile, against
+  //    sigma(lambda) x column in Dobson units x 2.6867811e20 m^-2 (the DU).
   {
+    const double z = 5517.56, gz = (980.6160 - 3.085462e-4 * z + 7.254e-11 * z * z - 1.517e-17 * z * z * z) * 1e-2;
+    const double column = 101325.0 * 6.0221367e23 / ((15.0556 * 360e-6 + 28.9595) * 1e-3 * gz);
     Atmosphere atm(preset("earth-graphics"));
-    auto a = atm.coefficients_at(360.0), b = atm.coefficients_at(830.0);
-    out.push_back(make("rayleigh_ratio_360_830nm", "beta(360)/beta(830)", a.scattering[kRayleigh] / b.scattering[kRayleigh],
-                       std::pow(830.0 / 360.0, 4.0), 1e-12));
-    out.push_back(make("ozone_at_830nm_finite_positive", "ozone extinction > 0 [1/m]", b.extinction[kOzone] > 0.0 ? 1.0 : 0.0, 1.0, 0.0));
+    OpticalDepthReference ref(atm);
+    const auto c = ref.column(atm.ground_radius(), 1.0);
+    for (double nm : {360.0, 830.0}) {
+      const std::string w = std::to_string(static_cast<int>(nm));
+      out.push_back(make("rayleigh_physical_" + w + "nm_vs_bodhaine_eq30", "tau_R (Bodhaine's column)",
+                         rayleigh_cross_section(nm, 360.0) * column, bodhaine_eq30_optical_depth(nm), 1e-4));
+      const double dtau = atm.coefficients_at(nm).extinction[kOzone] * c.column[kOzone];
+      out.push_back(make("ozone_vertical_" + w + "nm", "tau_O3, vertical from the ground", dtau,
+                         ozone_cross_section(nm) * atm.spec().ozone->column_du * kDobsonUnitPerM2, 1e-9));
+    }
   }
   // LUT on grazing and tangent rays (earth-graphics) against the reference.
   {
@@ -157,7 +208,7 @@ std::vector<StiffCase> run_stiff_cases(int lut_shells, int lut_directions) {
       else if (c.dmu == 1.0) mu = -std::sqrt(1.0 - std::pow((R + 1.0) / r, 2.0));
       else mu = shared::mu_horizon(r, R) + c.dmu;
       double a = optical_depth(k, ref.column(r, mu).column), b = optical_depth(k, lut.view(r, mu).column);
-      out.push_back(make(c.name, "optical depth at 550 nm (LUT)", b, a, 1e-3));
+      out.push_back(make(c.name, "optical depth at 550 nm (LUT)", b, a, 1e-4));
     }
   }
   return out;

@@ -1,6 +1,8 @@
 // The named stiff/extreme-case suite: every case finite and within its bound.
-// References inside each case are closed forms (exact Chapman function,
-// H (1 - e^{-h/H}), lambda^-4, normalisation to 1) — see stiff_cases.cpp.
+// References inside each case are independent: the exact Chapman function (integral
+// and Bessel forms), H (1 - e^{-h/H}), normalisation to 1 and the exact CDF by
+// adaptive quadrature, closed-form moments, Bodhaine et al. (1999) eq. (30), and the
+// exact optical depth for the LUT — see stiff_cases.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
