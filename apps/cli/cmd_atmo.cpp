@@ -356,25 +356,48 @@ void register_atmo_commands(CLI::App& app) {
     auto o = std::make_shared<Opt>();
     CLI::App* c = app.add_subcommand("phase", "Phase function value [1/sr] and mean cosine");
     c->add_option("--model", o->model, "rayleigh | hg | cornette-shanks | double-hg")->required();
-    c->add_option("--g", o->g, "asymmetry parameter (first lobe for double-hg)");
-    c->add_option("--g2", o->g2, "double-hg: second lobe");
-    c->add_option("--weight", o->weight, "double-hg: weight of the first lobe");
-    c->add_option("--depolarization", o->depolarization, "rayleigh: depolarisation factor");
+    CLI::Option* og = c->add_option("--g", o->g, "asymmetry parameter (first lobe for double-hg); required for hg, cornette-shanks, double-hg");
+    CLI::Option* og2 = c->add_option("--g2", o->g2, "double-hg: second lobe (default -0.3)");
+    CLI::Option* ow = c->add_option("--weight", o->weight, "double-hg: weight of the first lobe (default 0.9)");
+    CLI::Option* od = c->add_option("--depolarization", o->depolarization, "rayleigh: depolarisation factor (default 0.0279)");
     c->add_option("--cos-theta", o->mu, "cosine of the scattering angle (1 = forward)")->required();
     c->add_flag("--json", o->json, "print one JSON object");
-    c->callback([o] {
+    c->callback([o, og, og2, ow, od] {
       PhaseSpec s;
       if (o->model == "rayleigh") s.model = PhaseSpec::Model::Rayleigh;
       else if (o->model == "hg") s.model = PhaseSpec::Model::HenyeyGreenstein;
       else if (o->model == "cornette-shanks") s.model = PhaseSpec::Model::CornetteShanks;
       else if (o->model == "double-hg") s.model = PhaseSpec::Model::DoubleHenyeyGreenstein;
       else throw InputError("--model: '" + o->model + "' is not rayleigh, hg, cornette-shanks or double-hg");
+      // An option the model does not use is an error, not silently ignored; g has no
+      // default (a silent 0.8 would answer a question nobody asked).
+      const bool uses_g = s.model != PhaseSpec::Model::Rayleigh;
+      const bool two_lobes = s.model == PhaseSpec::Model::DoubleHenyeyGreenstein;
+      if (uses_g && og->count() == 0) throw InputError("--g: required for --model " + o->model);
+      auto unused = [&](const CLI::Option* opt, bool used, const char* name) {
+        if (!used && opt->count() > 0) throw InputError(std::string(name) + ": not a parameter of --model " + o->model);
+      };
+      unused(og, uses_g, "--g");
+      unused(og2, two_lobes, "--g2");
+      unused(ow, two_lobes, "--weight");
+      unused(od, s.model == PhaseSpec::Model::Rayleigh, "--depolarization");
+      auto open_unit = [](double v, const char* name) {
+        if (!(std::isfinite(v) && std::abs(v) < 1.0)) throw InputError(std::string(name) + " = " + io::format_double(v) + ": must be in (-1, 1)");
+      };
+      if (uses_g) open_unit(o->g, "--g");
+      if (two_lobes) {
+        open_unit(o->g2, "--g2");
+        require_range(o->weight, 0.0, 1.0, "--weight");
+      }
+      if (s.model == PhaseSpec::Model::Rayleigh && !(std::isfinite(o->depolarization) && o->depolarization >= 0.0 &&
+                                                     o->depolarization < 0.5))
+        throw InputError("--depolarization = " + io::format_double(o->depolarization) + ": must be in [0, 0.5)");
       s.g = o->g;
       s.g2 = o->g2;
       s.weight = o->weight;
       s.depolarization = o->depolarization;
       double mu = require_range(o->mu, -1.0, 1.0, "--cos-theta");
-      PhaseFunction p(s, "--" + o->model);
+      PhaseFunction p(s, "phase");
       if (o->json) {
         print_json({{"value", p.value(mu)}, {"mean_cosine", p.mean_cosine()}, {"model", o->model}, {"cos_theta", mu}});
       } else {

@@ -30,8 +30,25 @@ TEST(CliAreas, PhaseJsonMatchesClosedForm) {
   const double expect = 0.75 / (4 * M_PI * std::pow(1.25 - 0.25, 1.5));
   EXPECT_NEAR(j["value"].get<double>(), expect, 1e-14);
   EXPECT_NEAR(j["mean_cosine"].get<double>(), 0.5, 1e-14);
-  expect_bad("phase --model hg --g 1.5 --cos-theta 0 --json", "1.5");
+  expect_bad("phase --model hg --g 1.5 --cos-theta 0 --json", "--g = 1.5");
   expect_bad("phase --model lorentz --cos-theta 0 --json", "lorentz");
+  // g has no default; options a model does not use are errors, each naming the flag.
+  expect_bad("phase --model hg --cos-theta 0 --json", "--g");
+  expect_bad("phase --model cornette-shanks --g -1 --cos-theta 0 --json", "--g = -1");
+  expect_bad("phase --model rayleigh --g 0.5 --cos-theta 0 --json", "--g");
+  expect_bad("phase --model hg --g 0.5 --g2 0.1 --cos-theta 0 --json", "--g2");
+  expect_bad("phase --model double-hg --g 0.5 --g2 1 --cos-theta 0 --json", "--g2 = 1");
+  expect_bad("phase --model double-hg --g 0.5 --weight 1.5 --cos-theta 0 --json", "--weight");
+  expect_bad("phase --model rayleigh --depolarization 0.7 --cos-theta 0 --json", "--depolarization = 0.7");
+  expect_bad("phase --model hg --g 0.5 --depolarization 0.1 --cos-theta 0 --json", "--depolarization");
+  // Double HG: w HG(g1) + (1 - w) HG(g2); Rayleigh with depolarisation 0: 3 (1 + mu^2) / (16 pi).
+  auto hg = [](double g, double mu) { return (1 - g * g) / (4 * M_PI * std::pow(1 + g * g - 2 * g * mu, 1.5)); };
+  const auto d = run_cli("phase --model double-hg --g 0.8 --g2 -0.4 --weight 0.7 --cos-theta 0.3 --json");
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  EXPECT_NEAR(nlohmann::json::parse(d.out)["value"].get<double>(), 0.7 * hg(0.8, 0.3) + 0.3 * hg(-0.4, 0.3), 1e-14);
+  const auto ry = run_cli("phase --model rayleigh --depolarization 0 --cos-theta 0.5 --json");
+  ASSERT_EQ(ry.exit_code, 0) << ry.err;
+  EXPECT_NEAR(nlohmann::json::parse(ry.out)["value"].get<double>(), 3 * 1.25 / (16 * M_PI), 1e-15);
 }
 
 TEST(CliAreas, OpticalDepthJsonContract) {
