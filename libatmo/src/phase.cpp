@@ -275,9 +275,15 @@ LegendreMoments PhaseFunction::legendre_moments(int n) const {
 
 DeltaM PhaseFunction::delta_m(int n) const {
   if (n < 1) throw InputError("delta-M: moment count " + std::to_string(n) + ": must be >= 1");
+  // Delta-M truncates a forward peak (f = chi_n in [0, 1)); for a backward-peaked
+  // function chi_n alternates in sign with n and the scaled moments are meaningless.
+  if (mean_cos_ < 0.0)
+    throw InputError("delta-M: mean cosine " + num(mean_cos_) + " < 0: only forward-peaked functions are truncated");
   auto m = legendre_moments(n + 1);
   DeltaM out;
   out.f = m.chi[n];
+  if (!(out.f < 1.0))
+    throw InputError("delta-M: chi_" + std::to_string(n) + " = " + num(out.f) + ": must be < 1 to truncate");
   out.truncated.resize(n);
   for (int l = 0; l < n; ++l) out.truncated[l] = (m.chi[l] - out.f) / (1.0 - out.f);
   return out;

@@ -145,6 +145,10 @@ void validate(const AtmosphereSpec& s) {
       require(w[i] >= kOzoneTableFirstNm && w[i] <= kOzoneTableLastNm,
               "spectrum.wavelengths_nm[" + std::to_string(i) + "]", w[i],
               "outside the ozone cross-section table 360-830 nm");
+    if (s.rayleigh && s.rayleigh->model == RayleighSpec::Model::Physical)
+      require(w[i] >= kRayleighPhysicalFirstNm && w[i] <= kRayleighPhysicalLastNm,
+              "spectrum.wavelengths_nm[" + std::to_string(i) + "]", w[i],
+              "outside 250-1000 nm, the range of the physical Rayleigh model (Peck & Reeder's refractivity)");
   }
 }
 

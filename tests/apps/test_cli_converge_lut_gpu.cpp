@@ -118,6 +118,9 @@ TEST(CliConvergeLut, ErrorEstimateTracksTheMeasuredError) {
   const auto* ref = find_row(rows, "reference", "adaptive G7-K15 (estimated error)");
   ASSERT_NE(ref, nullptr);
   EXPECT_EQ(num(*ref, "error_estimate_rel"), num(*ref, "error_max_rel"));
+  // The reference's own estimated errors: an rms no larger than the maximum.
+  EXPECT_GT(num(*ref, "error_rms_rel"), 0.0);
+  EXPECT_LT(num(*ref, "error_rms_rel"), num(*ref, "error_max_rel"));
 
   // The study's maximum covers the rays where the tables do worst: those near the
   // kinks of an interpolated profile. Here the 11 km node of the U.S. 1976 Rayleigh

@@ -177,6 +177,9 @@ TEST(Phase, DeltaM) {
   EXPECT_NEAR(d.f, std::pow(0.999, 16), 1e-14);
   EXPECT_NEAR(d.truncated[0], 1.0, 1e-12);
   EXPECT_NEAR(d.truncated[1], (0.999 - d.f) / (1.0 - d.f), 1e-12);
+  // Backward-peaked functions are not truncated (chi_n alternates in sign).
+  EXPECT_THROW(PhaseFunction(make(PhaseSpec::Model::CornetteShanks, -0.999)).delta_m(32), atmosh::InputError);
+  EXPECT_THROW(PhaseFunction(make(PhaseSpec::Model::HenyeyGreenstein, -0.5)).delta_m(4), atmosh::InputError);
 }
 
 TEST(Phase, ExtremeGStaysFinite) {

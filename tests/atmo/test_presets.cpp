@@ -71,6 +71,27 @@ TEST(Presets, ValidationNamesTheKey) {
   s = preset("earth-graphics");
   s.ozone->profile.peak_m = 50e3;
   EXPECT_NE(message_of(s).find("ozone.profile"), std::string::npos);
+  // The physical Rayleigh model holds 250-1000 nm (Peck & Reeder's refractivity fit):
+  // outside it a spectrum is bad input even without ozone; coefficients are unbounded.
+  s = preset("earth-physical");
+  s.ozone.reset();
+  s.spectrum.wavelengths_nm = {1200.0};
+  EXPECT_NE(message_of(s).find("spectrum.wavelengths_nm[0] = 1200"), std::string::npos);
+  s.spectrum.wavelengths_nm = {249.0};
+  EXPECT_NE(message_of(s).find("physical Rayleigh"), std::string::npos);
+  s.spectrum.wavelengths_nm = {250.0, 1000.0};
+  EXPECT_NO_THROW(Atmosphere{s});
+  s = preset("test-planet");
+  s.ozone.reset();
+  s.spectrum.wavelengths_nm = {1200.0};
+  EXPECT_NO_THROW(Atmosphere{s});
+  // Values that would overflow the number density p / (k T).
+  s = preset("earth-physical");
+  s.rayleigh->pressure_pa = 1e300;
+  EXPECT_NE(message_of(s).find("rayleigh.pressure_pa"), std::string::npos);
+  s = preset("earth-physical");
+  s.rayleigh->temperature_k = 1e-300;
+  EXPECT_NE(message_of(s).find("rayleigh.temperature_k"), std::string::npos);
 }
 
 // Leaving a constituent out removes it: zero coefficients.

@@ -30,7 +30,8 @@
 //    rounding of 1 - mu within the 5e-7-wide peak.
 //  * delta_m(n): delta-M truncation (Wiscombe 1977, J. Atmos. Sci. 34, 1408):
 //    f = chi_n, truncated moments chi*_l = (chi_l - f) / (1 - f), l < n; the
-//    scaled optical depth is (1 - omega f) tau.
+//    scaled optical depth is (1 - omega f) tau. For forward-peaked functions only:
+//    InputError when the mean cosine is < 0 or chi_n >= 1.
 // Valid parameters: |g| < 1 (g = +-0.999 is fine), depolarisation in [0, 0.5).
 #pragma once
 
