@@ -461,14 +461,16 @@ void register_atmo_commands(CLI::App& app) {
     c->add_option("--scene", o->scene, "scene TOML file (its atmosphere)");
     c->add_option("--preset", o->preset, "atmosphere preset (default earth-graphics)");
     c->add_option("-o,--output", o->stem, "output stem: STEM.csv and STEM.png");
-    c->add_option("--shells", o->shells, "comma-separated shell counts");
-    c->add_option("--directions", o->directions, "comma-separated direction counts (per table branch)");
-    c->add_flag("--quick", o->quick, "two settings only");
+    CLI::Option* os = c->add_option("--shells", o->shells, "comma-separated shell counts");
+    CLI::Option* od = c->add_option("--directions", o->directions, "comma-separated direction counts (per table branch)");
+    c->add_flag("--quick", o->quick, "two settings only (16 x 32 and 32 x 64); not with --shells/--directions");
     c->add_option("--device", o->device,
                   "cpu, gpu or auto: with a GPU, each setting also gets a lut_gpu row (tables built on the GPU); "
                   "auto uses the GPU if a headless EGL device exists, else the CPU only");
-    c->callback([o] {
+    c->callback([o, os, od] {
       check_device(o->device);
+      if (o->quick && (os->count() > 0 || od->count() > 0))
+        throw InputError("--quick: sweeps its own two settings; drop --shells/--directions or --quick");
       auto s = parse_int_list(o->shells, "--shells");
       auto d = parse_int_list(o->directions, "--directions");
       for (const auto& p :

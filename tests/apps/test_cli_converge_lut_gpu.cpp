@@ -155,6 +155,9 @@ TEST(CliConvergeLutGpu, BadDeviceIsBadInput) {
   const fs::path d = scratch_dir("atmosh_cli_lut_gpu", "bad");
   expect_bad_input("converge lut --device tpu" + kSmall + " -o '" + (d / "lut").string() + "'", "--device");
   EXPECT_FALSE(fs::exists(d / "lut.csv"));
+  // --quick has its own settings: combined with explicit ones it is ambiguous.
+  expect_bad_input("converge lut --quick --shells 8 -o '" + (d / "lut").string() + "'", "--quick");
+  EXPECT_FALSE(fs::exists(d / "lut.csv"));
 }
 
 // No EGL device: GLVND pointed at no vendor library (as in
