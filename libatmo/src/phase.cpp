@@ -238,9 +238,10 @@ LegendreMoments PhaseFunction::legendre_moments(int n) const {
   auto f = [this](double mu) { return value(mu); };
   std::vector<double> z, zh;
   if (spec_.model == M::Tabulated) {
-    const int qp = std::clamp(static_cast<int>(16 * spec_.cos_theta.size()), 64, 4096);
-    z = sh::zonal_coefficients(f, n, qp);
-    zh = sh::zonal_coefficients(f, n, std::max(qp / 2, n + 1));
+    // Piecewise linear between the table's nodes (0 outside them): composite
+    // Gauss-Legendre with the nodes as breaks, so no piece straddles a kink.
+    z = sh::zonal_coefficients(f, n, spec_.cos_theta, 16);
+    zh = sh::zonal_coefficients(f, n, spec_.cos_theta, 8);
   } else {
     // Peaked lobes (HG-like, Rayleigh is smooth): p ~ ((1 - g)^2 + 2 g s)^(-3/2) in
     // s = 1 - mu (s = 1 + mu for a backward lobe), a peak of width s0 = (1 - g)^2 / 2.

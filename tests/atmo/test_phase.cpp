@@ -170,6 +170,33 @@ TEST(Phase, CornetteShanksSamplingInvertsTheExactCdf) {
   }
 }
 
+// A tabulated phase function is piecewise linear in mu: its Legendre moments, by the
+// composite rule over its nodes, against adaptive Gauss-Kronrod in mu split at the
+// same nodes (tolerance 1e-14) — the kinks at the nodes are what a single rule missed —
+// and exactly 0 beyond l = 1 for a table that is linear in mu.
+TEST(Phase, TabulatedLegendreMomentsResolveTheKinks) {
+  PhaseSpec t;
+  t.model = PhaseSpec::Model::Tabulated;
+  t.cos_theta = {-1.0, -0.2, 0.5, 0.9, 0.99, 1.0};
+  t.value = {0.1, 0.3, 1.0, 4.0, 20.0, 35.0};
+  const PhaseFunction p(t);
+  const int n = 40;
+  const auto m = p.legendre_moments(n);
+  for (int l = 0; l < n; ++l) {
+    auto r = integrate_adaptive<double>(
+        [&](double mu) { return 2.0 * kPi * p.value(mu) * std::legendre(static_cast<unsigned>(l), mu); }, -1.0, 1.0,
+        {-0.2, 0.5, 0.9, 0.99}, 1e-300, 1e-14, 20000);
+    EXPECT_NEAR(m.chi[l], r.value, 1e-13) << l;
+  }
+  EXPECT_NEAR(m.chi[0], 1.0, 1e-14);
+  EXPECT_NEAR(m.chi[1], p.mean_cosine(), 1e-14);
+  t.cos_theta = {-1.0, 0.3, 1.0};
+  t.value = {0.5, 1.15, 1.5};  // 1 + 0.5 mu at the nodes: linear
+  const auto ml = PhaseFunction(t).legendre_moments(8);
+  EXPECT_NEAR(ml.chi[1], 1.0 / 6.0, 1e-14);  // 2 pi int (1 + mu/2) mu dmu / (4 pi)
+  for (int l = 2; l < 8; ++l) EXPECT_NEAR(ml.chi[l], 0.0, 1e-14) << l;
+}
+
 // Delta-M for HG: f = g^n and truncated moments (g^l - g^n)/(1 - g^n).
 TEST(Phase, DeltaM) {
   PhaseFunction hg(make(PhaseSpec::Model::HenyeyGreenstein, 0.999));

@@ -23,8 +23,8 @@
 //    zonal projection (chi_l = z_l / sqrt((2l+1)/(4 pi))): composite
 //    Gauss-Legendre on pieces graded geometrically toward mu = +-1 from the peak
 //    width (1 - |g|)^2 / 2 (24 points per piece plus n dtheta / pi; error
-//    estimate against 12 points per piece, returned alongside); tabulated: one
-//    Gauss-Legendre rule of 16 points per table node. HG uses its closed form
+//    estimate against 12 points per piece, returned alongside); tabulated: the
+//    pieces between its nodes (16 points each, estimate against 8). HG uses its closed form
 //    chi_l = g^l. Accuracy: ~1e-15 for smooth functions; 3e-11 at g = 0.999
 //    (closed-form Cornette-Shanks and double-HG moments, tests), limited by the
 //    rounding of 1 - mu within the 5e-7-wide peak.
