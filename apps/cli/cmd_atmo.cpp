@@ -80,23 +80,8 @@ std::vector<Ray> study_rays(const Atmosphere& atm) {
   }
   std::vector<double> kinks;
   for (int c = 0; c < 3; ++c)
-    if (atm.has(c))
-      for (double hk : atm.profile(c).kinks())
-        if (hk > 0.0 && hk < top) kinks.push_back(hk);
-  std::sort(kinks.begin(), kinks.end());
-  kinks.erase(std::unique(kinks.begin(), kinks.end()), kinks.end());
-  const double r_top = R + 0.99999 * top;
-  for (double hk : kinks) {
-    for (double dh : {-100.0, 100.0}) {
-      const double h = hk + dh;
-      if (h > 0.0 && h < top)
-        for (double mu : {0.0, 1e-3, -1e-3, 1e-2, -1e-2}) rays.push_back({R + h, mu});
-    }
-    for (double dt : {-100.0, -1.0, 1.0, 100.0}) {
-      const double rt = R + hk + dt;
-      if (rt > R && rt < r_top) rays.push_back({r_top, -std::sqrt((r_top - rt) * (r_top + rt)) / r_top});
-    }
-  }
+    if (atm.has(c)) kinks.insert(kinks.end(), atm.profile(c).kinks().begin(), atm.profile(c).kinks().end());
+  for (const ProbeRay& p : kink_probe_rays(R, top, kinks)) rays.push_back({p.r, p.mu});
   return rays;
 }
 

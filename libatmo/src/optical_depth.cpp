@@ -693,6 +693,27 @@ LutColumn OpticalDepthLut::view(double r, double mu) const {
 }
 LutColumn OpticalDepthLut::sun(double r, double mu) const { return lookup(sun_up_, nullptr, r, mu); }
 
+std::vector<ProbeRay> kink_probe_rays(double ground_radius, double top_altitude, std::vector<double> kinks) {
+  const double R = ground_radius, top = top_altitude;
+  std::sort(kinks.begin(), kinks.end());
+  kinks.erase(std::unique(kinks.begin(), kinks.end()), kinks.end());
+  std::vector<ProbeRay> rays;
+  const double r_top = R + 0.99999 * top;
+  for (double hk : kinks) {
+    if (!(hk > 0.0 && hk < top)) continue;
+    for (double dh : {-100.0, 100.0}) {
+      const double h = hk + dh;
+      if (h > 0.0 && h < top)
+        for (double mu : {0.0, 1e-3, -1e-3, 1e-2, -1e-2}) rays.push_back({R + h, mu});
+    }
+    for (double dt : {-100.0, -1.0, 1.0, 100.0}) {
+      const double rt = R + hk + dt;
+      if (rt > R && rt < r_top) rays.push_back({r_top, -std::sqrt((r_top - rt) * (r_top + rt)) / r_top});
+    }
+  }
+  return rays;
+}
+
 double OpticalDepthLut::estimate_max_rel_error(double wavelength_nm) const {
   if (!(wavelength_nm >= 0.0) || !std::isfinite(wavelength_nm))
     throw InputError("wavelength " + std::to_string(wavelength_nm) + " nm for the LUT error estimate is not a finite value >= 0");
@@ -731,6 +752,18 @@ double OpticalDepthLut::estimate_max_rel_error(double wavelength_nm) const {
       if (sg::ray_hits_ground(r, mug, R_))
         worst = std::max(worst, rel(view(r, mug).column, exact(r, mug, sg::distance_to_ground(r, mug, R_))));
     }
+  }
+  // Beside the kinks of interpolated profiles, where the tables' error peaks
+  // (earth-physical: the U.S. 1976 layer boundaries).
+  std::vector<double> kinks;
+  for (int c = 0; c < 3; ++c)
+    if (present_[c]) kinks.insert(kinks.end(), atm_.profile(c).kinks().begin(), atm_.profile(c).kinks().end());
+  for (const ProbeRay& p : kink_probe_rays(R_, T_ - R_, kinks)) {
+    const bool ground = sg::ray_hits_ground(p.r, p.mu, R_);
+    if (ground && !opt_.view_tables) continue;  // blocked sun ray: nothing to compare
+    const LutColumn got = opt_.view_tables ? view(p.r, p.mu) : sun(p.r, p.mu);
+    const double L = ground ? sg::distance_to_ground(p.r, p.mu, R_) : sg::distance_to_top(p.r, p.mu, T_);
+    worst = std::max(worst, rel(got.column, exact(p.r, p.mu, L)));
   }
   return worst;
 }

@@ -145,6 +145,17 @@ class OpticalDepthReference {
   glm::dvec3 abs_tol_;
 };
 
+// Rays where interpolated tables do worst: around each kink altitude h_k of a profile
+// (tent corners, table nodes; those outside (0, top) are skipped, duplicates merged)
+// the near-horizontal rays (mu = 0, +-1e-3, +-1e-2) from 100 m below and above it, and
+// the rays from 0.99999 of the top whose tangent point lies 1 m and 100 m below and
+// above it: 14 per kink. Radii in metres. Used by `atmosh converge lut` and by
+// OpticalDepthLut::estimate_max_rel_error.
+struct ProbeRay {
+  double r = 0.0, mu = 0.0;
+};
+std::vector<ProbeRay> kink_probe_rays(double ground_radius, double top_altitude, std::vector<double> kink_altitudes);
+
 // Optical depth tau = sum_c extinction_c * column_c, and exp(-tau) that is
 // exactly 0 (never NaN) when tau is huge or +inf.
 double optical_depth(const Coefficients& k, const glm::dvec3& column);
@@ -241,13 +252,17 @@ class OpticalDepthLut {
   // Max relative error of the total optical depth at `wavelength_nm` (default, 0:
   // the middle wavelength of the atmosphere's grid) at midpoints between table samples
   // in the lowest and every other shell interval and on a subset of directions (view
-  // tables, or the sun table if there are none), against fresh build-quality
-  // integrals: an a-posteriori estimate (costs ~ a build; not part of build_time_s).
+  // tables, or the sun table if there are none), and on the kink_probe_rays of the
+  // kinks of the interpolated profiles (a tabulated profile's nodes), against fresh
+  // build-quality integrals: an a-posteriori estimate (costs ~ a build, more with a
+  // long tabulated profile; not part of build_time_s).
   // Sampled, not a proven bound: against the largest error measured on the rays of
-  // `atmosh converge lut` (kink rays included) it was 0.47-1.54 times that error over
+  // `atmosh converge lut` (kink rays included) it was 0.59-1.54 times that error over
   // 16-64 shells x 32-64 directions for the three presets and the default scene's
-  // atmosphere, and 0.88-1.49 times at the default 32 x 64 (docs/atmosphere.md):
-  // it can be below the true maximum by ~2x. InputError for a
+  // atmosphere (earth-physical: 1.00, its worst rays are kink probes), and 0.88-1.49
+  // times at the default 32 x 64 (docs/atmosphere.md): it can be below the true
+  // maximum by up to ~2x. Cost: ~4 ms (earth-graphics), ~35 ms (earth-physical, 200
+  // table nodes x 14 probe rays). InputError for a
   // negative or non-finite wavelength.
   double estimate_max_rel_error(double wavelength_nm = 0.0) const;
 
