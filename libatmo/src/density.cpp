@@ -23,13 +23,15 @@ DensityProfile::DensityProfile(const DensityProfileSpec& spec, const std::string
   using K = DensityProfileSpec::Kind;
   switch (spec.kind) {
     case K::Exponential:
-      if (!std::isfinite(spec.scale_height_m) || spec.scale_height_m <= 0.0)
-        throw InputError(key + ".scale_height_m = " + num(spec.scale_height_m) + ": must be > 0");
+      // >= 1 mm: below that exp(-h/H) overflows for altitudes rounded just below 0.
+      if (!std::isfinite(spec.scale_height_m) || spec.scale_height_m < 1e-3)
+        throw InputError(key + ".scale_height_m = " + num(spec.scale_height_m) + ": must be >= 1e-3 m");
       break;
     case K::Tent:
       if (!std::isfinite(spec.bottom_m) || !std::isfinite(spec.peak_m) || !std::isfinite(spec.top_m) ||
-          !(spec.bottom_m < spec.peak_m && spec.peak_m < spec.top_m))
-        throw InputError(key + ": tent needs bottom_m < peak_m < top_m (got " + num(spec.bottom_m) + ", " +
+          !(spec.bottom_m < spec.peak_m && spec.peak_m < spec.top_m) || std::abs(spec.bottom_m) > 1e9 ||
+          std::abs(spec.top_m) > 1e9)
+        throw InputError(key + ": tent needs bottom_m < peak_m < top_m, all within +-1e9 m (got " + num(spec.bottom_m) + ", " +
                          num(spec.peak_m) + ", " + num(spec.top_m) + ")");
       kinks_ = {spec.bottom_m, spec.peak_m, spec.top_m};
       break;
@@ -37,9 +39,10 @@ DensityProfile::DensityProfile(const DensityProfileSpec& spec, const std::string
       if (spec.altitude_m.size() < 2 || spec.altitude_m.size() != spec.value.size())
         throw InputError(key + ": tabulated profile needs >= 2 (altitude_m, value) pairs of equal length");
       for (std::size_t i = 0; i < spec.altitude_m.size(); ++i) {
-        if (!std::isfinite(spec.altitude_m[i]) || (i > 0 && !(spec.altitude_m[i] > spec.altitude_m[i - 1])))
+        if (!std::isfinite(spec.altitude_m[i]) || std::abs(spec.altitude_m[i]) > 1e9 ||
+            (i > 0 && !(spec.altitude_m[i] > spec.altitude_m[i - 1])))
           throw InputError(key + ".altitude_m[" + std::to_string(i) + "] = " + num(spec.altitude_m[i]) +
-                           ": must be finite and increasing");
+                           ": must be increasing, within +-1e9 m");
         if (!std::isfinite(spec.value[i]) || spec.value[i] < 0.0)
           throw InputError(key + ".value[" + std::to_string(i) + "] = " + num(spec.value[i]) +
                            ": density must be finite and >= 0");

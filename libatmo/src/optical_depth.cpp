@@ -267,6 +267,9 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
                radii_.end());
   radii_.back() = T_;
   const int S2 = static_cast<int>(radii_.size());
+  if (S2 < 4)  // an atmosphere too thin to separate 4 shells in double precision
+    throw InputError("optical-depth tables: only " + std::to_string(S2) + " distinct shells between radius " +
+                     std::to_string(R_) + " m and the top " + std::to_string(T_) + " m (need 4)");
   rho_.resize(S2);
   for (int k = 0; k < S2; ++k) rho_[k] = std::sqrt(std::max(0.0, (radii_[k] - R_) * (radii_[k] + R_)));
   shell_index_ = SortedIndex(rho_);

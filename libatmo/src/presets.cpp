@@ -79,15 +79,28 @@ std::vector<double> spectrum_wavelengths(const SpectrumSpec& s) {
   return w;
 }
 
+namespace {
+// A profile valid on its own (DensityProfile) whose nodes also lie above the planet's
+// centre: a node radius <= 0 breaks the ray geometry of the closed-form columns.
+void check_profile(const DensityProfileSpec& p, const std::string& key, double radius_m) {
+  DensityProfile(p, key);
+  if (p.kind == DensityProfileSpec::Kind::Tent)
+    require(p.bottom_m > -radius_m, key + ".bottom_m", p.bottom_m, "must lie above the planet's centre (> -radius_m)");
+  if (p.kind == DensityProfileSpec::Kind::Tabulated && !p.altitude_m.empty())
+    require(p.altitude_m.front() > -radius_m, key + ".altitude_m[0]", p.altitude_m.front(),
+            "must lie above the planet's centre (> -radius_m)");
+}
+}  // namespace
+
 void validate(const AtmosphereSpec& s) {
   // Upper bounds well beyond any planet (the Sun's radius is 7e8 m) keep every derived
   // quantity finite.
   require(std::isfinite(s.planet.radius_m) && s.planet.radius_m > 0.0 && s.planet.radius_m <= 1e9, "planet.radius_m",
           s.planet.radius_m, "must be in (0, 1e9] m");
-  require(std::isfinite(s.planet.atmosphere_top_m) && s.planet.atmosphere_top_m > 0.0 &&
+  require(std::isfinite(s.planet.atmosphere_top_m) && s.planet.atmosphere_top_m >= 1.0 &&
               s.planet.atmosphere_top_m <= 1e8,
           "planet.atmosphere_top_m", s.planet.atmosphere_top_m,
-          "must be in (0, 1e8] m (the top must lie above the ground)");
+          "must be in [1, 1e8] m (the top must lie above the ground)");
   require(std::isfinite(s.planet.ground_albedo) && s.planet.ground_albedo >= 0.0 && s.planet.ground_albedo <= 1.0,
           "planet.ground_albedo", s.planet.ground_albedo, "must be in [0, 1]");
   if (s.rayleigh) {
@@ -101,34 +114,41 @@ void validate(const AtmosphereSpec& s) {
       require(std::isfinite(r.co2_ppm) && r.co2_ppm >= 0.0 && r.co2_ppm < 1e6, "rayleigh.co2_ppm", r.co2_ppm,
               "must be in [0, 1e6)");
     } else {
-      require(std::isfinite(r.scattering_per_m) && r.scattering_per_m >= 0.0, "rayleigh.scattering_per_m",
-              r.scattering_per_m, "must be >= 0 (a density or coefficient cannot be negative)");
+      require(std::isfinite(r.scattering_per_m) && r.scattering_per_m >= 0.0 && r.scattering_per_m <= 1e3,
+              "rayleigh.scattering_per_m", r.scattering_per_m,
+              "must be in [0, 1e3] per metre (a density or coefficient cannot be negative)");
       require(std::isfinite(r.reference_nm) && r.reference_nm > 0.0, "rayleigh.reference_nm", r.reference_nm,
               "must be > 0");
     }
-    DensityProfile(r.profile, "rayleigh.profile");
+    check_profile(r.profile, "rayleigh.profile", s.planet.radius_m);
     validate_phase(r.phase, "rayleigh.phase");
   }
   if (s.mie) {
     const auto& m = *s.mie;
-    require(std::isfinite(m.scattering_per_m) && m.scattering_per_m >= 0.0, "mie.scattering_per_m",
-            m.scattering_per_m, "must be >= 0 (a density or coefficient cannot be negative)");
+    require(std::isfinite(m.scattering_per_m) && m.scattering_per_m >= 0.0 && m.scattering_per_m <= 1e3,
+            "mie.scattering_per_m", m.scattering_per_m,
+            "must be in [0, 1e3] per metre (a density or coefficient cannot be negative)");
     require(std::isfinite(m.reference_nm) && m.reference_nm > 0.0, "mie.reference_nm", m.reference_nm, "must be > 0");
     require(std::isfinite(m.angstrom) && std::abs(m.angstrom) <= 10.0, "mie.angstrom", m.angstrom,
             "must be finite, |a| <= 10");
     require(std::isfinite(m.single_scattering_albedo) && m.single_scattering_albedo > 0.0 &&
                 m.single_scattering_albedo <= 1.0,
             "mie.single_scattering_albedo", m.single_scattering_albedo, "must be in (0, 1]");
-    DensityProfile(m.profile, "mie.profile");
+    check_profile(m.profile, "mie.profile", s.planet.radius_m);
     validate_phase(m.phase, "mie.phase");
   }
   if (s.ozone) {
-    require(std::isfinite(s.ozone->column_du) && s.ozone->column_du >= 0.0, "ozone.column_du", s.ozone->column_du,
-            "must be >= 0");
+    require(std::isfinite(s.ozone->column_du) && s.ozone->column_du >= 0.0 && s.ozone->column_du <= 1e6,
+            "ozone.column_du", s.ozone->column_du, "must be in [0, 1e6] DU");
+    check_profile(s.ozone->profile, "ozone.profile", s.planet.radius_m);
     DensityProfile p(s.ozone->profile, "ozone.profile");
-    if (s.ozone->column_du > 0.0 && !(p.vertical_column(0.0, s.planet.atmosphere_top_m) > 0.0))
+    const double col = p.vertical_column(0.0, s.planet.atmosphere_top_m);
+    if (s.ozone->column_du > 0.0 && !(col > 0.0))
       throw InputError("ozone.profile: zero column below planet.atmosphere_top_m, cannot hold " +
                        num(s.ozone->column_du) + " DU");
+    if (s.ozone->column_du > 0.0 && !std::isfinite(s.ozone->column_du * kDobsonUnitPerM2 / col))
+      throw InputError("ozone.profile: column " + num(col) + " m below the top is too thin to hold " +
+                       num(s.ozone->column_du) + " DU (the number density overflows)");
   }
   const auto& sp = s.spectrum;
   if (sp.wavelengths_nm.empty()) {

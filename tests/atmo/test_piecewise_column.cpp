@@ -193,6 +193,15 @@ TEST(PiecewiseLinearColumn, DegenerateRaysAreFinite) {
     }
     EXPECT_EQ(col(kR, 1.0, 0.0), 0.0);
     EXPECT_EQ(col(kR, 1.0, -1.0), 0.0);
+    // Rays grazing the outermost node (the tent's top) from just above it: the
+    // column is ~0 and, like the density, never negative (rounding left -1e-15).
+    const double rk = kR + p.kinks().back();
+    for (double d : {4e-5, 1e-3, 1.0})
+      for (double mu : {-3.5355483665402835e-06, -1e-7, 0.0}) {
+        const double r = rk + d;
+        if (r > kR + kTop) continue;
+        EXPECT_GE(col(r, mu, ray_length(r, mu)), 0.0) << d << " " << mu;
+      }
   }
   EXPECT_THROW(PiecewiseLinearColumn(DensityProfile(DensityProfileSpec::exponential(8000.0)), kR),
                atmosh::InputError);

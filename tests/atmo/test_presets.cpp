@@ -85,6 +85,36 @@ TEST(Presets, ValidationNamesTheKey) {
   s.ozone.reset();
   s.spectrum.wavelengths_nm = {1200.0};
   EXPECT_NO_THROW(Atmosphere{s});
+  // Extreme values that broke the columns (found by a stress sweep): scale heights
+  // below 1 mm (exp(-h/H) overflows for altitudes rounded just below 0), profile nodes
+  // below the planet's centre, atmospheres thinner than 1 m, coefficients and ozone
+  // columns whose products overflow.
+  s = preset("earth-graphics");
+  s.mie->profile.scale_height_m = 1e-100;
+  EXPECT_NE(message_of(s).find("mie.profile.scale_height_m"), std::string::npos);
+  s = preset("earth-graphics");
+  s.ozone->profile.bottom_m = -2e7;
+  s.ozone->profile.peak_m = -1e7;
+  EXPECT_NE(message_of(s).find("ozone.profile.bottom_m"), std::string::npos);
+  s = preset("earth-graphics");
+  s.planet.atmosphere_top_m = 1e-9;
+  EXPECT_NE(message_of(s).find("planet.atmosphere_top_m"), std::string::npos);
+  s = preset("earth-graphics");
+  s.mie->scattering_per_m = 1.7e308;
+  EXPECT_NE(message_of(s).find("mie.scattering_per_m"), std::string::npos);
+  s = preset("earth-graphics");
+  s.ozone->column_du = 1e300;
+  EXPECT_NE(message_of(s).find("ozone.column_du"), std::string::npos);
+  s = preset("earth-graphics");
+  s.ozone->profile.bottom_m = 0.0;
+  s.ozone->profile.peak_m = 1e-300;
+  s.ozone->profile.top_m = 2e-300;
+  EXPECT_NE(message_of(s).find("ozone.profile"), std::string::npos);
+  s = preset("earth-graphics");
+  s.ozone->profile.bottom_m = -1e300;
+  s.ozone->profile.peak_m = 0.0;
+  s.ozone->profile.top_m = 1e300;
+  EXPECT_NE(message_of(s).find("ozone.profile"), std::string::npos);
   // Values that would overflow the number density p / (k T).
   s = preset("earth-physical");
   s.rayleigh->pressure_pa = 1e300;
