@@ -103,6 +103,15 @@ OpticalDepthReference::OpticalDepthReference(const Atmosphere& atmosphere, Refer
     throw InputError("reference options: tolerances must be > 0 and max_intervals >= 1");
   glm::dvec3 v = atm_.vertical_column();
   for (int c = 0; c < 3; ++c) abs_tol_[c] = std::max(v[c] * opt_.abs_tol_fraction, 1e-300);
+  // The altitude of a point on a ray, r(s) - R, carries a rounding error of ~eps R, so
+  // exp(-h/H) carries eps R / H relative: no quadrature gets below that. Asking for
+  // less only makes the adaptive loop bisect noise up to max_intervals (H = 10 m on
+  // Earth: 6e5 evaluations, converged = false, for a value good to 3e-12).
+  double h_min = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < 3; ++c)
+    if (atm_.has(c) && atm_.profile(c).kind() == DensityProfileSpec::Kind::Exponential)
+      h_min = std::min(h_min, atm_.profile(c).spec().scale_height_m);
+  rel_tol_ = std::max(opt_.rel_tol, std::numeric_limits<double>::epsilon() * atm_.ground_radius() / h_min);
 }
 
 RayColumn OpticalDepthReference::column(double r, double mu, double length) const {
@@ -149,7 +158,7 @@ RayColumn OpticalDepthReference::column(double r, double mu, double length) cons
     for (double f : {0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0}) add_crossings(r, mu, L, R + h_low + f * H, pts);
   }
   auto f = [&](double s) { return atm_.density(sg::radius_along(r, mu, s) - R); };
-  auto q = integrate_adaptive<glm::dvec3>(f, 0.0, L, pts, abs_tol_, opt_.rel_tol, opt_.max_intervals);
+  auto q = integrate_adaptive<glm::dvec3>(f, 0.0, L, pts, abs_tol_, rel_tol_, opt_.max_intervals);
   out.column = q.value;
   out.error = q.error;
   out.evaluations = q.evaluations;
