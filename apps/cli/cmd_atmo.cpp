@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -56,10 +57,10 @@ struct Ray {
 // above the ground and just below the top), directions on a uniform grid in mu
 // plus grazing rays at 1e-9..3e-2 either side of the horizon and of mu = 0, and
 // rays whose tangent point lies 1 mm..1 km above the ground. Then, at every kink
-// of a present profile (tent corners, table nodes: where a column's derivative in
+// of a present profile among its 32 strongest (tent corners, outstanding table nodes: where a column's derivative in
 // the ray's direction jumps and table interpolation is worst), near-horizontal rays
 // from 100 m below and above it and rays from just below the top whose tangent point
-// lies 1 m and 100 m either side of it.
+// lies 1 m and 100 m either side of it (kink_probe_rays); and 1000 seeded random rays.
 std::vector<Ray> study_rays(const Atmosphere& atm) {
   const double R = atm.ground_radius(), top = atm.top_altitude();
   std::vector<Ray> rays;
@@ -78,10 +79,20 @@ std::vector<Ray> study_rays(const Atmosphere& atm) {
     for (double mu : mus)
       if (mu >= -1.0 && mu <= 1.0) rays.push_back({r, mu});
   }
-  std::vector<double> kinks;
-  for (int c = 0; c < 3; ++c)
-    if (atm.has(c)) kinks.insert(kinks.end(), atm.profile(c).kinks().begin(), atm.profile(c).kinks().end());
-  for (const ProbeRay& p : kink_probe_rays(R, top, kinks)) rays.push_back({p.r, p.mu});
+  for (const ProbeRay& p : kink_probe_rays(atm)) rays.push_back({p.r, p.mu});
+  // And 1000 random rays (fixed seed; uniform doubles from the top 53 bits, so the
+  // set is the same on every platform): altitudes uniform in [0, top) for half of
+  // them, top u^3 (crowded near the ground) for the other half; mu uniform in
+  // [-1, 1], every third within 0.025 of the horizontal. The fixed altitudes above
+  // missed rays such as those looking up from 97 km (the default scene's worst).
+  std::mt19937_64 rng(20261122);
+  auto uniform = [&rng] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  for (int i = 0; i < 1000; ++i) {
+    const double u = uniform(), v = uniform();
+    const double h = (i % 2 != 0) ? u * top : top * u * u * u;
+    const double mu = (i % 3 == 0) ? 0.05 * (v - 0.5) : 2.0 * v - 1.0;
+    rays.push_back({R + h, mu});
+  }
   return rays;
 }
 

@@ -54,6 +54,36 @@ DensityProfile::DensityProfile(const DensityProfileSpec& spec, const std::string
   }
 }
 
+std::vector<double> DensityProfile::strongest_kinks(int n) const {
+  if (n <= 0) return {};
+  if (static_cast<int>(kinks_.size()) <= n) return kinks_;
+  // Tabulated (a tent has 3 kinks): the slope jump J_i at every node (the ends jump
+  // from / to 0 outside the table), its excess over the neighbours' mean, relative to
+  // the largest density around it.
+  const auto& a = spec_.altitude_m;
+  const auto& v = spec_.value;
+  const std::size_t m = a.size();
+  std::vector<double> slope(m + 1, 0.0);  // slope[i]: on (a[i-1], a[i]); 0 outside the table
+  for (std::size_t i = 1; i < m; ++i) slope[i] = (v[i] - v[i - 1]) / (a[i] - a[i - 1]);
+  std::vector<double> jump(m);
+  for (std::size_t i = 0; i < m; ++i) jump[i] = slope[i + 1] - slope[i];
+  std::vector<std::pair<double, double>> rank;  // (score, altitude)
+  for (std::size_t i = 0; i < m; ++i) {
+    const double left = i > 0 ? jump[i - 1] : 0.0, right = i + 1 < m ? jump[i + 1] : 0.0;
+    double scale = v[i];
+    if (i > 0) scale = std::max(scale, v[i - 1]);
+    if (i + 1 < m) scale = std::max(scale, v[i + 1]);
+    const double excess = std::abs(jump[i] - 0.5 * (left + right));
+    rank.push_back({scale > 0.0 ? excess / scale : excess > 0.0 ? std::numeric_limits<double>::infinity() : 0.0, a[i]});
+  }
+  std::partial_sort(rank.begin(), rank.begin() + n, rank.end(),
+                    [](const auto& x, const auto& y) { return x.first > y.first || (x.first == y.first && x.second < y.second); });
+  std::vector<double> out;
+  for (int i = 0; i < n; ++i) out.push_back(rank[static_cast<std::size_t>(i)].second);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 double DensityProfile::operator()(double h) const {
   using K = DensityProfileSpec::Kind;
   switch (spec_.kind) {

@@ -705,6 +705,16 @@ LutColumn OpticalDepthLut::view(double r, double mu) const {
 }
 LutColumn OpticalDepthLut::sun(double r, double mu) const { return lookup(sun_up_, nullptr, r, mu); }
 
+std::vector<ProbeRay> kink_probe_rays(const Atmosphere& atm) {
+  std::vector<double> kinks;
+  for (int c = 0; c < 3; ++c)
+    if (atm.has(c)) {
+      const auto k = atm.profile(c).strongest_kinks(kProbedKinks);
+      kinks.insert(kinks.end(), k.begin(), k.end());
+    }
+  return kink_probe_rays(atm.ground_radius(), atm.top_altitude(), kinks);
+}
+
 std::vector<ProbeRay> kink_probe_rays(double ground_radius, double top_altitude, std::vector<double> kinks) {
   const double R = ground_radius, top = top_altitude;
   std::sort(kinks.begin(), kinks.end());
@@ -769,7 +779,10 @@ double OpticalDepthLut::estimate_max_rel_error(double wavelength_nm) const {
   // (earth-physical: the U.S. 1976 layer boundaries).
   std::vector<double> kinks;
   for (int c = 0; c < 3; ++c)
-    if (present_[c]) kinks.insert(kinks.end(), atm_.profile(c).kinks().begin(), atm_.profile(c).kinks().end());
+    if (present_[c]) {
+      const auto k = atm_.profile(c).strongest_kinks(kProbedKinks);
+      kinks.insert(kinks.end(), k.begin(), k.end());
+    }
   for (const ProbeRay& p : kink_probe_rays(R_, T_ - R_, kinks)) {
     const bool ground = sg::ray_hits_ground(p.r, p.mu, R_);
     if (ground && !opt_.view_tables) continue;  // blocked sun ray: nothing to compare

@@ -29,6 +29,12 @@ class DensityProfile {
   DensityProfileSpec::Kind kind() const { return spec_.kind; }
   const DensityProfileSpec& spec() const { return spec_; }
   const std::vector<double>& kinks() const { return kinks_; }
+  // At most n kinks, ascending, those that stand out most: ranked by how much the
+  // jump of the slope at a node exceeds the mean of its neighbours' jumps (the
+  // smooth curvature that every node of a sampled profile carries), relative to the
+  // local density; all of them when there are at most n (tent corners). For a table
+  // of the U.S. 1976 atmosphere the tropopause node ranks first.
+  std::vector<double> strongest_kinks(int n) const;
   // True when the density is > 0 at every altitude in [0, top_m].
   bool positive_on(double top_m) const;
   // Exact integral of the profile over [h0, h1] (h0 <= h1), metres.

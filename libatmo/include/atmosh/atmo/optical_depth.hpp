@@ -161,12 +161,17 @@ class OpticalDepthReference {
 // (tent corners, table nodes; those outside (0, top) are skipped, duplicates merged)
 // the near-horizontal rays (mu = 0, +-1e-3, +-1e-2) from 100 m below and above it, and
 // the rays from 0.99999 of the top whose tangent point lies 1 m and 100 m below and
-// above it: 14 per kink. Radii in metres. Used by `atmosh converge lut` and by
+// above it: 14 per kink. Radii in metres. The atmosphere's version probes the
+// kProbedKinks strongest kinks of each present profile (DensityProfile::strongest_kinks:
+// all of a tent's, the outstanding nodes of a long table), so the cost stays bounded
+// for tables of thousands of nodes. Used by `atmosh converge lut` and by
 // OpticalDepthLut::estimate_max_rel_error.
 struct ProbeRay {
   double r = 0.0, mu = 0.0;
 };
+inline constexpr int kProbedKinks = 32;
 std::vector<ProbeRay> kink_probe_rays(double ground_radius, double top_altitude, std::vector<double> kink_altitudes);
+std::vector<ProbeRay> kink_probe_rays(const Atmosphere& atmosphere);
 
 // Optical depth tau = sum_c extinction_c * column_c, and exp(-tau) that is
 // exactly 0 (never NaN) when tau is huge or +inf.
