@@ -246,7 +246,9 @@ std::vector<fs::path> write_zenith_sweep(const AtmosphereSpec& spec, double alti
   OpticalDepthLut lut(atm);
   auto k = atm.coefficients_at(550.0);
   io::CsvTable t({"zenith_deg", "tau_reference", "tau_lut", "relative_error", "hits_ground"});
-  io::Series sr{"reference", {}, {}, io::Series::Style::Line}, sl{"LUT 32x64", {}, {}, io::Series::Style::Scatter};
+  const std::string lut_name = "LUT " + std::to_string(lut.options().shells) + "x" +
+                               std::to_string(lut.options().view_directions);
+  io::Series sr{"reference", {}, {}, io::Series::Style::Line}, sl{lut_name, {}, {}, io::Series::Style::Scatter};
   for (int i = 0; i <= 360; ++i) {
     double z = 0.5 * i;
     double mu = std::cos(z * kDegToRad);

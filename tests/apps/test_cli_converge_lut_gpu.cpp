@@ -185,7 +185,9 @@ TEST(CliConvergeLut, StudyCoversTheRaysBesideKinks) {
   ASSERT_NE(d32, nullptr);
   using namespace atmosh::atmo;
   const Atmosphere atm(preset("earth-physical"));
-  const OpticalDepthLut lut(atm);
+  LutOptions o32;
+  o32.shells = 32;
+  const OpticalDepthLut lut(atm, o32);
   const OpticalDepthReference exact(atm);
   const auto k = atm.coefficients_at(550.0);
   const double R = atm.ground_radius(), r_top = R + 0.99999 * atm.top_altitude();

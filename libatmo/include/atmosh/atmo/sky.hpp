@@ -49,7 +49,9 @@
 namespace atmosh::atmo {
 
 struct SkyOptions {
-  LutOptions lut;                 // table sizes (view_tables is set false: the sun table only)
+  // Table sizes (view_tables is set false: the sun table only). 32 shells, not the
+  // tables' own default of 40: the sky's error budget is the integration's (docs/sky.md).
+  LutOptions lut{.shells = 32};
   int segments = 16;              // shells (of the table's, evenly picked) that cut the view ray, 1..min(lut.shells-1, 64)
   int samples_per_segment = 2;    // Gauss-Legendre points per piece (1..8)
   double max_piece_optical_depth = 0.5;  // pieces are split until their extinction optical depth
