@@ -37,7 +37,8 @@
 // gets shells: the column fractions of exponentials saturate a few scale heights
 // up, while their logged mean densities, which the tables interpolate, keep
 // changing at the same rate per metre; without the altitude share the 100 km
-// default scene had 2.0e-4 at 32 x 64, with it 6.7e-5). For every shell there are two
+// default scene had 2.0e-4 at 32 x 64 on the fixed rays of the study, with it
+// 6.7e-5). For every shell there are two
 // tables of column against direction:
 //   * view table: rays toward the top (mu above the horizon) and, separately,
 //     rays that hit the ground, each with `view_directions` samples;
@@ -69,12 +70,13 @@
 // point (shared lut_piece_count), ~1e-8 relative (also far above a constituent's
 // scale height, where its mean density is tiny: the tables store its logarithm).
 // Error: see `atmosh converge lut` and docs/atmosphere.md (max relative error of
-// the total optical depth, measured over grazing/tangent rays and rays beside every
-// profile kink): 2.9e-5 for earth-graphics with the ozone tent at the default
-// 32 x 64 (1064 rays), 6.7e-5 for the default scene's atmosphere (the same with the
-// top at 100 km); 4.1e-3 for earth-physical at 32 x 64 (3808 rays; interpolated
-// 200-node tabulated Rayleigh: its layer boundaries are kinks of ln rho).
-// Build of the default 32 x 64 tables: ~20-35 ms (2-core machine).
+// the total optical depth, measured over grazing/tangent rays, rays beside the
+// strongest profile kinks and 1000 seeded random rays): at the default 40 x 64,
+// 1.6e-5 for earth-graphics with the ozone tent, 6.2e-5 for the default scene's
+// atmosphere (the same with the top at 100 km; 1.03e-4 at 32 x 64), 3.0e-5 for
+// test-planet; 3.0e-3 for earth-physical (interpolated 200-node tabulated Rayleigh:
+// its layer boundaries are kinks of ln rho).
+// Build of the default 40 x 64 tables: ~25-42 ms (2-core machine).
 // Regime: the relative error holds while the atmosphere spans at most ~15 scale
 // heights of every interpolated exponential (top / H <~ 15: the logged mean densities
 // fall by top / H e-folds across S shells). Beyond, rays high in the atmosphere, whose
@@ -274,12 +276,12 @@ class OpticalDepthLut {
   // build-quality integrals: an a-posteriori estimate (costs ~ a build, more with a
   // long tabulated profile; not part of build_time_s).
   // Sampled, not a proven bound: against the largest error measured on the rays of
-  // `atmosh converge lut` (kink rays included) it was 0.59-1.54 times that error over
-  // 16-64 shells x 32-64 directions for the three presets and the default scene's
-  // atmosphere (earth-physical: 1.00, its worst rays are kink probes), and 0.88-1.49
-  // times at the default 32 x 64 (docs/atmosphere.md): it can be below the true
-  // maximum by up to ~2x. Cost: ~4 ms (earth-graphics), ~35 ms (earth-physical, 200
-  // table nodes x 14 probe rays). InputError for a
+  // `atmosh converge lut` it was 0.52-1.30 times that error over 16-64 shells x 32-64
+  // directions for the three presets and the default scene's atmosphere, 0.55-1.00 at
+  // the default 40 x 64 (earth-physical ~1: its worst rays are kink probes, which the
+  // estimate visits too); on independent rays 0.52-1.81 (docs/atmosphere.md): it can
+  // be below the true maximum by ~2x. Cost: ~4 ms (earth-graphics), ~10 ms
+  // (earth-physical: 32 probed nodes x 14 rays). InputError for a
   // negative or non-finite wavelength.
   double estimate_max_rel_error(double wavelength_nm = 0.0) const;
 
