@@ -310,7 +310,7 @@ void register_atmo_commands(CLI::App& app) {
       if (spec.rayleigh && spec.rayleigh->model == RayleighSpec::Model::Physical &&
           (nm < kRayleighPhysicalFirstNm || nm > kRayleighPhysicalLastNm))
         throw InputError("--wavelength " + io::format_double(nm) +
-                         ": outside the physical Rayleigh model's range (250-1000 nm)");
+                         ": outside the physical Rayleigh model's range (240-1690 nm)");
       Atmosphere atm(spec);
       if (alt < 0.0) throw InputError("--altitude " + io::format_double(alt) + ": below the ground");
       const double r = atm.ground_radius() + alt, mu = std::cos(zen * kDegToRad);

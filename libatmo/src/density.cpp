@@ -43,9 +43,9 @@ DensityProfile::DensityProfile(const DensityProfileSpec& spec, const std::string
             (i > 0 && !(spec.altitude_m[i] > spec.altitude_m[i - 1])))
           throw InputError(key + ".altitude_m[" + std::to_string(i) + "] = " + num(spec.altitude_m[i]) +
                            ": must be increasing, within +-1e9 m");
-        if (!std::isfinite(spec.value[i]) || spec.value[i] < 0.0)
+        if (!std::isfinite(spec.value[i]) || spec.value[i] < 0.0 || spec.value[i] > 1e30)
           throw InputError(key + ".value[" + std::to_string(i) + "] = " + num(spec.value[i]) +
-                           ": density must be finite and >= 0");
+                           ": relative density must be in [0, 1e30]");
       }
       kinks_ = spec.altitude_m;
       index_ = SortedIndex(spec.altitude_m);

@@ -254,7 +254,7 @@ LegendreMoments PhaseFunction::legendre_moments(int n) const {
     if (spec_.model == M::CornetteShanks) gmax = std::abs(spec_.g);
     if (spec_.model == M::DoubleHenyeyGreenstein) gmax = std::max(std::abs(spec_.g), std::abs(spec_.g2));
     const double s0 = std::max(0.5 * (1.0 - gmax) * (1.0 - gmax), 1e-300);
-    std::vector<double> lo, hi;  // distances from the ends, ascending
+    std::vector<double> lo;  // distances from the ends, ascending
     for (double s = s0; s < 1.0; s *= 2.0) lo.push_back(s);
     std::vector<double> breaks{-1.0};
     for (double s : lo) breaks.push_back(-1.0 + s);

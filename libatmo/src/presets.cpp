@@ -117,8 +117,8 @@ void validate(const AtmosphereSpec& s) {
       require(std::isfinite(r.scattering_per_m) && r.scattering_per_m >= 0.0 && r.scattering_per_m <= 1e3,
               "rayleigh.scattering_per_m", r.scattering_per_m,
               "must be in [0, 1e3] per metre (a density or coefficient cannot be negative)");
-      require(std::isfinite(r.reference_nm) && r.reference_nm > 0.0, "rayleigh.reference_nm", r.reference_nm,
-              "must be > 0");
+      require(std::isfinite(r.reference_nm) && r.reference_nm >= 1.0 && r.reference_nm <= 1e6,
+              "rayleigh.reference_nm", r.reference_nm, "must be in [1, 1e6] nm");
     }
     check_profile(r.profile, "rayleigh.profile", s.planet.radius_m);
     validate_phase(r.phase, "rayleigh.phase");
@@ -128,7 +128,8 @@ void validate(const AtmosphereSpec& s) {
     require(std::isfinite(m.scattering_per_m) && m.scattering_per_m >= 0.0 && m.scattering_per_m <= 1e3,
             "mie.scattering_per_m", m.scattering_per_m,
             "must be in [0, 1e3] per metre (a density or coefficient cannot be negative)");
-    require(std::isfinite(m.reference_nm) && m.reference_nm > 0.0, "mie.reference_nm", m.reference_nm, "must be > 0");
+    require(std::isfinite(m.reference_nm) && m.reference_nm >= 1.0 && m.reference_nm <= 1e6, "mie.reference_nm",
+            m.reference_nm, "must be in [1, 1e6] nm");
     require(std::isfinite(m.angstrom) && std::abs(m.angstrom) <= 10.0, "mie.angstrom", m.angstrom,
             "must be finite, |a| <= 10");
     require(std::isfinite(m.single_scattering_albedo) && m.single_scattering_albedo > 0.0 &&
@@ -158,17 +159,29 @@ void validate(const AtmosphereSpec& s) {
     require(sp.count >= 1 && sp.count <= 100000, "spectrum.count", sp.count, "must be in [1, 100000]");
   }
   auto w = spectrum_wavelengths(sp);
+  // A generated grid is named by the key the user wrote (from_nm / to_nm) and the bin
+  // centre that falls outside; an explicit list by its element.
+  auto where = [&](std::size_t i, bool below) {
+    return sp.wavelengths_nm.empty() ? (below ? "spectrum.from_nm" : "spectrum.to_nm")
+                                     : "spectrum.wavelengths_nm[" + std::to_string(i) + "]";
+  };
+  auto value_of = [&](std::size_t i, bool below) {
+    return sp.wavelengths_nm.empty() ? (below ? sp.from_nm : sp.to_nm) : w[i];
+  };
+  auto range = [&](std::size_t i, double lo, double hi, const std::string& why) {
+    if (w[i] >= lo && w[i] <= hi) return;
+    const bool below = w[i] < lo;
+    require(false, where(i, below), value_of(i, below),
+            (sp.wavelengths_nm.empty() ? "its bin centre " + num(w[i]) + " nm lies " : std::string()) + "outside " +
+                num(lo) + "-" + num(hi) + " nm, " + why);
+  };
   for (std::size_t i = 0; i < w.size(); ++i) {
     require(std::isfinite(w[i]) && w[i] > 0.0, "spectrum.wavelengths_nm[" + std::to_string(i) + "]", w[i],
             "must be > 0");
-    if (s.ozone)
-      require(w[i] >= kOzoneTableFirstNm && w[i] <= kOzoneTableLastNm,
-              "spectrum.wavelengths_nm[" + std::to_string(i) + "]", w[i],
-              "outside the ozone cross-section table 360-830 nm");
+    if (s.ozone) range(i, kOzoneTableFirstNm, kOzoneTableLastNm, "the ozone cross-section table");
     if (s.rayleigh && s.rayleigh->model == RayleighSpec::Model::Physical)
-      require(w[i] >= kRayleighPhysicalFirstNm && w[i] <= kRayleighPhysicalLastNm,
-              "spectrum.wavelengths_nm[" + std::to_string(i) + "]", w[i],
-              "outside 250-1000 nm, the range of the physical Rayleigh model (Peck & Reeder's refractivity)");
+      range(i, kRayleighPhysicalFirstNm, kRayleighPhysicalLastNm,
+            "the measurements behind the physical Rayleigh model's refractivity (Peck & Reeder 1972)");
   }
 }
 

@@ -144,8 +144,9 @@ std::vector<StiffCase> run_stiff_cases(int lut_shells, int lut_directions) {
   }
   // Cornette-Shanks at g = +-0.999: Legendre moments chi_0 = 1 and chi_1 = the closed
   // mean cosine 3 g (4 + g^2) / (5 (2 + g^2)) through the zonal projection, and the
-  // probability of the back (for g < 0: front) hemisphere from inverting sample() by
-  // bisection against the exact CDF by adaptive quadrature (~1.3e-4 of the total).
+  // probability of the hemisphere away from the peak (mu <= 0 for g > 0, mu > 0 for
+  // g < 0; ~1.3e-4 of the total) from inverting sample() by bisection, against the
+  // exact integral over that hemisphere by adaptive quadrature.
   for (double g : {0.999, -0.999}) {
     PhaseSpec s;
     s.model = PhaseSpec::Model::CornetteShanks;
@@ -161,18 +162,20 @@ std::vector<StiffCase> run_stiff_cases(int lut_shells, int lut_directions) {
       const double mid = 0.5 * (lo + hi);
       (p.sample(mid) < 0.0 ? lo : hi) = mid;
     }
-    const double back = sphere_integral([&](double mu) { return mu <= 0.0 ? p.value(mu) : 0.0; });
-    out.push_back(make("cornette_shanks_sampling_p_mu_le_0_g" + tag, "u at which sample(u) = 0", 0.5 * (lo + hi),
-                       back, 1e-5));
+    const double u0 = 0.5 * (lo + hi);  // P(mu <= 0) by sampling
+    const double tail = sphere_integral([&](double mu) { return (g > 0.0 ? mu <= 0.0 : mu > 0.0) ? p.value(mu) : 0.0; });
+    out.push_back(make("cornette_shanks_sampling_tail_g" + tag, "probability away from the peak, from sample()",
+                       g > 0.0 ? u0 : 1.0 - u0, tail, 1e-5));
   }
   // Wavelengths at the ends of the grid (360 and 830 nm).
   //  * Physical Rayleigh: the cross-section (King factor, refractive index of air)
   //    times Bodhaine et al. (1999)'s column, P A / (m_a g) with g at the column's
   //    mass-weighted height (their eqs. 10-11, 17, 27), against their eq. (30) fit,
   //    good to 0.01 %.
-  //  * Ozone: the vertical optical depth through the preset's tent, from its
-  //    extinction and the exact column of the profile, against
-  //    sigma(lambda) x column in Dobson units x 2.6867811e20 m^-2 (the DU).
+  //  * Ozone, a consistency check of the column: the vertical optical depth through
+  //    the preset's tent (its extinction times the reference quadrature's column) must
+  //    be sigma(lambda) x the column in Dobson units x 2.6867811e20 m^-2, i.e. the
+  //    quadrature must reproduce the tent's area that scales the number density.
   {
     const double z = 5517.56, gz = (980.6160 - 3.085462e-4 * z + 7.254e-11 * z * z - 1.517e-17 * z * z * z) * 1e-2;
     const double column = 101325.0 * 6.0221367e23 / ((15.0556 * 360e-6 + 28.9595) * 1e-3 * gz);
@@ -184,7 +187,7 @@ std::vector<StiffCase> run_stiff_cases(int lut_shells, int lut_directions) {
       out.push_back(make("rayleigh_physical_" + w + "nm_vs_bodhaine_eq30", "tau_R (Bodhaine's column)",
                          rayleigh_cross_section(nm, 360.0) * column, bodhaine_eq30_optical_depth(nm), 1e-4));
       const double dtau = atm.coefficients_at(nm).extinction[kOzone] * c.column[kOzone];
-      out.push_back(make("ozone_vertical_" + w + "nm", "tau_O3, vertical from the ground", dtau,
+      out.push_back(make("ozone_vertical_column_consistency_" + w + "nm", "tau_O3, vertical from the ground", dtau,
                          ozone_cross_section(nm) * atm.spec().ozone->column_du * kDobsonUnitPerM2, 1e-9));
     }
   }

@@ -71,19 +71,31 @@ TEST(Presets, ValidationNamesTheKey) {
   s = preset("earth-graphics");
   s.ozone->profile.peak_m = 50e3;
   EXPECT_NE(message_of(s).find("ozone.profile"), std::string::npos);
-  // The physical Rayleigh model holds 250-1000 nm (Peck & Reeder's refractivity fit):
-  // outside it a spectrum is bad input even without ozone; coefficients are unbounded.
+  // The physical Rayleigh model holds 240-1690 nm (the measurements behind Peck &
+  // Reeder's refractivity fit): outside a spectrum is bad input even without ozone;
+  // coefficients are unbounded. A generated grid is named by the key that was written.
   s = preset("earth-physical");
   s.ozone.reset();
-  s.spectrum.wavelengths_nm = {1200.0};
-  EXPECT_NE(message_of(s).find("spectrum.wavelengths_nm[0] = 1200"), std::string::npos);
-  s.spectrum.wavelengths_nm = {249.0};
+  s.spectrum.wavelengths_nm = {1800.0};
+  EXPECT_NE(message_of(s).find("spectrum.wavelengths_nm[0] = 1800"), std::string::npos);
+  s.spectrum.wavelengths_nm = {239.0};
   EXPECT_NE(message_of(s).find("physical Rayleigh"), std::string::npos);
-  s.spectrum.wavelengths_nm = {250.0, 1000.0};
+  s.spectrum.wavelengths_nm = {240.0, 1064.0, 1690.0};
   EXPECT_NO_THROW(Atmosphere{s});
+  s.spectrum.wavelengths_nm.clear();
+  s.spectrum.from_nm = 380.0;
+  s.spectrum.to_nm = 2000.0;
+  s.spectrum.count = 16;
+  EXPECT_NE(message_of(s).find("spectrum.to_nm = 2000"), std::string::npos);
+  s = preset("earth-graphics");
+  s.spectrum.wavelengths_nm.clear();
+  s.spectrum.from_nm = 300.0;
+  s.spectrum.to_nm = 700.0;
+  s.spectrum.count = 8;
+  EXPECT_NE(message_of(s).find("spectrum.from_nm = 300"), std::string::npos);
   s = preset("test-planet");
   s.ozone.reset();
-  s.spectrum.wavelengths_nm = {1200.0};
+  s.spectrum.wavelengths_nm = {1800.0};
   EXPECT_NO_THROW(Atmosphere{s});
   // Extreme values that broke the columns (found by a stress sweep): scale heights
   // below 1 mm (exp(-h/H) overflows for altitudes rounded just below 0), profile nodes
@@ -115,6 +127,17 @@ TEST(Presets, ValidationNamesTheKey) {
   s.ozone->profile.peak_m = 0.0;
   s.ozone->profile.top_m = 1e300;
   EXPECT_NE(message_of(s).find("ozone.profile"), std::string::npos);
+  // Coefficient x density x (reference / lambda)^angstrom must stay finite.
+  s = preset("earth-graphics");
+  s.mie->reference_nm = 1e90;
+  s.mie->angstrom = 10.0;
+  EXPECT_NE(message_of(s).find("mie.reference_nm"), std::string::npos);
+  s = preset("earth-graphics");
+  s.mie->profile = DensityProfileSpec{};
+  s.mie->profile.kind = DensityProfileSpec::Kind::Tabulated;
+  s.mie->profile.altitude_m = {0.0, 1000.0, 2000.0};
+  s.mie->profile.value = {1e306, 1e306, 0.0};
+  EXPECT_NE(message_of(s).find("mie.profile.value[0]"), std::string::npos);
   // Values that would overflow the number density p / (k T).
   s = preset("earth-physical");
   s.rayleigh->pressure_pa = 1e300;

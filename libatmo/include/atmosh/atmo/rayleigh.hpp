@@ -13,16 +13,17 @@
 //  * number density at the ground from the ideal gas law, N = p / (k T).
 //
 // Units: wavelength in nm, cross-section in m^2, number density in m^-3,
-// scattering coefficient in 1/m. Valid 250-1000 nm (the range of Peck & Reeder's
-// fit; a physical Rayleigh constituent rejects spectra outside it); accuracy that
+// scattering coefficient in 1/m. Valid 240-1690 nm (the wavelengths of the
+// measurements Peck & Reeder's refractivity formula fits; a physical Rayleigh
+// constituent rejects spectra outside them); accuracy that
 // of the published formulas (1e-4 against Bodhaine's eq. 30 with their column,
 // tests). Throws InputError for non-positive or non-finite input.
 #pragma once
 
 namespace atmosh::atmo {
 
-inline constexpr double kRayleighPhysicalFirstNm = 250.0;
-inline constexpr double kRayleighPhysicalLastNm = 1000.0;
+inline constexpr double kRayleighPhysicalFirstNm = 240.0;
+inline constexpr double kRayleighPhysicalLastNm = 1690.0;
 
 // (n - 1) of standard air with co2_ppm CO2.
 double air_refractivity(double wavelength_nm, double co2_ppm);
