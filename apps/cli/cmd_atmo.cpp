@@ -150,7 +150,7 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
                   {0, 0, double(rays.size()), 0.0, 1e9 * ref_time / rays.size(), 0, 0, ref_err, ref_err}});
   std::vector<std::pair<int, int>> settings;
   if (quick) {
-    settings = {{16, 32}, {32, 64}};
+    settings = {{16, 32}, {40, 64}};  // a coarse table and the default
   } else {
     for (int s : shells)
       for (int d : directions) settings.push_back({s, d});
@@ -450,7 +450,7 @@ void register_atmo_commands(CLI::App& app) {
   // converge lut
   if (CLI::App* conv = app.get_subcommand("converge")) {
     struct Opt {
-      std::string scene, preset, stem = "lut_convergence", shells = "8,16,32,48,64", directions = "16,32,64,128";
+      std::string scene, preset, stem = "lut_convergence", shells = "8,16,32,40,48,64", directions = "16,32,64,128";
       std::string device = "cpu";
       bool quick = false;
     };
@@ -461,7 +461,7 @@ void register_atmo_commands(CLI::App& app) {
     c->add_option("-o,--output", o->stem, "output stem: STEM.csv and STEM.png");
     CLI::Option* os = c->add_option("--shells", o->shells, "comma-separated shell counts");
     CLI::Option* od = c->add_option("--directions", o->directions, "comma-separated direction counts (per table branch)");
-    c->add_flag("--quick", o->quick, "two settings only (16 x 32 and 32 x 64); not with --shells/--directions");
+    c->add_flag("--quick", o->quick, "two settings only (16 x 32 and the default 40 x 64); not with --shells/--directions");
     c->add_option("--device", o->device,
                   "cpu, gpu or auto: with a GPU, each setting also gets a lut_gpu row (tables built on the GPU); "
                   "auto uses the GPU if a headless EGL device exists, else the CPU only");
@@ -479,7 +479,7 @@ void register_atmo_commands(CLI::App& app) {
 }
 
 std::vector<fs::path> write_lut_convergence(const AtmosphereSpec& spec, const fs::path& stem, bool quick) {
-  return run_converge_lut(spec, {16, 32, 48, 64}, {32, 64, 128}, quick, stem);
+  return run_converge_lut(spec, {16, 32, 40, 48, 64}, {32, 64, 128}, quick, stem);
 }
 
 std::vector<fs::path> write_optical_depth_table(const AtmosphereSpec& spec, const fs::path& stem) {
