@@ -82,17 +82,16 @@ TEST(Presets, ValidationNamesTheKey) {
   EXPECT_NE(message_of(s).find("physical Rayleigh"), std::string::npos);
   s.spectrum.wavelengths_nm = {240.0, 1064.0, 1690.0};
   EXPECT_NO_THROW(Atmosphere{s});
-  s.spectrum.wavelengths_nm.clear();
-  s.spectrum.from_nm = 380.0;
-  s.spectrum.to_nm = 2000.0;
-  s.spectrum.count = 16;
-  EXPECT_NE(message_of(s).find("spectrum.to_nm = 2000"), std::string::npos);
-  s = preset("earth-graphics");
-  s.spectrum.wavelengths_nm.clear();
-  s.spectrum.from_nm = 300.0;
-  s.spectrum.to_nm = 700.0;
-  s.spectrum.count = 8;
-  EXPECT_NE(message_of(s).find("spectrum.from_nm = 300"), std::string::npos);
+  auto grid = [](AtmosphereSpec a, double from, double to, int count) {
+    a.spectrum.wavelengths_nm.clear();
+    a.spectrum.from_nm = from;
+    a.spectrum.to_nm = to;
+    a.spectrum.count = count;
+    return a;
+  };
+  EXPECT_NE(message_of(grid(s, 380.0, 2000.0, 16)).find("spectrum.to_nm = 2000"), std::string::npos);
+  EXPECT_NE(message_of(grid(preset("earth-graphics"), 300.0, 700.0, 8)).find("spectrum.from_nm = 300"),
+            std::string::npos);
   s = preset("test-planet");
   s.ozone.reset();
   s.spectrum.wavelengths_nm = {1800.0};
