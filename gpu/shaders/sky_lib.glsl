@@ -13,7 +13,7 @@
 
 layout(std430, binding = 0) readonly buffer Directions { vec4 dirs[]; };      // xyz, w > 0: valid
 layout(std430, binding = 1) readonly buffer Tables { float tab[]; };          // [shell][dir][3]
-layout(std430, binding = 2) readonly buffer Shells { float shell[]; };        // rho, 1/den, cut radii, ozone nodes
+layout(std430, binding = 2) readonly buffer Shells { float shell[]; };        // rho, 1/den, ozone and subtracted-kink nodes
 layout(std430, binding = 3) readonly buffer Spectral { float spec[]; };       // ext[3][nw], sca[3][nw], solar[nw]
 layout(std430, binding = 4) writeonly buffer Radiance { float radiance[]; };  // [pixel][nw]
 layout(std430, binding = 5) readonly buffer Quadrature { float gl[]; };       // nodes[n], weights[n], part column weights[n+1][n+2]
@@ -25,6 +25,7 @@ uniform int n_shells;
 uniform int n_sun;                 // directions of the sun table
 uniform int off_sun;               // its offset into tab[] (the sky builds no view tables)
 uniform int off_den, off_cuts, n_cuts, off_oz, n_oz;
+uniform int off_sub[2], n_sub[2];  // OpticalDepthLut::subtracted(c) nodes (radius, value, slope); n < 2: none
 uniform int off_nodes[3], n_nodes[3];  // piecewise-linear densities: altitudes[n], values[n] (n = 0: exponential)
 uniform int n_gauss;
 uniform int has_ext[3];            // constituent present (ext/sca nonzero)
@@ -108,19 +109,22 @@ vec3 decode_times(dvec3 v, float d) {
   return out_v;
 }
 
-// PiecewiseLinearColumn::operator() for the ozone nodes: the shared traversal
-// (shared/geometry.glsl.hpp, float build) on the nodes (radius, value, slope).
-float ozone_column(float r, float mu, float len) {
-  if (!(len > 0.0) || n_oz < 2) return 0.0;
+// PiecewiseLinearColumn::operator() for n nodes at shell[off]: the shared traversal
+// (shared/geometry.glsl.hpp, float build) on the nodes (radius[n], value[n], slope[n]).
+float linear_column(int off, int n_all, float r, float mu, float len) {
+  if (!(len > 0.0) || n_all < 2) return 0.0;
   float radius[kMaxLinearNodes], value[kMaxLinearNodes], slope[kMaxLinearNodes], q[kMaxLinearNodes];
-  int n = min(n_oz, kMaxLinearNodes);
+  int n = min(n_all, kMaxLinearNodes);
   for (int k = 0; k < n; ++k) {
-    radius[k] = shell[off_oz + k];
-    value[k] = shell[off_oz + n_oz + k];
-    slope[k] = shell[off_oz + 2 * n_oz + k];
+    radius[k] = shell[off + k];
+    value[k] = shell[off + n_all + k];
+    slope[k] = shell[off + 2 * n_all + k];
   }
   return piecewise_linear_column(r, mu, len, radius, value, slope, n, q);
 }
+
+// The ozone column (a density: >= 0).
+float ozone_column(float r, float mu, float len) { return max(linear_column(off_oz, n_oz, r, mu, len), 0.0); }
 
 // OpticalDepthLut::sun for an origin inside the atmosphere: h = r - R given
 // separately (accurately); returns the column to the top, or w = 1 (and no column)
@@ -137,6 +141,8 @@ vec4 sun_lookup(float h, float mu) {
   double x = lut_x(double(d), dmin, dmax);
   vec3 col = decode_times(interpolate(off_sun, n_sun, rho, x), d);
   if (has_ext[2] != 0 && tabulated[2] == 0) col[2] = ozone_column(r, mu, d);
+  for (int c = 0; c < 2; ++c)  // OpticalDepthLut's subtracted kinks, added back
+    if (n_sub[c] >= 2) col[c] = max(col[c] + linear_column(off_sub[c], n_sub[c], r, mu, d), 0.0);
   return vec4(col, 0.0);
 }
 

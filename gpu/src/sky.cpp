@@ -48,16 +48,16 @@ void profile_nodes(const atmo::DensityProfile& p, std::vector<double>& h, std::v
   }
 }
 
-// Ozone nodes (radius, value, slope) as in PiecewiseLinearColumn.
-void ozone_nodes(const atmo::Atmosphere& atm, std::vector<double>& radius, std::vector<double>& value,
-                 std::vector<double>& slope) {
-  std::vector<double> h, v;
-  profile_nodes(atm.profile(atmo::kOzone), h, v);
-  radius.resize(h.size());
-  for (std::size_t i = 0; i < h.size(); ++i) radius[i] = atm.ground_radius() + h[i];
-  value = v;
-  slope.assign(h.size(), 0.0);
-  for (std::size_t i = 0; i + 1 < h.size(); ++i) slope[i] = (v[i + 1] - v[i]) / (h[i + 1] - h[i]);
+// The nodes of a closed-form column for sky_lib's linear_column: radius[n], value[n],
+// slope[n] appended to `out`; returns n.
+int push_linear_nodes(const atmo::PiecewiseLinearColumn& p, std::vector<float>& out) {
+  const auto& r = p.node_radii();
+  const auto& v = p.node_values();
+  for (double x : r) out.push_back(static_cast<float>(x));
+  for (double x : v) out.push_back(static_cast<float>(x));
+  for (std::size_t i = 0; i < r.size(); ++i)
+    out.push_back(static_cast<float>(i + 1 < r.size() ? (v[i + 1] - v[i]) / (r[i + 1] - r[i]) : 0.0));
+  return p.nodes();
 }
 
 // The integrator's table entries (log of the mean relative density), recovered
@@ -81,7 +81,7 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
       const double rho = std::sqrt(std::max(0.0, (r - R) * (r + R)));
       for (int j = 0; j < n; ++j) {
         const double x = static_cast<double>(j) / (n - 1);
-        glm::dvec3 mean = atm.density(r - R);
+        glm::dvec3 mean = lut.tabulated_density(r - R);
         if (kind != 1) {
           const double dmin = T - r, dmax = rho + Hh, d = dmin + x * (dmax - dmin);
           if (d > 0.0) {
@@ -92,7 +92,7 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
               c = kind == 0 ? lut.view(r, mu) : lut.sun(r, mu);
             }
             const double dd = sg::distance_to_top(r, mu, T);
-            if (dd > 0.0) mean = c.column / dd;
+            if (dd > 0.0) mean = (c.column - lut.subtracted_column(r, mu, dd)) / dd;
           }
         } else {
           const double dmin = r - R, dmax = rho, d = dmin + x * (dmax - dmin);
@@ -104,7 +104,7 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
               c = lut.view(r, mu);
             }
             const double dd = sg::distance_to_ground(r, mu, R);
-            if (dd > 0.0) mean = c.column / dd;
+            if (dd > 0.0) mean = (c.column - lut.subtracted_column(r, mu, dd)) / dd;
           }
         }
         for (int c = 0; c < 3; ++c)
@@ -244,12 +244,11 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
     shells_d.push_back(radii[static_cast<std::size_t>(std::lround(double(i) * (S - 1) / segments))]);
   const int off_oz = static_cast<int>(shells.size());
   int n_oz = 0;
-  if (atm.has(atmo::kOzone)) {
-    std::vector<double> r, v, sl;
-    ozone_nodes(atm, r, v, sl);
-    n_oz = static_cast<int>(r.size());
-    for (const auto* a : {&r, &v, &sl})
-      for (double x : *a) shells.push_back(static_cast<float>(x));
+  if (atm.has(atmo::kOzone)) n_oz = push_linear_nodes(atmo::PiecewiseLinearColumn(atm.profile(atmo::kOzone), R), shells);
+  int off_sub[2] = {0, 0}, n_sub[2] = {0, 0};
+  for (int c = 0; c < 2; ++c) {
+    off_sub[c] = static_cast<int>(shells.size());
+    n_sub[c] = push_linear_nodes(lut.subtracted(c), shells);
   }
   // Piecewise-linear densities (altitude, value) for the shader's density_at.
   int off_nodes[3] = {0, 0, 0}, n_nodes[3] = {0, 0, 0};
@@ -326,6 +325,10 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   prog.set("n_cuts", segments - 1);
   prog.set("off_oz", off_oz);
   prog.set("n_oz", n_oz);
+  for (int c = 0; c < 2; ++c) {
+    prog.set(indexed("off_sub", c).c_str(), off_sub[c]);
+    prog.set(indexed("n_sub", c).c_str(), n_sub[c]);
+  }
   prog.set("n_gauss", static_cast<int>(gl.nodes.size()));
   for (int c = 0; c < 3; ++c) {
     prog.set(indexed("has_ext", c).c_str(), atm.has(c) ? 1 : 0);
@@ -416,13 +419,20 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
   std::vector<double> rule;
   for (double x : gl.nodes) rule.push_back(0.5 * (x + 1.0));
   for (double w : gl.weights) rule.push_back(0.5 * w);
-  // Density nodes for sky_lib's density_at.
+  // Density nodes for sky_lib's density_at: the densities the tables hold (with
+  // subtracted kinks: the profile's less p, piecewise linear on its nodes and 0).
   std::vector<float> nodes;
   int off_nodes[3] = {0, 0, 0}, n_nodes[3] = {0, 0, 0};
   for (int c = 0; c < 3; ++c) {
     if (!atm.has(c) || atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential) continue;
     std::vector<double> h, v;
     profile_nodes(atm.profile(c), h, v);
+    if (lut.subtracted(c).nodes() > 0) {
+      if (h.front() < 0.0 && h.back() > 0.0 && !std::binary_search(h.begin(), h.end(), 0.0))
+        h.insert(std::upper_bound(h.begin(), h.end(), 0.0), 0.0);
+      v.clear();
+      for (double x : h) v.push_back(lut.tabulated_density(x)[c]);
+    }
     off_nodes[c] = static_cast<int>(nodes.size());
     n_nodes[c] = static_cast<int>(h.size());
     for (double x : h) nodes.push_back(static_cast<float>(x));

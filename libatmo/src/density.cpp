@@ -54,33 +54,64 @@ DensityProfile::DensityProfile(const DensityProfileSpec& spec, const std::string
   }
 }
 
-std::vector<double> DensityProfile::strongest_kinks(int n) const {
+std::vector<DensityProfile::Kink> DensityProfile::strongest_kink_jumps(int n, double lo, double hi) const {
   if (n <= 0) return {};
-  if (static_cast<int>(kinks_.size()) <= n) return kinks_;
-  // Tabulated (a tent has 3 kinks): the slope jump J_i at every node (the ends jump
-  // from / to 0 outside the table), its excess over the neighbours' mean, relative to
-  // the largest density around it.
+  std::vector<Kink> out;
+  if (spec_.kind != DensityProfileSpec::Kind::Tabulated) {  // tent: its three corners
+    if (spec_.kind == DensityProfileSpec::Kind::Tent) {
+      const double s1 = 1.0 / (spec_.peak_m - spec_.bottom_m), s2 = -1.0 / (spec_.top_m - spec_.peak_m);
+      for (Kink k : {Kink{spec_.bottom_m, s1}, Kink{spec_.peak_m, s2 - s1}, Kink{spec_.top_m, -s2}})
+        if (k.altitude_m > lo && k.altitude_m < hi) out.push_back(k);
+    }
+    return out;
+  }
   const auto& a = spec_.altitude_m;
   const auto& v = spec_.value;
   const std::size_t m = a.size();
   std::vector<double> slope(m + 1, 0.0);  // slope[i]: on (a[i-1], a[i]); 0 outside the table
   for (std::size_t i = 1; i < m; ++i) slope[i] = (v[i] - v[i - 1]) / (a[i] - a[i - 1]);
-  std::vector<double> jump(m);
+  std::vector<double> jump(m), excess(m);
   for (std::size_t i = 0; i < m; ++i) jump[i] = slope[i + 1] - slope[i];
-  std::vector<std::pair<double, double>> rank;  // (score, altitude)
+  auto half_span = [&](std::size_t i) { return 0.5 * (a[i + 1] - a[i - 1]); };  // interior i
   for (std::size_t i = 0; i < m; ++i) {
-    const double left = i > 0 ? jump[i - 1] : 0.0, right = i + 1 < m ? jump[i + 1] : 0.0;
+    excess[i] = jump[i];
+    if (i == 0 || i + 1 == m) continue;
+    double kappa[4];
+    int count = 0;
+    for (std::size_t j : {i - 2, i - 1, i + 1, i + 2})
+      if (j > 0 && j + 1 < m && j != i) kappa[count++] = jump[j] / half_span(j);  // i - 2 wraps for i = 1
+    std::sort(kappa, kappa + count);
+    if (count > 0) excess[i] -= 0.5 * (kappa[(count - 1) / 2] + kappa[count / 2]) * half_span(i);
+  }
+  std::vector<std::pair<double, std::size_t>> rank;  // (score, node)
+  for (std::size_t i = 0; i < m; ++i) {
     double scale = v[i];
     if (i > 0) scale = std::max(scale, v[i - 1]);
     if (i + 1 < m) scale = std::max(scale, v[i + 1]);
-    const double excess = std::abs(jump[i] - 0.5 * (left + right));
-    rank.push_back({scale > 0.0 ? excess / scale : excess > 0.0 ? std::numeric_limits<double>::infinity() : 0.0, a[i]});
+    const double e = std::abs(excess[i]);
+    rank.push_back({scale > 0.0 ? e / scale : e > 0.0 ? std::numeric_limits<double>::infinity() : 0.0, i});
   }
-  std::partial_sort(rank.begin(), rank.begin() + n, rank.end(),
-                    [](const auto& x, const auto& y) { return x.first > y.first || (x.first == y.first && x.second < y.second); });
+  std::stable_sort(rank.begin(), rank.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+  std::vector<char> taken(m, 0);
+  for (const auto& [score, i] : rank) {
+    if (static_cast<int>(out.size()) == n) break;
+    if (!(a[i] > lo && a[i] < hi) || (i > 0 && taken[i - 1]) || (i + 1 < m && taken[i + 1])) continue;
+    taken[i] = 1;
+    out.push_back({a[i], excess[i]});
+  }
+  std::sort(out.begin(), out.end(), [](const Kink& x, const Kink& y) { return x.altitude_m < y.altitude_m; });
+  return out;
+}
+
+std::vector<double> DensityProfile::strongest_kinks(int n, double lo, double hi) const {
   std::vector<double> out;
-  for (int i = 0; i < n; ++i) out.push_back(rank[static_cast<std::size_t>(i)].second);
-  std::sort(out.begin(), out.end());
+  if (n <= 0) return out;
+  if (static_cast<int>(kinks_.size()) <= n) {
+    for (double k : kinks_)
+      if (k > lo && k < hi) out.push_back(k);
+    return out;
+  }
+  for (const Kink& k : strongest_kink_jumps(n, lo, hi)) out.push_back(k.altitude_m);
   return out;
 }
 

@@ -44,6 +44,12 @@ void add_crossings(double r, double mu, double L, double rho, std::vector<double
   if (s1 > 0.0 && s1 < L) pts.push_back(s1);
   if (s2 > 0.0 && s2 < L) pts.push_back(s2);
 }
+// p(h) = sum_k J_k (h_k - h)_+ : slope jumps J_k at the altitudes h_k, 0 above them.
+double kink_ramps(const std::vector<DensityProfile::Kink>& kinks, double h) {
+  double p = 0.0;
+  for (const auto& k : kinks) p += k.excess_jump * std::max(0.0, k.altitude_m - h);
+  return p;
+}
 }  // namespace
 
 double optical_depth(const Coefficients& k, const glm::dvec3& column) { return glm::dot(k.extinction, column); }
@@ -57,25 +63,32 @@ double transmittance(double tau) {
 // ---------------------------------------------------------------- piecewise-linear column
 
 PiecewiseLinearColumn::PiecewiseLinearColumn(const DensityProfile& profile, double ground_radius) {
-  if (!std::isfinite(ground_radius) || ground_radius <= 0.0)
-    throw InputError("ground radius " + num(ground_radius) + " m: must be finite and > 0");
   const auto& spec = profile.spec();
-  std::vector<double> h, v;
   switch (profile.kind()) {
     case DensityProfileSpec::Kind::Tent:
-      h = {spec.bottom_m, spec.peak_m, spec.top_m};
-      v = {0.0, 1.0, 0.0};
+      *this = PiecewiseLinearColumn({spec.bottom_m, spec.peak_m, spec.top_m}, {0.0, 1.0, 0.0}, ground_radius);
       break;
     case DensityProfileSpec::Kind::Tabulated:
-      h = spec.altitude_m;
-      v = spec.value;
+      *this = PiecewiseLinearColumn(spec.altitude_m, spec.value, ground_radius);
       break;
     default:
       throw InputError("closed-form column: the profile is exponential, not piecewise linear");
   }
+}
+
+PiecewiseLinearColumn::PiecewiseLinearColumn(const std::vector<double>& h, const std::vector<double>& v,
+                                             double ground_radius) {
+  if (!std::isfinite(ground_radius) || ground_radius <= 0.0)
+    throw InputError("ground radius " + num(ground_radius) + " m: must be finite and > 0");
+  if (h.size() != v.size()) throw InputError("closed-form column: altitudes and values differ in length");
+  for (std::size_t i = 0; i < h.size(); ++i)
+    if (!std::isfinite(h[i]) || !std::isfinite(v[i]) || (i > 0 && !(h[i] > h[i - 1])))
+      throw InputError("closed-form column: node " + std::to_string(i) + " (" + num(h[i]) + " m, " + num(v[i]) +
+                       ") is not finite or not ascending");
   radius_.resize(h.size());
   for (std::size_t i = 0; i < h.size(); ++i) radius_[i] = ground_radius + h[i];
   value_ = v;
+  nonnegative_ = std::all_of(v.begin(), v.end(), [](double x) { return x >= 0.0; });
   slope_.assign(h.size(), 0.0);
   for (std::size_t i = 0; i + 1 < h.size(); ++i) slope_[i] = (v[i + 1] - v[i]) / (h[i + 1] - h[i]);
 }
@@ -92,7 +105,8 @@ double PiecewiseLinearColumn::operator()(double r, double mu, double length) con
     q_heap.resize(n);
     q = q_heap.data();
   }
-  return sg::piecewise_linear_column(r, mu, length, radius_.data(), value_.data(), slope_.data(), n, q);
+  const double column = sg::piecewise_linear_column(r, mu, length, radius_.data(), value_.data(), slope_.data(), n, q);
+  return nonnegative_ ? std::max(column, 0.0) : column;
 }
 
 // ---------------------------------------------------------------- reference
@@ -184,6 +198,8 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     throw InputError("lut gauss_points = " + std::to_string(opt_.gauss_points) + ": must be in [2, 64]");
   if (opt_.analytic_max_nodes < 0)
     throw InputError("lut analytic_max_nodes = " + std::to_string(opt_.analytic_max_nodes) + ": must be >= 0");
+  if (opt_.subtracted_kinks < 0 || opt_.subtracted_kinks > 15)
+    throw InputError("lut subtracted_kinks = " + std::to_string(opt_.subtracted_kinks) + ": must be in [0, 15]");
   auto t0 = std::chrono::steady_clock::now();
   R_ = atm_.ground_radius();
   T_ = atm_.top_radius();
@@ -218,6 +234,38 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
       if (!ks.empty() && atm_.profile(c)(ks.back() + 1e-9 * top) == 0.0 && atm_.profile(c)(top) == 0.0) support_top_[c] = ks.back();
     }
   }
+  // Long tables interpolated in log: their strongest kinks are subtracted before
+  // tabulating, p(h) = sum_k J_k (h_k - h)_+ on [0, top] (0 above the highest h_k):
+  // slope jumps J_k (the kinks' excess jumps) at the h_k and none elsewhere above the
+  // ground, so rho - p is smooth there; p's column is added back in closed form.
+  // Only while rho - p stays within [1/2, 2] of rho (the relative error of the
+  // tabulated part then grows by at most 2x in the total); otherwise none.
+  if (opt_.subtracted_kinks > 0)
+    for (int c = 0; c < 3; ++c) {
+      if (!(build_closed_[c] && log_encoded_[c])) continue;
+      const auto& prof = atm_.profile(c);
+      std::vector<DensityProfile::Kink> ks;
+      for (const auto& k : prof.strongest_kink_jumps(opt_.subtracted_kinks, 0.0, top))
+        if (k.excess_jump != 0.0) ks.push_back(k);
+      if (ks.empty()) continue;
+      auto p_at = [&](double h) { return kink_ramps(ks, h); };
+      std::vector<double> h{0.0}, v;
+      for (const auto& k : ks) h.push_back(k.altitude_m);
+      for (double x : h) v.push_back(p_at(x));
+      bool ok = true;
+      auto check = [&](double x) {
+        const double rho = prof(x), p = p_at(x);
+        ok = ok && std::abs(p) <= 0.5 * rho && p >= -rho;
+      };
+      check(0.0);
+      check(top);
+      for (double x : prof.spec().altitude_m)
+        if (x > 0.0 && x < top) check(x);
+      if (!ok) continue;
+      subtracted_[c] = PiecewiseLinearColumn(h, v, R_);
+      subtracted_kinks_[c] = ks;
+      has_subtracted_[c] = true;
+    }
   // Shares of the two geometric coordinates (uniform in rho and in altitude); with no
   // interpolated constituent and both shares 0, rho-uniform alone.
   const double a = opt_.altitude_share;
@@ -422,8 +470,30 @@ glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
                                       sg::tangent_radius_sq(r, mu), R_, 1.0 / atm_.profile(c).spec().scale_height_m);
   }
   for (int c = 0; c < 3; ++c)
-    if (build_closed_[c]) sum[c] = build_linear_[c](r, mu, L);
+    if (build_closed_[c]) sum[c] = build_linear_[c](r, mu, L) - (has_subtracted_[c] ? subtracted_[c](r, mu, L) : 0.0);
   return sum;
+}
+
+glm::dvec3 OpticalDepthLut::tabulated_density(double h) const {
+  glm::dvec3 d = atm_.density(h);
+  for (int c = 0; c < 3; ++c)
+    if (has_subtracted_[c])
+      d[c] -= kink_ramps(subtracted_kinks_[c], h);
+  return d;
+}
+
+glm::dvec3 OpticalDepthLut::subtracted_column(double r, double mu, double L) const {
+  glm::dvec3 p(0.0);
+  for (int c = 0; c < 3; ++c)
+    if (has_subtracted_[c]) p[c] = subtracted_[c](r, mu, L);
+  return p;
+}
+
+void OpticalDepthLut::add_closed_form(glm::dvec3& column, double r, double mu, double L) const {
+  for (int c = 0; c < 3; ++c) {
+    if (analytic_[c]) column[c] = linear_[c](r, mu, L);
+    if (has_subtracted_[c]) column[c] = std::max(0.0, column[c] + subtracted_[c](r, mu, L));
+  }
 }
 
 glm::dvec3 OpticalDepthLut::encode(const glm::dvec3& mean) const {
@@ -445,7 +515,7 @@ void OpticalDepthLut::fill(Table& t, int n, bool ground) {
   t.v.assign(static_cast<std::size_t>(S) * n * 4, 0.0);
   for (int k = 0; k < S; ++k) {
     double r = radii_[k], rho = rho_[k];
-    glm::dvec3 at_r = atm_.density(r - R_);
+    glm::dvec3 at_r = tabulated_density(r - R_);
     for (int j = 0; j < n; ++j) {
       double x = static_cast<double>(j) / (n - 1);
       glm::dvec3 mean;
@@ -545,8 +615,7 @@ glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double rho, double x) co
 LutColumn OpticalDepthLut::finish_up(const glm::dvec3& e, double r, double mu, double d) const {
   LutColumn out;
   out.column = decode(e) * d;
-  for (int c = 0; c < 3; ++c)
-    if (analytic_[c]) out.column[c] = linear_[c](r, mu, d);
+  add_closed_form(out.column, r, mu, d);
   if (has_kinks_) {
     // A ray that stays above the top of a profile with compact support has an
     // exactly zero column of it (removes interpolation ringing across the kink).
@@ -574,8 +643,7 @@ LutColumn OpticalDepthLut::lookup(const Table& up, const Table* ground, double r
     double d;
     double x = x_ground(r, rho, mu, d);
     out.column = decode(interpolate(*ground, rho, x)) * d;
-    for (int c = 0; c < 3; ++c)
-      if (analytic_[c]) out.column[c] = linear_[c](r, mu, d);
+    add_closed_form(out.column, r, mu, d);
     return out;
   }
   const double rho = std::sqrt(std::max(0.0, (r - R_) * (r + R_)));
@@ -640,6 +708,8 @@ OpticalDepthLut::SunAtRadius OpticalDepthLut::sun_at(double r, double mu_lo, dou
   for (int c = 0; c < 3; ++c) {
     if (analytic_[c])
       for (double Rk : linear_[c].node_radii()) add_tangent(Rk);
+    if (has_subtracted_[c])
+      for (double Rk : subtracted_[c].node_radii()) add_tangent(Rk);
     if (has_kinks_ && present_[c] && !log_encoded_[c]) add_tangent(R_ + support_top_[c]);
   }
   std::sort(breaks.begin(), breaks.end());
@@ -709,7 +779,7 @@ std::vector<ProbeRay> kink_probe_rays(const Atmosphere& atm) {
   std::vector<double> kinks;
   for (int c = 0; c < 3; ++c)
     if (atm.has(c)) {
-      const auto k = atm.profile(c).strongest_kinks(kProbedKinks);
+      const auto k = atm.profile(c).strongest_kinks(kProbedKinks, 0.0, atm.top_altitude());
       kinks.insert(kinks.end(), k.begin(), k.end());
     }
   return kink_probe_rays(atm.ground_radius(), atm.top_altitude(), kinks);
@@ -750,8 +820,7 @@ double OpticalDepthLut::estimate_max_rel_error(double wavelength_nm) const {
   // not hold added in (as lookup() does).
   auto exact = [&](double r, double mu, double L) {
     glm::dvec3 c = build_column(r, mu, L);
-    for (int i = 0; i < 3; ++i)
-      if (analytic_[i]) c[i] = linear_[i](r, mu, L);
+    add_closed_form(c, r, mu, L);
     return c;
   };
   const int S = static_cast<int>(radii_.size());
@@ -780,7 +849,7 @@ double OpticalDepthLut::estimate_max_rel_error(double wavelength_nm) const {
   std::vector<double> kinks;
   for (int c = 0; c < 3; ++c)
     if (present_[c]) {
-      const auto k = atm_.profile(c).strongest_kinks(kProbedKinks);
+      const auto k = atm_.profile(c).strongest_kinks(kProbedKinks, 0.0, T_ - R_);
       kinks.insert(kinks.end(), k.begin(), k.end());
     }
   for (const ProbeRay& p : kink_probe_rays(R_, T_ - R_, kinks)) {

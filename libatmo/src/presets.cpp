@@ -1,5 +1,6 @@
 #include "atmosh/atmo/presets.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -205,9 +206,22 @@ DensityProfileSpec us_standard_1976_profile(double top_m, double step_m) {
   const double rho0 = Pb[0] * M0 / (Rs * Tb[0]);
   DensityProfileSpec p;
   p.kind = DensityProfileSpec::Kind::Tabulated;
+  // Nodes every step_m and at the layer boundaries (their geometric altitudes
+  // z = r0 H / (r0 - H)): the kinks of the standard's density fall on nodes.
+  std::vector<double> zs;
   int n = static_cast<int>(std::ceil(top_m / step_m));
-  for (int k = 0; k <= n; ++k) {
-    double z = std::min(k * step_m, top_m);
+  for (int k = 0; k <= n; ++k) zs.push_back(std::min(k * step_m, top_m));
+  for (int i = 1; i < 8; ++i) {
+    const double zb = r0 * Hb[i] / (r0 - Hb[i]);
+    if (!(zb < top_m)) continue;
+    // A grid node within step / 10 moves onto the boundary (no sliver pieces).
+    auto near = std::min_element(zs.begin(), zs.end(), [&](double a, double b) { return std::abs(a - zb) < std::abs(b - zb); });
+    if (std::abs(*near - zb) < 0.1 * step_m && *near > 0.0 && *near < top_m)
+      *near = zb;
+    else
+      zs.insert(std::upper_bound(zs.begin(), zs.end(), zb), zb);
+  }
+  for (double z : zs) {
     double H = r0 * z / (r0 + z);  // geopotential height
     int i = 7;
     while (i > 0 && H < Hb[i]) --i;

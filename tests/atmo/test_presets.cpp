@@ -45,11 +45,28 @@ TEST(Presets, DefaultSpectrum) {
 
 // U.S. Standard Atmosphere 1976 density ratios (NOAA 1976, Table I): 0.33756 at
 // 11 km (0.41351 kg/m^3... ratio rho/rho0 at 10 km = 0.33756), 0.072674 at 20 km.
+// Its layer boundaries are nodes: the tropopause at geopotential 11 km' (geometric
+// 11019.07 m), rho = 0.36392 kg/m^3, and 20 km' (20063.12 m), 0.088035 kg/m^3
+// (NOAA 1976, Table I by geopotential altitude; rho0 = 1.2250 kg/m^3).
 TEST(Presets, UsStandard1976) {
   auto p = us_standard_1976_profile(100e3, 500.0);
+  auto at = [&](double z) {
+    for (std::size_t i = 0; i < p.altitude_m.size(); ++i)
+      if (std::abs(p.altitude_m[i] - z) < 0.01) return p.value[i];
+    ADD_FAILURE() << "no node at " << z << " m";
+    return -1.0;
+  };
   EXPECT_DOUBLE_EQ(p.value[0], 1.0);
-  EXPECT_NEAR(p.value[20], 0.33756, 2e-4);   // 10 km
-  EXPECT_NEAR(p.value[40], 0.072674, 1e-4);  // 20 km
+  EXPECT_NEAR(at(10e3), 0.33756, 2e-4);
+  EXPECT_NEAR(at(20e3), 0.072674, 1e-4);
+  EXPECT_NEAR(at(11019.07), 0.36392 / 1.2250, 2e-5);
+  EXPECT_NEAR(at(20063.12), 0.088035 / 1.2250, 2e-5);
+  // Every 500 m otherwise (grid nodes within 50 m of a boundary move onto it).
+  for (std::size_t i = 1; i < p.altitude_m.size(); ++i) {
+    EXPECT_GT(p.altitude_m[i] - p.altitude_m[i - 1], 50.0) << i;
+    EXPECT_LE(p.altitude_m[i] - p.altitude_m[i - 1], 550.0) << i;
+  }
+  EXPECT_EQ(p.altitude_m.back(), 100e3);
 }
 
 TEST(Presets, ValidationNamesTheKey) {

@@ -29,12 +29,28 @@ class DensityProfile {
   DensityProfileSpec::Kind kind() const { return spec_.kind; }
   const DensityProfileSpec& spec() const { return spec_; }
   const std::vector<double>& kinks() const { return kinks_; }
-  // At most n kinks, ascending, those that stand out most: ranked by how much the
-  // jump of the slope at a node exceeds the mean of its neighbours' jumps (the
-  // smooth curvature that every node of a sampled profile carries), relative to the
-  // local density; all of them when there are at most n (tent corners). For a table
-  // of the U.S. 1976 atmosphere the tropopause node ranks first.
-  std::vector<double> strongest_kinks(int n) const;
+  // A kink and the part of its slope jump [1/m] that is not the smooth curvature of
+  // the sampled profile (see strongest_kink_jumps).
+  struct Kink {
+    double altitude_m = 0.0;
+    double excess_jump = 0.0;  // [1/m]
+  };
+  // At most n kinks, ascending, those that stand out most; all of them when there are
+  // at most n (tent corners, excess = the whole jump). For a table: the jump of the
+  // slope at node i, J_i = s_i+ - s_i-, less the smooth part kappa (h_i+1 - h_i-1) / 2,
+  // with kappa the median curvature J_j / ((h_j+1 - h_j-1) / 2) of the interior nodes
+  // j = i +- 1, i +- 2 (exact for a sampled quadratic on any grid: its excess is 0;
+  // the median ignores one kinked neighbour); the end nodes keep their whole jump (to
+  // or from 0 outside the table). Ranked by |excess| relative to the largest density
+  // at the node and its neighbours, greedily, a node beside one already chosen
+  // skipped. For a table of the U.S. 1976 atmosphere with nodes on its layer
+  // boundaries the tropopause ranks first and the excess there is the standard's own
+  // jump of d rho/dh to ~1 %.
+  // Only kinks with lo < altitude < hi are candidates (e.g. (0, top): inside the
+  // atmosphere).
+  std::vector<Kink> strongest_kink_jumps(int n, double lo = -1e300, double hi = 1e300) const;
+  // The altitudes of strongest_kink_jumps(n, lo, hi), ascending.
+  std::vector<double> strongest_kinks(int n, double lo = -1e300, double hi = 1e300) const;
   // True when the density is > 0 at every altitude in [0, top_m].
   bool positive_on(double top_m) const;
   // Exact integral of the profile over [h0, h1] (h0 <= h1), metres.

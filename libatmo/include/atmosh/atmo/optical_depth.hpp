@@ -134,13 +134,18 @@ class PiecewiseLinearColumn {
   PiecewiseLinearColumn() = default;
   // InputError for an exponential profile or a ground radius <= 0.
   PiecewiseLinearColumn(const DensityProfile& profile, double ground_radius);
+  // Any piecewise-linear function of altitude (nodes altitude_m ascending, values of
+  // either sign, 0 outside the nodes); InputError for non-finite or unsorted input.
+  PiecewiseLinearColumn(const std::vector<double>& altitude_m, const std::vector<double>& value, double ground_radius);
   double operator()(double r, double mu, double length) const;
   int nodes() const { return static_cast<int>(radius_.size()); }
   // Node radii [m], ascending: the kinks of the profile.
   const std::vector<double>& node_radii() const { return radius_; }
+  const std::vector<double>& node_values() const { return value_; }
 
  private:
   std::vector<double> radius_, value_, slope_;  // slope_[i] on (radius_[i], radius_[i+1]) [1/m]
+  bool nonnegative_ = true;                     // a density: its column is clamped at 0 (rounding)
 };
 
 class OpticalDepthReference {
@@ -197,6 +202,11 @@ struct LutOptions {
   // (the sky branch of the view table has the sun table's rays: with
   // sun_directions == view_directions a full build computes them once).
   bool view_tables = true;
+  // Interpolated tabulated profiles (more than analytic_max_nodes nodes, positive up
+  // to the top): their `subtracted_kinks` strongest kinks (DensityProfile::
+  // strongest_kink_jumps) are taken out of the tabulated density and their column
+  // added back in closed form at lookup (see above). 0: none.
+  int subtracted_kinks = 8;  // [0, 15] (p has at most 16 nodes, as the GPU shaders hold)
 };
 
 struct LutColumn {
@@ -264,6 +274,14 @@ class OpticalDepthLut {
   // every pixel's sun direction at one node radius).
   SunAtRadius sun_at(double r, double mu_lo, double mu_hi, int max_samples) const;
 
+  // Subtracted kinks (LutOptions::subtracted_kinks): the piecewise-linear function
+  // p_c(h) taken out of constituent c's tabulated density (nodes() == 0: none), the
+  // densities the tables hold at altitude h [m] (the profiles' less p), and the
+  // column [m] of p along a ray (r, mu) of length L (added to every lookup).
+  const PiecewiseLinearColumn& subtracted(int c) const { return subtracted_[static_cast<std::size_t>(c)]; }
+  glm::dvec3 tabulated_density(double h) const;
+  glm::dvec3 subtracted_column(double r, double mu, double L) const;
+
   const std::vector<double>& shell_radii() const { return radii_; }
   const LutOptions& options() const { return opt_; }
   double build_time_s() const { return build_time_s_; }
@@ -302,6 +320,9 @@ class OpticalDepthLut {
     std::vector<double> v;  // [shell][dir][4]: constituents 0..2, padding 0
   };
   glm::dvec3 build_column(double r, double mu, double length) const;
+  // Sets the closed-form columns (analytic constituents) and adds the subtracted
+  // kinks' columns into `column` (the decoded tables' columns) of a ray of length L.
+  void add_closed_form(glm::dvec3& column, double r, double mu, double L) const;
   glm::dvec3 interpolate(const Table& t, double rho, double x) const;  // rho = sqrt(r^2 - R^2)
   // The shells an interpolation at rho uses and their Lagrange weights (lw: window
   // of 4 from w; li: the smooth region's window of kinked profiles, if any).
@@ -336,6 +357,9 @@ class OpticalDepthLut {
   std::array<PiecewiseLinearColumn, 3> linear_;
   std::array<bool, 3> build_closed_{};                   // interpolated, table entries in closed form
   std::array<PiecewiseLinearColumn, 3> build_linear_;
+  std::array<bool, 3> has_subtracted_{};             // kinks taken out of the tabulated density
+  std::array<PiecewiseLinearColumn, 3> subtracted_;  // p(h) of those kinks (nodes at 0 and the kinks)
+  std::array<std::vector<DensityProfile::Kink>, 3> subtracted_kinks_;
   std::vector<int> expo_;                                // interpolated exponential constituents (quadrature)
   bool has_kinks_ = false;
   std::array<double, 3> support_top_{};  // altitude above which a kinked profile is 0

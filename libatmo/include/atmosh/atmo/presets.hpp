@@ -37,7 +37,10 @@ void validate(const AtmosphereSpec& spec);
 // The wavelengths [nm] a spectrum spec designates (explicit list or bin centres).
 std::vector<double> spectrum_wavelengths(const SpectrumSpec& spectrum);
 // U.S. Standard Atmosphere 1976 density relative to sea level (1.2250 kg/m^3)
-// sampled every step_m from 0 to top_m, from the standard's defining layers.
+// sampled every step_m from 0 to top_m and at the geometric altitudes of its layer
+// boundaries (11.019, 20.063, 32.162, 47.350, 51.412, 71.802, 86.000 km: the kinks of
+// its density, which thus fall on nodes; a grid node within step_m / 10 of one moves
+// onto it), from the standard's defining layers.
 DensityProfileSpec us_standard_1976_profile(double top_m, double step_m = 500.0);
 
 }  // namespace atmosh::atmo

@@ -278,9 +278,10 @@ ATMOSH_FN real piecewise_linear_column(real r, real mu, real len, const real rad
     w = linear_column_cross(w, q[k], radius[k], k + 1, u1, r1, c2, radius, value, slope, n);
   if (!w.done && w.idx > 0 && w.idx < n)
     w.sum += linear_piece_column(w.ua, u1, w.ra, r1, c2, value[w.idx - 1], slope[w.idx - 1], radius[w.idx - 1]);
-  // The density is >= 0, so is its column: rounding in pieces where it nearly
-  // vanishes (a ray grazing a tent's top) can leave ~-1e-15.
-  return glm::max(w.sum, real(0));
+  // Values of either sign: a density's column (values >= 0) may come out ~-1e-15
+  // from rounding in pieces where it nearly vanishes (a ray grazing a tent's top):
+  // its callers clamp at 0.
+  return w.sum;
 }
 
 // ---- phase functions [1/sr], cos_theta as defined in the header comment ----
