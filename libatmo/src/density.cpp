@@ -54,7 +54,8 @@ DensityProfile::DensityProfile(const DensityProfileSpec& spec, const std::string
   }
 }
 
-std::vector<DensityProfile::Kink> DensityProfile::strongest_kink_jumps(int n, double lo, double hi) const {
+std::vector<DensityProfile::Kink> DensityProfile::strongest_kink_jumps(int n, double lo, double hi,
+                                                                      double min_ratio) const {
   if (n <= 0) return {};
   std::vector<Kink> out;
   if (spec_.kind != DensityProfileSpec::Kind::Tabulated) {  // tent: its three corners
@@ -70,7 +71,7 @@ std::vector<DensityProfile::Kink> DensityProfile::strongest_kink_jumps(int n, do
   const std::size_t m = a.size();
   std::vector<double> slope(m + 1, 0.0);  // slope[i]: on (a[i-1], a[i]); 0 outside the table
   for (std::size_t i = 1; i < m; ++i) slope[i] = (v[i] - v[i - 1]) / (a[i] - a[i - 1]);
-  std::vector<double> jump(m), excess(m);
+  std::vector<double> jump(m), excess(m), smooth(m, 0.0);
   for (std::size_t i = 0; i < m; ++i) jump[i] = slope[i + 1] - slope[i];
   auto half_span = [&](std::size_t i) { return 0.5 * (a[i + 1] - a[i - 1]); };  // interior i
   for (std::size_t i = 0; i < m; ++i) {
@@ -81,7 +82,8 @@ std::vector<DensityProfile::Kink> DensityProfile::strongest_kink_jumps(int n, do
     for (std::size_t j : {i - 2, i - 1, i + 1, i + 2})
       if (j > 0 && j + 1 < m && j != i) kappa[count++] = jump[j] / half_span(j);  // i - 2 wraps for i = 1
     std::sort(kappa, kappa + count);
-    if (count > 0) excess[i] -= 0.5 * (kappa[(count - 1) / 2] + kappa[count / 2]) * half_span(i);
+    if (count > 0) smooth[i] = 0.5 * (kappa[(count - 1) / 2] + kappa[count / 2]) * half_span(i);
+    excess[i] -= smooth[i];
   }
   std::vector<std::pair<double, std::size_t>> rank;  // (score, node)
   for (std::size_t i = 0; i < m; ++i) {
@@ -95,9 +97,11 @@ std::vector<DensityProfile::Kink> DensityProfile::strongest_kink_jumps(int n, do
   std::vector<char> taken(m, 0);
   for (const auto& [score, i] : rank) {
     if (static_cast<int>(out.size()) == n) break;
-    if (!(a[i] > lo && a[i] < hi) || (i > 0 && taken[i - 1]) || (i + 1 < m && taken[i + 1])) continue;
+    if (!(a[i] > lo && a[i] < hi) || !(std::abs(excess[i]) > min_ratio * std::abs(smooth[i])) ||
+        (i > 0 && taken[i - 1]) || (i + 1 < m && taken[i + 1]))
+      continue;
     taken[i] = 1;
-    out.push_back({a[i], excess[i]});
+    out.push_back({a[i], excess[i], smooth[i]});
   }
   std::sort(out.begin(), out.end(), [](const Kink& x, const Kink& y) { return x.altitude_m < y.altitude_m; });
   return out;

@@ -245,7 +245,7 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
       if (!(build_closed_[c] && log_encoded_[c])) continue;
       const auto& prof = atm_.profile(c);
       std::vector<DensityProfile::Kink> ks;
-      for (const auto& k : prof.strongest_kink_jumps(opt_.subtracted_kinks, 0.0, top))
+      for (const auto& k : prof.strongest_kink_jumps(opt_.subtracted_kinks, 0.0, top, kSubtractedKinkRatio))
         if (k.excess_jump != 0.0) ks.push_back(k);
       if (ks.empty()) continue;
       auto p_at = [&](double h) { return kink_ramps(ks, h); };

@@ -480,7 +480,11 @@ TEST(DensityProfile, StrongestKinkJumps) {
     q.value.push_back(3.0 - 1e-3 * x + 2e-7 * x * x);
   }
   for (const auto& k : DensityProfile(q).strongest_kink_jumps(8))
-    if (k.altitude_m > 0.0 && k.altitude_m < 4100.0) EXPECT_NEAR(k.excess_jump, 0.0, 1e-15) << k.altitude_m;
+    if (k.altitude_m > 0.0 && k.altitude_m < 4100.0) {
+      EXPECT_NEAR(k.excess_jump, 0.0, 1e-15) << k.altitude_m;
+      EXPECT_GT(k.smooth_jump, 1e-5) << k.altitude_m;  // 4e-7 / m^2 x half span (>= 50 m)
+    }
+  EXPECT_TRUE(DensityProfile(q).strongest_kink_jumps(8, 0.0, 4100.0, 0.01).empty());
 
   const double J1 = -1.5e-6, J2 = 4e-7;  // [1/m]; exp(-h/H) has slope -5.6e-5 at 11 km
   const DensityProfile p(kinked_table({{11019.07, J1}, {31850.0, J2}}, 60e3));

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "atmosh/atmo/atmosphere.hpp"
+#include "atmosh/atmo/density.hpp"
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/error.hpp"
 
@@ -67,6 +68,18 @@ TEST(Presets, UsStandard1976) {
     EXPECT_LE(p.altitude_m[i] - p.altitude_m[i - 1], 550.0) << i;
   }
   EXPECT_EQ(p.altitude_m.back(), 100e3);
+  // The kinks that stand out of the table's sampled curvature are exactly the seven
+  // layer boundaries (geopotential 11, 20, 32, 47, 51, 71, 84.852 km'), and the excess
+  // at the tropopause is the standard's jump of d rho/dh there, -rho (dT/dH jump) / T
+  // = -(0.36392 / 1.2250) (6.5e-3 / 216.65) dH/dz per metre (dH/dz = (r0 / (r0 + z))^2).
+  const DensityProfile prof(p);
+  const auto ks = prof.strongest_kink_jumps(16, 0.0, 100e3, 0.3);
+  const double r0 = 6356766.0;
+  ASSERT_EQ(ks.size(), 7u);
+  const double boundary[7] = {11e3, 20e3, 32e3, 47e3, 51e3, 71e3, 84852.0};
+  for (int i = 0; i < 7; ++i) EXPECT_NEAR(ks[i].altitude_m, r0 * boundary[i] / (r0 - boundary[i]), 0.01) << i;
+  const double z = ks[0].altitude_m, dHdz = (r0 / (r0 + z)) * (r0 / (r0 + z));
+  EXPECT_NEAR(ks[0].excess_jump, -(0.36392 / 1.2250) * (6.5e-3 / 216.65) * dHdz, 0.03 * 8.9e-6);
 }
 
 TEST(Presets, ValidationNamesTheKey) {

@@ -185,6 +185,8 @@ std::vector<ProbeRay> kink_probe_rays(const Atmosphere& atmosphere);
 double optical_depth(const Coefficients& k, const glm::dvec3& column);
 double transmittance(double tau);
 
+inline constexpr double kSubtractedKinkRatio = 0.3;
+
 struct LutOptions {
   int shells = 40;            // S >= 4 (40: the default scene within 1e-4 on the study's rays)
   int view_directions = 64;   // per branch (sky / ground), >= 4
@@ -204,8 +206,9 @@ struct LutOptions {
   bool view_tables = true;
   // Interpolated tabulated profiles (more than analytic_max_nodes nodes, positive up
   // to the top): their `subtracted_kinks` strongest kinks (DensityProfile::
-  // strongest_kink_jumps) are taken out of the tabulated density and their column
-  // added back in closed form at lookup (see above). 0: none.
+  // strongest_kink_jumps) that stand out of the sampled curvature (excess > 0.3 of the
+  // smooth jump, kSubtractedKinkRatio) are taken out of the tabulated density and
+  // their column added back in closed form at lookup (see above). 0: none.
   int subtracted_kinks = 8;  // [0, 15] (p has at most 16 nodes, as the GPU shaders hold)
 };
 
