@@ -265,6 +265,13 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
       subtracted_[c] = PiecewiseLinearColumn(h, v, R_);
       subtracted_kinks_[c] = ks;
       has_subtracted_[c] = true;
+      // The table entries: rho - p is piecewise linear on the table's nodes and 0 (p's
+      // nodes are among them), so its column is one closed form too.
+      std::vector<double> th = prof.spec().altitude_m, tv;
+      if (th.front() < 0.0 && !std::binary_search(th.begin(), th.end(), 0.0))
+        th.insert(std::upper_bound(th.begin(), th.end(), 0.0), 0.0);
+      for (double x : th) tv.push_back(prof(x) - (x >= 0.0 ? p_at(x) : 0.0));
+      build_linear_[c] = PiecewiseLinearColumn(th, tv, R_);
     }
   // Shares of the two geometric coordinates (uniform in rho and in altitude); with no
   // interpolated constituent and both shares 0, rho-uniform alone.
@@ -470,7 +477,7 @@ glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
                                       sg::tangent_radius_sq(r, mu), R_, 1.0 / atm_.profile(c).spec().scale_height_m);
   }
   for (int c = 0; c < 3; ++c)
-    if (build_closed_[c]) sum[c] = build_linear_[c](r, mu, L) - (has_subtracted_[c] ? subtracted_[c](r, mu, L) : 0.0);
+    if (build_closed_[c]) sum[c] = build_linear_[c](r, mu, L);
   return sum;
 }
 

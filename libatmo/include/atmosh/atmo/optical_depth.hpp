@@ -359,7 +359,7 @@ class OpticalDepthLut {
   std::array<bool, 3> analytic_{};  // closed-form column at lookup
   std::array<PiecewiseLinearColumn, 3> linear_;
   std::array<bool, 3> build_closed_{};                   // interpolated, table entries in closed form
-  std::array<PiecewiseLinearColumn, 3> build_linear_;
+  std::array<PiecewiseLinearColumn, 3> build_linear_;  // the tabulated density (less p, if subtracted)
   std::array<bool, 3> has_subtracted_{};             // kinks taken out of the tabulated density
   std::array<PiecewiseLinearColumn, 3> subtracted_;  // p(h) of those kinks (nodes at 0 and the kinks)
   std::array<std::vector<DensityProfile::Kink>, 3> subtracted_kinks_;
