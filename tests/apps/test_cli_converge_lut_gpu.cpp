@@ -100,7 +100,7 @@ TEST(CliConvergeLutGpu, GpuRowsMatchTheCpuRowsToFloatPrecision) {
 // error_estimate_rel, the tables' own a-posteriori estimate (samples midway between
 // shells and directions and the kink probe rays, against fresh integrals), calibrated
 // on rays the estimate does not visit: 600 random rays of another seed and, beside
-// every node of earth-physical's 200-node table, horizontal rays 30 m off it and rays
+// every node of earth-physical's 206-node table, horizontal rays 30 m off it and rays
 // tangent 10 m and 30 m off it. Over 16-64 shells x 32-64 directions of the three
 // presets and the default scene it was 0.52-1.81 times their maximum (docs/atmosphere.md);
 // here, earth-physical and test-planet at 16-32 shells x 32-64 directions, it must stay
