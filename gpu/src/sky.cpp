@@ -478,7 +478,12 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
   off_ground = static_cast<int>(out.size());
   run(nv, 1);
   off_sun = static_cast<int>(out.size());
-  run(ns, 0);
+  if (nv == ns) {  // the sun table's rays are the view table's sky branch (as the CPU build)
+    const std::vector<float> up(out.begin(), out.begin() + off_ground);
+    out.insert(out.end(), up.begin(), up.end());
+  } else {
+    run(ns, 0);
+  }
   if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
