@@ -782,10 +782,10 @@ LutColumn OpticalDepthLut::view(double r, double mu) const {
 }
 LutColumn OpticalDepthLut::sun(double r, double mu) const { return lookup(sun_up_, nullptr, r, mu); }
 
-std::vector<ProbeRay> kink_probe_rays(const Atmosphere& atm) {
+std::vector<ProbeRay> kink_probe_rays(const Atmosphere& atm, std::array<bool, 3> which) {
   std::vector<double> kinks;
   for (int c = 0; c < 3; ++c)
-    if (atm.has(c)) {
+    if (atm.has(c) && which[static_cast<std::size_t>(c)]) {
       const auto k = atm.profile(c).strongest_kinks(kProbedKinks, 0.0, atm.top_altitude());
       kinks.insert(kinks.end(), k.begin(), k.end());
     }
@@ -853,13 +853,7 @@ double OpticalDepthLut::estimate_max_rel_error(double wavelength_nm) const {
   }
   // Beside the kinks of interpolated profiles, where the tables' error peaks
   // (earth-physical: the U.S. 1976 layer boundaries).
-  std::vector<double> kinks;
-  for (int c = 0; c < 3; ++c)
-    if (present_[c]) {
-      const auto k = atm_.profile(c).strongest_kinks(kProbedKinks, 0.0, T_ - R_);
-      kinks.insert(kinks.end(), k.begin(), k.end());
-    }
-  for (const ProbeRay& p : kink_probe_rays(R_, T_ - R_, kinks)) {
+  for (const ProbeRay& p : kink_probe_rays(atm_, present_)) {
     const bool ground = sg::ray_hits_ground(p.r, p.mu, R_);
     if (ground && !opt_.view_tables) continue;  // blocked sun ray: nothing to compare
     const LutColumn got = opt_.view_tables ? view(p.r, p.mu) : sun(p.r, p.mu);

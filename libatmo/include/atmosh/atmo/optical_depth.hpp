@@ -189,7 +189,8 @@ struct ProbeRay {
 };
 inline constexpr int kProbedKinks = 32;
 std::vector<ProbeRay> kink_probe_rays(double ground_radius, double top_altitude, std::vector<double> kink_altitudes);
-std::vector<ProbeRay> kink_probe_rays(const Atmosphere& atmosphere);
+// `which`: the constituents whose kinks are probed (default all present ones).
+std::vector<ProbeRay> kink_probe_rays(const Atmosphere& atmosphere, std::array<bool, 3> which = {true, true, true});
 
 // Optical depth tau = sum_c extinction_c * column_c, and exp(-tau) that is
 // exactly 0 (never NaN) when tau is huge or +inf.
