@@ -79,8 +79,11 @@ std::vector<DensityProfile::Kink> DensityProfile::strongest_kink_jumps(int n, do
     if (i == 0 || i + 1 == m) continue;
     double kappa[4];
     int count = 0;
-    for (std::size_t j : {i - 2, i - 1, i + 1, i + 2})
-      if (j > 0 && j + 1 < m && j != i) kappa[count++] = jump[j] / half_span(j);  // i - 2 wraps for i = 1
+    for (int dj : {-2, -1, 1, 2}) {
+      const long j = static_cast<long>(i) + dj;
+      if (j > 0 && j + 1 < static_cast<long>(m))
+        kappa[count++] = jump[static_cast<std::size_t>(j)] / half_span(static_cast<std::size_t>(j));
+    }
     std::sort(kappa, kappa + count);
     if (count > 0) smooth[i] = 0.5 * (kappa[(count - 1) / 2] + kappa[count / 2]) * half_span(i);
     excess[i] -= smooth[i];
