@@ -96,6 +96,13 @@ std::vector<Ray> study_rays(const Atmosphere& atm) {
   return rays;
 }
 
+// Kinks the tables subtracted from their tabulated densities (LutOptions::subtracted_kinks).
+int subtracted_kinks(const OpticalDepthLut& lut) {
+  int n = 0;
+  for (int c = 0; c < 3; ++c) n += std::max(0, lut.subtracted(c).nodes() - 1);  // p's nodes: 0 and the kinks
+  return n;
+}
+
 std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::vector<int>& shells,
                                        const std::vector<int>& directions, bool quick, const fs::path& stem,
                                        const std::string& device = "cpu") {
@@ -144,10 +151,10 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
   io::StudySpec ss;
   ss.title = "Optical depth LUT (Nishita shells) vs exact reference, " + spec.name + ", 550 nm";
   ss.extra_columns = {"shells", "directions", "rays", "build_time_s", "lookup_time_ns", "table_bytes",
-                      "flag_mismatches", "error_max_rel_rayleigh_mie", "error_estimate_rel"};
+                      "flag_mismatches", "error_max_rel_rayleigh_mie", "error_estimate_rel", "subtracted_kinks"};
   std::vector<io::StudyRow> rows;
   rows.push_back({"reference", "adaptive G7-K15 (estimated error)", ref_err, ref_err_rms, ref_time,
-                  {0, 0, double(rays.size()), 0.0, 1e9 * ref_time / rays.size(), 0, 0, ref_err, ref_err}});
+                  {0, 0, double(rays.size()), 0.0, 1e9 * ref_time / rays.size(), 0, 0, ref_err, ref_err, 0}});
   std::vector<std::pair<int, int>> settings;
   if (quick) {
     settings = {{16, 32}, {40, 64}};  // a coarse table and the default
@@ -181,7 +188,7 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
     rows.push_back({method, std::to_string(s) + "x" + std::to_string(d), emax, std::sqrt(esum / std::max(n, 1)),
                     build_s + lookup_s * rays.size(),
                     {double(s), double(d), double(rays.size()), build_s, 1e9 * lookup_s, double(lut.table_bytes()),
-                     double(mismatches), emax_smooth, lut.estimate_max_rel_error(550.0)}});
+                     double(mismatches), emax_smooth, lut.estimate_max_rel_error(550.0), double(subtracted_kinks(lut))}});
   };
   std::string used = "cpu";
   for (auto [s, d] : settings) {
@@ -191,6 +198,12 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
     o.sun_directions = d;
     OpticalDepthLut lut(atm, o);
     evaluate(lut, "lut", s, d, lut.build_time_s());
+    if (subtracted_kinks(lut) > 0) {  // the same tables interpolated across those kinks
+      LutOptions plain = o;
+      plain.subtracted_kinks = 0;
+      const OpticalDepthLut across(atm, plain);
+      evaluate(across, "lut_plain", s, d, across.build_time_s());
+    }
 #ifdef ATMOSH_HAVE_GPU
     if (ctx) {
       try {
@@ -215,7 +228,9 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
   prov.add("time_s", "lut: build time + per-lookup time x rays; lut_gpu: the same with the GPU table pass's wall "
                      "time (shader compilation, upload, dispatch, read-back) as build time; reference: time of all rays");
   prov.add("error", "relative error of the total optical depth at 550 nm over all rays (view table; lut_gpu: "
-                    "tables built on the GPU, looked up on the CPU); error_max_rel_rayleigh_mie: the same without ozone; "
+                    "tables built on the GPU, looked up on the CPU; lut_plain: the same tables without the kinks "
+                    "subtracted from long tabulated profiles, subtracted_kinks of them in the lut rows); "
+                    "error_max_rel_rayleigh_mie: the same without ozone; "
                     "error_estimate_rel: the tables' own a-posteriori estimate at 550 nm "
                     "(OpticalDepthLut::estimate_max_rel_error; reference: its quadrature error estimate)");
   prov.add("machine_note", "timings depend on the machine and its load");

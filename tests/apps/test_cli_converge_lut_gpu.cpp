@@ -162,6 +162,9 @@ TEST(CliConvergeLut, ErrorEstimateTracksTheMeasuredError) {
   o.view_directions = o.sun_directions = 32;
   const Atmosphere tp(preset("test-planet"));
   EXPECT_NEAR(num(*row, "error_estimate_rel"), OpticalDepthLut(tp, o).estimate_max_rel_error(550.0), 1e-12);
+  // No long tabulated profile: no kinks subtracted, no lut_plain rows.
+  EXPECT_EQ(num(*row, "subtracted_kinks"), 0.0);
+  EXPECT_EQ(find_row(rows, "lut_plain", "16x32"), nullptr);
   const auto* ref = find_row(rows, "reference", "adaptive G7-K15 (estimated error)");
   ASSERT_NE(ref, nullptr);
   EXPECT_EQ(num(*ref, "error_estimate_rel"), num(*ref, "error_max_rel"));
@@ -214,6 +217,15 @@ TEST(CliConvergeLut, StudyCoversTheRaysBesideKinks) {
   EXPECT_GT(plain, 2.5e-3);  // these rays are the hard ones
   EXPECT_LT(worst, plain / 3.0);
   EXPECT_GE(num(*d32, "error_max_rel"), worst * (1.0 - 1e-9));
+  // The study shows the trade: the seven U.S. 1976 layer boundaries subtracted, and a
+  // lut_plain row with the same tables interpolated across them, worse and reported
+  // no lower than these rays.
+  EXPECT_EQ(num(*d32, "subtracted_kinks"), 7.0);
+  const auto* p32 = find_row(rows, "lut_plain", "32x64");
+  ASSERT_NE(p32, nullptr);
+  EXPECT_EQ(num(*p32, "subtracted_kinks"), 0.0);
+  EXPECT_GE(num(*p32, "error_max_rel"), plain * (1.0 - 1e-9));
+  EXPECT_GT(num(*p32, "error_max_rel"), 2.0 * num(*d32, "error_max_rel"));
 }
 
 TEST(CliConvergeLutGpu, BadDeviceIsBadInput) {
