@@ -63,6 +63,16 @@ const std::map<std::string, std::string>* find_row(const std::vector<std::map<st
 
 double num(const std::map<std::string, std::string>& row, const std::string& col) { return std::stod(row.at(col)); }
 
+// `converge lut --device cpu ARGS` into the scratch directory `name`: the rows of its
+// CSV (none, and a test failure, if it did not exit 0).
+std::vector<std::map<std::string, std::string>> cpu_study(const std::string& name, const std::string& args) {
+  const fs::path d = scratch_dir("atmosh_cli_lut_gpu", name);
+  const auto r = run_cli("converge lut --device cpu " + args + " -o '" + (d / "lut").string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  if (r.exit_code != 0) return {};
+  return csv_rows(d / "lut.csv");
+}
+
 const std::string kSmall = " --shells 16 --directions 32";
 
 }  // namespace
@@ -150,11 +160,7 @@ TEST(CliConvergeLut, ErrorEstimateTracksTheMeasuredError) {
       }
   }
   // The study reports the same estimate; its reference row, the quadrature's own.
-  const fs::path d = scratch_dir("atmosh_cli_lut_gpu", "estimate");
-  const auto r = run_cli("converge lut --device cpu --preset test-planet --shells 16 --directions 32 -o '" +
-                         (d / "lut").string() + "'");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto rows = csv_rows(d / "lut.csv");
+  const auto rows = cpu_study("estimate", "--preset test-planet --shells 16 --directions 32");
   const auto* row = find_row(rows, "lut", "16x32");
   ASSERT_NE(row, nullptr);
   LutOptions o;
@@ -182,11 +188,7 @@ TEST(CliConvergeLut, ErrorEstimateTracksTheMeasuredError) {
 // subtracted_kinks = 0) these rays reach ~4e-3 (before they were part of the study it
 // reported 2.3e-3); with them (the default) they must be at least 3x better.
 TEST(CliConvergeLut, StudyCoversTheRaysBesideKinks) {
-  const fs::path d = scratch_dir("atmosh_cli_lut_gpu", "kinks");
-  const auto r = run_cli("converge lut --device cpu --preset earth-physical --shells 32 --directions 64 -o '" +
-                         (d / "lut").string() + "'");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto rows = csv_rows(d / "lut.csv");
+  const auto rows = cpu_study("kinks", "--preset earth-physical --shells 32 --directions 64");
   const auto* d32 = find_row(rows, "lut", "32x64");
   ASSERT_NE(d32, nullptr);
   using namespace atmosh::atmo;
@@ -282,10 +284,7 @@ TEST(CliConvergeLut, TablesMeetTheTargetOnSmoothProfiles) {
   };
   for (const Case& c : {Case{"--preset earth-graphics", "32x64", 32},
                         Case{"--scene '" + (d / "default.toml").string() + "'", "48x64", 48}}) {
-    const auto r = run_cli("converge lut --device cpu " + c.source + " --shells " + std::to_string(c.shells) +
-                           " --directions 64 -o '" + (d / "lut").string() + "'");
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    const auto rows = csv_rows(d / "lut.csv");
+    const auto rows = cpu_study("targets", c.source + " --shells " + std::to_string(c.shells) + " --directions 64");
     const auto* row = find_row(rows, "lut", c.setting);
     ASSERT_NE(row, nullptr) << c.source;
     EXPECT_LE(num(*row, "error_max_rel"), 1e-4) << c.source;
