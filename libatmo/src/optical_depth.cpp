@@ -44,9 +44,11 @@ void add_crossings(double r, double mu, double L, double rho, std::vector<double
   if (s1 > 0.0 && s1 < L) pts.push_back(s1);
   if (s2 > 0.0 && s2 < L) pts.push_back(s2);
 }
-// p(h) = sum_k J_k (h_k - h)_+ : slope jumps J_k at the altitudes h_k, 0 above them.
+// p(h) = sum_k J_k (h_k - h)_+ : slope jumps J_k at the altitudes h_k, 0 above them
+// and below the ground (as its closed-form column, whose first node is at 0).
 double kink_ramps(const std::vector<DensityProfile::Kink>& kinks, double h) {
   double p = 0.0;
+  if (h < 0.0) return p;
   for (const auto& k : kinks) p += k.excess_jump * std::max(0.0, k.altitude_m - h);
   return p;
 }
@@ -270,7 +272,7 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
       std::vector<double> th = prof.spec().altitude_m, tv;
       if (th.front() < 0.0 && !std::binary_search(th.begin(), th.end(), 0.0))
         th.insert(std::upper_bound(th.begin(), th.end(), 0.0), 0.0);
-      for (double x : th) tv.push_back(prof(x) - (x >= 0.0 ? p_at(x) : 0.0));
+      for (double x : th) tv.push_back(prof(x) - p_at(x));
       build_linear_[c] = PiecewiseLinearColumn(th, tv, R_);
     }
   // Shares of the two geometric coordinates (uniform in rho and in altitude); with no
