@@ -22,13 +22,26 @@ uniform int n_entries;      // shells * n_dirs
 uniform int log_encoded[3];     // tabulated with log encoding (output)
 uniform int tab_present[3];     // tabulated (OpticalDepthLut's present_)
 uniform int is_exponential[3];  // scale heights in sky_lib's scale_height[]
+uniform int off_q[3], n_q[3];   // OpticalDepthLut::subtracted_curvature(c): altitude[n], half_curv[n]; n = 0: none
+
+// The densities the tables hold at altitude h >= 0: density_at's (the profiles' less
+// the subtracted kinks' p, on the nodes) less their quadratic ramps q.
+vec3 table_density(float h) {
+  vec3 d = density_at(h);
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < n_q[c]; ++k) {
+      float e = max(shell[off_q[c] + k] - h, 0.0);
+      d[c] -= shell[off_q[c] + n_q[c] + k] * e * e;
+    }
+  return d;
+}
 
 // Density of the present constituents at distance s along (r, mu).
 dvec3 density_along(double r, double mu, double rt2, double s) {
   double u = s + r * mu;
   double rs = sqrt(u * u + rt2);
   float h = float((s * (s + 2.0LF * r * mu) + (r - ground_radius_d) * (r + ground_radius_d)) / (rs + ground_radius_d));
-  return dvec3(density_at(max(h, 0.0)));
+  return dvec3(table_density(max(h, 0.0)));
 }
 
 // Smallest scale height relevant at altitude h (exponential constituents whose
@@ -81,7 +94,7 @@ void main() {
   double rho = sqrt(max(0.0LF, (r - R) * (r + R)));
   double Hh = sqrt((T - R) * (T + R));
   double x = double(j) / double(n_dirs - 1);
-  dvec3 mean = dvec3(density_at(float(r - R)));
+  dvec3 mean = dvec3(table_density(max(float(r - R), 0.0)));
   if (table_kind == 0) {
     double dmin = T - r, dmax = rho + Hh, d = dmin + x * (dmax - dmin);
     if (d > 0.0LF) {

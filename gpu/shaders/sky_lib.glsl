@@ -26,6 +26,7 @@ uniform int n_sun;                 // directions of the sun table
 uniform int off_sun;               // its offset into tab[] (the sky builds no view tables)
 uniform int off_den, off_cuts, n_cuts, off_oz, n_oz;
 uniform int off_sub[2], n_sub[2];  // OpticalDepthLut::subtracted(c) nodes (radius, value, slope); n < 2: none
+uniform int off_subq[2], n_subq[2];  // OpticalDepthLut::subtracted_curvature(c): radius[n], half_curv[n]; n = 0: none
 uniform int off_nodes[3], n_nodes[3];  // piecewise-linear densities: altitudes[n], values[n] (n = 0: exponential)
 uniform int n_gauss;
 uniform int has_ext[3];            // constituent present (ext/sca nonzero)
@@ -123,6 +124,17 @@ float linear_column(int off, int n_all, float r, float mu, float len) {
   return piecewise_linear_column(r, mu, len, radius, value, slope, n, q);
 }
 
+// QuadraticRampsColumn::operator() for n ramps at shell[off] (radius[n], half_curv[n]).
+float curvature_column(int off, int n_all, float r, float mu, float len) {
+  float radius[kMaxLinearNodes], half_curv[kMaxLinearNodes];
+  int n = min(n_all, kMaxLinearNodes);
+  for (int k = 0; k < n; ++k) {
+    radius[k] = shell[off + k];
+    half_curv[k] = shell[off + n_all + k];
+  }
+  return quadratic_ramps_column(r, mu, len, radius, half_curv, n);
+}
+
 // The ozone column (a density: >= 0).
 float ozone_column(float r, float mu, float len) { return max(linear_column(off_oz, n_oz, r, mu, len), 0.0); }
 
@@ -142,7 +154,10 @@ vec4 sun_lookup(float h, float mu) {
   vec3 col = decode_times(interpolate(off_sun, n_sun, rho, x), d);
   if (has_ext[2] != 0 && tabulated[2] == 0) col[2] = ozone_column(r, mu, d);
   for (int c = 0; c < 2; ++c)  // OpticalDepthLut's subtracted kinks, added back
-    if (n_sub[c] >= 2) col[c] = max(col[c] + linear_column(off_sub[c], n_sub[c], r, mu, d), 0.0);
+    if (n_sub[c] >= 2)
+      col[c] = max(col[c] + linear_column(off_sub[c], n_sub[c], r, mu, d) +
+                       (n_subq[c] > 0 ? curvature_column(off_subq[c], n_subq[c], r, mu, d) : 0.0),
+                   0.0);
   return vec4(col, 0.0);
 }
 

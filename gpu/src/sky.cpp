@@ -245,10 +245,15 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   const int off_oz = static_cast<int>(shells.size());
   int n_oz = 0;
   if (atm.has(atmo::kOzone)) n_oz = push_linear_nodes(atmo::PiecewiseLinearColumn(atm.profile(atmo::kOzone), R), shells);
-  int off_sub[2] = {0, 0}, n_sub[2] = {0, 0};
+  int off_sub[2] = {0, 0}, n_sub[2] = {0, 0}, off_subq[2] = {0, 0}, n_subq[2] = {0, 0};
   for (int c = 0; c < 2; ++c) {
     off_sub[c] = static_cast<int>(shells.size());
     n_sub[c] = push_linear_nodes(lut.subtracted(c), shells);
+    const auto& q = lut.subtracted_curvature(c);
+    off_subq[c] = static_cast<int>(shells.size());
+    n_subq[c] = q.ramps();
+    for (double x : q.ramp_radii()) shells.push_back(static_cast<float>(x));
+    for (double x : q.half_curvatures()) shells.push_back(static_cast<float>(x));
   }
   // Piecewise-linear densities (altitude, value) for the shader's density_at.
   int off_nodes[3] = {0, 0, 0}, n_nodes[3] = {0, 0, 0};
@@ -328,6 +333,8 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   for (int c = 0; c < 2; ++c) {
     prog.set(indexed("off_sub", c).c_str(), off_sub[c]);
     prog.set(indexed("n_sub", c).c_str(), n_sub[c]);
+    prog.set(indexed("off_subq", c).c_str(), off_subq[c]);
+    prog.set(indexed("n_subq", c).c_str(), n_subq[c]);
   }
   prog.set("n_gauss", static_cast<int>(gl.nodes.size()));
   for (int c = 0; c < 3; ++c) {
@@ -430,13 +437,22 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
     if (lut.subtracted(c).nodes() > 0) {
       if (h.front() < 0.0 && h.back() > 0.0 && !std::binary_search(h.begin(), h.end(), 0.0))
         h.insert(std::upper_bound(h.begin(), h.end(), 0.0), 0.0);
+      // On the nodes: rho - p (piecewise linear there); q is the shader's (table_density).
       v.clear();
-      for (double x : h) v.push_back(lut.tabulated_density(x)[c]);
+      for (double x : h) v.push_back(lut.tabulated_density(x)[c] + lut.subtracted_curvature(c).at(x));
     }
     off_nodes[c] = static_cast<int>(nodes.size());
     n_nodes[c] = static_cast<int>(h.size());
     for (double x : h) nodes.push_back(static_cast<float>(x));
     for (double x : v) nodes.push_back(static_cast<float>(x));
+  }
+  int off_q[3] = {0, 0, 0}, n_q[3] = {0, 0, 0};
+  for (int c = 0; c < 3; ++c) {
+    const auto& q = lut.subtracted_curvature(c);
+    off_q[c] = static_cast<int>(nodes.size());
+    n_q[c] = q.ramps();
+    for (double x : q.ramp_radii()) nodes.push_back(static_cast<float>(x - R));
+    for (double x : q.half_curvatures()) nodes.push_back(static_cast<float>(x));
   }
   const int S = static_cast<int>(radii.size());
   const int nv = lo.view_tables ? lo.view_directions : 0, ns = lo.sun_directions;  // as lut_tables_from_cpu
@@ -455,6 +471,8 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
     prog.set(indexed("has_ext", c).c_str(), atm.has(c) ? 1 : 0);
     prog.set(indexed("off_nodes", c).c_str(), off_nodes[c]);
     prog.set(indexed("n_nodes", c).c_str(), n_nodes[c]);
+    prog.set(indexed("off_q", c).c_str(), off_q[c]);
+    prog.set(indexed("n_q", c).c_str(), n_q[c]);
     prog.set(indexed("scale_height", c).c_str(), static_cast<float>(expo ? atm.profile(c).spec().scale_height_m : 1.0));
     prog.set(indexed("is_exponential", c).c_str(), expo ? 1 : 0);
     prog.set(indexed("tab_present", c).c_str(), tabulated(atm, c) ? 1 : 0);

@@ -54,6 +54,32 @@ DensityProfile::DensityProfile(const DensityProfileSpec& spec, const std::string
   }
 }
 
+namespace {
+// Second derivative at x of the cubic through the nodes x[0], x[dir], x[2 dir],
+// x[3 dir] (values y at the same offsets): the Lagrange form differentiated twice.
+double cubic_second_derivative(const double* x, const double* y, int dir, double at) {
+  double xs[4], ys[4];
+  for (int j = 0; j < 4; ++j) {
+    xs[j] = x[j * dir];
+    ys[j] = y[j * dir];
+  }
+  double d2 = 0.0;
+  for (int j = 0; j < 4; ++j) {
+    double den = 1.0, num = 0.0;
+    int o[3], n = 0;
+    for (int k = 0; k < 4; ++k)
+      if (k != j) {
+        den *= xs[j] - xs[k];
+        o[n++] = k;
+      }
+    // d2/dx2 of (x - a)(x - b)(x - c) = 2 [(x - a) + (x - b) + (x - c)]
+    for (int k = 0; k < 3; ++k) num += 2.0 * (at - xs[o[k]]);
+    d2 += ys[j] * num / den;
+  }
+  return d2;
+}
+}  // namespace
+
 std::vector<DensityProfile::Kink> DensityProfile::strongest_kink_jumps(int n, double lo, double hi,
                                                                       double min_ratio) const {
   if (n <= 0) return {};
@@ -104,7 +130,16 @@ std::vector<DensityProfile::Kink> DensityProfile::strongest_kink_jumps(int n, do
         (i > 0 && taken[i - 1]) || (i + 1 < m && taken[i + 1]))
       continue;
     taken[i] = 1;
-    out.push_back({a[i], excess[i], smooth[i]});
+    // The curvature jump from one-sided cubics; 0 when a window holds a node with a
+    // larger excess (a stronger kink nearby, whose jump the cubic would take for
+    // curvature).
+    double curvature = 0.0;
+    bool clear = i >= 3 && i + 3 < m;
+    for (std::size_t j = i > 3 ? i - 3 : 0; clear && j <= i + 3 && j < m; ++j)
+      clear = j == i || std::abs(excess[j]) <= std::abs(excess[i]);
+    if (clear)
+      curvature = cubic_second_derivative(&a[i], &v[i], 1, a[i]) - cubic_second_derivative(&a[i], &v[i], -1, a[i]);
+    out.push_back({a[i], excess[i], smooth[i], curvature});
   }
   std::sort(out.begin(), out.end(), [](const Kink& x, const Kink& y) { return x.altitude_m < y.altitude_m; });
   return out;

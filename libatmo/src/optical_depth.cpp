@@ -111,6 +111,34 @@ double PiecewiseLinearColumn::operator()(double r, double mu, double length) con
   return nonnegative_ ? std::max(column, 0.0) : column;
 }
 
+QuadraticRampsColumn::QuadraticRampsColumn(const std::vector<double>& h, const std::vector<double>& half_curv,
+                                           double ground_radius) {
+  if (!std::isfinite(ground_radius) || ground_radius <= 0.0)
+    throw InputError("ground radius " + num(ground_radius) + " m: must be finite and > 0");
+  if (h.size() != half_curv.size()) throw InputError("quadratic ramps: altitudes and factors differ in length");
+  for (std::size_t i = 0; i < h.size(); ++i)
+    if (!std::isfinite(h[i]) || !std::isfinite(half_curv[i]) || (i > 0 && !(h[i] > h[i - 1])))
+      throw InputError("quadratic ramps: ramp " + std::to_string(i) + " (" + num(h[i]) + " m, " + num(half_curv[i]) +
+                       ") is not finite or not ascending");
+  ground_radius_ = ground_radius;
+  for (double x : h) radius_.push_back(ground_radius + x);
+  half_curv_ = half_curv;
+}
+
+double QuadraticRampsColumn::operator()(double r, double mu, double length) const {
+  return sg::quadratic_ramps_column(r, mu, length, radius_.data(), half_curv_.data(), ramps());
+}
+
+double QuadraticRampsColumn::at(double h) const {
+  double q = 0.0;
+  if (h < 0.0) return q;
+  for (std::size_t k = 0; k < radius_.size(); ++k) {
+    const double d = std::max(0.0, (radius_[k] - ground_radius_) - h);
+    q += half_curv_[k] * d * d;
+  }
+  return q;
+}
+
 // ---------------------------------------------------------------- reference
 
 OpticalDepthReference::OpticalDepthReference(const Atmosphere& atmosphere, ReferenceOptions options)
@@ -251,12 +279,21 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
         if (k.excess_jump != 0.0) ks.push_back(k);
       if (ks.empty()) continue;
       auto p_at = [&](double h) { return kink_ramps(ks, h); };
-      std::vector<double> h{0.0}, v;
+      std::vector<double> h{0.0}, v, hq, cq;
       for (const auto& k : ks) h.push_back(k.altitude_m);
       for (double x : h) v.push_back(p_at(x));
+      // q(h) = sum_k -D_k / 2 (h_k - h)_+^2 with D_k the curvature jump: q'' jumps by
+      // -D_k at h_k (0 above, -D_k below), so rho - p - q is C2 there as well.
+      if (opt_.subtract_curvature)
+        for (const auto& k : ks)
+          if (k.curvature_jump != 0.0) {
+            hq.push_back(k.altitude_m);
+            cq.push_back(-0.5 * k.curvature_jump);
+          }
+      const QuadraticRampsColumn q(hq, cq, R_);
       bool ok = true;
       auto check = [&](double x) {
-        const double rho = prof(x), p = p_at(x);
+        const double rho = prof(x), p = p_at(x) + q.at(x);
         ok = ok && std::abs(p) <= 0.5 * rho && p >= -rho;
       };
       check(0.0);
@@ -265,10 +302,12 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
         if (x > 0.0 && x < top) check(x);
       if (!ok) continue;
       subtracted_[c] = PiecewiseLinearColumn(h, v, R_);
+      subtracted_curvature_[c] = q;
       subtracted_kinks_[c] = ks;
       has_subtracted_[c] = true;
       // The table entries: rho - p is piecewise linear on the table's nodes and 0 (p's
-      // nodes are among them), so its column is one closed form too.
+      // nodes are among them), so its column is one closed form too; q's column is
+      // subtracted from it (build_column).
       std::vector<double> th = prof.spec().altitude_m, tv;
       if (th.front() < 0.0 && !std::binary_search(th.begin(), th.end(), 0.0))
         th.insert(std::upper_bound(th.begin(), th.end(), 0.0), 0.0);
@@ -479,7 +518,7 @@ glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
                                       sg::tangent_radius_sq(r, mu), R_, 1.0 / atm_.profile(c).spec().scale_height_m);
   }
   for (int c = 0; c < 3; ++c)
-    if (build_closed_[c]) sum[c] = build_linear_[c](r, mu, L);
+    if (build_closed_[c]) sum[c] = build_linear_[c](r, mu, L) - subtracted_curvature_[c](r, mu, L);
   return sum;
 }
 
@@ -487,21 +526,22 @@ glm::dvec3 OpticalDepthLut::tabulated_density(double h) const {
   glm::dvec3 d = atm_.density(h);
   for (int c = 0; c < 3; ++c)
     if (has_subtracted_[c])
-      d[c] -= kink_ramps(subtracted_kinks_[c], h);
+      d[c] -= kink_ramps(subtracted_kinks_[c], h) + subtracted_curvature_[c].at(h);
   return d;
 }
 
 glm::dvec3 OpticalDepthLut::subtracted_column(double r, double mu, double L) const {
   glm::dvec3 p(0.0);
   for (int c = 0; c < 3; ++c)
-    if (has_subtracted_[c]) p[c] = subtracted_[c](r, mu, L);
+    if (has_subtracted_[c]) p[c] = subtracted_[c](r, mu, L) + subtracted_curvature_[c](r, mu, L);
   return p;
 }
 
 void OpticalDepthLut::add_closed_form(glm::dvec3& column, double r, double mu, double L) const {
   for (int c = 0; c < 3; ++c) {
     if (analytic_[c]) column[c] = linear_[c](r, mu, L);
-    if (has_subtracted_[c]) column[c] = std::max(0.0, column[c] + subtracted_[c](r, mu, L));
+    if (has_subtracted_[c])
+      column[c] = std::max(0.0, column[c] + subtracted_[c](r, mu, L) + subtracted_curvature_[c](r, mu, L));
   }
 }
 

@@ -80,6 +80,15 @@ TEST(Presets, UsStandard1976) {
   for (int i = 0; i < 7; ++i) EXPECT_NEAR(ks[i].altitude_m, r0 * boundary[i] / (r0 - boundary[i]), 0.01) << i;
   const double z = ks[0].altitude_m, dHdz = (r0 / (r0 + z)) * (r0 / (r0 + z));
   EXPECT_NEAR(ks[0].excess_jump, -(0.36392 / 1.2250) * (6.5e-3 / 216.65) * dHdz, 0.03 * 8.9e-6);
+  // The jump of d2rho/dz2 there, from the standard's laws: with G = g0 M0 / R* and
+  // lapse rate L below (0 above), d ln rho / dH = -(G + L) / T, so
+  // d2rho/dH2 = rho ((G + L)^2 + (G + L) L) / T^2 below and rho G^2 / T^2 above; in
+  // geometric z: rho_zz = rho_HH (dH/dz)^2 + rho_H d2H/dz2, rho_H jumping by rho L / T.
+  const double G = 9.80665 * 28.9644 / 8314.32, L = -6.5e-3, T = 216.65, rho = 0.36392 / 1.2250;
+  const double jump_HH = rho * (G * G - (G + L) * (G + L) - (G + L) * L) / (T * T);
+  const double d2Hdz2 = -2.0 * dHdz / (r0 + z);
+  const double want = jump_HH * dHdz * dHdz + rho * L / T * d2Hdz2;  // 3.659e-9 / m^2
+  EXPECT_NEAR(ks[0].curvature_jump, want, 0.02 * want);
 }
 
 TEST(Presets, ValidationNamesTheKey) {

@@ -159,6 +159,33 @@ class PiecewiseLinearColumn {
   bool nonnegative_ = true;                     // a density: its column is clamped at 0 (rounding)
 };
 
+// QuadraticRampsColumn — column [m] along a straight ray of
+// q(h) = sum_k half_curv_k (h_k - h)_+^2 (0 above each h_k): n quadratic ramps,
+// h_k [m], half_curv_k [1/m^2] of either sign (shared::quadratic_ramps_column:
+// each ramp's chord inside its sphere, one 8-point Gauss-Legendre rule). Accuracy:
+// ~1e-15 relative to the column of the ramps' absolute values for rays above the
+// ground, plus the rounding of the radii along the ray (~1e-16 R in h_k - h, as for
+// PiecewiseLinearColumn; it dominates for rays whose tangent point lies within
+// metres below an h_k). Cost: ~8 square roots per ramp the ray enters. As for
+// PiecewiseLinearColumn the caller stops the ray at the ground.
+class QuadraticRampsColumn {
+ public:
+  QuadraticRampsColumn() = default;
+  // InputError for non-finite or unsorted altitudes, non-finite factors or a
+  // ground radius <= 0.
+  QuadraticRampsColumn(const std::vector<double>& altitude_m, const std::vector<double>& half_curv, double ground_radius);
+  double operator()(double r, double mu, double length) const;
+  // q at altitude h [m] (0 below the ground, as the rays never go there).
+  double at(double h) const;
+  int ramps() const { return static_cast<int>(radius_.size()); }
+  const std::vector<double>& ramp_radii() const { return radius_; }  // [m], ascending
+  const std::vector<double>& half_curvatures() const { return half_curv_; }
+
+ private:
+  std::vector<double> radius_, half_curv_;
+  double ground_radius_ = 0.0;
+};
+
 class OpticalDepthReference {
  public:
   explicit OpticalDepthReference(const Atmosphere& atmosphere, ReferenceOptions options = {});
@@ -222,6 +249,9 @@ struct LutOptions {
   // smooth jump, kSubtractedKinkRatio) are taken out of the tabulated density and
   // their column added back in closed form at lookup (see above). 0: none.
   int subtracted_kinks = 8;  // [0, 15] (p has at most 16 nodes, as the GPU shaders hold)
+  // With the kinks' slope jumps, subtract their curvature jumps too (the quadratic
+  // ramps of the header comment above).
+  bool subtract_curvature = true;
 };
 
 struct LutColumn {
@@ -290,10 +320,15 @@ class OpticalDepthLut {
   SunAtRadius sun_at(double r, double mu_lo, double mu_hi, int max_samples) const;
 
   // Subtracted kinks (LutOptions::subtracted_kinks): the piecewise-linear function
-  // p_c(h) taken out of constituent c's tabulated density (nodes() == 0: none), the
-  // densities the tables hold at altitude h [m] (the profiles' less p), and the
-  // column [m] of p along a ray (r, mu) of length L (added to every lookup).
+  // p_c(h) taken out of constituent c's tabulated density (nodes() == 0: none) and its
+  // quadratic ramps q_c (the kinks' curvature jumps), the densities the tables hold at
+  // altitude h [m] (the profiles' less p and q), and the column [m] of p + q along a
+  // ray (r, mu) of length L (added to every lookup).
   const PiecewiseLinearColumn& subtracted(int c) const { return subtracted_[static_cast<std::size_t>(c)]; }
+  // The curvature part q_c (LutOptions::subtract_curvature; ramps() == 0: none).
+  const QuadraticRampsColumn& subtracted_curvature(int c) const {
+    return subtracted_curvature_[static_cast<std::size_t>(c)];
+  }
   glm::dvec3 tabulated_density(double h) const;
   glm::dvec3 subtracted_column(double r, double mu, double L) const;
 
@@ -375,6 +410,7 @@ class OpticalDepthLut {
   std::array<bool, 3> has_subtracted_{};             // kinks taken out of the tabulated density
   std::array<PiecewiseLinearColumn, 3> subtracted_;  // p(h) of those kinks (nodes at 0 and the kinks)
   std::array<std::vector<DensityProfile::Kink>, 3> subtracted_kinks_;
+  std::array<QuadraticRampsColumn, 3> subtracted_curvature_;  // q(h) of those kinks (ramps() == 0: none)
   std::vector<int> expo_;                                // interpolated exponential constituents (quadrature)
   bool has_kinks_ = false;
   std::array<double, 3> support_top_{};  // altitude above which a kinked profile is 0
