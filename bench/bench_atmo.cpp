@@ -22,11 +22,13 @@ static void BM_LutBuild(benchmark::State& st) {
 }
 BENCHMARK(BM_LutBuild)->Args({32, 32})->Args({32, 64})->Args({64, 128})->Unit(benchmark::kMillisecond);
 
-// Args: preset (0 earth-graphics, 1 earth-physical), LutOptions::subtracted_kinks.
+// Args: preset (0 earth-graphics, 1 earth-physical), LutOptions::subtracted_kinks,
+// LutOptions::subtract_curvature.
 static void BM_LutLookupView(benchmark::State& st) {
   Atmosphere atm(preset(st.range(0) ? "earth-physical" : "earth-graphics"));
   LutOptions o;
   o.subtracted_kinks = static_cast<int>(st.range(1));
+  o.subtract_curvature = st.range(2) != 0;
   OpticalDepthLut lut(atm, o);
   const double R = atm.ground_radius();
   int i = 0;
@@ -37,7 +39,7 @@ static void BM_LutLookupView(benchmark::State& st) {
     ++i;
   }
 }
-BENCHMARK(BM_LutLookupView)->Args({0, 8})->Args({1, 0})->Args({1, 8});
+BENCHMARK(BM_LutLookupView)->Args({0, 8, 1})->Args({1, 0, 1})->Args({1, 8, 0})->Args({1, 8, 1});
 
 static void BM_LutLookupSun(benchmark::State& st) {
   Atmosphere atm(preset("earth-graphics"));

@@ -267,9 +267,10 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
   // Long tables interpolated in log: their strongest kinks are subtracted before
   // tabulating, p(h) = sum_k J_k (h_k - h)_+ on [0, top] (0 above the highest h_k):
   // slope jumps J_k (the kinks' excess jumps) at the h_k and none elsewhere above the
-  // ground, so rho - p is smooth there; p's column is added back in closed form.
-  // Only while rho - p stays within [1/2, 2] of rho (the relative error of the
-  // tabulated part then grows by at most 2x in the total); otherwise none.
+  // ground, so rho - p is smooth there; p's column is added back in closed form
+  // (and q's, the curvature jumps' quadratic ramps, below). Only while |p + q| stays
+  // within 1/2 of rho at every node (the relative error of the tabulated part then
+  // grows by at most 2x in the total); otherwise none.
   if (opt_.subtracted_kinks > 0)
     for (int c = 0; c < 3; ++c) {
       if (!(build_closed_[c] && log_encoded_[c])) continue;

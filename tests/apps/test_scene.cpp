@@ -114,6 +114,24 @@ TEST(Scene, PhysicalRangesNamedByKey) {
   expect_bad("version = 1\n[spectrum]\nfrom_nm = 500\nto_nm = 400", "spectrum.to_nm");
 }
 
+// The U.S. 1976 generator as a profile model: the same table as earth-physical's
+// Rayleigh profile at the defaults, finer with step_m; out-of-range values named.
+TEST(Scene, UsStandard1976ProfileModel) {
+  const Scene a = parse_scene("version = 1\n[rayleigh]\nprofile = { model = \"us-standard-1976\" }\n", "t.toml");
+  const auto& p = a.atmosphere.rayleigh->profile;
+  const auto want = atmosh::atmo::preset("earth-physical").rayleigh->profile;
+  EXPECT_EQ(p.altitude_m, want.altitude_m);
+  EXPECT_EQ(p.value, want.value);
+  const Scene b =
+      parse_scene("version = 1\n[rayleigh]\nprofile = { model = \"us-standard-1976\", step_m = 100 }\n", "t.toml");
+  const auto& f = b.atmosphere.rayleigh->profile;
+  EXPECT_EQ(f.altitude_m.size(), 1006u);  // 1001 grid nodes and the 5 boundaries not within 10 m of one
+  EXPECT_EQ(f.value, atmosh::atmo::us_standard_1976_profile(100e3, 100.0).value);
+  expect_bad("version = 1\n[rayleigh]\nprofile = { model = \"us-standard-1976\", step_m = 1 }", "rayleigh.profile.step_m");
+  expect_bad("version = 1\n[rayleigh]\nprofile = { model = \"us-standard-1976\", top_m = -5 }", "rayleigh.profile.top_m");
+  expect_bad("version = 1\n[rayleigh]\nprofile = { model = \"us-standard-1976\", scale = 2 }", "rayleigh.profile.scale");
+}
+
 // Presets and scene files share one schema: every preset written as TOML reads back
 // to the same TOML (and so to the same parameters).
 TEST(Scene, PresetsRoundTripThroughTheSceneSchema) {

@@ -138,8 +138,14 @@ DensityProfileSpec read_profile(const toml::table& t, const std::string& path, c
     p.kind = DensityProfileSpec::Kind::Tabulated;
     p.altitude_m = r.numbers("altitude_m");
     p.value = r.numbers("value");
+  } else if (model == "us-standard-1976") {
+    // The U.S. 1976 density ratio tabulated every step_m up to top_m (earth-physical's
+    // Rayleigh profile: 500 m, 100 km).
+    const double top = r.number_in("top_m", 100e3, 0.0, 1e6, true);
+    const double step = r.number_in("step_m", 500.0, 10.0, 5000.0);
+    p = atmo::us_standard_1976_profile(top, step);
   } else {
-    r.fail("model", "'" + model + "' is not one of exponential, tent, tabulated");
+    r.fail("model", "'" + model + "' is not one of exponential, tent, tabulated, us-standard-1976");
   }
   r.finish();
   return p;

@@ -66,11 +66,15 @@
 // layer boundaries, where d ln rho / dh jumps with the lapse rate): with J_k the
 // excess slope jump at h_k (DensityProfile::strongest_kink_jumps), the piecewise-
 // linear p(h) = sum_k J_k (h_k - h)_+ (nodes at 0 and the h_k, 0 above the highest)
-// has exactly those jumps, the tables hold rho - p (smooth there) and a lookup adds
-// p's column in closed form (PiecewiseLinearColumn; ~150 ns for 8 nodes). Kept only
-// while rho - p stays within [1/2, 2] of rho. Across a kink the column as a function
-// of direction has a (h_t - h_k)^1.5 term (h_t the tangent altitude) that no cubic
-// follows: earth-physical at 40 x 64, 3.0e-3 without, 7.3e-4 with.
+// has exactly those jumps; with D_k the jump of the second derivative there
+// (Kink::curvature_jump), q(h) = sum_k -D_k / 2 (h_k - h)_+^2 removes those too
+// (LutOptions::subtract_curvature). The tables hold rho - p - q (C2 at the kinks)
+// and a lookup adds the columns of p (PiecewiseLinearColumn; ~150 ns for 8 nodes) and
+// q (QuadraticRampsColumn; ~350 ns for 7 ramps). Kept only while p + q stays within
+// 1/2 of rho. Across a kink the column as a function of direction has a
+// (h_t - h_k)^1.5 term (h_t the tangent altitude) that no cubic follows, and across
+// a curvature jump an O(h^2) term of the interpolation across shells: earth-physical
+// at 40 x 64, 3.0e-3 without, 7.3e-4 with p alone, 5.8e-4 with p and q.
 // Table entries: tent and tabulated profiles in closed form
 // (PiecewiseLinearColumn, exact to rounding); exponential profiles by fixed
 // Gauss-Legendre rules on the pieces between shell and tangent crossings, each
@@ -83,9 +87,11 @@
 // strongest profile kinks and 1000 seeded random rays): at the default 40 x 64,
 // 1.6e-5 for earth-graphics with the ozone tent, 6.2e-5 for the default scene's
 // atmosphere (the same with the top at 100 km; 1.03e-4 at 32 x 64), 3.0e-5 for
-// test-planet; 7.3e-4 for earth-physical (interpolated 206-node tabulated Rayleigh:
-// what remains are the jumps of the curvature of ln rho at its layer boundaries, an
-// O(h^2) term of the interpolation across shells: 5.1e-4 at 64 x 128).
+// test-planet; 5.8e-4 for earth-physical (interpolated 206-node tabulated Rayleigh:
+// what remains is the ripple of its 500 m linear pieces, up to (dz/H)^2/8 ~ 1e-3 of
+// rho between nodes, which the smooth interpolation does not follow on rays that
+// sample few nodes: 4.7e-4 at 80 x 128; with the U.S. 1976 table every 100 m,
+// 5.8e-5 at 80 x 128, docs/atmosphere.md "Representation of U.S. 1976").
 // Build of the default 40 x 64 tables: ~20-32 ms (2-core machine).
 // Regime: the relative error holds while the atmosphere spans at most ~15 scale
 // heights of every interpolated exponential (top / H <~ 15: the logged mean densities
@@ -95,8 +101,8 @@
 // (2 km), 6.1e-2 (1 km), ~1 (<= 300 m); estimate_max_rel_error grows with it. Within
 // a realistic mixture the dense constituent dominates those rays (earth-graphics' 1.2 km
 // aerosol under an 8 km Rayleigh profile: 2.9e-5).
-// Cost (measured on a 2-core machine): ~100-200 ns per lookup (~360 ns with
-// earth-physical's subtracted kinks).
+// Cost (measured on a 2-core machine): ~100-200 ns per lookup (~690 ns with
+// earth-physical's subtracted kinks: ~330 ns with p alone).
 #pragma once
 
 #include <array>
