@@ -230,6 +230,27 @@ TEST(CliConvergeLut, StudyCoversTheRaysBesideKinks) {
   EXPECT_GT(num(*p32, "error_max_rel"), 2.0 * num(*d32, "error_max_rel"));
 }
 
+// The 1e-4 target reached for U.S. 1976 (docs/atmosphere.md, "Curvature jumps subtracted
+// too"): the shipped scene docs/scenes/earth-physical-us1976-100m.toml (earth-physical
+// with the standard tabulated every 100 m, whose linear pieces stay within 2.6e-5 of it)
+// at 80 x 128, over the study's 2500+ rays against the exact reference, with the kinks'
+// slope and curvature jumps subtracted: <= 1e-4 (5.8e-5 when measured); interpolated
+// across the seven layer boundaries instead (the lut_plain row) 1.1e-3.
+TEST(CliConvergeLut, FineUsStandard1976MeetsTheTarget) {
+  const std::string scene = std::string(ATMOSH_SOURCE_DIR) + "/docs/scenes/earth-physical-us1976-100m.toml";
+  const auto rows = cpu_study("fine", "--scene '" + scene + "' --shells 80 --directions 128");
+  const auto* lut = find_row(rows, "lut", "80x128");
+  const auto* plain = find_row(rows, "lut_plain", "80x128");
+  ASSERT_NE(lut, nullptr);
+  ASSERT_NE(plain, nullptr);
+  std::printf("  U.S. 1976 every 100 m, 80 x 128: max rel. error %.3g (plain %.3g)\n", num(*lut, "error_max_rel"),
+              num(*plain, "error_max_rel"));
+  EXPECT_EQ(num(*lut, "subtracted_kinks"), 7.0);
+  EXPECT_LE(num(*lut, "error_max_rel"), 1e-4);
+  EXPECT_GT(num(*plain, "error_max_rel"), 5e-4);
+  EXPECT_GE(num(*lut, "error_estimate_rel"), 0.5 * num(*lut, "error_max_rel"));
+}
+
 TEST(CliConvergeLutGpu, BadDeviceIsBadInput) {
   const fs::path d = scratch_dir("atmosh_cli_lut_gpu", "bad");
   expect_bad_input("converge lut --device tpu" + kSmall + " -o '" + (d / "lut").string() + "'", "--device");
