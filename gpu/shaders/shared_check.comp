@@ -39,5 +39,11 @@ void main() {
   check_out[o + 13] = lagrange_cubic_weight(p, i % 4);
   float rs = radius_along(c.r, c.mu, c.s);
   check_out[o + 14] = cos_zenith_along(c.r, c.g, c.cos_theta, c.s, rs);
-  check_out[o + 15] = 0.0;
+  // quadratic_ramps_column: two ramps (11 and 47 km above the ground) over [0, s]
+  float ramp_r[kMaxLinearNodes], ramp_c[kMaxLinearNodes];
+  ramp_r[0] = R + 11000.0;
+  ramp_r[1] = R + 47000.0;
+  ramp_c[0] = 1.8e-9;
+  ramp_c[1] = -2.3e-12;
+  check_out[o + 15] = quadratic_ramps_column(c.r, c.mu, c.s, ramp_r, ramp_c, 2);
 }

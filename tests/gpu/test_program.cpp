@@ -138,6 +138,7 @@ TEST(GpuProgram, SharedFunctionsAgreeWithTheCppBuild) {
     EXPECT_LE(std::fabs(gpu_v - cpu_v), 1e-5 * std::fabs(cpu_v) + abs_floor)
         << what << " case " << i << ": gpu " << gpu_v << " cpu " << cpu_v;
   };
+  int ramp_cases = 0;
   for (int i = 0; i < n; ++i) {
     const In& c = in[std::size_t(i)];
     const float* o = &out[std::size_t(i) * kOut];
@@ -160,7 +161,15 @@ TEST(GpuProgram, SharedFunctionsAgreeWithTheCppBuild) {
     const double p = 3.0 * (double(c.cos_theta) + 1.0) / 2.0;
     expect_close(o[13], sg::lagrange_cubic_weight(p, i % 4), 1e-6, "lagrange_cubic_weight", i);
     expect_close(o[14], sg::cos_zenith_along(r, c.g, c.cos_theta, s, rs), 2e-6, "cos_zenith_along", i);
+    // The ramps' column: in float, k - r(u) carries the rounding of the radii (~0.5 m
+    // at 6.4e6 m), ~1e-4 of k - r at a few km: 1e-3 of the column of |q| as the floor.
+    const double ramp_r[2] = {R + 11000.0, R + 47000.0}, ramp_c[2] = {1.8e-9, -2.3e-12}, abs_c[2] = {1.8e-9, 2.3e-12};
+    const double q = sg::quadratic_ramps_column(r, mu, s, ramp_r, ramp_c, 2);
+    expect_close(o[15], q, 1e-3 * sg::quadratic_ramps_column(r, mu, s, ramp_r, abs_c, 2) + 1e-30,
+                 "quadratic_ramps_column", i);
+    ramp_cases += q != 0.0;
   }
+  EXPECT_GE(ramp_cases, 10);  // rays inside the ramps, not only zeros
 }
 
 // The GLSL double build of the shared view-ray cuts (shared/view_ray.glsl.hpp,
