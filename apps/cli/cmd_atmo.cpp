@@ -301,6 +301,7 @@ void register_atmo_commands(CLI::App& app) {
     struct Opt {
       std::string scene, preset, method = "reference";
       double wavelength = 550.0, altitude = 0.0, zenith = 0.0;
+      int shells = LutOptions{}.shells, directions = LutOptions{}.view_directions;
       bool json = false;
     };
     auto o = std::make_shared<Opt>();
@@ -311,10 +312,17 @@ void register_atmo_commands(CLI::App& app) {
     c->add_option("--altitude", o->altitude, "altitude of the ray origin above the ground [m]")->required();
     c->add_option("--zenith", o->zenith, "zenith angle of the ray [deg] (90 = horizontal, > 90 looks down)")->required();
     c->add_option("--method", o->method, "reference | lut");
+    CLI::Option* osh = c->add_option("--shells", o->shells, "lut: shell count (default 40)");
+    CLI::Option* odi = c->add_option("--directions", o->directions, "lut: directions per table branch (default 64)");
     c->add_flag("--json", o->json, "print one JSON object");
-    c->callback([o] {
+    c->callback([o, osh, odi] {
       if (o->method != "reference" && o->method != "lut")
         throw InputError("--method: '" + o->method + "' is not reference or lut");
+      for (CLI::Option* opt : {osh, odi})
+        if (opt->count() > 0 && o->method != "lut")
+          throw InputError(opt->get_name() + ": only with --method lut");
+      require_range(o->shells, 4, 4096, "--shells");
+      require_range(o->directions, 4, 65536, "--directions");
       double nm = require_range(o->wavelength, 1.0, 1e5, "--wavelength");
       double zen = require_range(o->zenith, 0.0, 180.0, "--zenith");
       double alt = require_range(o->altitude, -1e3, 1e9, "--altitude");
@@ -342,7 +350,10 @@ void register_atmo_commands(CLI::App& app) {
         err = c.error;
         hits = c.hits_ground;
       } else {
-        OpticalDepthLut lut(atm);
+        LutOptions lo;
+        lo.shells = o->shells;
+        lo.view_directions = lo.sun_directions = o->directions;
+        OpticalDepthLut lut(atm, lo);
         auto c = lut.view(r, mu);
         time_s = seconds_since(t0);  // build + lookup
         col = c.column;

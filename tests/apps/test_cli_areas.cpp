@@ -102,6 +102,30 @@ TEST(CliAreas, OpticalDepthLutErrorEstimateCoversTheError) {
   }
 }
 
+// Table size for --method lut: earth-physical with its U.S. 1976 table every 100 m
+// (docs/scenes) at 80 x 128, where the tables meet 1e-4 (converge lut: 5.8e-5 over the
+// study's rays), on a horizontal ray just below the tropopause and a limb ray from 90 km,
+// against --method reference; the estimate covers the error. --shells / --directions
+// out of range or without --method lut: bad input naming the option.
+TEST(CliAreas, OpticalDepthLutTableSize) {
+  const std::string scene = std::string(ATMOSH_SOURCE_DIR) + "/docs/scenes/earth-physical-us1976-100m.toml";
+  for (const char* ray : {" --altitude 10900 --zenith 90", " --altitude 90000 --zenith 95"}) {
+    const std::string args = "optical-depth --scene '" + scene + "' --wavelength 550" + ray + " --json";
+    const auto lut = run_cli(args + " --method lut --shells 80 --directions 128"), ref = run_cli(args);
+    ASSERT_EQ(lut.exit_code, 0) << lut.err;
+    ASSERT_EQ(ref.exit_code, 0) << ref.err;
+    const auto jl = nlohmann::json::parse(lut.out), jr = nlohmann::json::parse(ref.out);
+    const double total = jr["total"].get<double>(), error = std::abs(jl["total"].get<double>() - total);
+    EXPECT_LE(error, 1e-4 * total) << ray;
+    EXPECT_LE(error, jl["error_estimate"].get<double>()) << ray;
+    EXPECT_LT(jl["error_estimate"].get<double>(), 1e-4 * total) << ray;
+  }
+  const std::string base = "optical-depth --preset earth-physical --wavelength 550 --altitude 0 --zenith 0";
+  expect_bad(base + " --method lut --shells 2", "--shells");
+  expect_bad(base + " --method lut --directions 100000", "--directions");
+  expect_bad(base + " --shells 80", "--shells");
+}
+
 TEST(CliAreas, ShProjectEvalRoundTripAndBadInput) {
   const fs::path d = scratch("sh");
   // A constant radiance image c: its only coefficient is c00 = c sqrt(4 pi), and the
