@@ -78,15 +78,24 @@ PiecewiseLinearColumn::PiecewiseLinearColumn(const DensityProfile& profile, doub
   }
 }
 
-PiecewiseLinearColumn::PiecewiseLinearColumn(const std::vector<double>& h, const std::vector<double>& v,
-                                             double ground_radius) {
+namespace {
+// InputError unless the ground radius is finite and > 0, h and v have one length,
+// the altitudes h ascend and all are finite; `what` names the column, `item` a node.
+void check_column_nodes(const std::vector<double>& h, const std::vector<double>& v, double ground_radius,
+                        const std::string& what, const std::string& item) {
   if (!std::isfinite(ground_radius) || ground_radius <= 0.0)
     throw InputError("ground radius " + num(ground_radius) + " m: must be finite and > 0");
-  if (h.size() != v.size()) throw InputError("closed-form column: altitudes and values differ in length");
+  if (h.size() != v.size()) throw InputError(what + ": altitudes and values differ in length");
   for (std::size_t i = 0; i < h.size(); ++i)
     if (!std::isfinite(h[i]) || !std::isfinite(v[i]) || (i > 0 && !(h[i] > h[i - 1])))
-      throw InputError("closed-form column: node " + std::to_string(i) + " (" + num(h[i]) + " m, " + num(v[i]) +
+      throw InputError(what + ": " + item + " " + std::to_string(i) + " (" + num(h[i]) + " m, " + num(v[i]) +
                        ") is not finite or not ascending");
+}
+}  // namespace
+
+PiecewiseLinearColumn::PiecewiseLinearColumn(const std::vector<double>& h, const std::vector<double>& v,
+                                             double ground_radius) {
+  check_column_nodes(h, v, ground_radius, "closed-form column", "node");
   radius_.resize(h.size());
   for (std::size_t i = 0; i < h.size(); ++i) radius_[i] = ground_radius + h[i];
   value_ = v;
@@ -113,13 +122,7 @@ double PiecewiseLinearColumn::operator()(double r, double mu, double length) con
 
 QuadraticRampsColumn::QuadraticRampsColumn(const std::vector<double>& h, const std::vector<double>& half_curv,
                                            double ground_radius) {
-  if (!std::isfinite(ground_radius) || ground_radius <= 0.0)
-    throw InputError("ground radius " + num(ground_radius) + " m: must be finite and > 0");
-  if (h.size() != half_curv.size()) throw InputError("quadratic ramps: altitudes and factors differ in length");
-  for (std::size_t i = 0; i < h.size(); ++i)
-    if (!std::isfinite(h[i]) || !std::isfinite(half_curv[i]) || (i > 0 && !(h[i] > h[i - 1])))
-      throw InputError("quadratic ramps: ramp " + std::to_string(i) + " (" + num(h[i]) + " m, " + num(half_curv[i]) +
-                       ") is not finite or not ascending");
+  check_column_nodes(h, half_curv, ground_radius, "quadratic ramps", "ramp");
   ground_radius_ = ground_radius;
   for (double x : h) radius_.push_back(ground_radius + x);
   half_curv_ = half_curv;
