@@ -1,12 +1,19 @@
 // GPU against CPU: the single-scattering sky image (16 wavelengths) rendered by
 // atmo::render_sky (all cores) and gpu::render_sky (headless EGL, OpenGL 4.3
 // compute), at 512x256 and at the 2048x1024 of the GPU issue; and the
-// optical-depth table build on the CPU (one core) and on the GPU. Without an EGL device the GPU cases are skipped.
+// optical-depth table build on the CPU (one core) and on the GPU; and the sky's
+// per-node sun-table lookup on one CPU core and on the GPU (ns_per_lookup). Without
+// an EGL device the GPU cases are skipped.
 // Run: build/bin/bench_gpu  (add --benchmark_filter=512 for the quick sizes)
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <memory>
+#include <random>
 #include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
 
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/presets.hpp"
@@ -119,5 +126,72 @@ static void BM_SkyGpu(benchmark::State& st) {
   st.SetLabel(std::to_string(w) + "x" + std::to_string(h) + ", 16 wavelengths, " + ctx->info().renderer);
 }
 BENCHMARK(BM_SkyGpu)->Arg(512)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+#endif
+
+namespace {
+// 2^20 seeded sun-lookup origins (altitude uniform in [0, top), mu uniform in
+// [-1, 1]) for the lookup benchmarks.
+const std::vector<glm::vec2>& lookup_origins() {
+  static const std::vector<glm::vec2> o = [] {
+    std::vector<glm::vec2> v;
+    std::mt19937_64 rng(20261123);
+    auto uniform = [&rng] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+    const double top = scene().atm.top_altitude();
+    for (int i = 0; i < (1 << 20); ++i) {
+      const double u = uniform(), w = uniform();
+      v.push_back(glm::vec2(static_cast<float>(u * top), static_cast<float>(2.0 * w - 1.0)));
+    }
+    return v;
+  }();
+  return o;
+}
+}  // namespace
+
+// Sun-table lookups, the sky's per-node query (earth-physical: interpolated U.S. 1976
+// Rayleigh with its subtracted kinks, Mie, closed-form ozone), over the same 2^20
+// origins: OpticalDepthLut::sun on one CPU core (double) ...
+static void BM_SunLookupsCpu(benchmark::State& st) {
+  Scene& s = scene();
+  const auto& o = lookup_origins();
+  const double R = s.atm.ground_radius();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (auto _ : st)
+    for (const glm::vec2& p : o) {
+      auto c = s.sky.lut().sun(R + double(p.x), double(p.y));
+      benchmark::DoNotOptimize(c);
+    }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  st.SetItemsProcessed(st.iterations() * static_cast<long>(o.size()));
+  st.counters["ns_per_lookup"] = 1e9 * seconds / static_cast<double>(st.iterations() * o.size());
+  st.SetLabel("2^20 origins, one core");
+}
+BENCHMARK(BM_SunLookupsCpu)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+
+#ifdef ATMOSH_BENCH_GPU
+// ... and gpu::sun_lookups (sky_lib.glsl's sun_lookup, one invocation per origin):
+// the time of 4 dispatches over the origins, after a warm-up one (no compilation,
+// upload or read-back).
+static void BM_SunLookupsGpu(benchmark::State& st) {
+  std::string why;
+  atmosh::gpu::Context* ctx = context(why);
+  if (!ctx) {
+    st.SkipWithError(("no EGL device: " + why).c_str());
+    return;
+  }
+  Scene& s = scene();
+  const auto& o = lookup_origins();
+  long lookups = 0;
+  double seconds = 0.0;
+  for (auto _ : st) {
+    const auto r = atmosh::gpu::sun_lookups(*ctx, s.sky, o, 4);
+    st.SetIterationTime(r.seconds);
+    lookups += r.lookups;
+    seconds += r.seconds;
+  }
+  st.SetItemsProcessed(lookups);
+  st.counters["ns_per_lookup"] = 1e9 * seconds / static_cast<double>(lookups);
+  st.SetLabel("2^20 origins x 4 dispatches, " + ctx->info().renderer);
+}
+BENCHMARK(BM_SunLookupsGpu)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(2);
 #endif
 

@@ -36,7 +36,7 @@ uniform int phase_model[2];        // 0 Rayleigh, 1 HG, 2 Cornette-Shanks, 3 dou
 uniform float phase_p[8];          // per scattering constituent: g / depolarisation, g2, weight, unused
 uniform float ext_max[3];
 uniform float ground_radius, top_radius, horizon_rho;  // R, T, sqrt(T^2 - R^2)
-uniform double ground_radius_d, top_radius_d, observer_radius_d;
+uniform double ground_radius_d, top_radius_d, observer_radius_d, horizon_rho_d;
 uniform vec3 sun_dir;
 uniform float max_piece_optical_depth;
 uniform float irradiance_scale;    // 1 / d_AU^2
@@ -140,17 +140,19 @@ float ozone_column(float r, float mu, float len) { return max(linear_column(off_
 
 // OpticalDepthLut::sun for an origin inside the atmosphere: h = r - R given
 // separately (accurately); returns the column to the top, or w = 1 (and no column)
-// when the ray hits the ground.
+// when the ray hits the ground. The ray's geometry (ground test, distance to the
+// top, table coordinates) is in double, as the interpolation: a float radius R + h
+// is rounded by up to 0.25 m, which changes short rays near the top by ~1e-3 of
+// their length. The closed-form columns (ozone, subtracted kinks) are float.
 vec4 sun_lookup(float h, float mu) {
-  float R = ground_radius, T = top_radius;
   h = max(h, 0.0);
-  float r = R + h;
   mu = clamp(mu, -1.0, 1.0);
-  double hd = double(h), rho = sqrt(hd * (hd + 2.0LF * ground_radius_d));
-  if (ray_hits_ground(r, mu, R)) return vec4(0.0, 0.0, 0.0, 1.0);
-  float d = distance_to_top(r, mu, T);
-  double dmin = double(T - r), dmax = rho + double(horizon_rho);
-  double x = lut_x(double(d), dmin, dmax);
+  double hd = double(h), Rd = ground_radius_d, rd = Rd + hd, mud = double(mu);
+  double rho = sqrt(hd * (hd + 2.0LF * Rd));
+  if (ray_hits_ground(rd, mud, Rd)) return vec4(0.0, 0.0, 0.0, 1.0);
+  double dd = distance_to_top(rd, mud, top_radius_d);
+  double x = lut_x(dd, top_radius_d - rd, rho + horizon_rho_d);
+  float d = float(dd), r = ground_radius + h;
   vec3 col = decode_times(interpolate(off_sun, n_sun, rho, x), d);
   if (has_ext[2] != 0 && tabulated[2] == 0) col[2] = ozone_column(r, mu, d);
   for (int c = 0; c < 2; ++c)  // OpticalDepthLut's subtracted kinks, added back
@@ -160,4 +162,3 @@ vec4 sun_lookup(float h, float mu) {
                    0.0);
   return vec4(col, 0.0);
 }
-

@@ -53,6 +53,8 @@ std::string map_shader_log(const std::string& log, const std::vector<ShaderPart>
   return out.str();
 }
 
+void finish() { glFinish(); }
+
 void check_gl(const char* what) {
   const GLenum e = glGetError();
   if (e != GL_NO_ERROR) {

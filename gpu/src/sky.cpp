@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -120,17 +121,15 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
   return out;
 }
 
-namespace {
-
-}  // namespace
-
 std::vector<ShaderPart> sky_parts(const std::string& main_shader) {
   const ShaderPart lut = embedded_source("libatmo/include/atmosh/atmo/shared/lut.glsl.hpp");
   const ShaderPart scatter = embedded_source("libatmo/include/atmosh/atmo/shared/scatter.glsl.hpp");
-  return {embedded_source("libatmo/include/atmosh/atmo/shared/geometry.glsl.hpp"),
+  const ShaderPart geometry = embedded_source("libatmo/include/atmosh/atmo/shared/geometry.glsl.hpp");
+  return {geometry,
           lut,
           scatter,
           real_type_part("double"),
+          geometry,  // the ray geometry and densities again, in double
           lut,
           scatter,
           embedded_source("libatmo/include/atmosh/atmo/shared/view_ray.glsl.hpp"),
@@ -191,32 +190,47 @@ std::string sky_unsupported_reason(const atmo::SkyIntegrator& sky) {
   return "";
 }
 
-atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, atmo::SkyProjection projection,
-                          int width, int height, double altitude_m, const glm::dvec3& sun, bool keep_spectral,
-                          bool gpu_tables) {
-  if (width < 1 || height < 1 || width > 65536 || height > 65536)
-    throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
-  const std::string why = sky_unsupported_reason(sky);
-  if (!why.empty()) throw Unsupported("GPU sky: " + why);
-  // Same input validation as the CPU path (throws InputError).
-  (void)sky.radiance(altitude_m, glm::dvec3(0, 0, 1), sun);
-  ctx.make_current();
-  const auto t0 = std::chrono::steady_clock::now();
+namespace {
+
+// The inputs of sky_lib.glsl that depend on the integrator alone: its optical-depth
+// tables and shells, the closed-form nodes (ozone, subtracted kinks), the
+// piecewise-linear densities, the spectral coefficients and the quadrature, in
+// buffers 1, 2, 3, 5 and 6, and the uniforms that describe them. Shared by the
+// sky pass and the sun-lookup pass, so both run on the same data.
+class SkyInputs {
+ public:
+  SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gpu_tables);
+  void bind() const {
+    b_shell_d_->bind(6);
+    b_tab_->bind(1);
+    b_shell_->bind(2);
+    b_spec_->bind(3);
+    b_quad_->bind(5);
+  }
+  void set_uniforms(const Program& prog) const;
+
+ private:
+  const atmo::SkyIntegrator& sky_;
+  int S_ = 0, nw_ = 0, off_ground_ = 0, off_sun_ = 0, off_den_ = 0, off_cuts_ = 0, off_oz_ = 0, n_oz_ = 0,
+      n_gauss_ = 0;
+  int off_sub_[2] = {0, 0}, n_sub_[2] = {0, 0}, off_subq_[2] = {0, 0}, n_subq_[2] = {0, 0};
+  int off_nodes_[3] = {0, 0, 0}, n_nodes_[3] = {0, 0, 0};
+  float ext_max_[3] = {0, 0, 0};
+  std::unique_ptr<Buffer> b_tab_, b_shell_, b_spec_, b_quad_, b_shell_d_;
+};
+
+SkyInputs::SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gpu_tables) : sky_(sky) {
   const auto& atm = sky.atmosphere();
   const auto& lut = sky.lut();
-  const double R = atm.ground_radius(), T = atm.top_radius();
-  const int nw = static_cast<int>(atm.wavelengths_nm().size());
-
-  static const std::vector<ShaderPart> parts = sky_parts("gpu/shaders/sky.comp");
-  Program prog(parts);
-
+  const double R = atm.ground_radius();
+  nw_ = static_cast<int>(atm.wavelengths_nm().size());
   // Tables and shells.
-  int off_ground = 0, off_sun = 0;
-  const std::vector<float> tab = gpu_tables ? build_lut_tables(ctx, lut, atm, off_ground, off_sun)
-                                            : lut_tables_from_cpu(lut, atm, off_ground, off_sun);
+  const std::vector<float> tab = gpu_tables ? build_lut_tables(ctx, lut, atm, off_ground_, off_sun_)
+                                            : lut_tables_from_cpu(lut, atm, off_ground_, off_sun_);
   ctx.make_current();
   const auto& radii = lut.shell_radii();
-  const int S = static_cast<int>(radii.size());
+  S_ = static_cast<int>(radii.size());
+  const int S = S_;
   std::vector<double> rho(static_cast<std::size_t>(S));
   for (int k = 0; k < S; ++k) rho[k] = std::sqrt(std::max(0.0, (radii[k] - R) * (radii[k] + R)));
   std::vector<double> shells_d = rho;
@@ -229,7 +243,7 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
     }
   std::vector<float> shells;
   for (double v : rho) shells.push_back(static_cast<float>(v));
-  const int off_den = static_cast<int>(shells.size());
+  off_den_ = static_cast<int>(shells.size());
   for (int w = 0; w + 3 < S; ++w)
     for (int i = 0; i < 4; ++i) {
       double d = 1.0;
@@ -238,53 +252,133 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
       shells.push_back(static_cast<float>(1.0 / d));
     }
   // Radii that cut the view rays (SkyIntegrator's cut_radii_), in double.
-  const int off_cuts = static_cast<int>(shells_d.size());
+  off_cuts_ = static_cast<int>(shells_d.size());
   const int segments = sky.options().segments;
   for (int i = 1; i < segments; ++i)
     shells_d.push_back(radii[static_cast<std::size_t>(std::lround(double(i) * (S - 1) / segments))]);
-  const int off_oz = static_cast<int>(shells.size());
-  int n_oz = 0;
-  if (atm.has(atmo::kOzone)) n_oz = push_linear_nodes(atmo::PiecewiseLinearColumn(atm.profile(atmo::kOzone), R), shells);
-  int off_sub[2] = {0, 0}, n_sub[2] = {0, 0}, off_subq[2] = {0, 0}, n_subq[2] = {0, 0};
+  off_oz_ = static_cast<int>(shells.size());
+  if (atm.has(atmo::kOzone)) n_oz_ = push_linear_nodes(atmo::PiecewiseLinearColumn(atm.profile(atmo::kOzone), R), shells);
   for (int c = 0; c < 2; ++c) {
-    off_sub[c] = static_cast<int>(shells.size());
-    n_sub[c] = push_linear_nodes(lut.subtracted(c), shells);
+    off_sub_[c] = static_cast<int>(shells.size());
+    n_sub_[c] = push_linear_nodes(lut.subtracted(c), shells);
     const auto& q = lut.subtracted_curvature(c);
-    off_subq[c] = static_cast<int>(shells.size());
-    n_subq[c] = q.ramps();
+    off_subq_[c] = static_cast<int>(shells.size());
+    n_subq_[c] = q.ramps();
     for (double x : q.ramp_radii()) shells.push_back(static_cast<float>(x));
     for (double x : q.half_curvatures()) shells.push_back(static_cast<float>(x));
   }
   // Piecewise-linear densities (altitude, value) for the shader's density_at.
-  int off_nodes[3] = {0, 0, 0}, n_nodes[3] = {0, 0, 0};
   for (int c = 0; c < 3; ++c) {
     if (!atm.has(c) || atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential) continue;
     std::vector<double> h, v;
     profile_nodes(atm.profile(c), h, v);
-    off_nodes[c] = static_cast<int>(shells.size());
-    n_nodes[c] = static_cast<int>(h.size());
+    off_nodes_[c] = static_cast<int>(shells.size());
+    n_nodes_[c] = static_cast<int>(h.size());
     for (double x : h) shells.push_back(static_cast<float>(x));
     for (double x : v) shells.push_back(static_cast<float>(x));
   }
   // Spectral coefficients: ext[3][nw], sca[3][nw], solar[nw].
+  const int nw = nw_;
   std::vector<float> spec(static_cast<std::size_t>(7 * nw), 0.0f);
-  float ext_max[3] = {0, 0, 0};
   for (int i = 0; i < nw; ++i) {
     const auto& k = atm.coefficients(static_cast<std::size_t>(i));
     for (int c = 0; c < 3; ++c) {
       const double e = atm.has(c) ? k.extinction[c] : 0.0, s = atm.has(c) ? k.scattering[c] : 0.0;
       spec[c * nw + i] = static_cast<float>(e);
       spec[(3 + c) * nw + i] = static_cast<float>(s);
-      ext_max[c] = std::max(ext_max[c], static_cast<float>(e));
+      ext_max_[c] = std::max(ext_max_[c], static_cast<float>(e));
     }
     spec[6 * nw + i] = static_cast<float>(sky.solar()[static_cast<std::size_t>(i)]);
   }
   const auto gl = sh::gauss_legendre(sky.options().samples_per_segment);
+  n_gauss_ = static_cast<int>(gl.nodes.size());
   std::vector<float> quad;
   for (double x : gl.nodes) quad.push_back(static_cast<float>(x));
   for (double w : gl.weights) quad.push_back(static_cast<float>(w));
   for (double c : atmo::sky_part_column_weights(sky.options().samples_per_segment))  // view column in a part
     quad.push_back(static_cast<float>(c));
+  b_tab_ = std::make_unique<Buffer>(tab.size() * sizeof(float), tab.data());
+  b_shell_ = std::make_unique<Buffer>(shells.size() * sizeof(float), shells.data());
+  b_spec_ = std::make_unique<Buffer>(spec.size() * sizeof(float), spec.data());
+  b_quad_ = std::make_unique<Buffer>(quad.size() * sizeof(float), quad.data());
+  b_shell_d_ = std::make_unique<Buffer>(shells_d.size() * sizeof(double), shells_d.data());
+}
+
+void SkyInputs::set_uniforms(const Program& prog) const {
+  const auto& atm = sky_.atmosphere();
+  const double R = atm.ground_radius(), T = atm.top_radius();
+  prog.set("nw", nw_);
+  prog.set("n_shells", S_);
+  prog.set("n_sun", sky_.lut().options().sun_directions);
+  prog.set("off_sun", off_sun_);
+  prog.set("off_den", off_den_);
+  prog.set("off_cuts", off_cuts_);
+  prog.set("n_cuts", sky_.options().segments - 1);
+  prog.set("off_oz", off_oz_);
+  prog.set("n_oz", n_oz_);
+  for (int c = 0; c < 2; ++c) {
+    prog.set(indexed("off_sub", c).c_str(), off_sub_[c]);
+    prog.set(indexed("n_sub", c).c_str(), n_sub_[c]);
+    prog.set(indexed("off_subq", c).c_str(), off_subq_[c]);
+    prog.set(indexed("n_subq", c).c_str(), n_subq_[c]);
+  }
+  prog.set("n_gauss", n_gauss_);
+  for (int c = 0; c < 3; ++c) {
+    prog.set(indexed("has_ext", c).c_str(), atm.has(c) ? 1 : 0);
+    prog.set(indexed("tabulated", c).c_str(), tabulated(atm, c) ? 1 : 0);
+    prog.set(indexed("scale_height", c).c_str(),
+             static_cast<float>(atm.has(c) && atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential
+                                    ? atm.profile(c).spec().scale_height_m
+                                    : 1.0));
+    prog.set(indexed("ext_max", c).c_str(), ext_max_[c]);
+    prog.set(indexed("off_nodes", c).c_str(), off_nodes_[c]);
+    prog.set(indexed("n_nodes", c).c_str(), n_nodes_[c]);
+  }
+  for (int c = 0; c < 2; ++c) {
+    const auto ps = phase_spec(atm, c);
+    prog.set(indexed("phase_model", c).c_str(), phase_code(ps.model));
+    const float p[4] = {static_cast<float>(ps.model == atmo::PhaseSpec::Model::Rayleigh ? ps.depolarization : ps.g),
+                        static_cast<float>(ps.g2), static_cast<float>(ps.weight), 0.0f};
+    for (int k = 0; k < 4; ++k) prog.set(indexed("phase_p", 4 * c + k).c_str(), p[k]);
+  }
+  prog.set("ground_radius", static_cast<float>(R));
+  prog.set("top_radius", static_cast<float>(T));
+  prog.set("horizon_rho", static_cast<float>(std::sqrt((T - R) * (T + R))));
+  prog.set_double("horizon_rho_d", std::sqrt((T - R) * (T + R)));
+  prog.set_double("ground_radius_d", R);
+  prog.set_double("top_radius_d", T);
+  prog.set("max_piece_optical_depth", static_cast<float>(sky_.options().max_piece_optical_depth));
+  prog.set("irradiance_scale",
+           static_cast<float>(1.0 / (sky_.options().sun_distance_au * sky_.options().sun_distance_au)));
+  prog.set("albedo", static_cast<float>(atm.spec().planet.ground_albedo));
+}
+
+// Work groups of 64 invocations for n items, as (gx, gy) within the per-dimension limit.
+void dispatch_items(const Program& prog, std::size_t n) {
+  const unsigned groups = static_cast<unsigned>((n + 63) / 64);
+  const unsigned gx = std::max(1u, std::min(groups, 32768u)), gy = (groups + gx - 1) / gx;
+  prog.dispatch(gx, std::max(gy, 1u));
+}
+
+}  // namespace
+
+atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, atmo::SkyProjection projection,
+                          int width, int height, double altitude_m, const glm::dvec3& sun, bool keep_spectral,
+                          bool gpu_tables) {
+  if (width < 1 || height < 1 || width > 65536 || height > 65536)
+    throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  const std::string why = sky_unsupported_reason(sky);
+  if (!why.empty()) throw Unsupported("GPU sky: " + why);
+  // Same input validation as the CPU path (throws InputError).
+  (void)sky.radiance(altitude_m, glm::dvec3(0, 0, 1), sun);
+  ctx.make_current();
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto& atm = sky.atmosphere();
+  const int nw = static_cast<int>(atm.wavelengths_nm().size());
+
+  static const std::vector<ShaderPart> parts = sky_parts("gpu/shaders/sky.comp");
+  Program prog(parts);
+  const SkyInputs inputs(ctx, sky, gpu_tables);
 
   // Pixel directions (the CPU projection).
   const std::size_t n = static_cast<std::size_t>(width) * height;
@@ -309,67 +403,17 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
       ++rays;
     }
 
-  Buffer b_dirs(dirs.size() * sizeof(float), dirs.data()), b_tab(tab.size() * sizeof(float), tab.data()),
-      b_shell(shells.size() * sizeof(float), shells.data()), b_spec(spec.size() * sizeof(float), spec.data()),
-      b_out(n * static_cast<std::size_t>(nw) * sizeof(float)), b_quad(quad.size() * sizeof(float), quad.data()),
-      b_shell_d(shells_d.size() * sizeof(double), shells_d.data());
-  b_shell_d.bind(6);
+  Buffer b_dirs(dirs.size() * sizeof(float), dirs.data()), b_out(n * static_cast<std::size_t>(nw) * sizeof(float));
   b_dirs.bind(0);
-  b_tab.bind(1);
-  b_shell.bind(2);
-  b_spec.bind(3);
   b_out.bind(4);
-  b_quad.bind(5);
+  inputs.bind();
+  inputs.set_uniforms(prog);
   prog.set("n_pixels", static_cast<int>(n));
-  prog.set("nw", nw);
-  prog.set("n_shells", S);
-  prog.set("n_sun", lut.options().sun_directions);
-  prog.set("off_sun", off_sun);
-  prog.set("off_den", off_den);
-  prog.set("off_cuts", off_cuts);
-  prog.set("n_cuts", segments - 1);
-  prog.set("off_oz", off_oz);
-  prog.set("n_oz", n_oz);
-  for (int c = 0; c < 2; ++c) {
-    prog.set(indexed("off_sub", c).c_str(), off_sub[c]);
-    prog.set(indexed("n_sub", c).c_str(), n_sub[c]);
-    prog.set(indexed("off_subq", c).c_str(), off_subq[c]);
-    prog.set(indexed("n_subq", c).c_str(), n_subq[c]);
-  }
-  prog.set("n_gauss", static_cast<int>(gl.nodes.size()));
-  for (int c = 0; c < 3; ++c) {
-    prog.set(indexed("has_ext", c).c_str(), atm.has(c) ? 1 : 0);
-    prog.set(indexed("tabulated", c).c_str(), tabulated(atm, c) ? 1 : 0);
-    prog.set(indexed("scale_height", c).c_str(),
-             static_cast<float>(atm.has(c) && atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential
-                                    ? atm.profile(c).spec().scale_height_m
-                                    : 1.0));
-    prog.set(indexed("ext_max", c).c_str(), ext_max[c]);
-    prog.set(indexed("off_nodes", c).c_str(), off_nodes[c]);
-    prog.set(indexed("n_nodes", c).c_str(), n_nodes[c]);
-  }
-  for (int c = 0; c < 2; ++c) {
-    const auto ps = phase_spec(atm, c);
-    prog.set(indexed("phase_model", c).c_str(), phase_code(ps.model));
-    const float p[4] = {static_cast<float>(ps.model == atmo::PhaseSpec::Model::Rayleigh ? ps.depolarization : ps.g),
-                        static_cast<float>(ps.g2), static_cast<float>(ps.weight), 0.0f};
-    for (int k = 0; k < 4; ++k) prog.set(indexed("phase_p", 4 * c + k).c_str(), p[k]);
-  }
-  prog.set("ground_radius", static_cast<float>(R));
-  prog.set("top_radius", static_cast<float>(T));
-  prog.set("horizon_rho", static_cast<float>(std::sqrt((T - R) * (T + R))));
-  prog.set_double("ground_radius_d", R);
-  prog.set_double("top_radius_d", T);
-  prog.set_double("observer_radius_d", R + std::max(altitude_m, 0.0));
+  prog.set_double("observer_radius_d", atm.ground_radius() + std::max(altitude_m, 0.0));
   const glm::dvec3 l = glm::normalize(sun);
   prog.set("sun_dir", static_cast<float>(l.x), static_cast<float>(l.y), static_cast<float>(l.z));
-  prog.set("max_piece_optical_depth", static_cast<float>(sky.options().max_piece_optical_depth));
-  prog.set("irradiance_scale", static_cast<float>(1.0 / (sky.options().sun_distance_au * sky.options().sun_distance_au)));
-  prog.set("albedo", static_cast<float>(atm.spec().planet.ground_albedo));
   check_gl("sky uniforms");
-  const unsigned groups = static_cast<unsigned>((n + 63) / 64);
-  const unsigned gx = std::min(groups, 32768u), gy = (groups + gx - 1) / gx;
-  prog.dispatch(gx, gy);
+  dispatch_items(prog, n);
 
   std::vector<float> L(n * static_cast<std::size_t>(nw));
   b_out.download(L.data(), L.size() * sizeof(float));
@@ -393,6 +437,45 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   img.rays = rays;
   img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return img;
+}
+
+SunLookups sun_lookups(const Context& ctx, const atmo::SkyIntegrator& sky, const std::vector<glm::vec2>& h_mu,
+                       int repeats) {
+  const std::string why = sky_unsupported_reason(sky);
+  if (!why.empty()) throw Unsupported("GPU sun lookups: " + why);
+  if (repeats < 1 || repeats > 1000) throw InputError("sun lookups: repeats = " + std::to_string(repeats) + ": must be in [1, 1000]");
+  if (h_mu.size() > (std::size_t{1} << 26))
+    throw InputError("sun lookups: " + std::to_string(h_mu.size()) + " origins: at most 2^26 per call");
+  const double top = sky.atmosphere().top_altitude();
+  for (std::size_t i = 0; i < h_mu.size(); ++i)
+    if (!(h_mu[i].x >= 0.0f && h_mu[i].x <= top && std::fabs(h_mu[i].y) <= 1.0f))
+      throw InputError("sun lookups: origin " + std::to_string(i) + " (altitude " + std::to_string(h_mu[i].x) +
+                       " m, mu " + std::to_string(h_mu[i].y) + "): altitude must be in [0, top], |mu| <= 1");
+  SunLookups out;
+  out.column.assign(h_mu.size(), glm::vec4(0.0f));
+  if (h_mu.empty()) return out;
+  ctx.make_current();
+  static const std::vector<ShaderPart> parts = sky_parts("gpu/shaders/sun_lookup.comp");
+  Program prog(parts);
+  const SkyInputs inputs(ctx, sky, false);
+  std::vector<glm::vec4> in(h_mu.size());
+  for (std::size_t i = 0; i < h_mu.size(); ++i) in[i] = glm::vec4(h_mu[i].x, h_mu[i].y, 0.0f, 0.0f);
+  Buffer b_in(in.size() * sizeof(glm::vec4), in.data()), b_out(in.size() * sizeof(glm::vec4));
+  b_in.bind(0);
+  b_out.bind(4);
+  inputs.bind();
+  inputs.set_uniforms(prog);
+  prog.set("n_lookups", static_cast<int>(in.size()));
+  check_gl("sun lookup uniforms");
+  dispatch_items(prog, in.size());  // warm-up (shader compilation on first use)
+  finish();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int k = 0; k < repeats; ++k) dispatch_items(prog, in.size());
+  finish();
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.lookups = static_cast<long>(in.size()) * repeats;
+  b_out.download(out.column.data(), out.column.size() * sizeof(glm::vec4));
+  return out;
 }
 
 atmo::SkyImage render_sky(const atmo::SkyIntegrator& sky, atmo::SkyProjection projection, int width, int height,

@@ -104,6 +104,9 @@ class Buffer {
 
 // Throws std::runtime_error naming `what` if glGetError reports an error.
 void check_gl(const char* what);
+// Blocks until every GL command issued so far has completed (glFinish): for timing
+// GPU work, whose dispatches return before they run.
+void finish();
 
 namespace detail {
 struct EmbeddedSource {

@@ -75,6 +75,26 @@ std::string sky_unsupported_reason(const atmo::SkyIntegrator& sky);
 atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, atmo::SkyProjection projection,
                           int width, int height, double altitude_m, const glm::dvec3& sun, bool keep_spectral,
                           bool gpu_tables = false);
+// Sun-table lookups on the GPU: for each origin (altitude h [m] in [0, top], cosine mu
+// of the sun's zenith angle there), the column [m] (x Rayleigh, y Mie, z ozone) to the
+// top of the atmosphere through the integrator's tables, w = 1 where the ground
+// blocks the ray (and no column). It runs sky_lib.glsl's sun_lookup, the code the sky
+// pass evaluates at each of its integration nodes (gpu/shaders/sun_lookup.comp), on
+// the same inputs, so it equals the sky pass's transmittance toward the sun;
+// OpticalDepthLut::sun(R + h, mu) is its CPU counterpart (agreement: docs/gpu.md).
+// The inputs are float, as in the sky pass. `seconds`: wall time of `repeats`
+// dispatches over all origins (after one untimed warm-up dispatch), so seconds /
+// lookups is the GPU's time per lookup. Unsupported for atmospheres
+// sky_unsupported_reason rejects; InputError for an origin out of range, repeats
+// outside [1, 1000] or more than 2^26 origins.
+struct SunLookups {
+  std::vector<glm::vec4> column;
+  double seconds = 0.0;
+  long lookups = 0;  // origins x repeats
+};
+SunLookups sun_lookups(const Context& ctx, const atmo::SkyIntegrator& sky, const std::vector<glm::vec2>& h_mu,
+                       int repeats = 1);
+
 // Creates a headless context first (throws Unavailable if none).
 atmo::SkyImage render_sky(const atmo::SkyIntegrator& sky, atmo::SkyProjection projection, int width, int height,
                           double altitude_m, const glm::dvec3& sun, bool keep_spectral);

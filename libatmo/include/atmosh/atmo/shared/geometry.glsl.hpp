@@ -48,8 +48,6 @@ using real = double;
 
 // ATMOSH_GLSL_BEGIN
 
-// 1/(4 pi), 3/(16 pi), 3/(8 pi).
-ATMOSH_FN real inv_four_pi() { return real(0.079577471545947667884); }
 
 // Squared tangent radius r^2 (1 - mu^2), computed as r^2 (1 - mu)(1 + mu).
 ATMOSH_FN real tangent_radius_sq(real r, real mu) {
@@ -115,6 +113,16 @@ ATMOSH_FN real distance_to_top_from_outside(real r, real mu, real T) {
 ATMOSH_FN real mu_horizon(real r, real R) {
   return -glm::sqrt(glm::max((r - R) * (r + R), real(0))) / r;
 }
+
+// The rest (densities, closed-form columns, phase functions) is pasted once, in
+// float: a shader may paste this block a second time after `#define real double`
+// for double overloads of the ray geometry above (gpu::sky_parts); GLSL has no
+// double exp, and the constant and struct below must not be declared twice.
+#ifndef ATMOSH_SHARED_GEOMETRY_ONCE
+#define ATMOSH_SHARED_GEOMETRY_ONCE
+
+// 1/(4 pi), 3/(16 pi), 3/(8 pi).
+ATMOSH_FN real inv_four_pi() { return real(0.079577471545947667884); }
 
 // ---- density profiles (relative density, dimensionless, of altitude h [m]) ----
 
@@ -379,6 +387,8 @@ ATMOSH_FN real phase_cornette_shanks(real cos_theta, real g) {
 ATMOSH_FN real phase_double_hg(real cos_theta, real g1, real g2, real w) {
   return w * phase_hg(cos_theta, g1) + (real(1) - w) * phase_hg(cos_theta, g2);
 }
+
+#endif  // ATMOSH_SHARED_GEOMETRY_ONCE
 
 // ATMOSH_GLSL_END
 

@@ -1,0 +1,16 @@
+// Sun-table lookups for a list of origins (gpu::sun_lookups): sky_lib.glsl's
+// sun_lookup, the code the sky pass evaluates at each of its integration nodes.
+// Input dirs[i] = (altitude [m], cosine of the sun's zenith angle, -, -); output
+// radiance[4 i + c] = column c [m] (0 Rayleigh, 1 Mie, 2 ozone) to the top of the
+// atmosphere, radiance[4 i + 3] = 1 where the ground blocks the ray. Assembled after
+// sky_lib.glsl.
+layout(local_size_x = 64) in;
+
+uniform int n_lookups;
+
+void main() {
+  int i = int(gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x);
+  if (i >= n_lookups) return;
+  vec4 c = sun_lookup(dirs[i].x, dirs[i].y);
+  for (int k = 0; k < 4; ++k) radiance[4 * i + k] = c[k];
+}
