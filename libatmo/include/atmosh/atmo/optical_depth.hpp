@@ -87,12 +87,16 @@
 // strongest profile kinks and 1000 seeded random rays): at the default 40 x 64,
 // 1.6e-5 for earth-graphics with the ozone tent, 6.2e-5 for the default scene's
 // atmosphere (the same with the top at 100 km; 1.03e-4 at 32 x 64), 3.0e-5 for
-// test-planet; 5.8e-4 for earth-physical (interpolated 206-node tabulated Rayleigh:
-// what remains is the ripple of its 500 m linear pieces, up to (dz/H)^2/8 ~ 1e-3 of
-// rho between nodes, which the smooth interpolation does not follow on rays that
-// sample few nodes: 4.7e-4 at 80 x 128; with the U.S. 1976 table every 100 m,
-// 5.8e-5 at 80 x 128, docs/atmosphere.md "Representation of U.S. 1976").
-// Build of the default 40 x 64 tables: ~20-32 ms (2-core machine).
+// test-planet; 5.9e-4 for earth-physical (interpolated 206-node tabulated Rayleigh).
+// There two terms of about equal size remain at 40 x 64: the tables' resolution of
+// U.S. 1976's smaller scale heights (horizontal rays near 86 km, rays tangent just
+// under the tropopause; a 25 m table gives 5.0e-4), and the ripple of the preset's
+// 500 m linear pieces, up to (dz/H)^2/8 ~ 1e-3 of rho between nodes, which the
+// smooth interpolation does not follow on rays that sample few nodes; at 80 x 128
+// the ripple alone is left, 4.7e-4. The U.S. 1976 table every 100 m gives 5.8e-5 at
+// 80 x 128 (docs/atmosphere.md, "Current results").
+// Build of the default 40 x 64 tables: ~30-42 ms, earth-physical 42-55 ms (2-core
+// machine).
 // Regime: the relative error holds while the atmosphere spans at most ~15 scale
 // heights of every interpolated exponential (top / H <~ 15: the logged mean densities
 // fall by top / H e-folds across S shells). Beyond, rays high in the atmosphere, whose
