@@ -64,6 +64,14 @@ atmosh::gpu::Context* context(std::string& why) {
   why = error;
   return ctx.get();
 }
+
+// The context, or nullptr after marking the benchmark skipped.
+atmosh::gpu::Context* context_or_skip(benchmark::State& st) {
+  std::string why;
+  atmosh::gpu::Context* ctx = context(why);
+  if (!ctx) st.SkipWithError(("no EGL device: " + why).c_str());
+  return ctx;
+}
 #endif
 }  // namespace
 
@@ -91,12 +99,8 @@ BENCHMARK(BM_SkyCpu)->Arg(512)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRea
 
 #ifdef ATMOSH_BENCH_GPU
 static void BM_TablesGpu(benchmark::State& st) {
-  std::string why;
-  atmosh::gpu::Context* ctx = context(why);
-  if (!ctx) {
-    st.SkipWithError(("no EGL device: " + why).c_str());
-    return;
-  }
+  atmosh::gpu::Context* ctx = context_or_skip(st);
+  if (!ctx) return;
   Scene& s = scene();
   const OpticalDepthLut lut(s.atm);  // shells and options; its tables are rebuilt on the GPU
   for (auto _ : st) {
@@ -109,12 +113,8 @@ static void BM_TablesGpu(benchmark::State& st) {
 BENCHMARK(BM_TablesGpu)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static void BM_SkyGpu(benchmark::State& st) {
-  std::string why;
-  atmosh::gpu::Context* ctx = context(why);
-  if (!ctx) {
-    st.SkipWithError(("no EGL device: " + why).c_str());
-    return;
-  }
+  atmosh::gpu::Context* ctx = context_or_skip(st);
+  if (!ctx) return;
   Scene& s = scene();
   const int w = static_cast<int>(st.range(0)), h = w / 2;
   for (auto _ : st) {
@@ -172,12 +172,8 @@ BENCHMARK(BM_SunLookupsCpu)->Unit(benchmark::kMillisecond)->UseRealTime()->Itera
 // the time of 4 dispatches over the origins, after a warm-up one (no compilation,
 // upload or read-back).
 static void BM_SunLookupsGpu(benchmark::State& st) {
-  std::string why;
-  atmosh::gpu::Context* ctx = context(why);
-  if (!ctx) {
-    st.SkipWithError(("no EGL device: " + why).c_str());
-    return;
-  }
+  atmosh::gpu::Context* ctx = context_or_skip(st);
+  if (!ctx) return;
   Scene& s = scene();
   const auto& o = lookup_origins();
   long lookups = 0;
