@@ -129,7 +129,7 @@ std::vector<ShaderPart> sky_parts(const std::string& main_shader) {
           lut,
           scatter,
           real_type_part("double"),
-          geometry,  // the ray geometry and densities again, in double
+          geometry,  // its ray geometry again, in double (the rest is pasted once)
           lut,
           scatter,
           embedded_source("libatmo/include/atmosh/atmo/shared/view_ray.glsl.hpp"),
@@ -233,24 +233,21 @@ SkyInputs::SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gp
   const int S = S_;
   std::vector<double> rho(static_cast<std::size_t>(S));
   for (int k = 0; k < S; ++k) rho[k] = std::sqrt(std::max(0.0, (radii[k] - R) * (radii[k] + R)));
-  std::vector<double> shells_d = rho;
+  // Inverse Lagrange denominators of every 4-shell window, in double and in float.
+  std::vector<double> inv_den;
   for (int w = 0; w + 3 < S; ++w)
     for (int i = 0; i < 4; ++i) {
       double d = 1.0;
       for (int j = 0; j < 4; ++j)
         if (j != i) d *= rho[w + i] - rho[w + j];
-      shells_d.push_back(1.0 / d);
+      inv_den.push_back(1.0 / d);
     }
+  std::vector<double> shells_d = rho;
+  shells_d.insert(shells_d.end(), inv_den.begin(), inv_den.end());
   std::vector<float> shells;
   for (double v : rho) shells.push_back(static_cast<float>(v));
   off_den_ = static_cast<int>(shells.size());
-  for (int w = 0; w + 3 < S; ++w)
-    for (int i = 0; i < 4; ++i) {
-      double d = 1.0;
-      for (int j = 0; j < 4; ++j)
-        if (j != i) d *= rho[w + i] - rho[w + j];
-      shells.push_back(static_cast<float>(1.0 / d));
-    }
+  for (double v : inv_den) shells.push_back(static_cast<float>(v));
   // Radii that cut the view rays (SkyIntegrator's cut_radii_), in double.
   off_cuts_ = static_cast<int>(shells_d.size());
   const int segments = sky.options().segments;

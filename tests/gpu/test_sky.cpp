@@ -11,6 +11,7 @@
 #include <random>
 
 #include "atmosh/atmo/observer.hpp"
+#include "atmosh/error.hpp"
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/sky_image.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
@@ -298,5 +299,10 @@ TEST(GpuSky, SunLookupsMatchTheCpu) {
     EXPECT_GT(compared, 2000);
     std::printf("  %s: %d sun lookups, max rel. diff Rayleigh %.3g, Mie %.3g, ozone %.3g, tau(550 nm) %.3g\n", name,
                 compared, worst[0], worst[1], worst[2], worst_tau);
+    // Origins outside [0, top] x [-1, 1] and repeat counts outside [1, 1000] are bad input.
+    const float above = static_cast<float>(top * 1.001), nan = std::nanf("");
+    for (const glm::vec2 bad : {glm::vec2(-1.0f, 0.5f), glm::vec2(above, 0.5f), glm::vec2(0.0f, 1.5f), glm::vec2(nan, 0.f)})
+      EXPECT_THROW(gpu::sun_lookups(*ctx, sky, {bad}), atmosh::InputError) << bad.x << " " << bad.y;
+    EXPECT_THROW(gpu::sun_lookups(*ctx, sky, {glm::vec2(0.0f, 0.5f)}, 0), atmosh::InputError);
   }
 }
