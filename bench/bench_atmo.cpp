@@ -10,17 +10,28 @@
 
 using namespace atmosh::atmo;
 
+// Args: preset (0 earth-graphics, 1 earth-physical), shells, directions,
+// LutOptions::threads (0: every hardware thread). Wall time (the build is threaded).
 static void BM_LutBuild(benchmark::State& st) {
-  Atmosphere atm(preset("earth-graphics"));
+  Atmosphere atm(preset(st.range(0) == 0 ? "earth-graphics" : "earth-physical"));
   LutOptions o;
-  o.shells = static_cast<int>(st.range(0));
-  o.view_directions = o.sun_directions = static_cast<int>(st.range(1));
+  o.shells = static_cast<int>(st.range(1));
+  o.view_directions = o.sun_directions = static_cast<int>(st.range(2));
+  o.threads = static_cast<int>(st.range(3));
   for (auto _ : st) {
     OpticalDepthLut lut(atm, o);
     benchmark::DoNotOptimize(lut.table_bytes());
   }
 }
-BENCHMARK(BM_LutBuild)->Args({32, 32})->Args({32, 64})->Args({64, 128})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LutBuild)
+    ->Args({0, 32, 64, 1})
+    ->Args({0, 40, 64, 1})
+    ->Args({0, 40, 64, 0})
+    ->Args({1, 40, 64, 1})
+    ->Args({1, 40, 64, 0})
+    ->Args({0, 64, 128, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // Args: preset (0 earth-graphics, 1 earth-physical), LutOptions::subtracted_kinks,
 // LutOptions::subtract_curvature.

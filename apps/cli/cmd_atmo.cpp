@@ -20,6 +20,7 @@
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/stiff_cases.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/io/csv.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
@@ -233,6 +234,7 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
                     "error_max_rel_rayleigh_mie: the same without ozone; "
                     "error_estimate_rel: the tables' own a-posteriori estimate at 550 nm "
                     "(OpticalDepthLut::estimate_max_rel_error; reference: its quadrature error estimate)");
+  prov.add("build_threads", static_cast<double>(resolve_threads(LutOptions{}.threads)));  // CPU builds: one shell each
   prov.add("machine_note", "timings depend on the machine and its load");
   return io::write_study(stem, ss, rows, prov);
 }

@@ -16,6 +16,7 @@
 #include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/sh/quadrature.hpp"
 
 namespace atmosh::atmo {
@@ -231,6 +232,8 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     throw InputError("lut gauss_points = " + std::to_string(opt_.gauss_points) + ": must be in [2, 64]");
   if (opt_.analytic_max_nodes < 0)
     throw InputError("lut analytic_max_nodes = " + std::to_string(opt_.analytic_max_nodes) + ": must be >= 0");
+  if (opt_.threads < 0 || opt_.threads > 1024)
+    throw InputError("lut threads = " + std::to_string(opt_.threads) + ": must be in [0, 1024]");
   if (opt_.subtracted_kinks < 0 || opt_.subtracted_kinks > 15)
     throw InputError("lut subtracted_kinks = " + std::to_string(opt_.subtracted_kinks) + ": must be in [0, 15]");
   auto t0 = std::chrono::steady_clock::now();
@@ -566,7 +569,10 @@ void OpticalDepthLut::fill(Table& t, int n, bool ground) {
   t.n = n;
   t.ground = ground;
   t.v.assign(static_cast<std::size_t>(S) * n * 4, 0.0);
-  for (int k = 0; k < S; ++k) {
+  // One shell per task (each writes its own rows only: the entries do not depend on
+  // the thread count); the upper shells' rays are shorter, so dynamic scheduling.
+  parallel_for(static_cast<std::size_t>(S), opt_.threads, [&](std::size_t ks) {
+    const int k = static_cast<int>(ks);
     double r = radii_[k], rho = rho_[k];
     glm::dvec3 at_r = tabulated_density(r - R_);
     for (int j = 0; j < n; ++j) {
@@ -597,7 +603,7 @@ void OpticalDepthLut::fill(Table& t, int n, bool ground) {
       dst[1] = e[1];
       dst[2] = e[2];
     }
-  }
+  });
 }
 
 double OpticalDepthLut::x_up(double r, double rho, double mu, double& d) const {

@@ -384,6 +384,39 @@ TEST(OpticalDepthLut, BadOptions) {
   EXPECT_THROW(OpticalDepthLut(atm, o), atmosh::InputError);
   o.subtracted_kinks = 16;
   EXPECT_THROW(OpticalDepthLut(atm, o), atmosh::InputError);
+  o = LutOptions{};
+  o.threads = -1;
+  EXPECT_THROW(OpticalDepthLut(atm, o), atmosh::InputError);
+  o.threads = 1025;
+  EXPECT_THROW(OpticalDepthLut(atm, o), atmosh::InputError);
+}
+
+// The build's worker threads take whole shells (each writes its own entries), so the
+// tables are the same bit for bit for any thread count: earth-physical (closed-form
+// entries of its tabulated Rayleigh, subtracted kinks, exponential Mie by quadrature).
+TEST(OpticalDepthLut, TablesDoNotDependOnTheThreadCount) {
+  Atmosphere atm(preset("earth-physical"));
+  LutOptions o;
+  o.shells = 16;
+  o.view_directions = o.sun_directions = 24;
+  o.threads = 1;
+  const OpticalDepthLut one(atm, o);
+  const double R = atm.ground_radius(), top = atm.top_altitude();
+  for (int threads : {2, 3, 7}) {
+    o.threads = threads;
+    const OpticalDepthLut many(atm, o);
+    ASSERT_EQ(many.shell_radii(), one.shell_radii());
+    for (double h : {0.0, 10.0, 5e3, 11019.0, 40e3, 0.999 * top})
+      for (double mu : {-1.0, -0.3, -0.12, -0.01, 0.0, 0.02, 0.5, 1.0}) {
+        const auto a = one.view(R + h, mu), b = many.view(R + h, mu);
+        const auto sa = one.sun(R + h, mu), sb = many.sun(R + h, mu);
+        EXPECT_EQ(a.hits_ground, b.hits_ground);
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_EQ(a.column[c], b.column[c]) << threads << " threads, h " << h << " mu " << mu;
+          EXPECT_EQ(sa.column[c], sb.column[c]) << threads << " threads, h " << h << " mu " << mu;
+        }
+      }
+  }
 }
 
 // Shell placement for a tabulated profile positive up to the top: equal steps of

@@ -95,8 +95,8 @@
 // smooth interpolation does not follow on rays that sample few nodes; at 80 x 128
 // the ripple alone is left, 4.7e-4. The U.S. 1976 table every 100 m gives 5.8e-5 at
 // 80 x 128 (docs/atmosphere.md, "Current results").
-// Build of the default 40 x 64 tables: ~30-42 ms, earth-physical 42-55 ms (2-core
-// machine).
+// Build of the default 40 x 64 tables on a 2-core machine: 17-30 ms with both cores
+// (LutOptions::threads), 29-47 ms on one (earth-physical the longest).
 // Regime: the relative error holds while the atmosphere spans at most ~15 scale
 // heights of every interpolated exponential (top / H <~ 15: the logged mean densities
 // fall by top / H e-folds across S shells). Beyond, rays high in the atmosphere, whose
@@ -262,6 +262,9 @@ struct LutOptions {
   // With the kinks' slope jumps, subtract their curvature jumps too (the quadratic
   // ramps of the header comment above).
   bool subtract_curvature = true;
+  // Worker threads of the build, one shell at a time ([0, 1024]; 0 = the hardware
+  // concurrency). The entries are the same for every count.
+  int threads = 0;
 };
 
 struct LutColumn {
