@@ -883,26 +883,31 @@ double OpticalDepthLut::estimate_max_rel_error(double wavelength_nm) const {
     return c;
   };
   const int S = static_cast<int>(radii_.size());
-  // Every other shell interval, and the lowest one: the errors of the densest
-  // constituent (aerosol, ~1 km scale height) peak there, on short rays to the ground.
-  for (int k = 0; k < S - 1; k = (k == 0 ? 1 : k + 2)) {
-    // mid-shell radius (in rho), mid-direction samples
-    double rho = 0.5 * (rho_[k] + rho_[k + 1]);
-    double r = std::sqrt(rho * rho + R_ * R_);
+  // Every shell interval at its midpoint in rho, every direction interval at its
+  // midpoint in x (where a cubic's interpolation error is near its largest), both
+  // branches; one shell interval per task (the maximum does not depend on the order).
+  std::vector<double> worst_k(static_cast<std::size_t>(S - 1), 0.0);
+  parallel_for(static_cast<std::size_t>(S - 1), opt_.threads, [&](std::size_t ks) {
+    const int k = static_cast<int>(ks);
+    double w = 0.0;
+    const double rho = 0.5 * (rho_[k] + rho_[k + 1]);
+    const double r = std::sqrt(rho * rho + R_ * R_);
     const int nd = opt_.view_tables ? opt_.view_directions : opt_.sun_directions;
-    for (int j = 0; j + 1 < nd; j += 3) {
-      double x = (j + 0.5) / (nd - 1);
-      double dmin = T_ - r, dmax = rho + Hh_, d = dmin + x * (dmax - dmin);
-      double mu = std::clamp(((T_ - r) * (T_ + r) - d * d) / (2.0 * r * d), -1.0, 1.0);
+    for (int j = 0; j + 1 < nd; ++j) {
+      const double x = (j + 0.5) / (nd - 1);
+      const double dmin = T_ - r, dmax = rho + Hh_, d = dmin + x * (dmax - dmin);
+      const double mu = std::clamp(((T_ - r) * (T_ + r) - d * d) / (2.0 * r * d), -1.0, 1.0);
       const LutColumn up = opt_.view_tables ? view(r, mu) : sun(r, mu);
-      worst = std::max(worst, rel(up.column, exact(r, mu, sg::distance_to_top(r, mu, T_))));
+      w = std::max(w, rel(up.column, exact(r, mu, sg::distance_to_top(r, mu, T_))));
       if (!opt_.view_tables) continue;
-      double dg = (r - R_) + x * (rho - (r - R_));
-      double mug = std::clamp(-(rho * rho + dg * dg) / (2.0 * r * dg), -1.0, 1.0);
+      const double dg = (r - R_) + x * (rho - (r - R_));
+      const double mug = std::clamp(-(rho * rho + dg * dg) / (2.0 * r * dg), -1.0, 1.0);
       if (sg::ray_hits_ground(r, mug, R_))
-        worst = std::max(worst, rel(view(r, mug).column, exact(r, mug, sg::distance_to_ground(r, mug, R_))));
+        w = std::max(w, rel(view(r, mug).column, exact(r, mug, sg::distance_to_ground(r, mug, R_))));
     }
-  }
+    worst_k[ks] = w;
+  });
+  for (double w : worst_k) worst = std::max(worst, w);
   // Beside the kinks of interpolated profiles, where the tables' error peaks
   // (earth-physical: the U.S. 1976 layer boundaries).
   for (const ProbeRay& p : kink_probe_rays(atm_, present_)) {

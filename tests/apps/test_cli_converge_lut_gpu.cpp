@@ -108,13 +108,13 @@ TEST(CliConvergeLutGpu, GpuRowsMatchTheCpuRowsToFloatPrecision) {
 }
 
 // error_estimate_rel, the tables' own a-posteriori estimate (samples midway between
-// shells and directions and the kink probe rays, against fresh integrals), calibrated
-// on rays the estimate does not visit: 600 random rays of another seed and, beside
-// every node of earth-physical's 206-node table, horizontal rays 30 m off it and rays
-// tangent 10 m and 30 m off it. Over 16-64 shells x 32-64 directions of the three
-// presets and the default scene it was 0.52-1.81 times their maximum (docs/atmosphere.md);
-// here, earth-physical and test-planet at 16-32 shells x 32-64 directions, it must stay
-// within 0.3-10 times. The study's CSV carries the same estimate at 550 nm.
+// shells and directions, every interval of both, and the kink probe rays, against fresh
+// integrals), calibrated on rays the estimate does not visit: 600 random rays of another
+// seed and, beside every node of earth-physical's 206-node table, horizontal rays 30 m
+// off it and rays tangent 10 m and 30 m off it. Here, earth-physical and test-planet at
+// 16-32 shells x 32-64 directions, it was 0.92-1.19 times their maximum (0.52-1.81
+// when it sampled every other shell interval and every third direction); it must stay
+// within 0.7-3 times. The study's CSV carries the same estimate at 550 nm.
 TEST(CliConvergeLut, ErrorEstimateTracksTheMeasuredError) {
   using namespace atmosh::atmo;
   for (const char* name : {"earth-physical", "test-planet"}) {
@@ -155,8 +155,8 @@ TEST(CliConvergeLut, ErrorEstimateTracksTheMeasuredError) {
                                 std::abs(optical_depth(k, lut.view(rays[i].first, rays[i].second).column) - tau[i]) / tau[i]);
         const double estimate = lut.estimate_max_rel_error(550.0);
         EXPECT_GT(measured, 0.0) << name << " " << shells << "x" << dirs;
-        EXPECT_GE(estimate, 0.3 * measured) << name << " " << shells << "x" << dirs;
-        EXPECT_LE(estimate, 10.0 * measured) << name << " " << shells << "x" << dirs;
+        EXPECT_GE(estimate, 0.7 * measured) << name << " " << shells << "x" << dirs;
+        EXPECT_LE(estimate, 3.0 * measured) << name << " " << shells << "x" << dirs;
       }
   }
   // The study reports the same estimate; its reference row, the quadrature's own.

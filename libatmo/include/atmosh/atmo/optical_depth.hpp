@@ -350,20 +350,20 @@ class OpticalDepthLut {
   double build_time_s() const { return build_time_s_; }
   std::size_t table_bytes() const;
   // Max relative error of the total optical depth at `wavelength_nm` (default, 0:
-  // the middle wavelength of the atmosphere's grid) at midpoints between table samples
-  // in the lowest and every other shell interval and on a subset of directions (view
-  // tables, or the sun table if there are none), and on the kink_probe_rays of the
-  // kinks of the interpolated profiles (a tabulated profile's nodes), against fresh
-  // build-quality integrals: an a-posteriori estimate (costs ~ a build, more with a
-  // long tabulated profile; not part of build_time_s).
+  // the middle wavelength of the atmosphere's grid) at the midpoints of every shell
+  // interval (in rho) and every direction interval (in x) of the view tables (or the
+  // sun table if there are none), and on the kink_probe_rays of the kinks of the
+  // interpolated profiles (a tabulated profile's nodes), against fresh build-quality
+  // integrals: an a-posteriori estimate (costs about a build, on the same
+  // LutOptions::threads; not part of build_time_s).
   // Sampled, not a proven bound: against the largest error measured on the rays of
-  // `atmosh converge lut` it was 0.52-1.30 times that error over 16-64 shells x 32-64
-  // directions for the three presets and the default scene's atmosphere, 0.55-1.00 at
-  // the default 40 x 64 (earth-physical ~1: its worst rays are kink probes, which the
-  // estimate visits too); on independent rays 0.52-1.81 (docs/atmosphere.md): it can
-  // be below the true maximum by ~2x. Cost: ~4 ms (earth-graphics), ~10 ms
-  // (earth-physical: 32 probed nodes x 14 rays). InputError for a
-  // negative or non-finite wavelength.
+  // `atmosh converge lut` it was 0.88-1.31 times that error over 16-64 shells x 32-128
+  // directions for the three presets and the default scene's atmosphere, 0.89-1.00 at
+  // the default 40 x 64; on independent rays 0.92-1.19 (test
+  // CliConvergeLut.ErrorEstimateTracksTheMeasuredError): it can be ~10 % below the
+  // true maximum. Cost at 40 x 64 on two threads: 13-16 ms (smooth atmospheres), 34 ms
+  // (earth-physical: its closed-form entries, 32 probed nodes x 14 rays). InputError
+  // for a negative or non-finite wavelength.
   double estimate_max_rel_error(double wavelength_nm = 0.0) const;
 
   // Replaces the stored entries of the log-encoded constituents with `log_mean`
