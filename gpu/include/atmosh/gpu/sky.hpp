@@ -12,8 +12,10 @@
 // build time. Pixel directions come from
 // atmo::sky_pixel_direction.
 //
-// Precision: float, except positions along the view ray and its cuts (double; float radii
-// would put ~0.5 m into altitudes, 4e-4 relative in a 1.2 km Mie density).
+// Precision: float, except positions along the view ray and its cuts, and the sun
+// lookups' ray geometry and table interpolation (double; float radii would put ~0.5 m
+// into altitudes, 4e-4 relative in a 1.2 km Mie density). The closed-form columns
+// (ozone, subtracted kinks) are float.
 // Agreement with the CPU (double) image: max 5.5e-5 relative in spectral
 // radiance above 1e-6 of the image maximum (measured on Mesa llvmpipe,
 // earth-physical, sun from 30 to -4 degrees; tests bound it by 1e-4; details
