@@ -178,18 +178,34 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
       esum += e * e;
       ++n;
     }
-    // Lookup timing: all rays, repeated to at least ~20 ms.
+    // Lookup timing: all rays, repeated to at least ~20 ms; the fastest of 3 such
+    // passes (the wall clock of a shared machine stalls at random).
     int reps = std::max(1, static_cast<int>(2e6 / rays.size()));
-    double sink = 0.0;
-    auto t1 = Clock::now();
-    for (int rep = 0; rep < reps; ++rep)
-      for (const auto& ray : rays) sink += lut.view(ray.r, ray.mu).column[kRayleigh];
-    double lookup_s = seconds_since(t1) / (double(reps) * rays.size());
+    double sink = 0.0, lookup_s = 0.0;
+    for (int pass = 0; pass < 3; ++pass) {
+      auto t1 = Clock::now();
+      for (int rep = 0; rep < reps; ++rep)
+        for (const auto& ray : rays) sink += lut.view(ray.r, ray.mu).column[kRayleigh];
+      const double t = seconds_since(t1) / (double(reps) * rays.size());
+      lookup_s = pass == 0 ? t : std::min(lookup_s, t);
+    }
     if (sink == -1.0) std::printf(" ");
     rows.push_back({method, std::to_string(s) + "x" + std::to_string(d), emax, std::sqrt(esum / std::max(n, 1)),
                     build_s + lookup_s * rays.size(),
                     {double(s), double(d), double(rays.size()), build_s, 1e9 * lookup_s, double(lut.table_bytes()),
                      double(mismatches), emax_smooth, lut.estimate_max_rel_error(550.0), double(subtracted_kinks(lut))}});
+  };
+  // Build time: the fastest of up to 3 builds (the tables are the same each time),
+  // fewer once the builds so far took 0.5 s.
+  auto fastest_build = [&](const LutOptions& o) {
+    OpticalDepthLut lut(atm, o);
+    double best = lut.build_time_s(), spent = best;
+    for (int i = 1; i < 3 && spent < 0.5; ++i) {
+      const OpticalDepthLut again(atm, o);
+      best = std::min(best, again.build_time_s());
+      spent += again.build_time_s();
+    }
+    return std::pair<OpticalDepthLut, double>(std::move(lut), best);
   };
   std::string used = "cpu";
   for (auto [s, d] : settings) {
@@ -197,13 +213,13 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
     o.shells = s;
     o.view_directions = d;
     o.sun_directions = d;
-    OpticalDepthLut lut(atm, o);
-    evaluate(lut, "lut", s, d, lut.build_time_s());
+    const auto [lut, build_s] = fastest_build(o);
+    evaluate(lut, "lut", s, d, build_s);
     if (subtracted_kinks(lut) > 0) {  // the same tables interpolated across those kinks
       LutOptions plain = o;
       plain.subtracted_kinks = 0;
-      const OpticalDepthLut across(atm, plain);
-      evaluate(across, "lut_plain", s, d, across.build_time_s());
+      const auto [across, across_s] = fastest_build(plain);
+      evaluate(across, "lut_plain", s, d, across_s);
     }
 #ifdef ATMOSH_HAVE_GPU
     if (ctx) {
@@ -235,6 +251,8 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
                     "error_estimate_rel: the tables' own a-posteriori estimate at 550 nm "
                     "(OpticalDepthLut::estimate_max_rel_error; reference: its quadrature error estimate)");
   prov.add("build_threads", static_cast<double>(resolve_threads(LutOptions{}.threads)));  // CPU builds: one shell each
+  prov.add("timing", "build_time_s: the fastest of up to 3 CPU builds (fewer once they took 0.5 s); "
+                     "lookup_time_ns: the fastest of 3 passes over all rays");
   prov.add("machine_note", "timings depend on the machine and its load");
   return io::write_study(stem, ss, rows, prov);
 }
