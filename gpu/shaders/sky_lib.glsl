@@ -35,8 +35,8 @@ uniform float scale_height[3];     // exponential constituents
 uniform int phase_model[2];        // 0 Rayleigh, 1 HG, 2 Cornette-Shanks, 3 double HG
 uniform float phase_p[8];          // per scattering constituent: g / depolarisation, g2, weight, unused
 uniform float ext_max[3];
-uniform float ground_radius, top_radius, horizon_rho;  // R, T, sqrt(T^2 - R^2)
-uniform double ground_radius_d, top_radius_d, observer_radius_d, horizon_rho_d;
+uniform float ground_radius, top_radius;  // R, T
+uniform double ground_radius_d, top_radius_d, observer_radius_d, horizon_rho_d;  // horizon_rho_d = sqrt(T^2 - R^2)
 uniform vec3 sun_dir;
 uniform float max_piece_optical_depth;
 uniform float irradiance_scale;    // 1 / d_AU^2

@@ -340,7 +340,6 @@ void SkyInputs::set_uniforms(const Program& prog) const {
   }
   prog.set("ground_radius", static_cast<float>(R));
   prog.set("top_radius", static_cast<float>(T));
-  prog.set("horizon_rho", static_cast<float>(std::sqrt((T - R) * (T + R))));
   prog.set_double("horizon_rho_d", std::sqrt((T - R) * (T + R)));
   prog.set_double("ground_radius_d", R);
   prog.set_double("top_radius_d", T);

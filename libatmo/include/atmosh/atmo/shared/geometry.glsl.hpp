@@ -48,7 +48,6 @@ using real = double;
 
 // ATMOSH_GLSL_BEGIN
 
-
 // Squared tangent radius r^2 (1 - mu^2), computed as r^2 (1 - mu)(1 + mu).
 ATMOSH_FN real tangent_radius_sq(real r, real mu) {
   return glm::max(r * r * ((real(1) - mu) * (real(1) + mu)), real(0));
