@@ -173,10 +173,69 @@ TEST(CliConvergeLut, ErrorEstimateTracksTheMeasuredError) {
   EXPECT_EQ(find_row(rows, "lut_plain", "16x32"), nullptr);
   const auto* ref = find_row(rows, "reference", "adaptive G7-K15 (estimated error)");
   ASSERT_NE(ref, nullptr);
-  EXPECT_EQ(num(*ref, "error_estimate_rel"), num(*ref, "error_max_rel"));
-  // The reference's own estimated errors: an rms below the maximum.
-  EXPECT_GT(num(*ref, "error_rms_rel"), 0.0);
+  // The reference's row reports its estimated error: below the reference's tolerance
+  // (ReferenceOptions::rel_tol 1e-12, with room for the estimate's own looseness), an
+  // rms below the maximum.
+  EXPECT_GT(num(*ref, "error_max_rel"), 0.0);
+  EXPECT_LT(num(*ref, "error_max_rel"), 1e-9);
   EXPECT_LT(num(*ref, "error_rms_rel"), num(*ref, "error_max_rel"));
+  // What that estimate stands for, measured: the reference's optical depth against an
+  // independent quadrature written here (composite 8-point Gauss-Legendre, 3000 panels,
+  // split where the ray crosses a kink of a profile) on test-planet rays of every kind,
+  // grazing ones included. Its error stays within its own estimate (plus 1e-13 of
+  // rounding in the comparison) and within the row's reported maximum's order.
+  const auto k = tp.coefficients_at(550.0);
+  const OpticalDepthReference exact(tp);
+  const double R = tp.ground_radius(), T = tp.top_radius();
+  static const double gx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+                               0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+  static const double gw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
+                               0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+  auto independent_tau = [&](double r, double mu) {
+    // Length inside the atmosphere (to the top or to the ground).
+    const double disc_top = r * r * (mu * mu - 1.0) + T * T, disc_g = r * r * (mu * mu - 1.0) + R * R;
+    double s_end = -r * mu + std::sqrt(std::max(0.0, disc_top));
+    if (mu < 0.0 && disc_g >= 0.0) s_end = -r * mu - std::sqrt(disc_g);
+    std::vector<double> cuts = {0.0, s_end};
+    for (int c = 0; c < 3; ++c)
+      if (tp.has(c))
+        for (double hk : tp.profile(c).kinks()) {
+          const double rk = R + hk, d = r * r * (mu * mu - 1.0) + rk * rk;
+          if (d < 0.0) continue;
+          for (double sk : {-r * mu - std::sqrt(d), -r * mu + std::sqrt(d)})
+            if (sk > 0.0 && sk < s_end) cuts.push_back(sk);
+        }
+    std::sort(cuts.begin(), cuts.end());
+    double tau = 0.0;
+    for (std::size_t p = 0; p + 1 < cuts.size(); ++p) {
+      const int panels = 3000;
+      const double a = cuts[p], h = (cuts[p + 1] - cuts[p]) / panels;
+      for (int q = 0; q < panels; ++q)
+        for (int g = 0; g < 8; ++g) {
+          const double sn = a + h * (q + 0.5 + 0.5 * gx[g]);
+          const double alt = std::sqrt(r * r + sn * sn + 2.0 * r * mu * sn) - R;
+          double ext = 0.0;
+          for (int c = 0; c < 3; ++c)
+            if (tp.has(c)) ext += k.extinction[c] * tp.profile(c)(alt);
+          tau += 0.5 * h * gw[g] * ext;
+        }
+    }
+    return tau;
+  };
+  std::mt19937_64 rng(11);
+  auto uniform = [&rng] { return static_cast<double>(rng() >> 11) * 0x1p-53; };
+  double worst = 0.0;
+  for (int i = 0; i < 40; ++i) {
+    const double r = R + (T - R) * uniform() * uniform();
+    const double mu = i % 4 == 0 ? 0.02 * (uniform() - 0.5) : 2.0 * uniform() - 1.0;
+    const auto col = exact.column(r, mu);
+    const double a = optical_depth(k, col.column), b = independent_tau(r, mu);
+    ASSERT_GT(b, 0.0);
+    const double err = std::fabs(a - b) / b;
+    EXPECT_LE(err, optical_depth(k, col.error) / b + 1e-13) << "r " << r << " mu " << mu;
+    worst = std::max(worst, err);
+  }
+  EXPECT_LT(worst, 1e-11);
 }
 
 // The study's maximum covers the rays where the tables do worst: those near the kinks
