@@ -68,16 +68,21 @@ std::vector<std::vector<double>> read_light_csv(const std::string& file, int ban
   return light;
 }
 
+// Writes STEM.exr, STEM.png (tone-mapped) and STEM.png.json (the tone mapping, as for
+// sky images).
 std::vector<fs::path> write_image(const fs::path& stem, const std::vector<std::vector<float>>& img, int w, int h,
-                                  double exposure, const io::Provenance& prov, const std::string& what) {
+                                  double exposure, const std::string& exposure_rule, const io::Provenance& prov,
+                                  const std::string& what) {
   io::ExrImage ex(w, h, {"R", "G", "B"});
   for (int c = 0; c < 3; ++c) ex.data[c] = img[std::min<std::size_t>(c, img.size() - 1)];
   ex.string_attributes["atmosh:quantity"] = what;
   ex.string_attributes["atmosh:units"] = "units of the light (exit radiance = transfer . light)";
   const fs::path exr = stem.string() + ".exr", png = stem.string() + ".png";
   io::write_exr(exr, ex, prov);
-  io::write_tonemapped_png(png, w, h, ex.data[0], ex.data[1], ex.data[2], exposure);
-  return {exr, png};
+  io::write_tonemapped_png(png, w, h, ex.data[0], ex.data[1], ex.data[2], exposure, "reinhard");
+  const fs::path side = io::write_tone_map_side_file(png, "reinhard v/(1+v) on linear RGB, then the sRGB transfer curve",
+                                                     exposure, exposure_rule, exr.filename().string());
+  return {exr, png, side};
 }
 
 struct RelightOptions {
@@ -129,7 +134,9 @@ std::vector<fs::path> write_frames(const std::vector<std::vector<std::vector<dou
     if (exposure <= 0) exposure = auto_exposure(img[0]);  // fixed by the first frame
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04zu", f);
-    auto wr = write_image(dir / name, img, w, h, exposure, prov, "relit exit radiance");
+    const std::string rule = o.exposure > 0 ? "given (--exposure)"
+                                            : "1 / (99th percentile of the first channel of frame 0), every frame";
+    auto wr = write_image(dir / name, img, w, h, exposure, rule, prov, "relit exit radiance");
     written.insert(written.end(), wr.begin(), wr.end());
   }
   return written;
@@ -151,7 +158,8 @@ std::vector<fs::path> relight_to(const prt::Transfer& t, const RelightOptions& o
     for (std::size_t v = 0; v < ao.size(); ++v)
       ao[v][0] = t.mesh.albedo[v] > 0 ? sh::prt::ambient_occlusion(t.at(v)[0], t.mesh.albedo[v]) : t.ao[v];
     const auto img = prt::render_vertex_values(scene, t.mesh, ao, o.width, o.height, view);
-    auto w = write_image(dir / "ao", img, o.width, o.height, 1.0, prov, "ambient occlusion from SH band 0");
+    auto w = write_image(dir / "ao", img, o.width, o.height, 1.0, "1 (occlusion is in [0, 1])", prov,
+                         "ambient occlusion from SH band 0");
     written.insert(written.end(), w.begin(), w.end());
   }
   auto render = [&](const std::vector<std::vector<double>>& light) {
@@ -189,7 +197,7 @@ std::vector<fs::path> relight_pixels_to(const fs::path& file, const RelightOptio
   prov.add("transfer_bands", std::to_string(bands)).add("transfer_file", file.string());
   std::vector<fs::path> written =
       write_image(dir / "ao", {ex.data[static_cast<std::size_t>(ao_it - ex.channels.begin())]}, ex.width, ex.height,
-                  1.0, prov, "ambient occlusion (cosine-weighted visible fraction)");
+                  1.0, "1 (occlusion is in [0, 1])", prov, "ambient occlusion (cosine-weighted visible fraction)");
   auto render = [&](const std::vector<std::vector<double>>& light) {
     std::vector<std::vector<float>> img(light.size(), std::vector<float>(np, 0.0f));
     for (std::size_t c = 0; c < light.size(); ++c)

@@ -31,6 +31,7 @@ struct CoeffFile {
   int bands = 0;
   std::vector<std::string> names;  // channel column names
   Channels ch;
+  std::string value_units;  // units of the projected values (provenance value_units), if stated
 };
 
 void write_coeffs(const std::filesystem::path& file, const CoeffFile& cf, io::Provenance prov) {
@@ -59,6 +60,7 @@ CoeffFile read_coeffs(const std::string& file) {
       chan.push_back(c);
     }
   if (chan.empty()) throw InputError(file + ": no coefficient columns besides l, m, index");
+  if (auto u = d.provenance.find("value_units"); u != d.provenance.end()) cf.value_units = u->second;
   const std::size_t n = d.rows.size();
   const int L = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
   if (n == 0 || static_cast<std::size_t>(L) * L != n)
@@ -230,7 +232,8 @@ std::vector<std::filesystem::path> run_converge(const LoadedImage& li, int bands
     }
   }
   io::StudySpec spec;
-  spec.title = "SH projection of " + source + " (" + std::to_string(bands) + " bands): error vs run time";
+  // The input file by name: its folder is the run's business (it is in the provenance).
+  spec.title = "SH projection of " + std::filesystem::path(source).filename().string() + " (" + std::to_string(bands) + " bands): error vs run time";
   spec.extra_columns = {"samples"};
   io::Provenance prov = io::Provenance::current();
   prov.add("input", source).add("sh_bands", std::to_string(bands)).add("seed", std::to_string(seed));
@@ -258,21 +261,11 @@ void write_band_files(const CoeffFile& cf, const std::filesystem::path& csv, con
   }
   t.write(csv, prov);
   if (!png.empty()) {
-    io::PlotSpec spec;
-    spec.title = "SH band energy (power per band, rotation invariant)";
-    spec.x_label = "band l";
-    spec.y_label = "energy sum_m c_lm^2 [units^2 sr^2]";
-    spec.log_y = true;
-    for (std::size_t c = 0; c < cf.ch.size(); ++c) {
-      io::Series s;
-      s.label = cf.names[c];
-      for (int l = 0; l < cf.bands; ++l)
-        if (e[c][l] > 0) {
-          s.x.push_back(l);
-          s.y.push_back(e[c][l]);
-        }
-      spec.series.push_back(s);
-    }
+    // The coefficients carry the input's units times sr; the input's units are those
+    // the coefficient file states (provenance value_units), else unnamed.
+    const std::string units = cf.value_units.empty() ? "input units" : cf.value_units;
+    const io::PlotSpec spec =
+        io::band_energy_plot_spec("SH band energy (power per band, rotation invariant)", cf.names, e, units);
     io::write_plot_png(png, spec);
   }
 }
@@ -444,12 +437,13 @@ void demo_sh(DemoContext& ctx) {
     }
   io::Provenance prov = io::Provenance::current();
   prov.add("content", "synthetic sky: gradient + vMF sun lobe (kappa 400) at elevation 30 deg, azimuth 40 deg from +x");
+  prov.add("value_units", "arbitrary radiance units");
   const fs::path exr = ctx.out_dir / "sh_sky_input.exr";
   io::write_exr(exr, img, prov);
   ctx.written.push_back(exr);
 
   const LoadedImage li = load_image(exr.string(), "equirect");
-  CoeffFile cf{bands, li.names, sh::project_equirect(li.view(), bands)};
+  CoeffFile cf{bands, li.names, sh::project_equirect(li.view(), bands), "arbitrary radiance units"};
   const fs::path coeffs = ctx.out_dir / "sh_coeffs.csv";
   write_coeffs(coeffs, cf, prov);
   ctx.written.push_back(coeffs);

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "atmosh/atmo/observer.hpp"
+#include "atmosh/atmo/sun_disc.hpp"
 #include "atmosh/atmo/sun_series.hpp"
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
@@ -33,12 +34,14 @@ using namespace atmosh::atmo;
 struct QualityOptions {
   int shells = 32, segments = 16, samples = 2, threads = 0;
   double max_piece_tau = SkyOptions{}.max_piece_optical_depth;
-  SkyOptions sky() const {
+  std::string sun_model;  // --sun-model: disc | point; empty: the scene's sun_model
+  SkyOptions sky(const scene::Scene& s) const {
     SkyOptions o;
     o.lut.shells = shells;
     o.segments = segments;
     o.samples_per_segment = samples;
     o.max_piece_optical_depth = max_piece_tau;
+    o.sun_model = parse_sun_model(sun_model.empty() ? s.sun_model : sun_model);
     return o;
   }
 };
@@ -52,6 +55,9 @@ void add_quality_options(CLI::App* c, QualityOptions& q) {
                 "see atmosh converge sky)")
       ->capture_default_str();
   c->add_option("--threads", q.threads, "Worker threads (0 = all cores)")->capture_default_str();
+  c->add_option("--sun-model", q.sun_model,
+                "disc (limb-darkened solar disc: direct beam, sun colour, the sun in images) or point; "
+                "default: the scene's sun_model (disc)");
 }
 
 scene::Scene load_or_default(const std::string& file) {
@@ -59,6 +65,13 @@ scene::Scene load_or_default(const std::string& file) {
 }
 
 nlohmann::json rgb_json(const Rgb& c) { return nlohmann::json::array({c.r, c.g, c.b}); }
+
+// A chromaticity for JSON: [x, y], or null when the colour has none.
+nlohmann::json xy_json(const Xyz& c) {
+  const Chromaticity q = xy_chromaticity_or_nan(c);
+  if (std::isnan(q.x)) return nlohmann::json(nullptr);
+  return nlohmann::json::array({q.x, q.y});
+}
 
 // ---------------------------------------------------------------- atmosh sky
 struct SkyCmd {
@@ -99,6 +112,7 @@ SkyImage render_sky_on(const std::string& device, const SkyIntegrator& sky, SkyP
     try {
       SkyImage img = gpu::render_sky(sky, proj, width, height, altitude_m, sun, spectral);
       used = "gpu";
+      add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (CPU; a few pixels)
       return img;
     } catch (const gpu::Unavailable& e) {
       if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
@@ -112,7 +126,9 @@ SkyImage render_sky_on(const std::string& device, const SkyIntegrator& sky, SkyP
     std::cerr << "atmosh: built without GPU support; rendering on the CPU\n";
 #endif
   }
-  return render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
+  SkyImage img = render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
+  add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (SkyOptions::sun_model)
+  return img;
 }
 
 namespace {
@@ -123,7 +139,7 @@ void run_sky(const SkyCmd& c) {
   const SunPlacement sun = resolve_sun(c, s);
   const auto proj = parse_sky_projection(c.projection);
   const auto size = parse_size(c.size, "--size");
-  const auto model = make_sky_model(s, c.q.sky(), sun.distance_au);
+  const auto model = make_sky_model(s, c.q.sky(s), sun.distance_au);
   const double h = std::max(sun.observer_height_m, 0.0);
   std::string used;
   const SkyImage img = render_sky_on(c.device, *model->sky, proj, size[0], size[1], h, sun.direction(), c.spectral,
@@ -139,7 +155,7 @@ void run_sky(const SkyCmd& c) {
                         {"sun_azimuth_deg", sun.azimuth_deg},
                         {"zenith_luminance_cd_m2", sm.zenith.xyz.Y},
                         {"zenith_srgb", rgb_json(sm.zenith.srgb)},
-                        {"zenith_xy", {xy_chromaticity(sm.zenith.xyz).x, xy_chromaticity(sm.zenith.xyz).y}},
+                        {"zenith_xy", xy_json(sm.zenith.xyz)},
                         {"horizon_srgb", rgb_json(sm.horizon_toward_sun.srgb)},
                         {"horizon_luminance_cd_m2", sm.horizon_toward_sun.xyz.Y},
                         {"horizon_away_srgb", rgb_json(sm.horizon_away.srgb)},
@@ -166,11 +182,8 @@ const std::vector<std::string> kStudyColumns = {
     "sun_direct_normal_illuminance_lux", "sun_transmittance_550nm"};
 
 // Chromaticity of a colour, NaN (not the white point) when it is black: the sky in
-// the Earth's shadow has no colour to report.
-Chromaticity chromaticity_or_nan(const Xyz& c) {
-  if (!(c.X + c.Y + c.Z > 0)) return {std::nan(""), std::nan("")};
-  return xy_chromaticity(c);
-}
+// the Earth's shadow has no colour to report (JSON: null).
+Chromaticity chromaticity_or_nan(const Xyz& c) { return xy_chromaticity_or_nan(c); }
 
 std::vector<double> study_values(const SkySummary& m) {
   const auto z = chromaticity_or_nan(m.zenith.xyz), hs = chromaticity_or_nan(m.horizon_toward_sun.xyz),
@@ -211,7 +224,7 @@ void study_plots(const fs::path& dir, const std::string& xname, const std::strin
   for (const auto& r : rows) {
     qa.y.push_back(chromaticity_or_nan(r.zenith.xyz).x);
     qb.y.push_back(chromaticity_or_nan(r.horizon_toward_sun.xyz).x);
-    qc.y.push_back(r.sun_transmitted.Y > 0 ? r.sun_chromaticity.x : std::nan(""));
+    qc.y.push_back(r.sun_chromaticity.x);
   }
   q.series = {qa, qb, qc};
   io::write_plot_png(dir / "chromaticity.png", q);
@@ -233,7 +246,7 @@ std::vector<fs::path> run_elevation_study(const ElevationStudy& o, const scene::
   if (!(o.step > 0)) throw InputError("--step " + io::format_double(o.step) + " must be > 0");
   if (o.to < o.from) throw InputError("--to " + io::format_double(o.to) + " is below --from");
   const auto s = given ? *given : load_or_default(o.scene_file);
-  const auto model = make_sky_model(s, o.q.sky(), 1.0);
+  const auto model = make_sky_model(s, o.q.sky(s), 1.0);
   const double h = s.observer ? std::max(s.observer->height_m, 0.0) : 0.0;
   std::vector<double> elev;
   for (double e = o.from; e <= o.to + 1e-9; e += o.step) elev.push_back(e);
@@ -255,7 +268,8 @@ std::vector<fs::path> run_elevation_study(const ElevationStudy& o, const scene::
   }
   SunPlacement sun;
   sun.azimuth_deg = o.azimuth;
-  sun.elevation_deg = std::nan("");
+  sun.elevation_deg = std::nan("");  // varied: the column sun_elevation_deg
+  sun.observer_height_m = h;         // the scene's observer (0 for a scene with [sun] only)
   auto prov = sky_provenance(*model, sun);
   prov.add("study", "sun elevation from " + io::format_double(o.from) + " to " + io::format_double(o.to) + " step " +
                         io::format_double(o.step) + " deg");
@@ -290,7 +304,7 @@ std::vector<fs::path> run_day_study(const DayStudy& o) {
   base.height_m = require_range(o.height, -500, 1e8, "--height");
   const auto series = sun_series(base, jd0, jd0 + 1.0 - 1e-9, step_s, 100000);
   const auto s = load_or_default(o.scene_file);
-  const auto model = make_sky_model(s, o.q.sky(), 1.0);
+  const auto model = make_sky_model(s, o.q.sky(s), 1.0);
   const double h = std::max(o.height, 0.0);
   const fs::path dir = o.output;
   std::vector<std::string> cols = {"time_utc", "sun_elevation_deg", "sun_azimuth_deg", "apparent_sun_elevation_deg"};
@@ -325,7 +339,8 @@ std::vector<fs::path> run_day_study(const DayStudy& o) {
       sp.azimuth_deg = smp.position.azimuth_deg;
       sp.distance_au = d2;
       sp.observer_height_m = h;
-      const SkyImage img = render_sky(*model->sky, SkyProjection::Equirect, fsize[0], fsize[1], h, sun, false, o.q.threads);
+      SkyImage img = render_sky(*model->sky, SkyProjection::Equirect, fsize[0], fsize[1], h, sun, false, o.q.threads);
+      add_sun_disc(img, *model->sky, SkyProjection::Equirect, h, sun);
       SkyImage scaled = img;
       const float f = static_cast<float>(1.0 / (d2 * d2));
       for (auto* c : {&scaled.R, &scaled.G, &scaled.B, &scaled.X, &scaled.Y, &scaled.Z})
@@ -340,7 +355,10 @@ std::vector<fs::path> run_day_study(const DayStudy& o) {
     }
   }
   SunPlacement sp;
-  sp.elevation_deg = std::nan("");
+  sp.elevation_deg = std::nan("");  // varied with the time: columns of the file
+  sp.azimuth_deg = std::nan("");
+  sp.distance_au = std::nan("");
+  sp.observer_height_m = h;
   auto prov = sky_provenance(*model, sp);
   prov.add("latitude_deg", base.latitude_deg).add("longitude_deg", base.longitude_deg).add("height_m", base.height_m);
   prov.add("date_utc", o.date).add("step", o.step);
@@ -354,7 +372,7 @@ std::vector<fs::path> run_day_study(const DayStudy& o) {
 // ------------------------------------------------------------------ sweep
 scene::SweepOutputs sweep_point(const scene::Scene& s, const QualityOptions& q) {
   const SunPlacement sun = sun_of_scene(s);
-  const auto m = make_sky_model(s, q.sky(), sun.distance_au);
+  const auto m = make_sky_model(s, q.sky(s), sun.distance_au);
   const SkySummary sm = summarize_sky(*m->sky, std::max(sun.observer_height_m, 0.0), sun.direction());
   scene::SweepOutputs out = {{"sun_elevation_deg", sun.elevation_deg}, {"sun_azimuth_deg", sun.azimuth_deg}};
   const auto v = study_values(sm);
@@ -618,6 +636,7 @@ std::vector<fs::path> write_sky_sh(const SkyModel& model, const SunPlacement& su
   prov.add("sh", "real orthonormal SH with Condon-Shortley phase, index l(l+1)+m, " + std::to_string(bands) + " bands");
   prov.add("sh_frame", "x = east, y = north, z = up (observer's ENU); phi from east towards north");
   prov.add("sh_units", "coefficients of linear sRGB radiance (Y in cd/m^2) times sr");
+  prov.add("value_units", "cd/m^2");
   prov.add("sh_projection", "Gauss-Legendre grid " + std::to_string(grid.nlat) + " x " + std::to_string(grid.nphi));
   t.write(csv, prov);
   // Band energy (rotation-invariant power per band) of the luminance-like green channel and all three.
@@ -628,23 +647,11 @@ std::vector<fs::path> write_sky_sh(const SkyModel& model, const SunPlacement& su
   std::vector<std::vector<double>> e;
   for (const auto& c : coeffs) e.push_back(sh::band_energy(c, bands));
   const auto cum = sh::cumulative_energy_fraction(e[1]);
-  io::PlotSpec p;
-  p.title = "Band energy of the sky's SH (linear sRGB channels)";
-  p.x_label = "band l";
-  p.y_label = "energy sum_m c_lm^2 [(cd/m^2 sr)^2]";
-  p.log_y = true;
-  const char* names[] = {"red", "green", "blue"};
+  // Coefficients of linear sRGB radiance on the luminance scale (cd/m^2) times sr.
+  io::PlotSpec p = io::band_energy_plot_spec("Band energy of the sky's SH (linear sRGB channels)",
+                                             {"red", "green", "blue"}, e, "cd/m^2");
   const std::array<double, 3> cols[] = {{0.85, 0.2, 0.2}, {0.2, 0.65, 0.2}, {0.2, 0.3, 0.85}};
-  for (int c = 0; c < 3; ++c) {
-    io::Series sr;
-    sr.label = names[c];
-    sr.color = cols[c];
-    for (int l = 0; l < bands; ++l) {
-      sr.x.push_back(l);
-      sr.y.push_back(e[static_cast<std::size_t>(c)][static_cast<std::size_t>(l)]);
-    }
-    p.series.push_back(sr);
-  }
+  for (int c = 0; c < 3; ++c) p.series[static_cast<std::size_t>(c)].color = cols[c];
   for (int l = 0; l < bands; ++l) {
     const auto L = static_cast<std::size_t>(l);
     bt.add_row({std::int64_t{l}, e[0][L], e[1][L], e[2][L], cum[L]});
@@ -662,7 +669,7 @@ void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vect
   auto need_sky = [&]() -> const SkyModel& {
     if (!model) {
       sun = sun_of_scene(s);
-      model = make_sky_model(s, QualityOptions{}.sky(), sun->distance_au);
+      model = make_sky_model(s, QualityOptions{}.sky(s), sun->distance_au);
     }
     return *model;
   };
@@ -684,6 +691,9 @@ void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vect
       write_sky_image(img, file, png, prov, out.projection, *sun);
       written.push_back(file);
       written.push_back(png);
+      fs::path side = png;
+      side += ".json";  // the tone mapping (write_sky_image)
+      written.push_back(side);
     } else if (out.kind == "sh-coefficients") {
       const SkyModel& m = need_sky();
       for (const auto& f : write_sky_sh(m, *sun, out.bands > 0 ? out.bands : 3, file)) written.push_back(f);

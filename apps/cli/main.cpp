@@ -1,10 +1,13 @@
 // atmosh — command line entry point. Maps errors to exit codes:
 // 0 success, 2 bad input (one line naming the value), 1 other failure.
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
 
 #include "atmosh/error.hpp"
+#include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
 #include "cli_common.hpp"
 
@@ -17,6 +20,9 @@ std::string first_line(std::string s) {
 
 int main(int argc, char** argv) {
   atmosh::io::set_command_line(argc, argv);
+  // ATMOSH_PLOT_DATA=1: every plot also writes <name>.png.plot.json (docs/outputs.md).
+  if (const char* v = std::getenv("ATMOSH_PLOT_DATA"); v != nullptr && std::strcmp(v, "1") == 0)
+    atmosh::io::set_plot_data_files(true);
   CLI::App app{
       "atmosh — physically based sky colour and spherical-harmonic analysis, with error bars and run times.\n"
       "Single scattering after Nishita 1993 with exact references, NREL SPA sun positions, SH of any band.\n"

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "atmosh/atmo/observer.hpp"
+#include "atmosh/atmo/sun_disc.hpp"
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
@@ -72,15 +73,30 @@ io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun) {
   const auto& a = m.scene.atmosphere;
   p.add("constituents", std::string(a.rayleigh ? "rayleigh " : "") + (a.mie ? "mie " : "") + (a.ozone ? "ozone" : ""));
   p.add("wavelengths", static_cast<double>(m.atmosphere->wavelengths_nm().size()));
-  p.add("sun_elevation_deg", sun.elevation_deg);
-  p.add("sun_azimuth_deg", sun.azimuth_deg);
-  p.add("earth_sun_distance_au", sun.distance_au);
+  // NaN marks what a study varies: it is a column of the file, not one value.
+  auto add_or_varied = [&p](const std::string& key, double v) {
+    if (std::isnan(v))
+      p.add(key, "varied by the study (column " + key + ")");
+    else
+      p.add(key, v);
+  };
+  add_or_varied("sun_elevation_deg", sun.elevation_deg);
+  add_or_varied("sun_azimuth_deg", sun.azimuth_deg);
+  if (std::isnan(sun.distance_au))
+    p.add("earth_sun_distance_au", "varied with the time (radiances scaled by 1/d^2 per row)");
+  else
+    p.add("earth_sun_distance_au", sun.distance_au);
   p.add("observer_height_m", sun.observer_height_m);
   const auto& o = m.sky->options();
   p.add("lut_shells", static_cast<double>(o.lut.shells));
   p.add("view_segments", static_cast<double>(o.segments));
   p.add("samples_per_segment", static_cast<double>(o.samples_per_segment));
   p.add("max_piece_optical_depth", o.max_piece_optical_depth);
+  if (o.sun_model == atmo::SunModel::Disc)
+    p.add("sun_model", "disc: radius from the Earth-Sun distance (R_sun 695700 km), limb darkening mu^alpha "
+                       "(Hestroffer & Magnan 1998); direct beam averaged over the visible disc");
+  else
+    p.add("sun_model", "point (direct beam along the disc centre; no disc in images)");
   p.add("solar_spectrum", "ASTM G173-03 extraterrestrial, averaged over each wavelength bin");
   p.add("colour", "CIE 1931 2-degree CMF, 683 lm/W, linear sRGB (D65)");
   return p;
@@ -131,15 +147,8 @@ double write_sky_image(const atmo::SkyImage& img, const std::filesystem::path& e
       exposure = ys[k] > 0 ? 2.0 / ys[k] : 1.0;
     }
     io::write_tonemapped_png(png, img.width, img.height, img.R, img.G, img.B, exposure, "reinhard");
-    std::ostringstream js;
-    js.precision(17);
-    js << "{\n  \"tone_map\": \"reinhard v/(1+v) on linear sRGB, then the sRGB transfer curve\",\n"
-       << "  \"exposure\": " << exposure << ",\n"
-       << "  \"exposure_rule\": \"2 / (95th percentile of luminance Y in cd/m^2)\",\n"
-       << "  \"source\": \"" << exr.filename().string() << "\"\n}\n";
-    std::filesystem::path side = png;
-    side += ".json";
-    io::write_text_atomically(side, js.str());
+    io::write_tone_map_side_file(png, "reinhard v/(1+v) on linear sRGB, then the sRGB transfer curve", exposure,
+                                 "2 / (95th percentile of luminance Y in cd/m^2)", exr.filename().string());
   }
   return exposure;
 }

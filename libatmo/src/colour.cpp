@@ -673,6 +673,12 @@ Chromaticity xy_chromaticity(const Xyz& xyz) {
   return {xyz.X / s, xyz.Y / s};
 }
 
+Chromaticity xy_chromaticity_or_nan(const Xyz& xyz) {
+  const double s = xyz.X + xyz.Y + xyz.Z;
+  if (!(s > 0.0) || !std::isfinite(s)) return {std::nan(""), std::nan("")};
+  return {xyz.X / s, xyz.Y / s};
+}
+
 const Matrix3& xyz_from_srgb_matrix() {
   static const Matrix3 m =
       rgb_to_xyz_from_chromaticities(kSrgbRed, kSrgbGreen, kSrgbBlue, kD65White);

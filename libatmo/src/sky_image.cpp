@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "atmosh/atmo/observer.hpp"
+#include "atmosh/atmo/sun_disc.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/parallel.hpp"
 
@@ -142,12 +143,13 @@ SkySummary summarize_sky(const SkyIntegrator& sky, double altitude_m, const glm:
   s.horizon_toward_sun =
       sky_colour(sky, cmf, altitude_m, sun_direction_enu(90.0 - horizon_elevation_deg, sun_az), sun);
   s.horizon_away = sky_colour(sky, cmf, altitude_m, sun_direction_enu(90.0 - horizon_elevation_deg, sun_az + 180.0), sun);
-  const auto t = sky.sun_transmittance(altitude_m, sun);
+  // The direct beam of the sky's sun model: averaged over the disc, or the centre's.
+  const auto t = direct_sun_transmittance(sky, altitude_m, sun);
   std::vector<double> e(t.size());
   const double d2 = sky.options().sun_distance_au * sky.options().sun_distance_au;
   for (std::size_t i = 0; i < t.size(); ++i) e[i] = sky.solar()[i] / d2 * t[i];
   s.sun_transmitted = cmf(e);
-  s.sun_chromaticity = xy_chromaticity(s.sun_transmitted);
+  s.sun_chromaticity = xy_chromaticity_or_nan(s.sun_transmitted);
   const auto& wl = sky.atmosphere().wavelengths_nm();
   std::size_t best = 0;
   for (std::size_t i = 1; i < wl.size(); ++i)

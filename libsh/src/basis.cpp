@@ -25,10 +25,15 @@ void check_bands(int bands, const char* where, int max_bands) {
 glm::dvec3 checked_direction(const glm::dvec3& d, const char* where) {
   if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
     throw InputError(std::string(where) + ": direction has a NaN or infinite component");
-  const double n = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-  if (!(n > 0.0) || !std::isfinite(n))
-    throw InputError(std::string(where) + ": direction (0,0,0) has no length");
-  return d / n;
+  const double n2 = d.x * d.x + d.y * d.y + d.z * d.z;
+  if (std::isfinite(n2) && n2 > 1e-280) return d / std::sqrt(n2);
+  // Squares near the largest double (1e308) overflow and those below ~1e-154 underflow,
+  // which turned valid directions into "(0,0,0)" or NaN: scale by the largest component
+  // first. (Ordinary directions keep the plain form above, bit for bit.)
+  const double m = std::max({std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)});
+  if (!(m > 0.0)) throw InputError(std::string(where) + ": direction (0,0,0) has no length");
+  const glm::dvec3 s = d / m;
+  return s / std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
 }
 
 LegendreTable::LegendreTable(int bands) : bands_(bands) {

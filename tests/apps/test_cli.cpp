@@ -5,14 +5,21 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <regex>
+#include <vector>
 
 #include "atmosh/io/csv.hpp"
 #include "atmosh/io/exr.hpp"
+#include "docs_check.hpp"
 #include "run_cli.hpp"
 
 using atmosh::test::count_lines;
 using atmosh::test::run_cli;
+using atmosh::test::slurp;
 namespace fs = std::filesystem;
 
 TEST(Cli, HelpAndVersion) {
@@ -80,7 +87,9 @@ TEST(Cli, GpuInfoAnswersWithOrWithoutDevice) {
 TEST(Cli, DemoQuickEndToEnd) {
   const fs::path out = fs::temp_directory_path() / ("atmosh_demo_" + std::to_string(::getpid()));
   fs::remove_all(out);
+  ::setenv("ATMOSH_PLOT_DATA", "1", 1);  // each plot also writes <name>.png.plot.json
   const auto r = run_cli("demo --quick -o '" + out.string() + "'");
+  ::unsetenv("ATMOSH_PLOT_DATA");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find(out.string()), std::string::npos) << "does not say where the results are";
   ASSERT_TRUE(fs::exists(out / "MANIFEST.txt"));
@@ -124,6 +133,60 @@ TEST(Cli, DemoQuickEndToEnd) {
     const auto files = nlohmann::json::parse(files_line);
     EXPECT_GT(files.size(), 5u);
     for (const auto& f : files) EXPECT_TRUE(fs::exists(out / f.get<std::string>())) << f;
+  }
+  // The main job's outputs read against the docs (docs/outputs.md, docs/cli.md, and
+  // what docs/*.md say `atmosh demo` writes).
+  atmosh::test::check_docs_against_main_job(out);
+  // Tone-mapped PNGs have their side file, listed in the manifest too.
+  {
+    const std::string manifest = slurp(out / "MANIFEST.txt");
+    for (const char* f : {"sky.png.json", "prt/relight/ao.png.json", "prt/relight/frame_0000.png.json"})
+      EXPECT_NE(manifest.find(std::string("\n") + f + "\n"), std::string::npos) << f << " not in MANIFEST.txt";
+  }
+  // The sun-elevation study says that it varies the sun's elevation, and records the
+  // scene's observer (the default scene's, 35 m).
+  {
+    const auto c = atmosh::io::read_csv(out / "sun_elevation_study" / "sun_elevation.csv");
+    EXPECT_NE(c.provenance.at("sun_elevation_deg").find("varied"), std::string::npos)
+        << c.provenance.at("sun_elevation_deg");
+    EXPECT_EQ(c.provenance.at("observer_height_m"), "35");
+  }
+  // What the plots were handed (ATMOSH_PLOT_DATA): the zero-error reference rows are on
+  // the axis floor with a note, titles name files without folders, both band-energy
+  // plots use one unit convention, study points are in order of run time.
+  {
+    auto plot = [&](const char* f) { return nlohmann::json::parse(slurp(out / (std::string(f) + ".plot.json"))); };
+    auto series = [](const nlohmann::json& p, const std::string& prefix) -> const nlohmann::json* {
+      for (const auto& s : p["series"])
+        if (s["label"].get<std::string>().rfind(prefix, 0) == 0) return &s;
+      return nullptr;
+    };
+    const auto acc = plot("sun_accuracy.png");
+    const auto* spa = series(acc, "spa");
+    ASSERT_NE(spa, nullptr);
+    EXPECT_NE((*spa)["label"].get<std::string>().find("floor"), std::string::npos) << (*spa)["label"];
+    EXPECT_GE(acc["notes"].size(), 1u);
+    const auto shc = plot("sh_converge.png");
+    const auto* px = series(shc, "pixel-integration");
+    ASSERT_NE(px, nullptr);
+    EXPECT_NE((*px)["label"].get<std::string>().find("floor"), std::string::npos);
+    const std::string title = shc["title"];
+    EXPECT_NE(title.find("sh_sky_input.exr"), std::string::npos) << title;
+    EXPECT_EQ(title.find('/'), std::string::npos) << title;
+    const std::regex unit(R"(^energy sum_m c_lm\^2 \[\((.+) sr\)\^2\]$)");
+    for (const char* f : {"sky_sh_bands.png", "sh_bands.png"}) {
+      const std::string y = plot(f)["y_label"];
+      EXPECT_TRUE(std::regex_match(y, unit)) << f << ": " << y;
+    }
+    EXPECT_EQ(plot("sky_sh_bands.png")["y_label"], "energy sum_m c_lm^2 [(cd/m^2 sr)^2]");
+    for (const char* f : {"sun_accuracy.png", "sh_converge.png", "lut_convergence.png", "sky_convergence.png",
+                          "prt/converge.png"})
+      for (const auto& s : plot(f)["series"]) {
+        EXPECT_EQ(s["style"], "points") << f;
+        std::vector<double> x;
+        for (const auto& v : s["x"]) x.push_back(v.is_null() ? NAN : v.get<double>());
+        EXPECT_TRUE(std::is_sorted(x.begin(), x.end())) << f << " " << s["label"];
+      }
   }
   // No temporaries left behind.
   for (const auto& e : fs::recursive_directory_iterator(out))

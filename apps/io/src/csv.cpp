@@ -118,7 +118,9 @@ std::vector<std::string> split_csv_line(const std::string& line, bool& open_quot
 CsvData parse_csv(const std::string& text, const std::string& source_name) {
   CsvData d;
   d.source = source_name;
-  std::istringstream is(text);
+  // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first cell.
+  const bool bom = text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0;
+  std::istringstream is(bom ? text.substr(3) : text);
   std::string line;
   std::size_t lineno = 0;
   while (std::getline(is, line)) {
@@ -144,6 +146,11 @@ CsvData parse_csv(const std::string& text, const std::string& source_name) {
     auto cells = split_csv_line(line, open);
     if (open) throw InputError(source_name + ": line " + std::to_string(lineno) + ": unterminated quote");
     if (d.columns.empty()) {
+      for (std::size_t i = 0; i < cells.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+          if (cells[i] == cells[j])
+            throw InputError(source_name + ": line " + std::to_string(lineno) + ": column '" + cells[i] +
+                             "' appears twice in the header");
       d.columns = std::move(cells);
     } else {
       if (cells.size() != d.columns.size())

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "atmosh/io/atomic.hpp"
+#include "atmosh/io/provenance.hpp"
 
 namespace atmosh::io {
 
@@ -115,13 +116,140 @@ cv::Size text_size(const std::string& s, double scale, int thick = 1) {
   return cv::getTextSize(s, cv::FONT_HERSHEY_SIMPLEX, scale, thick, &base);
 }
 
+bool g_plot_data_files = false;
+
+std::string json_string(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      o += '\\';
+      o += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      o += buf;
+    } else {
+      o += c;
+    }
+  }
+  return o + "\"";
+}
+
+std::string json_number(double v) { return std::isfinite(v) ? format_double(v) : std::string("null"); }
+
+const char* style_name(Series::Style s) {
+  return s == Series::Style::Line ? "line" : s == Series::Style::Scatter ? "points" : "line+points";
+}
+
 }  // namespace
 
-void write_plot_png(const std::filesystem::path& file, const PlotSpec& spec) {
+PlotSpec band_energy_plot_spec(const std::string& title, const std::vector<std::string>& names,
+                               const std::vector<std::vector<double>>& energy, const std::string& value_units) {
+  PlotSpec p;
+  p.title = title;
+  p.x_label = "band l";
+  p.y_label = "energy sum_m c_lm^2 [(" + value_units + " sr)^2]";
+  p.log_y = true;
+  for (std::size_t c = 0; c < energy.size(); ++c) {
+    Series s;
+    s.label = c < names.size() ? names[c] : "channel " + std::to_string(c);
+    for (std::size_t l = 0; l < energy[c].size(); ++l) {
+      s.x.push_back(static_cast<double>(l));
+      s.y.push_back(energy[c][l]);
+    }
+    p.series.push_back(std::move(s));
+  }
+  return p;
+}
+
+void set_plot_data_files(bool on) { g_plot_data_files = on; }
+
+PreparedPlot prepare_plot(const PlotSpec& in) {
+  PreparedPlot out;
+  out.spec = in;
+  out.spec.series.clear();
+  auto usable = [&](double x, double y) {
+    return std::isfinite(x) && std::isfinite(y) && (!in.log_x || x > 0) && (!in.log_y || y > 0);
+  };
+  // The y axis as the drawable points of every series set it: the floor for series
+  // that have none.
+  std::vector<double> ys;
+  for (const auto& s : in.series)
+    for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i)
+      if (usable(s.x[i], s.y[i])) ys.push_back(s.y[i]);
+  const Axis ay = fit_axis(ys, in.log_y);
+  const double floor_y = in.log_y ? std::pow(10.0, ay.lo) : ay.lo;
+  for (std::size_t si = 0; si < in.series.size(); ++si) {
+    Series s = in.series[si];
+    const std::size_t n = std::min(s.x.size(), s.y.size());
+    std::size_t drawable = 0, finite = 0, floor_points = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      drawable += usable(s.x[i], s.y[i]);
+      finite += std::isfinite(s.x[i]) && std::isfinite(s.y[i]);
+      floor_points += in.log_y && std::isfinite(s.y[i]) && s.y[i] <= 0 && std::isfinite(s.x[i]) && (!in.log_x || s.x[i] > 0);
+    }
+    const std::string name = s.label.empty() ? "series " + std::to_string(si + 1) : "'" + s.label + "'";
+    if (n > 0 && drawable == 0 && floor_points > 0) {
+      // Nothing to draw on the log axis: markers on its floor, and say why.
+      const bool all_zero = std::all_of(s.y.begin(), s.y.begin() + static_cast<std::ptrdiff_t>(n),
+                                        [](double v) { return !std::isfinite(v) || v == 0.0; });
+      for (std::size_t i = 0; i < n; ++i)
+        if (std::isfinite(s.y[i]) && s.y[i] <= 0) s.y[i] = floor_y;
+      s.style = Series::Style::Scatter;
+      const std::string what = all_zero ? "all values 0" : "no value > 0";
+      if (!s.label.empty()) s.label += " (" + what + ": on the axis floor)";
+      out.notes.push_back(name + ": " + what + ", below the log axis: drawn as markers on its floor");
+    } else if (n > 0 && finite == 0) {
+      out.notes.push_back(name + ": no finite value: not drawn, left out of the legend");
+      s.label.clear();
+    } else if (drawable < n) {
+      const std::size_t left = n - drawable;
+      out.notes.push_back(name + ": " + std::to_string(left) + " of " + std::to_string(n) +
+                          (in.log_x || in.log_y ? " points non-finite or <= 0 on a log axis" : " points non-finite") +
+                          ": not drawn");
+    }
+    out.spec.series.push_back(std::move(s));
+  }
+  return out;
+}
+
+std::string plot_json(const PreparedPlot& p) {
+  const PlotSpec& s = p.spec;
+  std::string o = "{\n  \"title\": " + json_string(s.title) + ",\n  \"x_label\": " + json_string(s.x_label) +
+                  ",\n  \"y_label\": " + json_string(s.y_label) + ",\n  \"log_x\": " + (s.log_x ? "true" : "false") +
+                  ",\n  \"log_y\": " + (s.log_y ? "true" : "false") + ",\n  \"notes\": [";
+  for (std::size_t i = 0; i < p.notes.size(); ++i) o += (i ? ", " : "") + json_string(p.notes[i]);
+  o += "],\n  \"series\": [";
+  for (std::size_t k = 0; k < s.series.size(); ++k) {
+    const Series& r = s.series[k];
+    o += std::string(k ? "," : "") + "\n    {\"label\": " + json_string(r.label) + ", \"style\": \"" +
+         style_name(r.style) + "\", \"x\": [";
+    for (std::size_t i = 0; i < r.x.size(); ++i) o += (i ? "," : "") + json_number(r.x[i]);
+    o += "], \"y\": [";
+    for (std::size_t i = 0; i < r.y.size(); ++i) o += (i ? "," : "") + json_number(r.y[i]);
+    o += "]}";
+  }
+  return o + "\n  ]\n}\n";
+}
+
+std::filesystem::path write_tone_map_side_file(const std::filesystem::path& png, const std::string& tone_map,
+                                               double exposure, const std::string& exposure_rule,
+                                               const std::string& source) {
+  std::filesystem::path side = png;
+  side += ".json";
+  write_text_atomically(side, "{\n  \"tone_map\": " + json_string(tone_map) + ",\n  \"exposure\": " +
+                                  json_number(exposure) + ",\n  \"exposure_rule\": " + json_string(exposure_rule) +
+                                  ",\n  \"source\": " + json_string(source) + "\n}\n");
+  return side;
+}
+
+void write_plot_png(const std::filesystem::path& file, const PlotSpec& given) {
+  const PreparedPlot prepared = prepare_plot(given);
+  const PlotSpec& spec = prepared.spec;
   const int W = spec.width, H = spec.height;
   if (W < 200 || H < 150) throw std::invalid_argument("plot size too small");
   cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
-  const int left = 120, right = 40, top = 70, bottom = 100;
+  const int left = 120, right = 40, top = 70 + 20 * static_cast<int>(prepared.notes.size()), bottom = 100;
   const cv::Rect frame(left, top, W - left - right, H - top - bottom);
 
   std::vector<double> xs, ys;
@@ -181,6 +309,11 @@ void write_plot_png(const std::filesystem::path& file, const PlotSpec& spec) {
     const auto ts = text_size(spec.title, 0.8, 2);
     put_text(img, spec.title, {(W - ts.width) / 2, 40}, 0.8, 2);
   }
+  for (std::size_t i = 0; i < prepared.notes.size(); ++i) {
+    const std::string note = "note: " + prepared.notes[i];
+    const auto ts = text_size(note, 0.5);
+    put_text(img, note, {std::max(10, (W - ts.width) / 2), 64 + 20 * static_cast<int>(i)}, 0.5, 1, {60, 60, 160});
+  }
   {
     const auto ts = text_size(spec.x_label, 0.65);
     put_text(img, spec.x_label, {frame.x + (frame.width - ts.width) / 2, H - 30}, 0.65);
@@ -220,6 +353,11 @@ void write_plot_png(const std::filesystem::path& file, const PlotSpec& spec) {
     }
   }
   save_png(file, img);
+  if (g_plot_data_files) {
+    std::filesystem::path data = file;
+    data += ".plot.json";
+    write_text_atomically(data, plot_json(prepared));
+  }
 }
 
 void write_swatch_png(const std::filesystem::path& file, const std::string& title, const std::vector<Swatch>& swatches) {

@@ -137,7 +137,7 @@ Scene default_scene() { return parse_scene(kDefaultScene, "<built-in default sce
 std::string to_toml(const Scene& s) {
   std::ostringstream os;
   const auto& a = s.atmosphere;
-  os << "version = 1\nname = " << quoted(a.name) << "\n\n";
+  os << "version = 1\nname = " << quoted(a.name) << "\nsun_model = " << quoted(s.sun_model) << "\n\n";
   os << "[planet]\nradius_m = " << num(a.planet.radius_m) << "\natmosphere_top_m = " << num(a.planet.atmosphere_top_m)
      << "\nground_albedo = " << num(a.planet.ground_albedo) << "\n\n";
   if (a.rayleigh) {

@@ -193,6 +193,9 @@ Scene parse_table(const toml::table& root, const std::string& src) {
 
   auto& a = s.atmosphere;
   a.name = r.string("name").value_or("custom");
+  s.sun_model = r.string("sun_model").value_or("disc");
+  if (s.sun_model != "disc" && s.sun_model != "point")
+    r.fail("sun_model", "'" + s.sun_model + "' is not one of disc, point");
   if (const auto* t = r.table("planet")) {
     Reader p(*t, "planet", src);
     a.planet.radius_m = p.number("radius_m", a.planet.radius_m);

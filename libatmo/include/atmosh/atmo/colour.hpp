@@ -134,6 +134,12 @@ Xyz xyz_reference_1nm(const std::function<double(double)>& radiance);
 // D65 white point (0.3127, 0.3290) rather than NaN.
 Chromaticity xy_chromaticity(const Xyz& xyz);
 
+// Chromaticity where it is defined: NaN, NaN for black (X+Y+Z not > 0, or not
+// finite), which has no colour. The rule of every output that reports a colour's
+// chromaticity (study and sweep CSVs, `sky --json`, SkySummary): NaN in the library,
+// `nan` in CSV, `null` in JSON (docs/outputs.md).
+Chromaticity xy_chromaticity_or_nan(const Xyz& xyz);
+
 // Luminance [cd/m^2] of tristimulus values computed from spectral radiance: Y.
 inline double luminance_cd_m2(const Xyz& xyz) { return xyz.Y; }
 

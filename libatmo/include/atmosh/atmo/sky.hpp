@@ -17,7 +17,7 @@
 // ray that meets the ground contributes nothing (the Earth's shadow), so twilight
 // skies (sun below the horizon) are dark but finite. Result: spectral radiance in
 // W m^-2 sr^-1 nm^-1 per wavelength of the Atmosphere. The sun disc itself is not
-// included. Refraction is ignored (straight rays; use the geometric elevation).
+// included (add_sun_disc in sun_disc.hpp puts it into images). Refraction is ignored (straight rays; use the geometric elevation).
 //
 // SkyIntegrator (fast): the view ray is cut where it crosses `segments` of the
 // shells of the Nishita tables (OpticalDepthLut; shells sit at equal optical mass)
@@ -48,6 +48,11 @@
 
 namespace atmosh::atmo {
 
+// The sun's shape for the direct beam, the transmitted sun colour and the sun's image
+// (atmosh/atmo/sun_disc.hpp): a limb-darkened disc of the true angular size (default),
+// or a point. The sky's in-scattering is the same for both.
+enum class SunModel { Disc, Point };
+
 struct SkyOptions {
   // Table sizes (view_tables is set false: the sun table only). 32 shells, not the
   // tables' own default of 40: the sky's error budget is the integration's (docs/sky.md).
@@ -57,6 +62,7 @@ struct SkyOptions {
   double max_piece_optical_depth = 0.5;  // pieces are split until their extinction optical depth
                                          // (most extinct wavelength, densest end) stays below this
   double sun_distance_au = 1.0;   // Earth-Sun distance; irradiance scales as 1/d^2
+  SunModel sun_model = SunModel::Disc;  // direct beam and sun image only (sun_disc.hpp)
 };
 
 // Weights of the view column inside a part of a view ray (SkyIntegrator and the GPU

@@ -65,9 +65,10 @@ struct SkySummary {
   SkyColour zenith;
   SkyColour horizon_toward_sun;  // view elevation `horizon_elevation_deg`, sun's azimuth
   SkyColour horizon_away;        // same elevation, opposite azimuth
-  Xyz sun_transmitted;           // XYZ of the transmitted solar irradiance (W m^-2 weighted; Y in lux)
-  Chromaticity sun_chromaticity; // of the transmitted direct sunlight
-  double sun_transmittance_550 = 0;  // direct-beam transmittance nearest 550 nm
+  Xyz sun_transmitted;           // XYZ of the transmitted solar irradiance (W m^-2 weighted; Y in lux),
+                                 // the direct beam of SkyOptions::sun_model (disc-averaged by default)
+  Chromaticity sun_chromaticity; // of the transmitted direct sunlight (NaN when none arrives)
+  double sun_transmittance_550 = 0;  // direct-beam transmittance nearest 550 nm (same sun model)
 };
 SkySummary summarize_sky(const SkyIntegrator& sky, double altitude_m, const glm::dvec3& sun,
                          double horizon_elevation_deg = 1.0);

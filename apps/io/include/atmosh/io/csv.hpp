@@ -51,7 +51,8 @@ struct CsvData {
   std::string source;  // file name, for messages
 };
 
-// Throws atmosh::InputError (unreadable file, ragged rows, no header).
+// Throws atmosh::InputError (unreadable file, ragged rows, no header, a column name
+// that appears twice). A leading UTF-8 byte-order mark is skipped.
 CsvData read_csv(const std::filesystem::path& file);
 CsvData parse_csv(const std::string& text, const std::string& source_name);
 

@@ -35,6 +35,38 @@ struct PlotSpec {
 
 void write_plot_png(const std::filesystem::path& file, const PlotSpec& spec);
 
+// Band energy sum_m c_lm^2 of SH coefficients against band l, one series per channel
+// (log y). The coefficients of a quantity in `value_units` (e.g. "cd/m^2") carry
+// value_units x sr, so the axis reads "energy sum_m c_lm^2 [(<value_units> sr)^2]":
+// one convention for every band-energy plot. energy[c][l]: channel c, band l.
+PlotSpec band_energy_plot_spec(const std::string& title, const std::vector<std::string>& names,
+                               const std::vector<std::vector<double>>& energy, const std::string& value_units);
+
+// A plot as write_plot_png draws it. On a log axis a series with no positive value
+// cannot be drawn: it is kept, its points moved to the floor of that axis (y) and
+// drawn as markers, its label saying so, and a note (drawn under the title) gives the
+// reason; a series with some non-positive values gets a note counting the points
+// left out. Series with no finite point at all are left out of the legend, with a note.
+struct PreparedPlot {
+  PlotSpec spec;
+  std::vector<std::string> notes;
+};
+PreparedPlot prepare_plot(const PlotSpec& spec);
+
+// When on, write_plot_png also writes <file>.plot.json: the prepared plot (title, axis
+// labels and scales, every series' label, style and points, the notes) — the data a
+// figure shows, for readers and tests. Off by default; the CLI turns it on when the
+// environment variable ATMOSH_PLOT_DATA is set to 1.
+void set_plot_data_files(bool on);
+// The JSON text of a prepared plot (numbers in the shortest round-trip form).
+std::string plot_json(const PreparedPlot& plot);
+
+// The side file of a tone-mapped image: writes <png>.json recording the operator,
+// the exposure, the rule that chose it and the source file. Returns its path.
+std::filesystem::path write_tone_map_side_file(const std::filesystem::path& png, const std::string& tone_map,
+                                               double exposure, const std::string& exposure_rule,
+                                               const std::string& source);
+
 struct Swatch {
   std::array<double, 3> srgb;  // display sRGB in [0,1] (already gamma-encoded)
   std::string label;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
 
 namespace atmosh::io {
@@ -33,6 +34,11 @@ struct StudySpec {
   std::string time_axis_label = "run time [s]";
   std::vector<std::string> extra_columns;
 };
+
+// The plot of a study: log-log, one series per method (in order of first
+// appearance), points only (settings vary in more than one parameter), each series'
+// points sorted by run time (the CSV keeps the rows' order).
+PlotSpec study_plot_spec(const StudySpec& spec, const std::vector<StudyRow>& rows);
 
 // Writes stem + ".csv" and stem + ".png"; returns the two paths.
 std::vector<std::filesystem::path> write_study(const std::filesystem::path& stem, const StudySpec& spec,

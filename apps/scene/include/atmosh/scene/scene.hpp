@@ -51,6 +51,7 @@ struct Scene {
   atmo::AtmosphereSpec atmosphere;
   std::optional<Observer> observer;
   std::optional<SunOverride> sun;
+  std::string sun_model = "disc";  // "disc" (limb-darkened solar disc) or "point"
   std::vector<Output> outputs;
 };
 
