@@ -160,6 +160,8 @@ void run_sky(const SkyCmd& c) {
                         {"horizon_luminance_cd_m2", sm.horizon_toward_sun.xyz.Y},
                         {"horizon_away_srgb", rgb_json(sm.horizon_away.srgb)},
                         {"srgb_units", "linear sRGB (D65), scaled so that Y is luminance in cd/m^2"},
+                        {"sun_model", sun_model_name(model->sky->options().sun_model)},
+                        {"sun_angular_radius_deg", sun_angular_radius_rad(sun.distance_au) * 57.29577951308232},
                         {"exposure", exposure},
                         {"rays", img.rays},
                         {"device", used},

@@ -94,6 +94,12 @@ TEST(BlackSky, ChromaticityIsNullInJsonAndNanInCsv) {
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_EQ(j["zenith_luminance_cd_m2"].get<double>(), 0.0);
   EXPECT_TRUE(j["zenith_xy"].is_null()) << j["zenith_xy"];
+  EXPECT_EQ(j["sun_model"], "disc");  // the default
+  EXPECT_NEAR(j["sun_angular_radius_deg"].get<double>(), std::asin(695700.0 / 149597870.7) * 180.0 / M_PI, 1e-12);
+  const auto p = run_cli("sky --sun-elevation -40 --size 8x4 --sun-model point -o '" + (d / "p.exr").string() + "' --json");
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  EXPECT_EQ(nlohmann::json::parse(p.out)["sun_model"], "point");
+  expect_bad_input("sky --sun-elevation 5 --size 8x4 --sun-model square -o '" + (d / "q.exr").string() + "'", "square");
   const auto s = run_cli("study sun-elevation --from -40 --to -40 --step 1 -o '" + (d / "study").string() + "'");
   ASSERT_EQ(s.exit_code, 0) << s.err;
   const CsvData c = read_csv(d / "study" / "sun_elevation.csv");
@@ -101,6 +107,18 @@ TEST(BlackSky, ChromaticityIsNullInJsonAndNanInCsv) {
   EXPECT_EQ(c.number(0, c.column("zenith_luminance_cd_m2")), 0.0);
   EXPECT_EQ(c.rows[0][c.column("zenith_x")], "nan");
   EXPECT_EQ(c.rows[0][c.column("sun_x")], "nan");  // no direct sunlight either
+}
+
+// The scene key sun_model takes disc or point; anything else is bad input naming the key.
+TEST(SunModelKey, SceneAcceptsDiscAndPointOnly) {
+  const fs::path d = scratch_dir("atmosh_trust", "sun_model");
+  for (const char* m : {"disc", "point"}) {
+    std::ofstream(d / "s.toml") << "version = 1\nsun_model = \"" << m << "\"\n[rayleigh]\n[sun]\nelevation_deg = 10\n";
+    const auto r = run_cli("scene check '" + (d / "s.toml").string() + "'");
+    EXPECT_EQ(r.exit_code, 0) << m << ": " << r.err;
+  }
+  std::ofstream(d / "s.toml") << "version = 1\nsun_model = \"square\"\n[rayleigh]\n[sun]\nelevation_deg = 10\n";
+  expect_bad_input("scene check '" + (d / "s.toml").string() + "'", "sun_model");
 }
 
 // ---- plot specifications -------------------------------------------------------------
