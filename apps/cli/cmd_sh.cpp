@@ -88,6 +88,7 @@ struct LoadedImage {
   std::vector<std::string> names;
   std::vector<float> planar;  // channel-major
   bool cross = false;
+  std::string value_units;  // units of the pixel values, when the EXR states them (attribute value_units)
   sh::ImageView view() const {
     return {width, height, static_cast<int>(names.size()), planar.data()};
   }
@@ -112,6 +113,7 @@ LoadedImage load_image(const std::string& file, const std::string& layout) {
     }
   }
   if (use.empty()) throw InputError(file + ": EXR has no channels");
+  if (auto u = img.string_attributes.find("value_units"); u != img.string_attributes.end()) li.value_units = u->second;
   li.planar.reserve(use.size() * img.width * img.height);
   for (int c : use) li.planar.insert(li.planar.end(), img.data[c].begin(), img.data[c].end());
   for (float v : li.planar)
@@ -302,9 +304,10 @@ void register_sh_commands(CLI::App& app) {
       if (o->width < 2 || o->width > 16384) throw InputError("--width must be in [2, 16384], got " + std::to_string(o->width));
       if (po.method == sh::Method::quadrature) po.samples = 0;
       const LoadedImage li = load_image(o->in, o->layout);
-      CoeffFile cf{o->bands, li.names, project_image(li, o->bands, po)};
+      CoeffFile cf{o->bands, li.names, project_image(li, o->bands, po), li.value_units};
       auto prov = prov_with({{"input", o->in}, {"method", o->method}, {"seed", std::to_string(o->seed)},
                              {"samples", std::to_string(o->samples)}, {"layout", li.cross ? "cube cross" : "equirect"}});
+      if (!li.value_units.empty()) prov.add("value_units", li.value_units);  // of the projected values
       write_coeffs(o->out, cf, prov);
       if (!o->reconstruct.empty()) render_exr(o->reconstruct, cf, o->width, prov);
     });

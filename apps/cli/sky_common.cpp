@@ -128,6 +128,7 @@ double write_sky_image(const atmo::SkyImage& img, const std::filesystem::path& e
   e.string_attributes["units"] =
       "R,G,B: linear sRGB (D65) scaled so that Y is luminance in cd/m^2; X,Y,Z: CIE 1931 2-degree, Y in cd/m^2; "
       "L_<nm>nm: spectral radiance in W m^-2 sr^-1 nm^-1";
+  e.string_attributes["value_units"] = "cd/m^2";  // of R,G,B,X,Y,Z (what `sh project` carries on)
   e.string_attributes["projection"] = projection == "fisheye"
                                           ? "fisheye: azimuthal equidistant, zenith at centre, north up, east left"
                                           : "equirect: azimuth 0..360 deg from north towards east left to right, "

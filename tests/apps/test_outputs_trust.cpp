@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -172,6 +173,23 @@ TEST(PlotSpec, BandEnergyAxisUnitsFromTheValues) {
   EXPECT_TRUE(p.log_y);
   EXPECT_EQ(p.series[0].x, (std::vector<double>{0.0, 1.0}));
   EXPECT_EQ(p.series[0].y, (std::vector<double>{1.0, 0.5}));
+}
+
+// The units of a band-energy plot come from the input: a sky image states cd/m^2, its
+// coefficients carry it (# value_units), `sh bands` labels (cd/m^2 sr)^2.
+TEST(PlotSpec, BandEnergyUnitsFollowTheInput) {
+  const fs::path d = scratch_dir("atmosh_trust", "bands");
+  auto r = run_cli("sky --sun-elevation 20 --size 32x16 -o '" + (d / "s.exr").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli("sh project '" + (d / "s.exr").string() + "' --bands 3 -o '" + (d / "c.csv").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_csv(d / "c.csv").provenance.at("value_units"), "cd/m^2");
+  ::setenv("ATMOSH_PLOT_DATA", "1", 1);
+  r = run_cli("sh bands '" + (d / "c.csv").string() + "' -o '" + (d / "b.csv").string() + "' --plot '" +
+              (d / "b.png").string() + "'");
+  ::unsetenv("ATMOSH_PLOT_DATA");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(d / "b.png.plot.json"))["y_label"], "energy sum_m c_lm^2 [(cd/m^2 sr)^2]");
 }
 
 // The plot data file (ATMOSH_PLOT_DATA=1) is the prepared plot.
