@@ -126,7 +126,7 @@ void register_rt_commands(CLI::App& app) {
       std::string scene_file;
       double sun_elevation = 30, sun_azimuth = 180, view_elevation = 90, view_azimuth = 180, height = 0;
       double ground_albedo = -1;
-      std::string sun_depth = "table";
+      std::string sun_depth = "table", line = "auto";
       RtOptions run;
       int orders = 0;
       bool json = false;
@@ -144,6 +144,10 @@ void register_rt_commands(CLI::App& app) {
     c->add_option("--orders", o->orders, "Scattering orders (0 = all; 1 = single scattering)")->capture_default_str();
     c->add_option("--sun-depth", o->sun_depth,
                   "table (sun optical depth from a 64 x 256 table, its error reported) | exact (quadrature per vertex, slow)")
+        ->capture_default_str();
+    c->add_option("--line-estimate", o->line,
+                  "auto (in deep twilight, sun below -7 deg) | on | off: integrate the next vertex's sunlight along "
+                  "each new direction")
         ->capture_default_str();
     add_run_options(c, o->run, 64000);
     c->add_flag("--json", o->json, "Print one JSON object");
@@ -164,6 +168,14 @@ void register_rt_commands(CLI::App& app) {
         so.sun_depth = RtSunDepth::Exact;
       else
         throw InputError("--sun-depth: '" + o->sun_depth + "' is not table or exact");
+      if (o->line == "auto")
+        so.line_estimate = RtLineEstimate::DeepTwilight;
+      else if (o->line == "on")
+        so.line_estimate = RtLineEstimate::On;
+      else if (o->line == "off")
+        so.line_estimate = RtLineEstimate::Off;
+      else
+        throw InputError("--line-estimate: '" + o->line + "' is not auto, on or off");
       const scene::Scene s = o->scene_file.empty() ? scene::default_scene() : scene::load_scene(o->scene_file);
       so.run = o->run;
       so.run.max_orders = o->orders;
@@ -196,6 +208,7 @@ void register_rt_commands(CLI::App& app) {
         j["seed"] = so.run.seed;
         j["threads"] = resolve_threads(so.run.threads);
         j["sun_depth"] = o->sun_depth;
+        j["line_estimate"] = o->line;
         j["sun_depth_rel_error"] = r.sun_depth_rel_error;
         j["time_s"] = r.time_s;
         print_json(j);

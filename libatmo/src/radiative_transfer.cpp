@@ -119,7 +119,8 @@ struct Sums {
 //                                                   on Scatter w *= sigma_s/sigma_t
 //                                                   (and the forced-collision factor)
 //   double sun_scatter(const Ray&)                  E * sum_c (sigma_s,c/sigma_s) p_c * T_sun
-//   glm::dvec3 sample_scatter(const Ray&, Rng&)     new direction (phase function)
+//   glm::dvec3 sample_scatter(const Ray&, Rng&, double& w)  new direction; w *= f / q
+//                                                   (phase f over the sampling density q)
 //   double sun_ground(const Ray&)                   E * A/pi * mu_sun * T_sun
 //   glm::dvec3 ground_normal(const Ray&)
 //   double albedo()
@@ -128,21 +129,27 @@ double trace(const Medium& m, typename Medium::Ray ray, Rng& rng, const RtOption
              double& orders) {
   double w = 1.0, L = 0.0;
   const int max_orders = o.max_orders > 0 ? o.max_orders : kOrderCap;
+  // With a line estimate, the sunlight a vertex's next flight would collect by its
+  // next-event estimate is integrated along that flight instead (its expectation), and
+  // the next vertex's own estimate is skipped.
+  const bool line = m.line_estimates();
   for (int k = 1; k <= max_orders; ++k) {
     const Event ev = m.flight(ray, rng, force_first && k == 1, w);
     if (ev == Event::Escape) break;
     orders += 1.0;
+    const bool count = !line || k == 1;
     if (ev == Event::Scatter) {
-      L += w * m.sun_scatter(ray);
+      if (count) L += w * m.sun_scatter(ray);
       if (k == max_orders) break;
-      ray.d = m.sample_scatter(ray, rng);
+      ray.d = m.sample_scatter(ray, rng, w);
     } else {
-      L += w * m.sun_ground(ray);
+      if (count) L += w * m.sun_ground(ray);
       if (k == max_orders) break;
       w *= m.albedo();
       if (!(w > 0.0)) break;
       ray.d = cosine_hemisphere(m.ground_normal(ray), rng);
     }
+    if (line) L += w * m.line_estimate(ray, rng);
     if (w < o.roulette_weight) {
       if (rng.uniform() * o.roulette_weight >= w) break;
       w = o.roulette_weight;
@@ -223,11 +230,13 @@ class SlabMedium {
   double sun_scatter(const Ray& r) const {
     return phase_.value(glm::dot(r.d, sun_)) * std::exp(-(s_.tau - r.z) / mu0_);
   }
-  glm::dvec3 sample_scatter(const Ray& r, Rng& rng) const {
+  glm::dvec3 sample_scatter(const Ray& r, Rng& rng, double&) const {
     const double c = phase_.sample(rng.uniform());
     return turn(r.d, c, 2.0 * kPi * rng.uniform());
   }
   double sun_ground(const Ray&) const { return s_.ground_albedo / kPi * mu0_ * std::exp(-s_.tau / mu0_); }
+  bool line_estimates() const { return false; }
+  double line_estimate(const Ray&, Rng&) const { return 0.0; }
   glm::dvec3 ground_normal(const Ray&) const { return {0, 0, 1}; }
   double albedo() const { return s_.ground_albedo; }
 
@@ -343,7 +352,8 @@ glm::dvec3 piece_column(const SphereModel& m, const glm::dvec3& o, const glm::dv
   return x;
 }
 
-ViewRay make_view_ray(const SphereModel& m, const glm::dvec3& origin, const glm::dvec3& v) {
+ViewRay make_view_ray(const SphereModel& m, const glm::dvec3& origin, const glm::dvec3& v, double max_dh = 250.0,
+                      double max_ds = 5000.0) {
   ViewRay vr;
   const double R = m.R, T = m.T;
   glm::dvec3 o = origin;
@@ -380,7 +390,7 @@ ViewRay make_view_ray(const SphereModel& m, const glm::dvec3& origin, const glm:
   while (s < vr.length) {
     const glm::dvec3 q = o + s * v;
     const double muq = std::abs(glm::dot(q, v)) / glm::length(q);
-    double step = std::min(5000.0, 250.0 / std::max(muq, 1e-6));
+    double step = std::min(max_ds, max_dh / std::max(muq, 1e-6));
     double s1 = std::min(s + step, vr.length);
     while (next_cut < cuts.size() && cuts[next_cut] <= s) ++next_cut;
     if (next_cut < cuts.size() && cuts[next_cut] < s1) s1 = cuts[next_cut];
@@ -399,8 +409,9 @@ class SphereMedium {
     glm::dvec3 d{0, 0, 1};
   };
   SphereMedium(const SphereModel& m, const Coefficients& k, double irradiance, const glm::dvec3& sun, double albedo,
-               const ViewRay& view)
-      : m_(m), ext_(k.extinction), sca_(k.scattering), e_(irradiance), sun_(sun), albedo_(albedo), view_(view) {
+               const ViewRay& view, double cone_share, double cone_half_angle_deg, bool line)
+      : m_(m), ext_(k.extinction), sca_(k.scattering), e_(irradiance), sun_(sun), albedo_(albedo), view_(view),
+        cone_share_(cone_share), cone_cos_(std::cos(cone_half_angle_deg * kPi / 180.0)), line_(line) {
     for (int c = 0; c < 3; ++c)
       if (!m.atm->has(c)) ext_[c] = sca_[c] = 0.0;
     sca_[kOzone] = 0.0;
@@ -486,6 +497,45 @@ class SphereMedium {
     ray.p *= R / glm::length(ray.p);
     return Event::Ground;
   }
+  bool line_estimates() const { return line_; }
+  // The expected next-event estimate of the next vertex along ray.d from ray.p: the
+  // single-scattering integral of the sunlight along that ray, plus the lit ground it
+  // ends on, times its transmittance; one uniformly placed point per piece (<= 1 km of
+  // altitude, <= 20 km of length: stratified, unbiased), the optical depth to it exact
+  // (piece columns by Gauss-Legendre), the rest of the ray dropped once its optical
+  // depth exceeds 60 (e^-60 ~ 1e-26).
+  double line_estimate(const Ray& ray, Rng& rng) const {
+    const ViewRay vr = make_view_ray(m_, ray.p, ray.d, 1000.0, 20000.0);
+    if (vr.empty) return 0.0;
+    const double nu = glm::dot(ray.d, sun_);
+    const double p_r = m_.atm->has(kRayleigh) ? m_.phase[0].value(nu) : 0.0;
+    const double p_m = m_.atm->has(kMie) ? m_.phase[1].value(nu) : 0.0;
+    double sum = 0.0;
+    const std::size_t n = vr.s.size() - 1;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double tau_j = glm::dot(ext_, vr.X[j]);
+      if (tau_j > 60.0) return sum;
+      const double a = vr.s[j], h = vr.s[j + 1] - a;
+      const double s = a + rng.uniform() * h;
+      const glm::dvec3 p = vr.o + s * vr.v;
+      const double r = glm::length(p);
+      const glm::dvec3 rho = m_.atm->density(std::max(r - m_.R, 0.0));
+      const double f = sca_[kRayleigh] * rho[kRayleigh] * p_r + sca_[kMie] * rho[kMie] * p_m;
+      if (!(f > 0)) continue;
+      glm::dvec3 x;
+      if (!m_.sun_column(r, glm::dot(p, sun_) / r, x)) continue;
+      const double tau = tau_j + glm::dot(ext_, piece_column(m_, vr.o, vr.v, a, s));
+      sum += h * f * std::exp(-tau - glm::dot(ext_, x));
+    }
+    if (vr.ground && albedo_ > 0) {
+      Ray g;
+      g.p = vr.o + vr.length * vr.v;
+      g.p *= m_.R / glm::length(g.p);
+      sum += std::exp(-glm::dot(ext_, vr.X.back())) * sun_ground(g) / e_;
+    }
+    return e_ * sum;
+  }
+
   double sun_scatter(const Ray& ray) const {
     const double r = glm::length(ray.p);
     glm::dvec3 x;
@@ -497,11 +547,29 @@ class SphereMedium {
     const double p = (sr * (sr > 0 ? m_.phase[0].value(nu) : 0.0) + sm * (sm > 0 ? m_.phase[1].value(nu) : 0.0)) / ss;
     return e_ * p * transmittance(glm::dot(ext_, x));
   }
-  glm::dvec3 sample_scatter(const Ray& ray, Rng& rng) const {
+  // Next direction: with probability 1 - kConeShare from the phase functions (a
+  // constituent picked by its share of sigma_s), else uniformly inside the cone of
+  // half-angle kConeHalfAngle about the sun (where, in twilight, the lit atmosphere
+  // lies); one-sample multiple importance sampling: w *= f / ((1 - b) f + b p_cone), f
+  // the mixed phase function [1/sr] (<= 1 / (1 - b)).
+  glm::dvec3 sample_scatter(const Ray& ray, Rng& rng, double& w) const {
     const double sr = sca_[kRayleigh] * last_rho_[kRayleigh], sm = sca_[kMie] * last_rho_[kMie];
-    const int c = rng.uniform() * (sr + sm) < sr ? 0 : 1;
-    const double cos_t = m_.phase[static_cast<std::size_t>(c)].sample(rng.uniform());
-    return turn(ray.d, cos_t, 2.0 * kPi * rng.uniform());
+    glm::dvec3 d;
+    if (cone_share_ > 0 && rng.uniform() < cone_share_) {
+      const double c = 1.0 - rng.uniform() * (1.0 - cone_cos_);
+      d = turn(sun_, c, 2.0 * kPi * rng.uniform());
+    } else {
+      const int c = rng.uniform() * (sr + sm) < sr ? 0 : 1;
+      const double cos_t = m_.phase[static_cast<std::size_t>(c)].sample(rng.uniform());
+      d = turn(ray.d, cos_t, 2.0 * kPi * rng.uniform());
+    }
+    if (cone_share_ > 0) {
+      const double nu = glm::dot(ray.d, d);
+      const double f = (sr * (sr > 0 ? m_.phase[0].value(nu) : 0.0) + sm * (sm > 0 ? m_.phase[1].value(nu) : 0.0)) / (sr + sm);
+      const double p_cone = glm::dot(d, sun_) >= cone_cos_ ? 1.0 / (2.0 * kPi * (1.0 - cone_cos_)) : 0.0;
+      w *= f / ((1.0 - cone_share_) * f + cone_share_ * p_cone);
+    }
+    return d;
   }
   double sun_ground(const Ray& ray) const {
     const glm::dvec3 n = ground_normal(ray);
@@ -552,6 +620,8 @@ class SphereMedium {
   const ViewRay& view_;
   std::vector<double> tau_, cdf_;  // view ray: optical depth and collision CDF at the nodes
   double p_ground_ = 0.0;
+  double cone_share_ = 0.0, cone_cos_ = 1.0;
+  bool line_ = false;
   mutable glm::dvec3 last_rho_{0.0};  // densities at the last collision (one medium per path thread)
 };
 
@@ -630,6 +700,10 @@ MonteCarloSky::MonteCarloSky(const Atmosphere& atmosphere, SolarSpectrum solar, 
     throw InputError("sun distance " + std::to_string(opt_.sun_distance_au) + " AU: must be finite and > 0");
   if (opt_.ground_albedo > 1 || std::isnan(opt_.ground_albedo))
     throw InputError("ground albedo " + std::to_string(opt_.ground_albedo) + ": must be <= 1");
+  if (!(opt_.sun_cone_share >= 0 && opt_.sun_cone_share < 1))
+    throw InputError("sun_cone_share = " + std::to_string(opt_.sun_cone_share) + ": must be in [0, 1)");
+  if (!(opt_.sun_cone_half_angle_deg > 0 && opt_.sun_cone_half_angle_deg <= 180))
+    throw InputError("sun_cone_half_angle_deg = " + std::to_string(opt_.sun_cone_half_angle_deg) + ": must be in (0, 180]");
   SphereModel& m = impl_->model;
   m.atm = &atm_;
   m.R = atm_.ground_radius();
@@ -694,6 +768,9 @@ RtSkyResult MonteCarloSky::radiance(double altitude_m, const glm::dvec3& view_in
   const double scale = 1.0 / (opt_.sun_distance_au * opt_.sun_distance_au);
   const glm::dvec3 origin(0.0, 0.0, m.R + altitude_m);
 
+  const bool line = opt_.line_estimate == RtLineEstimate::On ||
+                    (opt_.line_estimate == RtLineEstimate::DeepTwilight &&
+                     sun.z < std::sin(kRtDeepTwilightDeg * kPi / 180.0));
   // The view ray's nodes and columns (the first collision's sampling).
   const ViewRay vray = make_view_ray(m, origin, view);
 
@@ -704,7 +781,8 @@ RtSkyResult MonteCarloSky::radiance(double altitude_m, const glm::dvec3& view_in
     const std::size_t i = task / static_cast<std::size_t>(B);
     const std::int64_t b = static_cast<std::int64_t>(task % static_cast<std::size_t>(B));
     const Coefficients& k = atm_.coefficients(i);
-    const SphereMedium med(m, k, solar_[i] * scale, sun, std::max(albedo, 0.0), vray);
+    const SphereMedium med(m, k, solar_[i] * scale, sun, std::max(albedo, 0.0), vray, opt_.sun_cone_share,
+                           opt_.sun_cone_half_angle_deg, line);
     const std::int64_t n = per_wl / B + (b < per_wl % B ? 1 : 0);
     Rng rng(run.seed, i, static_cast<std::uint64_t>(b));
     Sums s;
