@@ -59,8 +59,9 @@ BENCHMARK(BM_RtSkyPathsPerCore)->Arg(30)->Arg(-9)->Unit(benchmark::kMillisecond)
 static void BM_RtTimeToThreeTenthsPercent(benchmark::State& st) {
   Fixture& f = fixture();
   RtConvergence c;
-  for (auto _ : st) c = rt_time_to_rel_stderr(f.mc, static_cast<double>(st.range(0)), 0.003, 120.0);
+  for (auto _ : st) c = rt_time_to_rel_stderr(f.mc, static_cast<double>(st.range(0)), 0.003, 120.0, 32000);
   st.counters["time_s"] = c.time_s;
+  st.counters["extrapolated_s"] = c.extrapolated_time_s;
   st.counters["paths"] = static_cast<double>(c.paths);
   st.counters["rel_stderr"] = c.reached_rel_stderr;
   st.counters["reached"] = c.reached ? 1 : 0;

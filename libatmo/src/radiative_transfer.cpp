@@ -852,6 +852,7 @@ RtConvergence rt_time_to_rel_stderr(const MonteCarloSky& sky, double sun_elevati
     c.luminance = r.luminance;
     c.reached_rel_stderr = r.luminance > 0 ? r.luminance_stderr / r.luminance : 1.0;
     c.paths_per_second = r.time_s > 0 ? static_cast<double>(r.paths) / r.time_s : 0.0;
+    c.extrapolated_time_s = r.time_s * std::pow(std::max(c.reached_rel_stderr / target_rel_stderr, 1.0), 2);
     if (c.reached_rel_stderr <= target_rel_stderr) {
       c.reached = true;
       break;

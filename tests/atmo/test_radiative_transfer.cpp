@@ -447,6 +447,28 @@ TEST(RadiativeTransferSky, StiffCasesAreFinite) {
   EXPECT_EQ(up.luminance, 0.0);
 }
 
+TEST(RadiativeTransferSky, ReferenceViewsCoverEverySunAndView) {
+  const Atmosphere atm(three_wavelengths(preset("earth-graphics")));
+  RtSkyOptions so = small_tables();
+  const MonteCarloSky mc(atm, flat_sun(atm), so);
+  RtOptions run;
+  run.paths = 3 * 200;
+  const auto views = rt_reference_view_set();
+  const std::vector<double> suns = {30.0, -3.0};
+  const auto rows = rt_reference_views(mc, views, suns, 0.0, run);
+  ASSERT_EQ(rows.size(), views.size() * suns.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    EXPECT_EQ(rows[k].sun_elevation_deg, suns[k / views.size()]);
+    EXPECT_EQ(rows[k].view_elevation_deg, views[k % views.size()].elevation_deg);
+    EXPECT_EQ(rows[k].result.radiance.size(), 3u);
+    EXPECT_TRUE(std::isfinite(rows[k].result.luminance) && rows[k].result.luminance > 0) << k;
+  }
+  // Toward the sun at 5 deg is brighter than away from it (Mie forward peak), sun 30 deg.
+  EXPECT_GT(rows[1].result.luminance, rows[3].result.luminance);
+  EXPECT_EQ(rt_reference_sun_elevations().front(), 60.0);
+  EXPECT_EQ(rt_reference_sun_elevations().back(), -15.0);
+}
+
 TEST(RadiativeTransferSky, RejectsBadInput) {
   const Atmosphere atm(three_wavelengths(preset("earth-graphics")));
   EXPECT_THROW(MonteCarloSky(atm, SolarSpectrum(2, 1.0)), atmosh::InputError);

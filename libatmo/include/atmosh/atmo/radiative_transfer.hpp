@@ -136,9 +136,9 @@ SlabFluxResult slab_fluxes(const SlabSpec& slab, double mu0, const RtOptions& op
 
 enum class RtSunDepth { Table, Exact };
 // Line estimate of the next vertex's sunlight (see the header comment): always, never,
-// or in deep twilight, sun below -7 deg at the observer, where it pays (measured on the
-// default scene's zenith: 8x the efficiency at -9 deg, 0.1x at -6 deg, 0.02-0.1x by
-// day; docs/radiative-transfer.md).
+// or in deep twilight, sun below -7 deg at the observer, where it pays (measured,
+// earth-graphics: 5-8x the efficiency at -9 deg, 0.08x at -6 deg, 0.05x by day;
+// docs/radiative-transfer.md).
 enum class RtLineEstimate { Off, On, DeepTwilight };
 inline constexpr double kRtDeepTwilightDeg = -7.0;
 
@@ -215,6 +215,9 @@ struct RtConvergence {
   double time_s = 0;       // of the last run (wall clock)
   double luminance = 0;
   double paths_per_second = 0;
+  // time_s (reached / target)^2: the time the target needs at the last run's rate (the
+  // standard error falls as 1/sqrt(paths)); equals time_s when reached.
+  double extrapolated_time_s = 0;
   int threads = 0;
 };
 RtConvergence rt_time_to_rel_stderr(const MonteCarloSky& sky, double sun_elevation_deg, double target_rel_stderr,
