@@ -242,7 +242,7 @@ TEST(RadiativeTransferSlab, ConservativeSlabOverWhiteGroundReturnsAllLight) {
                             SlabSpec{0.3, 1.0, SlabPhase::Rayleigh, 0.0, 1.0}}) {
     const SlabFluxResult f = slab_fluxes(s, 0.6, o);
     EXPECT_LE(std::abs(f.albedo - 1.0), 3.0 * f.albedo_stderr + 1e-12) << s.tau << ": " << f.albedo << " +- " << f.albedo_stderr;
-    EXPECT_LT(f.albedo_stderr, 0.02);
+    EXPECT_LT(f.albedo_stderr, kSanitized ? 0.06 : 0.02);
   }
   // And an absorbing one (omega = 0.9) returns visibly less (the estimator can fail).
   const SlabFluxResult f = slab_fluxes({4.0, 0.9, SlabPhase::Isotropic, 0.0, 1.0}, 0.6, o);
@@ -332,7 +332,7 @@ TEST(RadiativeTransferSky, SingleScatteringLimitMatchesTheExactQuadrature) {
           << "sun " << v.sun_el << " view " << v.view_el << "/" << v.view_rel_az << " nm " << r.wavelengths_nm[i]
           << ": mc " << r.radiance[i] << " +- " << r.radiance_stderr[i] << ", exact " << e.radiance[i];
       EXPECT_GT(e.radiance[i], 0.0);
-      EXPECT_LT(r.radiance_stderr[i], 0.05 * e.radiance[i]);  // the comparison has teeth
+      EXPECT_LT(r.radiance_stderr[i], (kSanitized ? 0.15 : 0.05) * e.radiance[i]);  // the comparison has teeth
     }
     EXPECT_DOUBLE_EQ(r.mean_orders, r.mean_orders);
     EXPECT_LE(r.mean_orders, 1.0);
