@@ -30,10 +30,14 @@
 //     exact (piece columns by 8-point Gauss-Legendre). ~20x the cost of a vertex; in
 //     twilight it turns the rare flights that end in the lit atmosphere into every
 //     flight that crosses it;
-//   * forced first collision on view rays that would otherwise leave the atmosphere
-//     (their escape carries no light): the flight is conditioned on colliding, the
-//     weight multiplied by 1 - exp(-tau_ray), with tau_ray the exact optical depth
-//     of the view ray (OpticalDepthReference, 1e-12);
+//   * the first collision on the view ray is importance-sampled from its exact optical
+//     depth (the ray cut every <= 250 m of altitude and <= 5 km of length and at
+//     profile kinks, each piece's column by 8-point Gauss-Legendre, < 1e-13): a piece
+//     by its share of the collision probability, the point uniformly in it, weight
+//     sigma_s(s) e^{-tau(s)} / q(s) with the exact tau(s); a ray that meets the ground
+//     ends there with probability e^{-tau}; rays toward space never escape unscattered
+//     (a forced collision: their escape carries no light). In the slab: the truncated
+//     exponential, weight 1 - e^{-tau/mu};
 //   * Russian roulette once the weight falls below `roulette_weight` (survival
 //     probability weight / roulette_weight, the survivor's weight reset to it).
 // Each vertex (scattering or ground reflection) is one order; max_orders = 1 is single
