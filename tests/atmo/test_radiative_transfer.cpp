@@ -464,6 +464,30 @@ TEST(RadiativeTransferSky, LineEstimateAgreesWithTheCollisionEstimate) {
         << " +- " << rb.radiance_stderr[i];
 }
 
+TEST(RadiativeTransferSky, SunTableAgreesWithExactSunDepths) {
+  // The same seed draws the same paths in both modes (sun transmittances take no random
+  // numbers): the difference is the table's error alone, bounded by its stated optical
+  // depth error times the slant depths (here < 1e-3 of the radiance).
+  AtmosphereSpec spec = three_wavelengths(preset("earth-graphics"));
+  spec.planet.ground_albedo = 0.2;
+  const Atmosphere atm(spec);
+  RtSkyOptions t = small_tables(), e = small_tables();
+  e.sun_depth = RtSunDepth::Exact;
+  t.run.paths = e.run.paths = 3 * 1500;
+  const MonteCarloSky a(atm, flat_sun(atm), t), b(atm, flat_sun(atm), e);
+  EXPECT_GT(a.sun_depth_rel_error(), 0.0);
+  EXPECT_LT(a.sun_depth_rel_error(), 2e-4);
+  for (const double sun_el : {5.0, -4.0}) {
+    const glm::dvec3 sun = enu_direction(sun_el, 180), view = enu_direction(10, 150);
+    const RtSkyResult ra = a.radiance(0.0, view, sun), rb = b.radiance(0.0, view, sun);
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_GT(rb.radiance[i], 0.0);
+      EXPECT_LE(std::abs(ra.radiance[i] - rb.radiance[i]), 1e-3 * rb.radiance[i])
+          << sun_el << " " << ra.wavelengths_nm[i] << ": " << ra.radiance[i] << " vs " << rb.radiance[i];
+    }
+  }
+}
+
 TEST(RadiativeTransferSky, SameSeedSameBitsOnAnyThreadCount) {
   const Atmosphere atm(three_wavelengths(preset("earth-graphics")));
   RtSkyOptions so = small_tables();
