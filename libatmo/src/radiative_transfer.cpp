@@ -440,8 +440,9 @@ class SphereMedium {
   // probability, h_j its length, n pieces), weight sigma_s(s) e^{-tau(s)} / (q(s)
   // (1 - p_ground)) with the exact tau(s) (piece start + Gauss-Legendre to s).
   Event first_flight(Ray& ray, Rng& rng, double& w) const {
-    if (view_.empty || cdf_.empty()) return Event::Escape;
-    if (p_ground_ > 0 && rng.uniform() < p_ground_) {
+    if (view_.empty) return Event::Escape;
+    if (cdf_.empty() && !view_.ground) return Event::Escape;  // nothing to collide with
+    if (cdf_.empty() || (p_ground_ > 0 && rng.uniform() < p_ground_)) {
       ray.p = view_.o + view_.length * view_.v;
       ray.p *= m_.R / glm::length(ray.p);
       ray.d = view_.v;
