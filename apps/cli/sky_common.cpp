@@ -17,11 +17,9 @@ namespace atmosh::cli {
 glm::dvec3 SunPlacement::direction() const { return atmo::sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
 
 std::string SunPlacement::describe() const {
-  std::ostringstream os;
-  os.precision(10);
-  os << "elevation " << elevation_deg << " deg, azimuth " << azimuth_deg << " deg";
-  if (spa) os << " (NREL SPA; apparent elevation " << spa->apparent_elevation_deg << " deg)";
-  return os.str();
+  std::string s = "elevation " + io::format_double(elevation_deg) + " deg, azimuth " + io::format_double(azimuth_deg) + " deg";
+  if (spa) s += " (NREL SPA; apparent elevation " + io::format_double(spa->apparent_elevation_deg) + " deg)";
+  return s;
 }
 
 SunPlacement sun_from_place(double lat, double lon, double height_m, const std::string& time_utc) {
@@ -132,9 +130,8 @@ double write_sky_image(const atmo::SkyImage& img, const std::filesystem::path& e
     }
     io::write_tonemapped_png(png, img.width, img.height, img.R, img.G, img.B, exposure, "reinhard");
     std::ostringstream js;
-    js.precision(17);
     js << "{\n  \"tone_map\": \"reinhard v/(1+v) on linear sRGB, then the sRGB transfer curve\",\n"
-       << "  \"exposure\": " << exposure << ",\n"
+       << "  \"exposure\": " << io::format_double(exposure) << ",\n"
        << "  \"exposure_rule\": \"2 / (95th percentile of luminance Y in cd/m^2)\",\n"
        << "  \"source\": \"" << exr.filename().string() << "\"\n}\n";
     std::filesystem::path side = png;

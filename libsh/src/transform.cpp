@@ -16,6 +16,7 @@
 
 #include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/sh/basis.hpp"
 #include "atmosh/sh/quadrature.hpp"
 #include "legendre_impl.hpp"
@@ -24,11 +25,7 @@ namespace atmosh::sh {
 
 namespace detail {
 
-int resolve_threads(int threads) {
-  if (threads < 0) throw InputError("threads must be >= 0, got " + std::to_string(threads));
-  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  return threads;
-}
+int resolve_threads(int threads) { return atmosh::resolve_threads(threads); }
 
 namespace {
 template <class F>

@@ -3,7 +3,8 @@
 //
 // parallel_for_ranges(n, chunk, threads, body, progress) calls body(begin, end) for
 // consecutive ranges [begin, end) of at most `chunk` indices covering [0, n), each
-// range exactly once, taken by `threads` workers (0 = std::thread::hardware_concurrency)
+// range exactly once, taken by `threads` workers (0 = the CPUs this process may use, see
+// resolve_threads)
 // from a shared atomic counter — so the result does not depend on the thread count as
 // long as body(begin, end) writes only its own indices. Without `progress` the
 // calling thread is one of the workers; with it, the calling thread only reports
@@ -24,10 +25,15 @@
 
 namespace atmosh {
 
-/// Worker count for a requested count: requested > 0 as given, else the hardware concurrency (>= 1).
-inline int resolve_threads(int requested) {
-  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-}
+/// The CPUs this process may run on (>= 1): the CPUs in its affinity mask
+/// (sched_getaffinity: `taskset -c 0`, a Slurm allocation, numactl) and, where a cgroup v2
+/// `cpu.max` quota applies (containers, systemd slices), at most ceil(quota / period).
+/// std::thread::hardware_concurrency() when neither can be read.
+int available_cpus();
+
+/// The one thread-count policy of the toolkit: requested > 0 as given; 0 = available_cpus();
+/// InputError for a negative count (the message names "threads" and the value).
+int resolve_threads(int requested);
 
 template <class Body>
 void parallel_for_ranges(std::size_t n, std::size_t chunk, int threads, Body&& body,
