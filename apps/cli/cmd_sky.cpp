@@ -605,7 +605,7 @@ void register_sky_commands(CLI::App& app) {
       o.settings = qq.settings();
       const auto spec = scene::load_sweep(file);
       ProgressStep step("sweep " + file);
-      o.progress = [&step](int done, int total) { step.set_fraction(total > 0 ? double(done) / total : 1.0); };
+      o.progress = step.callback();
       const auto r = scene::run_sweep(spec, [qq](const scene::Scene& s) { return sweep_point(s, qq); }, o);
       std::cout << "sweep: " << r.points_in_shard << " point(s) of " << r.points_total << " in " << r.csv.string()
                 << " (" << r.points_resumed << " resumed, " << r.points_computed << " computed)\n";

@@ -297,3 +297,24 @@ TEST(Sweep, MergeRefusesShardsOfDifferentSweepsAndKeepsProvenance) {
   EXPECT_EQ(m.provenance.at("lut_shells"), "32");
   EXPECT_EQ(m.provenance.count("shard"), 0u);
 }
+
+// The library reports progress through a callback (it never prints): fractions of the
+// shard's points, non-decreasing, ending at 1 — resumed points included.
+TEST(Sweep, ReportsProgressThroughTheCallback) {
+  const fs::path d = scratch("progress");
+  const SweepSpec s = parse_sweep(kSweep, "s.toml", ".");
+  SweepOptions o;
+  o.out_dir = d;
+  o.threads = 3;
+  std::vector<double> seen;
+  o.progress = [&](double f) { seen.push_back(f); };
+  run_sweep(s, eval, o);
+  ASSERT_EQ(seen.size(), 15u);
+  for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GT(seen[i], seen[i - 1]);
+  EXPECT_DOUBLE_EQ(seen.front(), 1.0 / 15.0);
+  EXPECT_EQ(seen.back(), 1.0);
+  seen.clear();
+  o.resume = true;
+  run_sweep(s, eval, o);
+  EXPECT_EQ(seen, std::vector<double>{1.0});
+}

@@ -60,6 +60,7 @@ std::string utc_now_iso8601() {
 }
 
 std::string format_double(double v) { return atmosh::format_double(v); }
+
 Provenance Provenance::current() {
   Provenance p;
   p.add("atmosh_version", version_string());

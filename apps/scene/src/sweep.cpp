@@ -339,7 +339,7 @@ SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const S
     res.points_total = total;
     res.points_in_shard = res.points_resumed = static_cast<int>(mine.size());
     res.sweep_id = id;
-    if (opt.progress) opt.progress(res.points_in_shard, res.points_in_shard);
+    if (opt.progress) opt.progress(1.0);
     return res;
   }
   const bool journal_has_header = fs::exists(journal) && !header.empty();
@@ -406,7 +406,7 @@ SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const S
         }
         append(join(cells));
         done[idx] = join(cells);
-        if (opt.progress) opt.progress(static_cast<int>(done.size()), static_cast<int>(mine.size()));
+        if (opt.progress) opt.progress(static_cast<double>(done.size()) / static_cast<double>(mine.size()));
       } catch (...) {
         std::lock_guard<std::mutex> lk(mu);
         if (!failure) failure = std::current_exception();

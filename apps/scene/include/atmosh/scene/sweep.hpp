@@ -49,6 +49,7 @@
 #include <utility>
 #include <vector>
 
+#include "atmosh/progress.hpp"
 #include "atmosh/scene/scene.hpp"
 
 namespace atmosh::scene {
@@ -75,14 +76,13 @@ using SweepSettings = std::vector<std::pair<std::string, std::string>>;
 // The sweep's identity: 16 hex digits (see above).
 std::string sweep_identity(const SweepSpec& spec, const SweepSettings& settings);
 
-// Progress of a sweep: points finished (resumed ones included) of the shard's points.
-// Called from worker threads under a lock; must not throw.
-using SweepProgress = std::function<void(int done, int total)>;
 
 struct SweepOptions {
   std::filesystem::path out_dir;
   SweepSettings settings;      // recorded in the CSV and part of the identity
-  SweepProgress progress;      // optional
+  // Optional: the fraction of the shard's points finished (resumed ones included),
+  // called from worker threads under a lock.
+  ProgressCallback progress;
   bool resume = false;
   int shard = 1, shards = 1;   // shard k of n, 1-based
   int threads = 1;
