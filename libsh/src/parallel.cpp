@@ -12,19 +12,15 @@
 
 namespace atmosh {
 
-namespace {
-
-// ceil(quota / period) of the cgroup v2 cpu.max files on the way from this process's
-// cgroup up to the root (the smallest wins); 0 when none limits the CPUs.
-int cgroup_cpu_limit() {
-  std::ifstream cg("/proc/self/cgroup");
+int detail::cgroup_cpu_limit(const std::string& proc_self_cgroup, const std::string& cgroup_root) {
+  std::ifstream cg(proc_self_cgroup);
   std::string line, path;
   while (std::getline(cg, line))
     if (line.rfind("0::", 0) == 0) path = line.substr(3);
   if (path.empty()) path = "/";
   int best = 0;
   for (;;) {
-    std::ifstream f("/sys/fs/cgroup" + (path == "/" ? std::string() : path) + "/cpu.max");
+    std::ifstream f(cgroup_root + (path == "/" ? std::string() : path) + "/cpu.max");
     std::string quota;
     double period = 0;
     if (f >> quota >> period && quota != "max" && period > 0) {
@@ -43,6 +39,10 @@ int cgroup_cpu_limit() {
   }
   return best;
 }
+
+namespace {
+
+int cgroup_cpu_limit() { return detail::cgroup_cpu_limit("/proc/self/cgroup", "/sys/fs/cgroup"); }
 
 }  // namespace
 

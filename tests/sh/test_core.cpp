@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 
@@ -68,6 +70,29 @@ TEST(Threads, ZeroMeansTheCpusThisProcessMayUse) {
   ASSERT_EQ(waitpid(pid, &status, 0), pid);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0) << "resolve_threads(0) under a one-CPU affinity mask is not 1";
+}
+
+// cgroup v2 CPU bandwidth limit (Linux Documentation/admin-guide/cgroup-v2.rst,
+// "cpu.max": "$MAX $PERIOD", MAX "max" for no limit): a quota of 1.5 CPUs on the way
+// up from the process's cgroup allows 2 workers; the smallest limit on the path wins.
+TEST(Threads, CgroupQuotaLimitsTheCpus) {
+  namespace fs = std::filesystem;
+  const fs::path d = fs::temp_directory_path() / ("atmosh_cgroup_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d / "root" / "a" / "b");
+  std::ofstream(d / "cgroup") << "0::/a/b\n";
+  const std::string cg = (d / "cgroup").string(), root = (d / "root").string();
+  EXPECT_EQ(atmosh::detail::cgroup_cpu_limit(cg, root), 0);  // no cpu.max anywhere: no limit
+  std::ofstream(d / "root" / "a" / "b" / "cpu.max") << "max 100000\n";
+  std::ofstream(d / "root" / "a" / "cpu.max") << "150000 100000\n";
+  EXPECT_EQ(atmosh::detail::cgroup_cpu_limit(cg, root), 2);
+  std::ofstream(d / "root" / "a" / "b" / "cpu.max") << "50000 100000\n";
+  EXPECT_EQ(atmosh::detail::cgroup_cpu_limit(cg, root), 1);
+  std::ofstream(d / "root" / "cpu.max") << "max 100000\n";
+  std::ofstream(d / "root" / "a" / "cpu.max") << "max 100000\n";
+  std::ofstream(d / "root" / "a" / "b" / "cpu.max") << "400000 100000\n";
+  EXPECT_EQ(atmosh::detail::cgroup_cpu_limit(cg, root), 4);
+  fs::remove_all(d);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -30,6 +31,13 @@ namespace atmosh {
 /// `cpu.max` quota applies (containers, systemd slices), at most ceil(quota / period).
 /// std::thread::hardware_concurrency() when neither can be read.
 int available_cpus();
+
+namespace detail {
+/// ceil(quota / period) of the smallest cgroup v2 `cpu.max` on the way from this
+/// process's cgroup (the "0::PATH" line of proc_self_cgroup) up to cgroup_root; 0 when
+/// none limits the CPUs ("max"). available_cpus() reads /proc/self/cgroup, /sys/fs/cgroup.
+int cgroup_cpu_limit(const std::string& proc_self_cgroup, const std::string& cgroup_root);
+}  // namespace detail
 
 /// The one thread-count policy of the toolkit: requested > 0 as given; 0 = available_cpus();
 /// InputError for a negative count (the message names "threads" and the value).
