@@ -41,6 +41,7 @@ TEST(CliHostile, ThreadCountsRefusedOrResolved) {
   expect_bad("study sun-elevation --from 0 --to 1 -o " + q(d / "st") + " --threads -3", "--threads -3");
   expect_bad("sh project in.exr --bands 2 --threads -1 -o " + q(d / "c.csv"), "--threads -1");
   // --threads 0 under `taskset -c 0`: one CPU may be used, so one worker; provenance says so.
+  if (std::system("command -v taskset >/dev/null 2>&1") != 0) GTEST_SKIP() << "no taskset (util-linux)";
   const int rc = shell("taskset -c 0 {atmosh} study sun-elevation --from 0 --to 2 --step 1 --threads 0" + kCheap + " -o " +
                            q(d / "one"),
                        d / "err.txt");
