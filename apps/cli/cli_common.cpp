@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/io/provenance.hpp"
 
 namespace atmosh::cli {
@@ -55,6 +56,15 @@ double require_range(double v, double lo, double hi, const std::string& what) {
     throw InputError(what + ": " + io::format_double(v) + " is out of range [" + io::format_double(lo) + ", " +
                      io::format_double(hi) + "]");
   return v;
+}
+
+int threads_option(int requested, const std::string& option) {
+  if (requested < 0 || requested > 1024)
+    throw InputError(option + " " + std::to_string(requested) + ": must be in 0..1024 (0 = the " +
+                     std::to_string(available_cpus()) + " CPUs this process may use)");
+  const int n = resolve_threads(requested);
+  io::set_threads(n);
+  return n;
 }
 
 void check_device(const std::string& device) {

@@ -34,6 +34,10 @@ std::array<int, 2> parse_size(const std::string& text, const std::string& what);
 // "cpu" never touches EGL; "gpu" needs a headless EGL device, else exit 1; "auto"
 // falls back to the CPU with a one-line notice on stderr.)
 void check_device(const std::string& device);
+// --threads: the worker count for a requested one, by the toolkit's one policy
+// (atmosh::resolve_threads: 0 = the CPUs this process may use, affinity and cgroup
+// quota included); InputError naming the option for a negative count or one > 1024.
+int threads_option(int requested, const std::string& option = "--threads");
 // Throws InputError unless v is finite and lo <= v <= hi.
 double require_range(double v, double lo, double hi, const std::string& what);
 

@@ -27,6 +27,7 @@
 #include "atmosh/io/study.hpp"
 #include "atmosh/scene/scene.hpp"
 #include "cli_common.hpp"
+#include "progress.hpp"
 #ifdef ATMOSH_HAVE_GPU
 #include "atmosh/gpu/sky.hpp"
 #endif
@@ -513,6 +514,7 @@ void register_atmo_commands(CLI::App& app) {
                   "auto uses the GPU if a headless EGL device exists, else the CPU only");
     c->callback([o, os, od] {
       check_device(o->device);
+      ProgressStep step("converge lut");
       if (o->quick && (os->count() > 0 || od->count() > 0))
         throw InputError("--quick: sweeps its own two settings; drop --shells/--directions or --quick");
       auto s = parse_int_list(o->shells, "--shells");
@@ -533,6 +535,7 @@ std::vector<fs::path> write_optical_depth_table(const AtmosphereSpec& spec, cons
 }
 
 void demo_atmo(DemoContext& ctx) {
+  ProgressStep step("demo: optical depth and its tables");
   // (The default scene's LUT convergence study is one of its outputs, run by run_scene.)
   const auto s = scene::default_scene();
   for (const auto& p : write_zenith_sweep(s.atmosphere, 1000.0, ctx.out_dir / "optical_depth_vs_zenith"))

@@ -25,6 +25,7 @@
 #include "atmosh/prt/bake.hpp"
 #include "atmosh/sh/basis.hpp"
 #include "cli_common.hpp"
+#include "progress.hpp"
 
 namespace atmosh::cli {
 
@@ -401,8 +402,7 @@ void register_prt_commands(CLI::App& app) {
       bo.bounces = o->bounces;
       bo.default_albedo = o->albedo;
       bo.seed = o->seed;
-      bo.threads = o->threads;
-      if (o->threads < 0 || o->threads > 1024) throw InputError("--threads: must be in 0..1024, got " + std::to_string(o->threads));
+      bo.threads = threads_option(o->threads);
       const std::string ext = fs::path(o->out).extension().string();
       if (ext != ".ply" && ext != ".exr")
         throw InputError("-o: '" + o->out + "' must end in .ply (per-vertex) or .exr (per-pixel)");
@@ -411,7 +411,8 @@ void register_prt_commands(CLI::App& app) {
       const auto sz = parse_size(o->size, "--size");
       const auto vv = parse_triple(o->view, "--view");
       const prt::Mesh mesh = load_input(o->mesh, o->builtin, o->resolution);
-      const bool show = !o->quiet && ::isatty(STDERR_FILENO);
+      if (o->quiet) set_progress_quiet(true);
+      const bool show = !progress_quiet() && ::isatty(STDERR_FILENO);
       if (show) bo.progress = [](double f) { std::fprintf(stderr, "\rprt bake: %3d%%", static_cast<int>(100 * f)); };
       if (ext == ".exr") {  // per-pixel transfer: CPU ray casting or the GPU depth-map method
         const auto t0 = Clock::now();
@@ -490,6 +491,8 @@ void register_prt_commands(CLI::App& app) {
     c->add_option("--exposure", o->r.exposure, "tone-mapping exposure (0 = auto)");
     c->add_option("-o,--output", o->out, "output folder")->required();
     c->callback([o] {
+      if (!std::isfinite(o->r.exposure) || o->r.exposure < 0)
+        throw InputError("--exposure " + io::format_double(o->r.exposure) + ": must be finite and >= 0 (0 = auto)");
       const auto sz = parse_size(o->size, "--size");
       o->r.width = sz[0];
       o->r.height = sz[1];
@@ -526,6 +529,7 @@ void register_prt_commands(CLI::App& app) {
     c->add_option("-o,--output", o->out, "output stem (writes STEM.csv and STEM.png)")->required();
     c->callback([o] {
       check_device(o->device);
+      ProgressStep step("prt converge");
       PixelStudy px;
       px.device = o->device;
       const auto sz = parse_size(o->pixels, "--pixels");
@@ -553,13 +557,14 @@ void register_prt_commands(CLI::App& app) {
         strata.push_back(static_cast<int>(s));
       }
       const auto files = converge_study(mesh, o->bands, mode, strata_of_samples(o->reference_samples), strata,
-                                        o->threads, px, o->out);
+                                        threads_option(o->threads), px, o->out);
       for (const auto& f : files) std::cout << "wrote " << f.string() << "\n";
     });
   }
 }
 
 void demo_prt(DemoContext& ctx) {
+  ProgressStep step("demo: precomputed radiance transfer");
   const fs::path dir = ctx.out_dir / "prt";
   const int res = ctx.quick ? 12 : 40;
   prt::BakeOptions bo;

@@ -18,6 +18,7 @@
 #include "atmosh/sh/projection.hpp"
 #include "atmosh/sh/rotation.hpp"
 #include "cli_common.hpp"
+#include "progress.hpp"
 
 namespace atmosh::cli {
 
@@ -299,7 +300,7 @@ void register_sh_commands(CLI::App& app) {
     c->add_option("--width", o->width, "width of the reconstruction (height = width/2)");
     c->callback([o] {
       require_bands(o->bands);
-      sh::ProjectOptions po{sh::parse_method(o->method), o->samples, o->seed, o->threads};
+      sh::ProjectOptions po{sh::parse_method(o->method), o->samples, o->seed, threads_option(o->threads)};
       if (o->samples < 0) throw InputError("--samples must be >= 0, got " + std::to_string(o->samples));
       if (o->width < 2 || o->width > 16384) throw InputError("--width must be in [2, 16384], got " + std::to_string(o->width));
       if (po.method == sh::Method::quadrature) po.samples = 0;
@@ -335,7 +336,7 @@ void register_sh_commands(CLI::App& app) {
       if (o->json) {
         print_json(j);
       } else {
-        for (auto& [k, v] : values.items()) std::printf("%s %.17g\n", k.c_str(), v.get<double>());
+        for (auto& [k, v] : values.items()) std::cout << k << " " << io::format_double(v.get<double>()) << "\n";
       }
     });
   }
@@ -412,6 +413,7 @@ void register_sh_commands(CLI::App& app) {
     c->callback([o] {
       require_bands(o->bands);
       const LoadedImage li = load_image(o->in, o->layout);
+      ProgressStep step("converge sh");
       for (const auto& p : run_converge(li, o->bands, o->quick, o->seed, o->stem, o->in)) std::printf("%s\n", p.c_str());
     });
   };
@@ -420,6 +422,7 @@ void register_sh_commands(CLI::App& app) {
 }
 
 void demo_sh(DemoContext& ctx) {
+  ProgressStep step("demo: spherical harmonics");
   namespace fs = std::filesystem;
   const int W = ctx.quick ? 128 : 512, H = W / 2;
   const int bands = ctx.quick ? 8 : 16;

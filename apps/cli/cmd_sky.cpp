@@ -8,6 +8,7 @@
 
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/sun_disc.hpp"
+#include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/atmo/sun_series.hpp"
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
@@ -19,6 +20,7 @@
 #include "atmosh/sh/convolution.hpp"
 #include "atmosh/sh/transform.hpp"
 #include "cli_common.hpp"
+#include "progress.hpp"
 #include "sky_common.hpp"
 #ifdef ATMOSH_HAVE_GPU
 #include "atmosh/gpu/sky.hpp"
@@ -35,6 +37,30 @@ struct QualityOptions {
   int shells = 32, segments = 16, samples = 2, threads = 0;
   double max_piece_tau = SkyOptions{}.max_piece_optical_depth;
   std::string sun_model;  // --sun-model: disc | point; empty: the scene's sun_model
+  // Validated, naming the options as typed, with threads resolved (0 = the CPUs this
+  // process may use). Every command that takes these options calls it first.
+  QualityOptions checked() const {
+    QualityOptions q = *this;
+    if (shells < 4 || shells > 4096)
+      throw InputError("--shells " + std::to_string(shells) + " is outside [4, 4096]");
+    const int max_segments = std::min(shells - 1, atmo::shared::kMaxCutSpheres);
+    if (segments < 1 || segments > max_segments)
+      throw InputError("--segments " + std::to_string(segments) + " is outside [1, " + std::to_string(max_segments) +
+                       "] (at most --shells - 1 and " + std::to_string(atmo::shared::kMaxCutSpheres) + ")");
+    if (samples < 1 || samples > 8) throw InputError("--samples " + std::to_string(samples) + " is outside [1, 8]");
+    if (!std::isfinite(max_piece_tau) || !(max_piece_tau > 0))
+      throw InputError("--max-piece-tau " + io::format_double(max_piece_tau) + " must be finite and > 0");
+    q.threads = threads_option(threads);
+    return q;
+  }
+  // The settings that change results, as recorded in CSVs and hashed into a sweep's identity.
+  scene::SweepSettings settings() const {
+    return {{"lut_shells", std::to_string(shells)},
+            {"view_segments", std::to_string(segments)},
+            {"samples_per_segment", std::to_string(samples)},
+            {"max_piece_optical_depth", io::format_double(max_piece_tau)},
+            {"sun_model", sun_model.empty() ? "scene" : sun_model}};
+  }
   SkyOptions sky(const scene::Scene& s) const {
     SkyOptions o;
     o.lut.shells = shells;
@@ -54,7 +80,7 @@ void add_quality_options(CLI::App* c, QualityOptions& q) {
                 "Largest extinction optical depth of one view-ray piece before it is split (accuracy vs speed: "
                 "see atmosh converge sky)")
       ->capture_default_str();
-  c->add_option("--threads", q.threads, "Worker threads (0 = all cores)")->capture_default_str();
+  c->add_option("--threads", q.threads, "Worker threads (0 = the CPUs this process may use)")->capture_default_str();
   c->add_option("--sun-model", q.sun_model,
                 "disc (limb-darkened solar disc: direct beam, sun colour, the sun in images) or point; "
                 "default: the scene's sun_model (disc)");
@@ -133,7 +159,9 @@ SkyImage render_sky_on(const std::string& device, const SkyIntegrator& sky, SkyP
 
 namespace {
 
-void run_sky(const SkyCmd& c) {
+void run_sky(const SkyCmd& cmd) {
+  SkyCmd c = cmd;
+  c.q = cmd.q.checked();
   if (c.output.empty()) throw InputError("-o is required (the EXR file to write)");
   const auto s = load_or_default(c.scene_file);
   const SunPlacement sun = resolve_sun(c, s);
@@ -187,12 +215,17 @@ const std::vector<std::string> kStudyColumns = {
 // the Earth's shadow has no colour to report (JSON: null).
 Chromaticity chromaticity_or_nan(const Xyz& c) { return xy_chromaticity_or_nan(c); }
 
+// The transmitted sun's chromaticity, as the CSV and the chromaticity plot report it.
+Chromaticity sun_chromaticity_or_nan(const SkySummary& m) {
+  return m.sun_transmitted.Y > 0 ? m.sun_chromaticity : Chromaticity{std::nan(""), std::nan("")};
+}
+
 std::vector<double> study_values(const SkySummary& m) {
   const auto z = chromaticity_or_nan(m.zenith.xyz), hs = chromaticity_or_nan(m.horizon_toward_sun.xyz),
              ha = chromaticity_or_nan(m.horizon_away.xyz);
   return {m.zenith.xyz.Y, z.x, z.y, m.zenith.srgb.r, m.zenith.srgb.g, m.zenith.srgb.b,
           m.horizon_toward_sun.xyz.Y, hs.x, hs.y, m.horizon_toward_sun.srgb.r, m.horizon_toward_sun.srgb.g,
-          m.horizon_toward_sun.srgb.b, m.horizon_away.xyz.Y, ha.x, ha.y, chromaticity_or_nan(m.sun_transmitted).x, chromaticity_or_nan(m.sun_transmitted).y,
+          m.horizon_toward_sun.srgb.b, m.horizon_away.xyz.Y, ha.x, ha.y, sun_chromaticity_or_nan(m).x, sun_chromaticity_or_nan(m).y,
           m.sun_transmitted.Y, m.sun_transmittance_550};
 }
 
@@ -226,7 +259,7 @@ void study_plots(const fs::path& dir, const std::string& xname, const std::strin
   for (const auto& r : rows) {
     qa.y.push_back(chromaticity_or_nan(r.zenith.xyz).x);
     qb.y.push_back(chromaticity_or_nan(r.horizon_toward_sun.xyz).x);
-    qc.y.push_back(r.sun_chromaticity.x);
+    qc.y.push_back(sun_chromaticity_or_nan(r).x);
   }
   q.series = {qa, qb, qc};
   io::write_plot_png(dir / "chromaticity.png", q);
@@ -241,7 +274,10 @@ struct ElevationStudy {
   QualityOptions q;
 };
 
-std::vector<fs::path> run_elevation_study(const ElevationStudy& o, const scene::Scene* given = nullptr) {
+std::vector<fs::path> run_elevation_study(const ElevationStudy& given_options, const scene::Scene* given = nullptr,
+                                          const ProgressCallback& progress = {}) {
+  ElevationStudy o = given_options;
+  o.q = given_options.q.checked();
   if (o.output.empty()) throw InputError("-o is required (output folder)");
   require_range(o.from, -90, 90, "--from");
   require_range(o.to, -90, 90, "--to");
@@ -253,9 +289,11 @@ std::vector<fs::path> run_elevation_study(const ElevationStudy& o, const scene::
   std::vector<double> elev;
   for (double e = o.from; e <= o.to + 1e-9; e += o.step) elev.push_back(e);
   std::vector<SkySummary> rows(elev.size());
-  parallel_for(elev.size(), o.q.threads, [&](std::size_t i) {
-    rows[i] = summarize_sky(*model->sky, h, sun_direction_enu(90.0 - elev[i], o.azimuth));
-  });
+  auto body = [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) rows[i] = summarize_sky(*model->sky, h, sun_direction_enu(90.0 - elev[i], o.azimuth));
+  };
+  if (progress) parallel_for_ranges(elev.size(), 1, o.q.threads, body, progress);
+  else parallel_for_ranges(elev.size(), 1, o.q.threads, body);
   std::vector<std::string> cols = {"sun_elevation_deg"};
   cols.insert(cols.end(), kStudyColumns.begin(), kStudyColumns.end());
   io::CsvTable t(cols);
@@ -293,7 +331,9 @@ struct DayStudy {
   QualityOptions q;
 };
 
-std::vector<fs::path> run_day_study(const DayStudy& o) {
+std::vector<fs::path> run_day_study(const DayStudy& given_options, const ProgressCallback& progress = {}) {
+  DayStudy o = given_options;
+  o.q = given_options.q.checked();
   if (o.output.empty()) throw InputError("-o is required (output folder)");
   if (!o.lat || !o.lon) throw InputError("--lat and --lon are required");
   if (o.date.size() != 10) throw InputError("--date '" + o.date + "' is not YYYY-MM-DD");
@@ -317,16 +357,12 @@ std::vector<fs::path> run_day_study(const DayStudy& o) {
   std::vector<std::string> labels;
   std::vector<fs::path> written;
   for (const auto& smp : series) {
+    if (progress) progress(static_cast<double>(rows.size()) / static_cast<double>(series.size()));
     const glm::dvec3 sun(smp.east, smp.north, smp.up);
     const double d2 = smp.position.earth_sun_distance_au;
-    SkySummary m = summarize_sky(*model->sky, h, sun);
-    // Irradiance scales as 1/d^2 (the model was built for 1 AU).
-    for (auto* c : {&m.zenith, &m.horizon_toward_sun, &m.horizon_away}) {
-      const double f = 1.0 / (d2 * d2);
-      c->xyz = {c->xyz.X * f, c->xyz.Y * f, c->xyz.Z * f};
-      c->srgb = {c->srgb.r * f, c->srgb.g * f, c->srgb.b * f};
-    }
-    m.sun_transmitted.Y /= d2 * d2;
+    // The tables are built once, for 1 AU; the summary is scaled to this day's distance
+    // in one place (summarize_sky), the sun's XYZ and the sky alike.
+    const SkySummary m = summarize_sky(*model->sky, h, sun, 1.0, d2);
     const std::string ts = format_iso8601_utc(smp.jd_utc);
     std::vector<io::CsvCell> r = {ts, smp.position.elevation_deg, smp.position.azimuth_deg,
                                   smp.position.apparent_elevation_deg};
@@ -528,7 +564,8 @@ void register_sky_commands(CLI::App& app) {
     s->add_option("-o,--output", o.output, "Output folder")->required();
     add_quality_options(s, o.q);
     s->callback([] {
-      for (const auto& f : run_elevation_study(o)) std::cout << f.string() << "\n";
+      ProgressStep step("study sun-elevation");
+      for (const auto& f : run_elevation_study(o, nullptr, step.callback())) std::cout << f.string() << "\n";
     });
   }
   {
@@ -545,7 +582,8 @@ void register_sky_commands(CLI::App& app) {
     s->add_option("-o,--output", o.output, "Output folder")->required();
     add_quality_options(s, o.q);
     s->callback([] {
-      for (const auto& f : run_day_study(o)) std::cout << f.string() << "\n";
+      ProgressStep step("study day");
+      for (const auto& f : run_day_study(o, step.callback())) std::cout << f.string() << "\n";
     });
   }
   {
@@ -583,9 +621,12 @@ void register_sky_commands(CLI::App& app) {
       } catch (const std::logic_error&) {
         throw InputError("--shard '" + shard + "' is not k/N");
       }
-      o.threads = resolve_threads(q.threads);
-      QualityOptions qq = q;
+      const QualityOptions qq = q.checked();
+      o.threads = qq.threads;
+      o.settings = qq.settings();
       const auto spec = scene::load_sweep(file);
+      ProgressStep step("sweep " + file);
+      o.progress = step.callback();
       const auto r = scene::run_sweep(spec, [qq](const scene::Scene& s) { return sweep_point(s, qq); }, o);
       std::cout << "sweep: " << r.points_in_shard << " point(s) of " << r.points_total << " in " << r.csv.string()
                 << " (" << r.points_resumed << " resumed, " << r.points_computed << " computed)\n";
@@ -598,9 +639,12 @@ void register_sky_commands(CLI::App& app) {
     c->add_option("--scene", o.scene_file, "Scene file (default: built-in scene)");
     c->add_option("-o,--output", o.output, "Output stem (writes STEM.csv and STEM.png)")->capture_default_str();
     c->add_flag("--quick", o.quick, "Few rays and settings");
-    c->add_option("--threads", o.threads, "Threads for the reference (0 = all cores)");
+    c->add_option("--threads", o.threads, "Threads for the reference (0 = the CPUs this process may use)");
     c->callback([] {
-      for (const auto& f : run_converge_sky(o)) std::cout << f.string() << "\n";
+      ConvergeSky x = o;
+      x.threads = threads_option(o.threads);
+      ProgressStep step("converge sky");
+      for (const auto& f : run_converge_sky(x)) std::cout << f.string() << "\n";
     });
   }
 }
@@ -675,7 +719,9 @@ void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vect
     }
     return *model;
   };
-  for (const auto& out : s.outputs) {
+  for (std::size_t oi = 0; oi < s.outputs.size(); ++oi) {
+    const auto& out = s.outputs[oi];
+    ProgressStep step("output[" + std::to_string(oi) + "] " + out.kind + " " + out.file);
     const fs::path file = dir / out.file;
     fs::path stem = file;
     stem.replace_extension();
@@ -721,6 +767,7 @@ void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vect
 }
 
 void demo_sky(DemoContext& ctx) {
+  ProgressStep step("demo: sky error against run time");
   ConvergeSky c;
   c.quick = ctx.quick;
   c.output = (ctx.out_dir / "sky_convergence").string();

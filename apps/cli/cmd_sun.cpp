@@ -1,5 +1,7 @@
 // atmosh sun — solar position at a place and a UTC time, time series, and the
 // accuracy study of the fast algorithms against NREL SPA.
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -18,6 +20,7 @@
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/io/study.hpp"
 #include "cli_common.hpp"
+#include "progress.hpp"
 
 namespace atmosh::cli {
 namespace {
@@ -72,13 +75,32 @@ io::Provenance place_provenance(const SunQuery& q) {
   return p;
 }
 
-io::CsvTable series_table(const std::vector<SunSample>& samples) {
+// Decimals of the seconds in time_utc: as many as the step and the start need
+// (0.5s -> 1, 0.25s -> 2; whole seconds -> 0), at most 6.
+int time_decimals(double step_s, const std::string& from_text) {
+  int d = 0;
+  while (d < 6) {
+    const double scaled = step_s * std::pow(10.0, d);
+    if (std::fabs(scaled - std::round(scaled)) <= 1e-6 * std::max(1.0, scaled)) break;
+    ++d;
+  }
+  // Digits after a decimal point in the seconds of --from (e.g. 12:00:00.25Z -> 2).
+  if (const auto t = from_text.find('T'); t != std::string::npos)
+    if (const auto dot = from_text.find('.', t); dot != std::string::npos) {
+      int n = 0;
+      for (std::size_t i = dot + 1; i < from_text.size() && std::isdigit(static_cast<unsigned char>(from_text[i])); ++i) ++n;
+      d = std::max(d, std::min(n, 6));
+    }
+  return d;
+}
+
+io::CsvTable series_table(const std::vector<SunSample>& samples, int decimals = 0) {
   io::CsvTable t({"time_utc", "jd_utc", "zenith_deg", "azimuth_deg", "elevation_deg", "apparent_zenith_deg",
                   "apparent_elevation_deg", "declination_deg", "hour_angle_deg", "equation_of_time_min",
                   "earth_sun_distance_au", "sun_east", "sun_north", "sun_up"});
   for (const SunSample& s : samples) {
     const SunPosition& p = s.position;
-    t.add_row({format_iso8601_utc(s.jd_utc), s.jd_utc, p.zenith_deg, p.azimuth_deg, p.elevation_deg,
+    t.add_row({format_iso8601_utc(s.jd_utc, decimals), s.jd_utc, p.zenith_deg, p.azimuth_deg, p.elevation_deg,
                p.apparent_zenith_deg, p.apparent_elevation_deg, p.declination_deg, p.hour_angle_deg,
                p.equation_of_time_min, p.earth_sun_distance_au, s.east, s.north, s.up});
   }
@@ -155,8 +177,9 @@ void run_sun(const SunOptions& o) {
     const double step = parse_duration_s(o.step);
     const auto samples = sun_series(base, from, to, step);
     io::Provenance prov = place_provenance(base);
-    prov.add("from_utc", format_iso8601_utc(from)).add("to_utc", format_iso8601_utc(to)).add("step_s", step);
-    const io::CsvTable table = series_table(samples);
+    const int decimals = time_decimals(step, o.from);
+    prov.add("from_utc", format_iso8601_utc(from, decimals)).add("to_utc", format_iso8601_utc(to, decimals)).add("step_s", step);
+    const io::CsvTable table = series_table(samples, decimals);
     if (o.output.empty() || o.output == "-") {
       std::cout << table.to_string(prov);
     } else {
@@ -256,6 +279,7 @@ void register_sun_commands(CLI::App& app) {
       throw InputError("--year " + std::to_string(acc->year) + " is outside 2010..2110, the fast algorithms' range");
     if (acc->samples < 1 || acc->samples > 10000000)
       throw InputError("--samples " + std::to_string(acc->samples) + " is outside 1..10000000");
+    ProgressStep step("sun accuracy");
     for (const auto& p : write_accuracy(acc->output, acc->year, lats, acc->samples)) std::cerr << "wrote " << p.string() << "\n";
   });
   sun->callback([sun, opt]() {
@@ -290,6 +314,7 @@ std::vector<std::filesystem::path> write_sun_track(double latitude_deg, double l
 }
 
 void demo_sun(DemoContext& ctx) {
+  ProgressStep step("demo: sun positions");
   // (The sun track of the default scene is one of its outputs, written by run_scene.)
   const std::vector<double> lats = {-75.0, -45.0, 0.0, 30.0, 60.0, 85.0};
   for (const auto& p : write_accuracy(ctx.out_dir / "sun_accuracy", 2026, lats, ctx.quick ? 500 : 20000))

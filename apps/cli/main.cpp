@@ -10,6 +10,7 @@
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
 #include "cli_common.hpp"
+#include "progress.hpp"
 
 namespace {
 std::string first_line(std::string s) {
@@ -31,6 +32,10 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version",
                        "atmosh " + atmosh::io::version_string() + " (git " + atmosh::io::git_commit() + ")");
   app.require_subcommand(1);
+  // Options of the main program may follow the subcommand: `atmosh demo --quiet`.
+  app.fallthrough();
+  app.add_flag_callback("-q,--quiet", [] { atmosh::cli::set_progress_quiet(true); },
+                        "No progress lines or bars on stderr (also ATMOSH_QUIET=1)");
   app.footer(
       "Run `atmosh demo -o results` for the main job on the built-in default scene;\n"
       "`atmosh SUBCOMMAND --help` for details. Units: SI inside, degrees and nanometres at the\n"

@@ -18,11 +18,9 @@ namespace atmosh::cli {
 glm::dvec3 SunPlacement::direction() const { return atmo::sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
 
 std::string SunPlacement::describe() const {
-  std::ostringstream os;
-  os.precision(10);
-  os << "elevation " << elevation_deg << " deg, azimuth " << azimuth_deg << " deg";
-  if (spa) os << " (NREL SPA; apparent elevation " << spa->apparent_elevation_deg << " deg)";
-  return os.str();
+  std::string s = "elevation " + io::format_double(elevation_deg) + " deg, azimuth " + io::format_double(azimuth_deg) + " deg";
+  if (spa) s += " (NREL SPA; apparent elevation " + io::format_double(spa->apparent_elevation_deg) + " deg)";
+  return s;
 }
 
 SunPlacement sun_from_place(double lat, double lon, double height_m, const std::string& time_utc) {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 
 namespace atmosh::atmo {
 namespace {
@@ -489,12 +490,7 @@ constexpr double kCmfTable[kCmfRows][3] = {
     {0.000001251141, 0.000000451810, 0.000000000000},  // 830
 };
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
+std::string fmt(double v) { return atmosh::format_double(v); }
 
 Cmf row(int i) { return {kCmfTable[i][0], kCmfTable[i][1], kCmfTable[i][2]}; }
 

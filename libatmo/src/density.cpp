@@ -7,16 +7,12 @@
 
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 
 namespace atmosh::atmo {
 
 namespace {
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
-}
+std::string num(double v) { return atmosh::format_double(v); }
 }  // namespace
 
 DensityProfile::DensityProfile(const DensityProfileSpec& spec, const std::string& key) : spec_(spec) {

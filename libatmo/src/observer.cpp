@@ -10,15 +10,12 @@
 #include <vector>
 
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 
 namespace atmosh::atmo {
 namespace {
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
-std::string num(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return b;
-}
+std::string num(double v) { return atmosh::format_double(v); }
 }  // namespace
 
 void validate_observer(const Observer& o) {

@@ -16,6 +16,7 @@
 #include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 #include "atmosh/parallel.hpp"
 #include "atmosh/sh/quadrature.hpp"
 
@@ -24,11 +25,7 @@ namespace atmosh::atmo {
 namespace sg = shared;
 
 namespace {
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+std::string num(double v) { return atmosh::format_double(v); }
 
 void check_ray(double r, double mu) {
   if (!std::isfinite(r) || r <= 0.0) throw InputError("ray origin radius " + num(r) + " m: must be finite and > 0");

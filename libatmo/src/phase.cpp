@@ -6,6 +6,7 @@
 
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 #include "atmosh/sh/zonal.hpp"
 
 namespace atmosh::atmo {
@@ -15,11 +16,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr int kCsNodes = 2049;    // uniform in the HG-CDF variable
 constexpr int kCsMuNodes = 512;   // and uniform in mu
 
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+std::string num(double v) { return atmosh::format_double(v); }
 }  // namespace
 
 double sample_hg(double g, double u) {

@@ -8,17 +8,13 @@
 #include "atmosh/atmo/ozone.hpp"
 #include "atmosh/atmo/rayleigh.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 
 namespace atmosh::atmo {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
-}
+std::string num(double v) { return atmosh::format_double(v); }
 
 void require(bool ok, const std::string& key, double value, const std::string& what) {
   if (!ok) throw InputError(key + " = " + num(value) + ": " + what);

@@ -15,6 +15,7 @@
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 #include "atmosh/sh/quadrature.hpp"
 
 namespace atmosh::atmo {
@@ -203,9 +204,9 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
     throw InputError("view-ray segments " + std::to_string(opt_.segments) + " is outside [1, " +
                      std::to_string(max_segments) + "] (at most shells - 1 and 64)");
   if (!(opt_.max_piece_optical_depth > 0))
-    throw InputError("max piece optical depth " + std::to_string(opt_.max_piece_optical_depth) + " must be > 0");
+    throw InputError("max piece optical depth " + format_double(opt_.max_piece_optical_depth) + " must be > 0");
   if (!(opt_.sun_distance_au > 0) || !std::isfinite(opt_.sun_distance_au))
-    throw InputError("sun distance " + std::to_string(opt_.sun_distance_au) + " AU must be > 0");
+    throw InputError("sun distance " + format_double(opt_.sun_distance_au) + " AU must be > 0");
   opt_.lut.view_tables = false;  // view depths are accumulated along the ray: the sun table only
   lut_ = std::make_unique<OpticalDepthLut>(atm_, opt_.lut);
   phase_ = make_phases(atm_);

@@ -9,6 +9,7 @@
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/sun_disc.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 #include "atmosh/parallel.hpp"
 
 namespace atmosh::atmo {
@@ -135,7 +136,9 @@ SkyColour sky_colour(const SkyIntegrator& sky, const SpectralToXyz& cmf, double 
 }
 
 SkySummary summarize_sky(const SkyIntegrator& sky, double altitude_m, const glm::dvec3& sun,
-                         double horizon_elevation_deg) {
+                         double horizon_elevation_deg, double sun_distance_au) {
+  if (!(sun_distance_au >= 0) || !std::isfinite(sun_distance_au))
+    throw InputError("sun distance " + format_double(sun_distance_au) + " AU must be > 0 (or 0: the integrator's)");
   const SpectralToXyz cmf(sky.atmosphere().wavelengths_nm());
   SkySummary s;
   const double sun_az = std::atan2(sun.x, sun.y) * 180.0 / kPi;
@@ -149,6 +152,14 @@ SkySummary summarize_sky(const SkyIntegrator& sky, double altitude_m, const glm:
   const double d2 = sky.options().sun_distance_au * sky.options().sun_distance_au;
   for (std::size_t i = 0; i < t.size(); ++i) e[i] = sky.solar()[i] / d2 * t[i];
   s.sun_transmitted = cmf(e);
+  if (sun_distance_au > 0) {  // the one place a summary is rescaled to another distance
+    const double f = d2 / (sun_distance_au * sun_distance_au);
+    for (SkyColour* c : {&s.zenith, &s.horizon_toward_sun, &s.horizon_away}) {
+      c->xyz = {c->xyz.X * f, c->xyz.Y * f, c->xyz.Z * f};
+      c->srgb = {c->srgb.r * f, c->srgb.g * f, c->srgb.b * f};
+    }
+    s.sun_transmitted = {s.sun_transmitted.X * f, s.sun_transmitted.Y * f, s.sun_transmitted.Z * f};
+  }
   s.sun_chromaticity = xy_chromaticity_or_nan(s.sun_transmitted);
   const auto& wl = sky.atmosphere().wavelengths_nm();
   std::size_t best = 0;

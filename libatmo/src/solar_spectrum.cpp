@@ -7,6 +7,7 @@
 
 #include "atmosh/atmo/colour.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 
 namespace atmosh::atmo {
 namespace {
@@ -536,12 +537,7 @@ constexpr EtrPoint kEtr[] = {
 };
 constexpr std::size_t kEtrCount = std::size(kEtr);
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
+std::string fmt(double v) { return atmosh::format_double(v); }
 
 void check_range(double nm, const char* what) {
   if (!(nm >= kSolarSpectrumFirstNm && nm <= kSolarSpectrumLastNm)) {

@@ -9,6 +9,7 @@
 #include "atmosh/atmo/sun_spa.hpp"
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 
 namespace atmosh::atmo {
 namespace {
@@ -20,11 +21,7 @@ double wrap180(double x) {
   return x <= -180.0 ? x + 360.0 : x;
 }
 
-std::string num(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return b;
-}
+std::string num(double v) { return atmosh::format_double(v); }
 
 void validate(const SunQuery& q) {
   auto finite = [](double v, const std::string& what) {

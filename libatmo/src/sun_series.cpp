@@ -1,6 +1,7 @@
 // sun_series.cpp — time series and the accuracy study; see sun_series.hpp.
 #include "atmosh/atmo/sun_series.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,7 +22,11 @@ std::vector<SunSample> sun_series(const SunQuery& base, double jd_from, double j
     throw InputError("time range: --to " + format_iso8601_utc(jd_to) + " is before --from " + format_iso8601_utc(jd_from));
   if (!std::isfinite(step_s) || step_s <= 0.0) throw InputError("time range: step must be positive");
   const double span_s = (jd_to - jd_from) * 86400.0;
-  const double count = std::floor(span_s / step_s + 1e-6) + 1.0;
+  // A Julian day near 2.46e6 carries ~40 microseconds of rounding, so a span that is
+  // a whole number of steps may come out a hair short (2 s / 0.5 s = 3.9998...):
+  // allow 0.2 ms before dropping the `to` endpoint.
+  const double tol_steps = std::min(0.5, 2e-4 / step_s + 1e-6);
+  const double count = std::floor(span_s / step_s + tol_steps) + 1.0;
   if (count > static_cast<double>(max_samples)) {
     char b[160];
     std::snprintf(b, sizeof b, "time range: %.0f samples exceed the limit of %zu; use a larger --step", count,
@@ -37,6 +42,8 @@ std::vector<SunSample> sun_series(const SunQuery& base, double jd_from, double j
   for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) {
     SunSample s;
     s.jd_utc = jd_from + static_cast<double>(i) * step_s / 86400.0;
+    if (i + 1 == static_cast<std::size_t>(count) && std::fabs(s.jd_utc - jd_to) * 86400.0 < 2e-4)
+      s.jd_utc = jd_to;  // the endpoint exactly, not 40 microseconds off
     q.jd_utc = s.jd_utc;
     s.position = sun_position(q);
     const glm::dvec3 d = sun_direction_enu(s.position.zenith_deg, s.position.azimuth_deg);

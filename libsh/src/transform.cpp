@@ -16,6 +16,7 @@
 
 #include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/sh/basis.hpp"
 #include "atmosh/sh/quadrature.hpp"
 #include "legendre_impl.hpp"
@@ -24,11 +25,6 @@ namespace atmosh::sh {
 
 namespace detail {
 
-int resolve_threads(int threads) {
-  if (threads < 0) throw InputError("threads must be >= 0, got " + std::to_string(threads));
-  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  return threads;
-}
 
 namespace {
 template <class F>
@@ -574,7 +570,7 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
 
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
                        const double* fourier, bool symmetric, double* coeffs, int threads) {
-  threads = resolve_threads(threads);
+  threads = atmosh::resolve_threads(threads);
   const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
@@ -678,7 +674,7 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
 
 void legendre_synthesis(int bands, int nrings, const double* cos_t, const double* sin_t,
                         const double* coeffs, bool symmetric, double* fourier, int threads) {
-  threads = resolve_threads(threads);
+  threads = atmosh::resolve_threads(threads);
   const auto table = legendre_table(bands);
   const double* a = table->a();
   const double* b = table->b();
@@ -918,7 +914,7 @@ GaussGrid gauss_grid(int bands, int nlat, int nphi) {
 std::vector<double> analyse(const GaussGrid& g, const double* values, int threads) {
   if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
     throw InputError("analyse: grid is not initialised (use gauss_grid)");
-  threads = detail::resolve_threads(threads);
+  threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
   std::vector<double> costab, sintab;
   if (!is_pow2(n)) {
@@ -978,7 +974,7 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
 std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int threads) {
   if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
     throw InputError("synthesise: grid is not initialised (use gauss_grid)");
-  threads = detail::resolve_threads(threads);
+  threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
   std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
   detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four.data(), threads);

@@ -171,7 +171,7 @@ TEST(CliAreas, SkyJsonAndBadInput) {
   expect_bad("sky --sun-elevation 95 -o '" + (d / "b.exr").string() + "'", "--sun-elevation");
   expect_bad("sky --sun-elevation 5 --projection mercator -o '" + (d / "b.exr").string() + "'", "mercator");
   expect_bad("sky --sun-elevation 5 --size 8x4 --max-piece-tau 0 -o '" + (d / "b.exr").string() + "'",
-             "max piece optical depth 0");
+             "--max-piece-tau 0");
   EXPECT_FALSE(fs::exists(d / "b.exr"));
 }
 

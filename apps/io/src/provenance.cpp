@@ -2,10 +2,14 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <ctime>
+
+#include "atmosh/format.hpp"
+#include "atmosh/parallel.hpp"
 
 namespace atmosh::io {
 
@@ -41,6 +45,11 @@ void set_command_line(int argc, const char* const* argv) {
 
 const std::string& command_line() { return command_line_storage(); }
 
+namespace {
+std::atomic<int> g_threads{0};
+}
+void set_threads(int threads) { g_threads = threads; }
+
 std::string utc_now_iso8601() {
   const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   std::tm tm{};
@@ -50,13 +59,7 @@ std::string utc_now_iso8601() {
   return buf;
 }
 
-std::string format_double(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[64];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trip form
-  return std::string(buf, r.ptr);
-}
+std::string format_double(double v) { return atmosh::format_double(v); }
 
 Provenance Provenance::current() {
   Provenance p;
@@ -68,6 +71,8 @@ Provenance Provenance::current() {
   if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
   p.add("host", host[0] ? host : "unknown");
   p.add("host_cores", static_cast<double>(::sysconf(_SC_NPROCESSORS_ONLN)));
+  p.add("available_cpus", static_cast<double>(available_cpus()));
+  if (const int t = g_threads.load(); t > 0) p.add("threads", static_cast<double>(t));
   return p;
 }
 

@@ -1,6 +1,7 @@
 // The built-in default scene and the TOML writer.
 #include <sstream>
 
+#include "atmosh/format.hpp"
 #include "atmosh/scene/scene.hpp"
 
 namespace atmosh::scene {
@@ -69,10 +70,7 @@ file = "sky_sh.csv"
 )toml";
 
 std::string num(double v) {
-  std::ostringstream os;
-  os.precision(17);
-  os << v;
-  std::string s = os.str();
+  std::string s = atmosh::format_double(v);
   if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
   return s;
 }

@@ -4,22 +4,21 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/format.hpp"
 
 namespace atmosh::scene {
 
+namespace fs = std::filesystem;
+
 namespace {
 
-std::string fmt_num(double v) {
-  std::ostringstream os;
-  os.precision(17);
-  os << v;
-  return os.str();
-}
+std::string fmt_num(double v) { return atmosh::format_double(v); }
 
 // A view of one TOML table that remembers which keys were read, so that unknown
 // keys can be reported by path.
@@ -320,6 +319,7 @@ Scene parse_table(const toml::table& root, const std::string& src) {
     }
   }
   r.finish();
+  check_output_files(s);
   try {
     atmo::validate(s.atmosphere);  // physical ranges, named by key path
   } catch (const InputError& e) {
@@ -329,6 +329,41 @@ Scene parse_table(const toml::table& root, const std::string& src) {
 }
 
 }  // namespace
+
+std::vector<std::string> output_files(const Output& o) {
+  const fs::path file = fs::path(o.file).lexically_normal();
+  fs::path stem = file;
+  stem.replace_extension();
+  const std::string st = stem.generic_string();
+  if (o.kind == "sky-image") return {file.generic_string(), st + ".png", st + ".png.json"};
+  if (o.kind == "sh-coefficients") return {file.generic_string(), st + "_bands.csv", st + "_bands.png"};
+  if (o.kind == "sun-elevation-study")
+    return {st, st + "/sun_elevation.csv", st + "/horizon_colour.png", st + "/zenith_colour.png", st + "/luminance.png",
+            st + "/chromaticity.png"};
+  return {st + ".csv", st + ".png"};  // sun-track, optical-depth, lut-convergence
+}
+
+void check_output_files(const Scene& s) {
+  std::map<std::string, std::size_t> owner;  // file -> output index
+  for (std::size_t i = 0; i < s.outputs.size(); ++i) {
+    const Output& o = s.outputs[i];
+    const std::string key = s.source + ": output[" + std::to_string(i) + "].file: '" + o.file + "' ";
+    const fs::path p(o.file);
+    if (p.has_root_path()) throw InputError(key + "is an absolute path; outputs go inside the output folder (-o)");
+    for (const auto& part : p)
+      if (part == "..") throw InputError(key + "leaves the output folder (-o): '..' is not allowed");
+    if (!p.has_filename() || p.lexically_normal().filename().empty() || p.lexically_normal() == ".")
+      throw InputError(key + "names no file");
+    for (const auto& f : output_files(o)) {
+      const auto [it, fresh] = owner.emplace(f, i);
+      if (!fresh) {
+        const Output& other = s.outputs[it->second];
+        throw InputError(key + "writes " + f + ", which output[" + std::to_string(it->second) + "] (" + other.kind +
+                         " '" + other.file + "') writes too");
+      }
+    }
+  }
+}
 
 std::string override_value_string(const Override& o) {
   return std::visit(

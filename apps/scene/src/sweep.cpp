@@ -6,6 +6,9 @@
 #include <toml++/toml.h>
 
 #include <atomic>
+#include <charconv>
+#include <cstdio>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -18,6 +21,7 @@
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/io/csv.hpp"
+#include "atmosh/io/hash.hpp"
 
 namespace atmosh::scene {
 
@@ -32,6 +36,15 @@ std::string slurp(const fs::path& p, const std::string& what) {
   std::ostringstream ss;
   ss << f.rdbuf();
   return ss.str();
+}
+
+// A computed range value rounded to 15 significant digits: from + i * step carries
+// the rounding error of the product (2e-6 + 3 * 2e-6 = 7.999999999999999e-06), which
+// a user comparing with the literal 8e-6 would not expect.
+double round_range_value(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.15g", v);
+  return std::strtod(b, nullptr);
 }
 
 std::vector<Value> read_values(const toml::table& t, const std::string& path, const std::string& src) {
@@ -75,13 +88,15 @@ std::vector<Value> read_values(const toml::table& t, const std::string& path, co
       const double n = std::floor((*to - *from) / *step + 1e-9);
       if (n < 0) fail("to", "is below from");
       if (n > 1e6) fail("step", "gives more than a million values");
-      for (int i = 0; i <= static_cast<int>(n); ++i) out.emplace_back(*from + i * *step);
+      for (int i = 0; i <= static_cast<int>(n); ++i) out.emplace_back(round_range_value(*from + i * *step));
     } else if (cn) {
       auto c = cn->as_integer();
       if (!c || c->get() < 1 || c->get() > 1000000) fail("count", "must be an integer in [1, 1000000]");
       const auto n = c->get();
       for (std::int64_t i = 0; i < n; ++i)
-        out.emplace_back(n == 1 ? *from : *from + (*to - *from) * static_cast<double>(i) / static_cast<double>(n - 1));
+        out.emplace_back(n == 1 ? *from
+                                : round_range_value(*from + (*to - *from) * static_cast<double>(i) /
+                                                                 static_cast<double>(n - 1)));
     } else {
       fail("step", "missing (or give count)");
     }
@@ -99,6 +114,43 @@ std::vector<std::string> columns_for(const SweepSpec& spec, const SweepOutputs& 
   for (const auto& [name, v] : outputs) cols.push_back(name);
   cols.push_back("time_s");
   return cols;
+}
+
+// The lines of a journal or CSV: provenance ("# key: value"), the header, the rows.
+struct SweepText {
+  std::map<std::string, std::string> provenance;
+  std::string header;
+  std::vector<std::string> rows;
+  std::size_t complete_bytes = 0;  // up to the last newline (a torn last line is dropped)
+};
+
+SweepText read_sweep_text(const std::string& text) {
+  SweepText t;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    const auto nl = text.find('\n', pos);
+    if (nl == std::string::npos) break;  // torn last line
+    const std::string line = text.substr(pos, nl - pos);
+    pos = t.complete_bytes = nl + 1;
+    if (t.header.empty() && line.rfind("# ", 0) == 0) {
+      const auto colon = line.find(": ");
+      if (colon != std::string::npos) t.provenance[line.substr(2, colon - 2)] = line.substr(colon + 2);
+    } else if (t.header.empty()) {
+      t.header = line;
+    } else if (!line.empty()) {
+      t.rows.push_back(line);
+    }
+  }
+  return t;
+}
+
+int row_point(const std::string& line, const fs::path& file) {
+  const std::string cell = line.substr(0, line.find(','));
+  int idx = -1;
+  const auto r = std::from_chars(cell.data(), cell.data() + cell.size(), idx);
+  if (r.ec != std::errc() || r.ptr != cell.data() + cell.size())
+    throw InputError(file.string() + ": row '" + line.substr(0, 40) + "' does not start with a point number");
+  return idx;
 }
 
 std::string join(const std::vector<std::string>& v) {
@@ -187,6 +239,38 @@ SweepSpec load_sweep(const fs::path& file) {
   return parse_sweep(slurp(file, "sweep file"), file.string(), file.has_parent_path() ? file.parent_path() : ".");
 }
 
+std::string sweep_identity(const SweepSpec& spec, const SweepSettings& settings) {
+  io::ContentHash h;
+  h.field("atmosh sweep identity 1");
+  h.field("keys");
+  for (const auto& k : spec.keys) h.field(k);
+  h.field("points " + std::to_string(spec.points.size()));
+  for (const auto& pt : spec.points) {
+    for (const auto& o : pt) {
+      // The type matters too: 2 (integer) and 2.0 set different TOML types.
+      h.field(std::to_string(o.value.index()));
+      h.field(value_cell(o.value));
+    }
+    h.field("/");
+  }
+  h.field("base scene");
+  std::string scene = spec.base_scene_text;
+  try {  // normalized: comments, layout and key order do not matter
+    std::ostringstream os;
+    os << toml::parse(spec.base_scene_text, spec.base_scene_source);
+    scene = os.str();
+  } catch (const toml::parse_error&) {
+    // unparsable: the raw bytes (the run fails on it anyway)
+  }
+  h.field(scene);
+  h.field("settings");
+  for (const auto& [k, v] : settings) {
+    h.field(k);
+    h.field(v);
+  }
+  return h.hex();
+}
+
 SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const SweepOptions& opt) {
   if (opt.shards < 1 || opt.shard < 1 || opt.shard > opt.shards)
     throw InputError("--shard " + std::to_string(opt.shard) + "/" + std::to_string(opt.shards) +
@@ -208,30 +292,57 @@ SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const S
   const fs::path journal = opt.out_dir / ("." + stem + ".journal");
   const fs::path csv_path = opt.out_dir / (stem + ".csv");
 
-  // Resume: read complete journal lines; drop a torn tail.
+  const std::string id = sweep_identity(spec, opt.settings);
+  auto refuse_other = [&](const fs::path& file, const std::string& other) {
+    throw InputError(file.string() + " belongs to sweep " + (other.empty() ? "(no sweep_id: an older atmosh)" : other) +
+                     ", not to this one (" + id + ", " + spec.source +
+                     " with these settings): run without --resume, or into another -o folder");
+  };
+  // Resume: the rows of a completed CSV of this sweep, then the complete journal
+  // lines (a torn tail is dropped).
   std::map<int, std::string> done;  // point -> full CSV line
   std::string header;
-  if (opt.resume && fs::exists(journal)) {
-    const std::string text = slurp(journal, "sweep journal");
-    std::size_t pos = 0, good_end = 0;
-    while (pos < text.size()) {
-      const auto nl = text.find('\n', pos);
-      if (nl == std::string::npos) break;  // torn last line
-      const std::string line = text.substr(pos, nl - pos);
-      if (header.empty()) {
-        header = line;
-      } else {
-        const int idx = std::stoi(line.substr(0, line.find(',')));
-        if (idx < 0 || idx >= total || idx % opt.shards != opt.shard - 1)
-          throw InputError(journal.string() + ": point " + std::to_string(idx) + " does not belong to this sweep");
-        done[idx] = line;
-      }
-      pos = good_end = nl + 1;
+  bool csv_complete = false;
+  auto take = [&](const SweepText& t, const fs::path& file) {
+    if (!header.empty() && !t.header.empty() && t.header != header)
+      throw InputError(file.string() + ": its columns differ from " + csv_path.string() + "'s");
+    if (header.empty()) header = t.header;
+    for (const auto& line : t.rows) {
+      const int idx = row_point(line, file);
+      if (idx < 0 || idx >= total || idx % opt.shards != opt.shard - 1)
+        throw InputError(file.string() + ": point " + std::to_string(idx) + " does not belong to this sweep");
+      done[idx] = line;
     }
-    if (good_end < text.size()) fs::resize_file(journal, good_end);
+  };
+  if (opt.resume) {
+    if (fs::exists(csv_path)) {
+      const SweepText t = read_sweep_text(slurp(csv_path, "sweep CSV"));
+      const auto it = t.provenance.find("sweep_id");
+      if (it == t.provenance.end() || it->second != id) refuse_other(csv_path, it == t.provenance.end() ? "" : it->second);
+      take(t, csv_path);
+      csv_complete = done.size() == mine.size();
+    }
+    if (fs::exists(journal)) {
+      const std::string text = slurp(journal, "sweep journal");
+      const SweepText t = read_sweep_text(text);
+      const auto it = t.provenance.find("sweep_id");
+      if (it == t.provenance.end() || it->second != id) refuse_other(journal, it == t.provenance.end() ? "" : it->second);
+      take(t, journal);
+      if (t.complete_bytes < text.size()) fs::resize_file(journal, t.complete_bytes);
+    }
   } else {
     fs::remove(journal);
   }
+  if (csv_complete && !fs::exists(journal)) {  // nothing to do: leave the CSV as it is
+    SweepResult res;
+    res.csv = csv_path;
+    res.points_total = total;
+    res.points_in_shard = res.points_resumed = static_cast<int>(mine.size());
+    res.sweep_id = id;
+    if (opt.progress) opt.progress(1.0);
+    return res;
+  }
+  const bool journal_has_header = fs::exists(journal) && !header.empty();
 
   std::mutex mu;
   int fd = -1;
@@ -254,6 +365,7 @@ SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const S
   res.points_in_shard = static_cast<int>(mine.size());
   res.points_resumed = static_cast<int>(mine.size() - todo.size());
 
+  bool journal_started = false;  // under mu
   std::atomic<std::size_t> next{0};
   std::exception_ptr failure;
   auto worker = [&] {
@@ -280,14 +392,21 @@ SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const S
         cells.push_back(io::format_double(secs));
         const std::string hdr = join(columns_for(spec, out));
         std::lock_guard<std::mutex> lk(mu);
-        if (header.empty()) {
+        if (!journal_started) {
+          if (!header.empty() && header != hdr)
+            throw InputError(journal.string() + ": its columns differ from this sweep's; remove it or run without --resume");
           header = hdr;
-          append(header);
+          if (!journal_has_header) {
+            append("# sweep_id: " + id);
+            append(header);
+          }
+          journal_started = true;
         } else if (header != hdr) {
-          throw InputError(journal.string() + ": its columns differ from this sweep's; remove it or run without --resume");
+          throw InputError("sweep point " + std::to_string(idx) + ": its outputs differ from the other points'");
         }
         append(join(cells));
         done[idx] = join(cells);
+        if (opt.progress) opt.progress(static_cast<double>(done.size()) / static_cast<double>(mine.size()));
       } catch (...) {
         std::lock_guard<std::mutex> lk(mu);
         if (!failure) failure = std::current_exception();
@@ -309,6 +428,8 @@ SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const S
   io::Provenance prov = io::Provenance::current();
   prov.add("sweep", spec.source);
   prov.add("base_scene", spec.base_scene_source);
+  prov.add("sweep_id", id);
+  for (const auto& [k, v] : opt.settings) prov.add(k, v);
   prov.add("sweep_points", static_cast<double>(total));
   prov.add("shard", std::to_string(opt.shard) + "/" + std::to_string(opt.shards));
   for (const auto& [k, v] : prov.entries) text += "# " + k + ": " + v + "\n";
@@ -317,6 +438,7 @@ SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const S
   io::write_text_atomically(csv_path, text);
   fs::remove(journal);
   res.csv = csv_path;
+  res.sweep_id = id;
   return res;
 }
 
@@ -325,8 +447,20 @@ void merge_sweep(const std::vector<fs::path>& inputs, const fs::path& output) {
   std::vector<std::string> columns;
   std::map<long, std::vector<std::string>> rows;
   long total = -1;
+  std::string id;
+  std::map<std::string, std::string> first_prov;
   for (const auto& in : inputs) {
     const io::CsvData d = io::read_csv(in);
+    const auto idit = d.provenance.find("sweep_id");
+    if (idit == d.provenance.end())
+      throw InputError(in.string() + ": no '# sweep_id' line (not a sweep shard, or written by an older atmosh)");
+    if (id.empty()) {
+      id = idit->second;
+      first_prov = d.provenance;
+    } else if (idit->second != id) {
+      throw InputError(in.string() + " is from sweep " + idit->second + ", " + inputs[0].string() + " from sweep " + id +
+                       ": shards of different sweeps cannot be merged");
+    }
     if (columns.empty()) columns = d.columns;
     else if (d.columns != columns) throw InputError(in.string() + ": columns differ from " + inputs[0].string());
     if (columns.empty() || columns[0] != "point") throw InputError(in.string() + ": not a sweep file (no 'point' column)");
@@ -350,6 +484,14 @@ void merge_sweep(const std::vector<fs::path>& inputs, const fs::path& output) {
     t.add_row(std::move(cells));
   }
   io::Provenance prov = io::Provenance::current();
+  // The shards' sweep provenance (sweep, base_scene, sweep_id, settings), without
+  // what belongs to each shard's own run.
+  std::set<std::string> own = {"shard", "sweep_points", "merged_from"};
+  for (const auto& [k, v] : prov.entries) own.insert(k);
+  for (const char* k : {"sweep", "base_scene", "sweep_id"})
+    if (auto it = first_prov.find(k); it != first_prov.end()) prov.add(k, it->second);
+  for (const auto& [k, v] : first_prov)
+    if (!own.count(k) && k != "sweep" && k != "base_scene" && k != "sweep_id") prov.add(k, v);
   prov.add("sweep_points", static_cast<double>(total));
   prov.add("merged_from", std::to_string(inputs.size()) + " shard file(s)");
   t.write(output, prov);

@@ -3,7 +3,8 @@
 //
 // parallel_for_ranges(n, chunk, threads, body, progress) calls body(begin, end) for
 // consecutive ranges [begin, end) of at most `chunk` indices covering [0, n), each
-// range exactly once, taken by `threads` workers (0 = std::thread::hardware_concurrency)
+// range exactly once, taken by `threads` workers (0 = the CPUs this process may use, see
+// resolve_threads)
 // from a shared atomic counter — so the result does not depend on the thread count as
 // long as body(begin, end) writes only its own indices. Without `progress` the
 // calling thread is one of the workers; with it, the calling thread only reports
@@ -19,15 +20,28 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
 namespace atmosh {
 
-/// Worker count for a requested count: requested > 0 as given, else the hardware concurrency (>= 1).
-inline int resolve_threads(int requested) {
-  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-}
+/// The CPUs this process may run on (>= 1): the CPUs in its affinity mask
+/// (sched_getaffinity: `taskset -c 0`, a Slurm allocation, numactl) and, where a cgroup v2
+/// `cpu.max` quota applies (containers, systemd slices), at most ceil(quota / period).
+/// std::thread::hardware_concurrency() when neither can be read.
+int available_cpus();
+
+namespace detail {
+/// ceil(quota / period) of the smallest cgroup v2 `cpu.max` on the way from this
+/// process's cgroup (the "0::PATH" line of proc_self_cgroup) up to cgroup_root; 0 when
+/// none limits the CPUs ("max"). available_cpus() reads /proc/self/cgroup, /sys/fs/cgroup.
+int cgroup_cpu_limit(const std::string& proc_self_cgroup, const std::string& cgroup_root);
+}  // namespace detail
+
+/// The one thread-count policy of the toolkit: requested > 0 as given; 0 = available_cpus();
+/// InputError for a negative count (the message names "threads" and the value).
+int resolve_threads(int requested);
 
 template <class Body>
 void parallel_for_ranges(std::size_t n, std::size_t chunk, int threads, Body&& body,

@@ -70,7 +70,13 @@ struct SkySummary {
   Chromaticity sun_chromaticity; // of the transmitted direct sunlight (NaN when none arrives)
   double sun_transmittance_550 = 0;  // direct-beam transmittance nearest 550 nm (same sun model)
 };
+// sun_distance_au > 0: the Earth-Sun distance of this sky when it differs from the
+// integrator's (SkyOptions::sun_distance_au; a day study builds its tables once for
+// 1 AU): every quantity here is linear in the solar spectrum, so the whole summary —
+// sky colours and the transmitted sun's XYZ alike — is scaled once, by
+// (integrator's distance / sun_distance_au)^2; chromaticities do not change. 0: the
+// integrator's distance.
 SkySummary summarize_sky(const SkyIntegrator& sky, double altitude_m, const glm::dvec3& sun,
-                         double horizon_elevation_deg = 1.0);
+                         double horizon_elevation_deg = 1.0, double sun_distance_au = 0.0);
 
 }  // namespace atmosh::atmo

@@ -59,7 +59,6 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
                         const double* coeffs, bool symmetric, double* fourier, int threads);
 /// In-place complex FFT of size n (power of two), sign -1 forward, +1 inverse (unscaled).
 void fft(double* re, double* im, int n, int sign);
-int resolve_threads(int threads);
 }  // namespace detail
 
 }  // namespace atmosh::sh

@@ -66,6 +66,20 @@ struct Override {
 };
 std::string override_value_string(const Override& o);
 
+// The files an output writes, relative to the output folder (generic form): a
+// sky-image FILE, STEM.png and STEM.png.json; sh-coefficients FILE, STEM_bands.csv
+// and STEM_bands.png; sun-track, optical-depth and lut-convergence STEM.csv and
+// STEM.png; sun-elevation-study the folder STEM/ and its sun_elevation.csv and four
+// PNGs (STEM = FILE without its extension).
+std::vector<std::string> output_files(const Output& o);
+
+// Outputs stay inside the output folder and never overwrite each other: every
+// `file` is a relative path without ".." (InputError naming output[i].file
+// otherwise), and no two outputs write the same file, side files included
+// (InputError naming both outputs). parse_scene calls it, so `scene check`,
+// `plan` and `run` refuse such a scene before any work.
+void check_output_files(const Scene& scene);
+
 // Parses and validates TOML text; source_name prefixes error messages. Overrides
 // are applied before validation, so a bad override is reported by its key.
 Scene parse_scene(std::string_view toml_text, const std::string& source_name,

@@ -23,6 +23,24 @@
 // so no row is lost or duplicated after a kill. Shardable: shard k of n takes the
 // points with index % n == k - 1; `merge_sweep` joins shard files and checks that
 // every point appears exactly once.
+//
+// Identity: every sweep has a `sweep_id` (sweep_identity below), a 64-bit FNV-1a hash
+// (atmosh/io/hash.hpp) of its normalized content: the parameter keys and every
+// point's values (so comments, layout and `values` vs `from/to/step` do not matter),
+// the base scene it resolves to (parsed and re-serialized: key order and comments do
+// not matter), and every setting that changes results (SweepOptions::settings:
+// the CLI passes the table shells, view-ray segments, samples per segment and the
+// largest piece optical depth; wavelengths are part of the scene). The id is the
+// first line of the journal and a provenance line of every shard and merged CSV,
+// next to `sweep`, `base_scene` and the settings. A resume whose journal or CSV
+// holds another id, and a merge of shards with different ids, are refused
+// (InputError naming both ids and the file). Resuming a completed sweep (its CSV
+// holds every point of the shard) recomputes nothing and leaves the CSV as it is.
+//
+// Range values (from/to/step or count) are rounded to 15 significant digits, so
+// that from = 2e-6, step = 2e-6 gives exactly 8e-6 (not 7.999999999999999e-06);
+// every value column prints the shortest form that reads back to the same double
+// (atmosh/format.hpp).
 #pragma once
 
 #include <filesystem>
@@ -31,6 +49,7 @@
 #include <utility>
 #include <vector>
 
+#include "atmosh/progress.hpp"
 #include "atmosh/scene/scene.hpp"
 
 namespace atmosh::scene {
@@ -51,8 +70,19 @@ SweepSpec parse_sweep(std::string_view toml_text, const std::string& source_name
 using SweepOutputs = std::vector<std::pair<std::string, double>>;
 using SweepEvaluator = std::function<SweepOutputs(const Scene&)>;
 
+// Named settings that change results, in a fixed order, e.g. {"lut_shells", "32"}.
+using SweepSettings = std::vector<std::pair<std::string, std::string>>;
+
+// The sweep's identity: 16 hex digits (see above).
+std::string sweep_identity(const SweepSpec& spec, const SweepSettings& settings);
+
+
 struct SweepOptions {
   std::filesystem::path out_dir;
+  SweepSettings settings;      // recorded in the CSV and part of the identity
+  // Optional: the fraction of the shard's points finished (resumed ones included),
+  // called from worker threads under a lock.
+  ProgressCallback progress;
   bool resume = false;
   int shard = 1, shards = 1;   // shard k of n, 1-based
   int threads = 1;
@@ -64,6 +94,7 @@ struct SweepResult {
   int points_in_shard = 0;
   int points_resumed = 0;    // taken from the journal
   int points_computed = 0;
+  std::string sweep_id;
 };
 
 // Evaluates the points (in parallel when threads > 1); the evaluator must be
@@ -71,7 +102,9 @@ struct SweepResult {
 SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const SweepOptions& opt);
 
 // Joins shard CSVs into one, sorted by point; InputError if a point is missing,
-// duplicated, or the files come from different sweeps.
+// duplicated, or the files come from different sweeps (different `sweep_id`, or
+// none). The merged CSV keeps the shards' sweep provenance (sweep, base_scene,
+// sweep_id, settings).
 void merge_sweep(const std::vector<std::filesystem::path>& inputs, const std::filesystem::path& output);
 
 }  // namespace atmosh::scene
