@@ -25,6 +25,14 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version",
                        "atmosh " + atmosh::io::version_string() + " (git " + atmosh::io::git_commit() + ")");
   app.require_subcommand(1);
+  app.fallthrough();  // global options (--max-memory) also after the subcommand; inherited by subcommands
+  app.add_option_function<std::string>(
+         "--max-memory",
+         [](const std::string& v) { atmosh::cli::set_memory_budget(atmosh::cli::parse_memory_size(v)); },
+         "Memory budget of the command, e.g. 2G or 512M (default: the memory still available, from "
+         "/proc/meminfo MemAvailable and the cgroup's limit). Requests estimated above it are refused "
+         "(exit 2) before any work")
+      ->trigger_on_parse();
   app.footer(
       "Run `atmosh demo -o results` for the main job on the built-in default scene;\n"
       "`atmosh SUBCOMMAND --help` for details. Units: SI inside, degrees and nanometres at the\n"

@@ -10,7 +10,9 @@
 #include <ImfFloatAttribute.h>
 #include <Iex.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <system_error>
 #include <stdexcept>
 
 #include "atmosh/error.hpp"
@@ -67,23 +69,43 @@ void write_exr(const std::filesystem::path& file, const ExrImage& image, const P
   });
 }
 
-ExrImage read_exr(const std::filesystem::path& file) {
-  if (!std::filesystem::is_regular_file(file)) throw InputError("cannot read EXR file '" + file.string() + "'");
+std::size_t exr_image_bytes(std::int64_t width, std::int64_t height, std::size_t channels) {
+  if (width <= 0 || height <= 0) return 0;
+  return static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * channels * sizeof(float);
+}
+
+ExrImage read_exr(const std::filesystem::path& file, std::size_t max_bytes) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) throw InputError("cannot read EXR file '" + file.string() + "'");
   try {
     Imf::InputFile in(file.c_str());
     const Imath::Box2i dw = in.header().dataWindow();
+    // The header is the file's word only: check it before allocating by it.
+    const std::int64_t w = std::int64_t{dw.max.x} - dw.min.x + 1, h = std::int64_t{dw.max.y} - dw.min.y + 1;
+    if (w < 1 || h < 1 || w > kMaxExrSide || h > kMaxExrSide)
+      throw InputError(file.string() + ": EXR data window " + std::to_string(w) + " x " + std::to_string(h) +
+                       " is not an image of 1.." + std::to_string(kMaxExrSide) + " pixels a side");
+    std::size_t nch = 0;
+    for (auto it = in.header().channels().begin(); it != in.header().channels().end(); ++it) {
+      if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+        throw InputError(file.string() + ": EXR channel '" + it.name() + "' is subsampled (not supported)");
+      ++nch;
+    }
+    if (const std::size_t bytes = exr_image_bytes(w, h, nch); bytes > max_bytes)
+      throw InputError(file.string() + ": EXR of " + std::to_string(w) + " x " + std::to_string(h) + " x " +
+                       std::to_string(nch) + " channels needs " + std::to_string(bytes >> 20) +
+                       " MiB as float32, more than the limit of " + std::to_string(max_bytes >> 20) + " MiB");
     ExrImage img;
-    img.width = dw.max.x - dw.min.x + 1;
-    img.height = dw.max.y - dw.min.y + 1;
+    img.width = static_cast<int>(w);
+    img.height = static_cast<int>(h);
     Imf::FrameBuffer fb;
     for (auto it = in.header().channels().begin(); it != in.header().channels().end(); ++it)
       img.channels.emplace_back(it.name());
     img.data.assign(img.channels.size(), std::vector<float>(static_cast<std::size_t>(img.width) * img.height));
     for (std::size_t c = 0; c < img.channels.size(); ++c) {
-      char* base = reinterpret_cast<char*>(img.data[c].data()) -
-                   (static_cast<std::ptrdiff_t>(dw.min.x) + static_cast<std::ptrdiff_t>(dw.min.y) * img.width) *
-                       static_cast<std::ptrdiff_t>(sizeof(float));
-      fb.insert(img.channels[c], Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * img.width));
+      // Slice::Make offsets the origin by the data window (integer arithmetic, no pointer overflow).
+      fb.insert(img.channels[c], Imf::Slice::Make(Imf::FLOAT, img.data[c].data(), dw, sizeof(float),
+                                                  sizeof(float) * static_cast<std::size_t>(img.width)));
     }
     in.setFrameBuffer(fb);
     in.readPixels(dw.min.y, dw.max.y);

@@ -18,6 +18,8 @@
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/io/csv.hpp"
+#include "atmosh/scene/toml_limits.hpp"
+#include "toml_read.hpp"
 
 namespace atmosh::scene {
 
@@ -110,14 +112,7 @@ std::string join(const std::vector<std::string>& v) {
 }  // namespace
 
 SweepSpec parse_sweep(std::string_view text, const std::string& src, const fs::path& base_dir) {
-  toml::table root;
-  try {
-    root = toml::parse(text, src);
-  } catch (const toml::parse_error& e) {
-    std::string d(e.description());
-    if (auto p = d.find('\n'); p != std::string::npos) d.resize(p);
-    throw InputError(src + ":" + std::to_string(e.source().begin.line) + ": TOML syntax error: " + d);
-  }
+  toml::table root = detail::parse_toml_checked(text, src);
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
     if (key != "version" && key != "scene" && key != "mode" && key != "parameter")
@@ -132,7 +127,7 @@ SweepSpec parse_sweep(std::string_view text, const std::string& src, const fs::p
     if (!s) throw InputError(src + ": scene: expected a file name");
     fs::path p = s->get();
     if (p.is_relative()) p = base_dir / p;
-    spec.base_scene_text = slurp(p, "scene file");
+    spec.base_scene_text = read_toml_file(p, "scene file");
     spec.base_scene_source = p.string();
   } else {
     spec.base_scene_text = std::string(default_scene_toml());
@@ -184,7 +179,7 @@ SweepSpec parse_sweep(std::string_view text, const std::string& src, const fs::p
 }
 
 SweepSpec load_sweep(const fs::path& file) {
-  return parse_sweep(slurp(file, "sweep file"), file.string(), file.has_parent_path() ? file.parent_path() : ".");
+  return parse_sweep(read_toml_file(file, "sweep file"), file.string(), file.has_parent_path() ? file.parent_path() : ".");
 }
 
 SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const SweepOptions& opt) {
