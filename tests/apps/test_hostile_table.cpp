@@ -135,3 +135,15 @@ TEST(HostileInput, PlanAndRunAgreeOnAnShCoefficientsScene) {
   for (const char* f : {"sky_sh.csv", "sky_sh_bands.csv", "sky_sh_bands.png"})
     EXPECT_TRUE(fs::exists(d / "out" / f)) << f;
 }
+
+// `scene check`, `plan` and `run` hold a scene to what its outputs need; `sky --scene`
+// uses only its atmosphere (the sun comes from the command line).
+TEST(HostileInput, SkySceneUsesTheAtmosphereNotTheOutputs) {
+  const fs::path d = atmosh::test::scratch_dir("atmosh_hostile", "sky_scene");
+  std::ofstream(d / "no_sun.toml") << "version = 1\n[rayleigh]\n[[output]]\nkind = \"sky-image\"\nfile = \"sky.exr\"\n";
+  const std::string scene = "'" + (d / "no_sun.toml").string() + "'";
+  EXPECT_EQ(run_cli("scene check " + scene).exit_code, 2);
+  const auto r = run_cli("sky --scene " + scene + " --sun-elevation 10 --size 8x4 -o '" + (d / "sky.exr").string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(d / "sky.exr"));
+}

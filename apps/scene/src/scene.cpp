@@ -377,9 +377,7 @@ Scene parse_scene(std::string_view text, const std::string& source_name, const s
 }
 
 Scene load_scene(const std::filesystem::path& file) {
-  Scene s = parse_scene(read_toml_file(file, "scene file"), file.string());
-  check_outputs(s);  // what each output needs (outputs.hpp): `scene check` and `plan` refuse what `run` refuses
-  return s;
+  return parse_scene(read_toml_file(file, "scene file"), file.string());
 }
 
 }  // namespace atmosh::scene

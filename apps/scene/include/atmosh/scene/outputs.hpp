@@ -44,7 +44,7 @@ std::string output_kind_names();
 std::vector<std::string> output_files(const Output& output);
 // Checks the scene against what its outputs need (a sun, an [observer]); throws
 // InputError "<source>: output[i] (<kind>): ..." naming the first output that cannot
-// run. Called by load_scene and run_scene, so `scene check`, `plan` and `run` refuse alike.
+// run. `scene check`, `plan` and `run` (run_scene) call it, so they refuse alike.
 void check_outputs(const Scene& scene);
 
 }  // namespace atmosh::scene
