@@ -3,11 +3,12 @@
 #   1. Release build with the default compiler: unit tests, CLI and end-to-end tests,
 #      install + consumer project;
 #   2. clang + AddressSanitizer + UndefinedBehaviorSanitizer build running the suite;
-#   3. libFuzzer on the scene parser for a bounded time (ATMOSH_FUZZ_SECONDS, 60 s).
+#   3. libFuzzer on every reader of user files (scene and sweep TOML, OBJ, PLY, EXR, SH
+#      coefficient CSV), each for a bounded time (ATMOSH_FUZZ_SECONDS, 25 s each).
 set -euo pipefail  # pipefail: a failing ctest fails the script even through tee
 cd "$(dirname "$0")/.."
 JOBS=${JOBS:-$(nproc)}
-FUZZ_SECONDS=${ATMOSH_FUZZ_SECONDS:-60}
+FUZZ_SECONDS=${ATMOSH_FUZZ_SECONDS:-25}
 
 if [ "$(id -u)" = 0 ]; then bash scripts/setup-debian.sh; fi
 export ATMOSH_REQUIRE_GPU_CONTEXT=1   # Mesa llvmpipe is installed: EGL must work
@@ -36,14 +37,29 @@ cmake --build build-asan -j "$JOBS"
 ctest --test-dir build-asan -j "$JOBS" --output-on-failure --timeout 1800 | tee "$LOGS/asan.log"
 count_passed "$LOGS/asan.log"
 
-echo "== [3/3] libFuzzer: scene parser for ${FUZZ_SECONDS} s"
+echo "== [3/3] libFuzzer: 6 readers of user files, ${FUZZ_SECONDS} s each"
+FUZZERS="fuzz_scene fuzz_sweep fuzz_mesh_obj fuzz_mesh_ply fuzz_exr fuzz_sh_csv"
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DATMOSH_SANITIZE=address,undefined -DATMOSH_BUILD_FUZZ=ON -DATMOSH_BUILD_BENCH=OFF -DATMOSH_WITH_GPU=OFF
-cmake --build build-fuzz -j "$JOBS" --target fuzz_scene
-mkdir -p build-fuzz/corpus
-build-fuzz/bin/fuzz_scene -max_total_time="$FUZZ_SECONDS" -max_len=4096 -timeout=10 -rss_limit_mb=2048 \
-  -print_final_stats=1 build-fuzz/corpus tests/fuzz/corpus
-echo "fuzzing: no findings in ${FUZZ_SECONDS} s"
+  -DATMOSH_SANITIZE=address,undefined -DATMOSH_BUILD_FUZZ=ON -DATMOSH_BUILD_BENCH=OFF -DATMOSH_WITH_GPU=OFF \
+  -DATMOSH_BUILD_TESTS=OFF
+# shellcheck disable=SC2086
+cmake --build build-fuzz -j "$JOBS" --target $FUZZERS
+for f in $FUZZERS; do
+  name=${f#fuzz_}
+  max_len=16384
+  case $name in scene | sweep) max_len=131072 ;; esac  # a 40 000-part key path is 80 KB
+  mkdir -p "build-fuzz/corpus_$name"
+  # Any crash, leak, timeout or out-of-memory exits non-zero; the input is left in
+  # build-fuzz/ as crash-*, leak-*, timeout-* or oom-* and the whole log is printed.
+  if ! (cd build-fuzz && "bin/$f" -max_total_time="$FUZZ_SECONDS" -max_len="$max_len" -len_control=0 -timeout=10 \
+    -rss_limit_mb=2048 -print_final_stats=1 "corpus_$name" "../tests/fuzz/corpus_$name" >"$LOGS/$f.log" 2>&1); then
+    cat "$LOGS/$f.log"
+    echo "fuzzing $f: FAULT FOUND (input in build-fuzz/)"
+    exit 1
+  fi
+  grep -E "^stat::number_of_executed_units|^Done " "$LOGS/$f.log" || true
+  echo "fuzzing $f: no findings in ${FUZZ_SECONDS} s"
+done
 passed=$((passed + 1))
 echo "all stages green: Release suite, sanitizer suite, fuzzing"
 echo "${passed} passed, 0 failed"

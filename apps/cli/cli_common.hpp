@@ -41,6 +41,33 @@ int threads_option(int requested, const std::string& option = "--threads");
 // Throws InputError unless v is finite and lo <= v <= hi.
 double require_range(double v, double lo, double hi, const std::string& what);
 
+// ---- limits checked before work ---------------------------------------------------
+// The memory budget of one command: --max-memory when given, else the memory this
+// process may still take: the smaller of /proc/meminfo MemAvailable and the cgroup's
+// memory.max less memory.current (cgroup v2; v1: memory.limit_in_bytes less usage).
+// Every command that sizes its work from the user's numbers estimates its memory from
+// those sizes (the estimators live next to what they estimate and return bytes) and
+// calls check_memory before it starts.
+std::size_t memory_budget();
+// "2G", "512M", "1.5GiB", "800000000" -> bytes; InputError naming --max-memory otherwise.
+std::size_t parse_memory_size(const std::string& text);
+void set_memory_budget(std::size_t bytes);  // --max-memory
+// InputError "<what> needs about 12.3 GiB (estimate), more than the memory budget of
+// 7.6 GiB (MemAvailable; set with --max-memory)" when bytes exceed the budget.
+void check_memory(std::size_t bytes, const std::string& what);
+std::string format_bytes(double bytes);
+// Saturating a * b for estimates (no wrap-around on hostile sizes).
+std::size_t mul_bytes(std::size_t a, std::size_t b);
+std::size_t mul_bytes(std::size_t a, std::size_t b, std::size_t c);
+
+// Output files checked before any work: the folder exists or can be made and is
+// writable, the path is not a folder, and its extension is one of `extensions`
+// (e.g. {".exr"}); InputError naming `what` (the option) otherwise.
+void check_output_file(const std::filesystem::path& file, const std::vector<std::string>& extensions,
+                       const std::string& what);
+// An output folder: a folder (or creatable) and writable; InputError naming `what`.
+void check_output_dir(const std::filesystem::path& dir, const std::string& what);
+
 // What the main job (atmosh demo) passes to each part of the toolkit.
 struct DemoContext {
   std::filesystem::path out_dir;

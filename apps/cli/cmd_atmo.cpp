@@ -344,6 +344,13 @@ void register_atmo_commands(CLI::App& app) {
           throw InputError(opt->get_name() + ": only with --method lut");
       require_range(o->shells, 4, 4096, "--shells");
       require_range(o->directions, 4, 65536, "--directions");
+      if (o->method == "lut") {
+        LutOptions lo;
+        lo.shells = o->shells;
+        lo.view_directions = lo.sun_directions = o->directions;
+        check_memory(OpticalDepthLut::estimate_table_bytes(lo), "--method lut --shells " + std::to_string(o->shells) +
+                                                                    " --directions " + std::to_string(o->directions));
+      }
       double nm = require_range(o->wavelength, 1.0, 1e5, "--wavelength");
       double zen = require_range(o->zenith, 0.0, 180.0, "--zenith");
       double alt = require_range(o->altitude, -1e3, 1e9, "--altitude");

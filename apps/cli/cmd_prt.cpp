@@ -21,6 +21,7 @@
 #include "atmosh/io/exr.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
+#include "atmosh/io/sh_coefficients.hpp"
 #include "atmosh/io/study.hpp"
 #include "atmosh/prt/bake.hpp"
 #include "atmosh/sh/basis.hpp"
@@ -46,27 +47,6 @@ prt::Mesh load_input(const std::string& mesh_file, const std::string& builtin, i
   if (!mesh_file.empty() && !builtin.empty()) throw InputError("give either MESH or --scene-builtin, not both");
   if (mesh_file.empty() && builtin.empty()) throw InputError("no mesh: give MESH (.obj, .ply) or --scene-builtin NAME");
   return builtin.empty() ? prt::load_mesh(mesh_file) : prt::builtin_scene(builtin, resolution);
-}
-
-// Light coefficients from an SH coefficient CSV (columns l, m, index, then one column per
-// channel, as `atmosh sh project` writes): up to three channels; missing bands are zero.
-std::vector<std::vector<double>> read_light_csv(const std::string& file, int bands) {
-  const io::CsvData d = io::read_csv(file);
-  const std::size_t ci = d.column("index");
-  std::vector<std::size_t> chan;
-  for (std::size_t c = 0; c < d.columns.size(); ++c)
-    if (d.columns[c] != "l" && d.columns[c] != "m" && c != ci && chan.size() < 3) chan.push_back(c);
-  if (chan.empty()) throw InputError(file + ": no coefficient columns besides l, m, index");
-  const std::size_t K = static_cast<std::size_t>(bands) * bands;
-  std::vector<std::vector<double>> light(chan.size(), std::vector<double>(K, 0.0));
-  for (std::size_t r = 0; r < d.rows.size(); ++r) {
-    const double idx = d.number(r, ci);
-    if (!(idx >= 0) || idx != std::floor(idx))
-      throw InputError(file + ": row " + std::to_string(r + 1) + " has index " + io::format_double(idx));
-    if (idx >= static_cast<double>(K)) continue;
-    for (std::size_t k = 0; k < chan.size(); ++k) light[k][static_cast<std::size_t>(idx)] = d.number(r, chan[k]);
-  }
-  return light;
 }
 
 // Writes STEM.exr, STEM.png (tone-mapped) and STEM.png.json (the tone mapping, as for
@@ -101,7 +81,7 @@ std::vector<std::vector<std::vector<double>>> relight_lights(const RelightOption
   if (o.frames < 1 || o.frames > 3600) throw InputError("--frames: must be in 1..3600, got " + std::to_string(o.frames));
   std::vector<std::vector<std::vector<double>>> lights;
   if (!o.light_csv.empty()) {
-    lights.push_back(read_light_csv(o.light_csv, bands));
+    lights.push_back(io::read_sh_light(o.light_csv, bands));
     return lights;
   }
   for (const auto& s : o.light_dirs) {
@@ -175,7 +155,7 @@ std::vector<fs::path> relight_to(const prt::Transfer& t, const RelightOptions& o
 // sum_i T_i(pixel) light_i per channel; ao.(exr|png) is the image's `ao` channel. The
 // image size and view are the EXR's own.
 std::vector<fs::path> relight_pixels_to(const fs::path& file, const RelightOptions& o, const fs::path& dir) {
-  const io::ExrImage ex = io::read_exr(file);
+  const io::ExrImage ex = io::read_exr(file, memory_budget());
   std::vector<std::size_t> coeff_ch;
   for (int l = 0;; ++l) {
     bool all = true;

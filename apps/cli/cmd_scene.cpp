@@ -6,6 +6,7 @@
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/io/csv.hpp"
+#include "atmosh/scene/outputs.hpp"
 #include "atmosh/scene/scene.hpp"
 #include "cli_common.hpp"
 
@@ -46,6 +47,7 @@ void register_scene_commands(CLI::App& app) {
     check->add_option("file", file, "Scene file")->required();
     check->callback([] {
       const auto s = scene::load_scene(file);
+      scene::check_outputs(s);  // what `run` needs of the scene
       std::cout << file << ": ok (" << s.outputs.size() << " output(s))\n";
     });
   }
@@ -57,6 +59,7 @@ void register_scene_commands(CLI::App& app) {
     pl->add_flag("--json", json, "Print one JSON object");
     pl->callback([] {
       const auto s = scene_from(file);
+      scene::check_outputs(s);  // the plan of a scene that `run` refuses is refused too
       const auto passes = scene::plan(s);
       if (json) {
         nlohmann::json j;

@@ -12,6 +12,7 @@
 #include "atmosh/io/exr.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
+#include "atmosh/io/sh_coefficients.hpp"
 #include "atmosh/io/study.hpp"
 #include "atmosh/sh/basis.hpp"
 #include "atmosh/sh/convolution.hpp"
@@ -51,36 +52,8 @@ void write_coeffs(const std::filesystem::path& file, const CoeffFile& cf, io::Pr
 }
 
 CoeffFile read_coeffs(const std::string& file) {
-  const io::CsvData d = io::read_csv(file);
-  const std::size_t cl = d.column("l"), cm = d.column("m"), ci = d.column("index");
-  CoeffFile cf;
-  std::vector<std::size_t> chan;
-  for (std::size_t c = 0; c < d.columns.size(); ++c)
-    if (c != cl && c != cm && c != ci) {
-      cf.names.push_back(d.columns[c]);
-      chan.push_back(c);
-    }
-  if (chan.empty()) throw InputError(file + ": no coefficient columns besides l, m, index");
-  if (auto u = d.provenance.find("value_units"); u != d.provenance.end()) cf.value_units = u->second;
-  const std::size_t n = d.rows.size();
-  const int L = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
-  if (n == 0 || static_cast<std::size_t>(L) * L != n)
-    throw InputError(file + ": " + std::to_string(n) + " rows is not a square number of coefficients");
-  cf.bands = L;
-  cf.ch.assign(chan.size(), std::vector<double>(n));
-  for (std::size_t r = 0; r < n; ++r) {
-    const double l = d.number(r, cl), m = d.number(r, cm), idx = d.number(r, ci);
-    if (idx != static_cast<double>(r) || l * (l + 1) + m != idx || std::abs(m) > l)
-      throw InputError(file + ": row " + std::to_string(r + 1) + " has l, m, index = " + io::format_double(l) + ", " +
-                       io::format_double(m) + ", " + io::format_double(idx) + " (expected index " +
-                       std::to_string(r) + " = l(l+1)+m)");
-    for (std::size_t k = 0; k < chan.size(); ++k) {
-      const double v = d.number(r, chan[k]);
-      if (!std::isfinite(v)) throw InputError(file + ": row " + std::to_string(r + 1) + " has a non-finite value");
-      cf.ch[k][r] = v;
-    }
-  }
-  return cf;
+  io::ShCoefficients c = io::read_sh_coefficients(file);
+  return {c.bands, std::move(c.names), std::move(c.channels), std::move(c.value_units)};
 }
 
 // ---- images -----------------------------------------------------------------------
@@ -96,7 +69,7 @@ struct LoadedImage {
 };
 
 LoadedImage load_image(const std::string& file, const std::string& layout) {
-  io::ExrImage img = io::read_exr(file);
+  io::ExrImage img = io::read_exr(file, memory_budget() / 2);  // the image and its planar copy
   LoadedImage li;
   li.width = img.width;
   li.height = img.height;
@@ -304,6 +277,9 @@ void register_sh_commands(CLI::App& app) {
       if (o->samples < 0) throw InputError("--samples must be >= 0, got " + std::to_string(o->samples));
       if (o->width < 2 || o->width > 16384) throw InputError("--width must be in [2, 16384], got " + std::to_string(o->width));
       if (po.method == sh::Method::quadrature) po.samples = 0;
+      check_output_file(o->out, {".csv"}, "-o");
+      if (!o->reconstruct.empty()) check_output_file(o->reconstruct, {".exr"}, "--reconstruct");
+      check_memory(sh::sampler_bytes(po, 3), "--method " + o->method + " --samples " + std::to_string(o->samples));
       const LoadedImage li = load_image(o->in, o->layout);
       CoeffFile cf{o->bands, li.names, project_image(li, o->bands, po), li.value_units};
       auto prov = prov_with({{"input", o->in}, {"method", o->method}, {"seed", std::to_string(o->seed)},

@@ -2,13 +2,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <thread>
 
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/sun_disc.hpp"
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
+#include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/sun_series.hpp"
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
@@ -16,6 +19,7 @@
 #include "atmosh/io/csv.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/study.hpp"
+#include "atmosh/scene/outputs.hpp"
 #include "atmosh/scene/sweep.hpp"
 #include "atmosh/sh/convolution.hpp"
 #include "atmosh/sh/transform.hpp"
@@ -187,10 +191,14 @@ void run_sky(const SkyCmd& cmd) {
   SkyCmd c = cmd;
   c.q = cmd.q.checked();
   if (c.output.empty()) throw InputError("-o is required (the EXR file to write)");
+  check_output_file(c.output, {".exr"}, "-o");
+  if (!c.png.empty()) check_output_file(c.png, {".png"}, "--png");
   const auto s = c.q.scene_for(load_or_default(c.scene_file));
   const SunPlacement sun = resolve_sun(c, s);
   const auto proj = parse_sky_projection(c.projection);
   const auto size = parse_size(c.size, "--size");
+  check_memory(sky_output_bytes(size[0], size[1], spectrum_wavelengths(s.atmosphere.spectrum).size(), c.spectral),
+               "--size " + c.size + (c.spectral ? " --spectral" : ""));
   const auto model = make_sky_model(s, c.q.sky(s), sun.distance_au);
   const double h = std::max(sun.observer_height_m, 0.0);
   std::string used;
@@ -306,6 +314,14 @@ struct ElevationStudy {
   QualityOptions q;
 };
 
+// Memory of the study: its elevations, sky summaries, CSV rows (~24 cells) and plot
+// series, per row. Saturates for a hostile step (1e-9 deg: 1.8e11 rows).
+std::size_t elevation_study_bytes(const ElevationStudy& o) {
+  const double rows = std::floor((o.to - o.from) / o.step + 1e-9) + 1;
+  constexpr double kPerRow = sizeof(double) + sizeof(SkySummary) + 24 * 48 + 16 * sizeof(double);
+  return rows * kPerRow >= static_cast<double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(rows * kPerRow);
+}
+
 std::vector<fs::path> run_elevation_study(const ElevationStudy& given_options, const scene::Scene* given = nullptr,
                                           const ProgressCallback& progress = {}) {
   ElevationStudy o = given_options;
@@ -315,6 +331,9 @@ std::vector<fs::path> run_elevation_study(const ElevationStudy& given_options, c
   require_range(o.to, -90, 90, "--to");
   if (!(o.step > 0)) throw InputError("--step " + io::format_double(o.step) + " must be > 0");
   if (o.to < o.from) throw InputError("--to " + io::format_double(o.to) + " is below --from");
+  check_memory(elevation_study_bytes(o), "--from " + io::format_double(o.from) + " --to " + io::format_double(o.to) +
+                                             " --step " + io::format_double(o.step));
+  if (!given) check_output_dir(o.output, "-o");
   const auto s = given ? *given : load_or_default(o.scene_file);
   const auto model = make_sky_model(o.q.scene_for(s), o.q.sky(s), 1.0);
   const double h = s.observer ? std::max(s.observer->height_m, 0.0) : 0.0;
@@ -372,6 +391,9 @@ std::vector<fs::path> run_day_study(const DayStudy& given_options, const Progres
   const double jd0 = parse_iso8601(o.date + "T00:00:00Z").jd_utc;
   const double step_s = parse_duration_s(o.step);
   const auto fsize = parse_size(o.frame_size, "--frame-size");
+  check_output_dir(o.output, "-o");
+  if (o.frames)  // one frame at a time: the largest holding is one sky image
+    check_memory(sky_output_bytes(fsize[0], fsize[1], 0, false), "--frame-size " + o.frame_size);
   SunQuery base;
   base.latitude_deg = require_range(*o.lat, -90, 90, "--lat");
   base.longitude_deg = require_range(*o.lon, -180, 180, "--lon");
@@ -742,6 +764,7 @@ std::vector<fs::path> write_sky_sh(const SkyModel& model, const SunPlacement& su
 void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vector<fs::path>& written,
                const std::string& device) {
   check_device(device);
+  scene::check_outputs(s);  // what each kind needs (the scene reader checked it too)
   std::optional<SunPlacement> sun;
   std::unique_ptr<SkyModel> model;
   auto need_sky = [&]() -> const SkyModel& {
@@ -751,50 +774,74 @@ void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vect
     }
     return *model;
   };
+  auto image_size = [&](const scene::Output& out) {
+    return std::array<int, 2>{quick ? std::min(64, out.size[0]) : out.size[0], quick ? std::min(32, out.size[1]) : out.size[1]};
+  };
+  // One runner per kind of scene::output_kinds(); `file` is dir/out.file, `stem` without its extension.
+  using Runner = std::function<void(const scene::Output&, const fs::path& file, const fs::path& stem)>;
+  const std::map<std::string_view, Runner> runners = {
+      {"sky-image",
+       [&](const scene::Output& out, const fs::path& file, const fs::path&) {
+         const SkyModel& m = need_sky();
+         const auto [w, h] = image_size(out);
+         std::string used;
+         const auto img = render_sky_on(device, *m.sky, parse_sky_projection(out.projection), w, h,
+                                        std::max(sun->observer_height_m, 0.0), sun->direction(), out.spectral, 0, used);
+         fs::path png = file;
+         png.replace_extension(".png");
+         auto prov = sky_provenance(m, *sun);
+         prov.add("device", used);
+         write_sky_image(img, file, png, prov, out.projection, *sun);
+         written.push_back(file);
+         written.push_back(png);
+         fs::path side = png;
+         side += ".json";  // the tone mapping (write_sky_image)
+         written.push_back(side);
+       }},
+      {"sh-coefficients",
+       [&](const scene::Output& out, const fs::path& file, const fs::path&) {
+         const SkyModel& m = need_sky();
+         for (const auto& f : write_sky_sh(m, *sun, out.bands > 0 ? out.bands : 3, file)) written.push_back(f);
+       }},
+      {"sun-track",
+       [&](const scene::Output&, const fs::path&, const fs::path& stem) {
+         const auto& o = *s.observer;  // check_outputs: a sun-track has an [observer]
+         for (const auto& f : write_sun_track(o.latitude_deg, o.longitude_deg, o.height_m, o.time_utc,
+                                              quick ? 1800.0 : 600.0, stem))
+           written.push_back(f);
+       }},
+      {"sun-elevation-study",
+       [&](const scene::Output&, const fs::path&, const fs::path& stem) {
+         ElevationStudy e;
+         e.output = stem.string();
+         e.step = quick ? 12 : 1;
+         for (const auto& f : run_elevation_study(e, &s)) written.push_back(f);
+       }},
+      {"lut-convergence",
+       [&](const scene::Output&, const fs::path&, const fs::path& stem) {
+         for (const auto& f : write_lut_convergence(s.atmosphere, stem, quick)) written.push_back(f);
+       }},
+      {"optical-depth",
+       [&](const scene::Output&, const fs::path&, const fs::path& stem) {
+         for (const auto& f : write_optical_depth_table(s.atmosphere, stem)) written.push_back(f);
+       }},
+  };
+  // Before any work: a runner for every output, and the memory the largest one holds.
+  std::size_t peak = 0;
+  std::string peak_what;
+  for (const auto& out : s.outputs) {
+    if (!runners.count(out.kind)) throw InputError(s.source + ": output kind '" + out.kind + "' has no runner");
+    const std::size_t bytes = scene_output_bytes(s, out, image_size(out));
+    if (bytes > peak) peak = bytes, peak_what = s.source + ": output '" + out.file + "' (" + out.kind + ")";
+  }
+  if (peak > 0) check_memory(peak, peak_what);
   for (std::size_t oi = 0; oi < s.outputs.size(); ++oi) {
     const auto& out = s.outputs[oi];
     ProgressStep step("output[" + std::to_string(oi) + "] " + out.kind + " " + out.file);
     const fs::path file = dir / out.file;
     fs::path stem = file;
     stem.replace_extension();
-    if (out.kind == "sky-image") {
-      const SkyModel& m = need_sky();
-      const int w = quick ? std::min(64, out.size[0]) : out.size[0];
-      const int h = quick ? std::min(32, out.size[1]) : out.size[1];
-      std::string used;
-      const auto img = render_sky_on(device, *m.sky, parse_sky_projection(out.projection), w, h,
-                                     std::max(sun->observer_height_m, 0.0), sun->direction(), out.spectral, 0, used);
-      fs::path png = file;
-      png.replace_extension(".png");
-      auto prov = sky_provenance(m, *sun);
-      prov.add("device", used);
-      write_sky_image(img, file, png, prov, out.projection, *sun);
-      written.push_back(file);
-      written.push_back(png);
-      fs::path side = png;
-      side += ".json";  // the tone mapping (write_sky_image)
-      written.push_back(side);
-    } else if (out.kind == "sh-coefficients") {
-      const SkyModel& m = need_sky();
-      for (const auto& f : write_sky_sh(m, *sun, out.bands > 0 ? out.bands : 3, file)) written.push_back(f);
-    } else if (out.kind == "sun-track") {
-      if (!s.observer) throw InputError(s.source + ": output '" + out.file + "' (sun-track) needs an [observer]");
-      const auto& o = *s.observer;
-      for (const auto& f : write_sun_track(o.latitude_deg, o.longitude_deg, o.height_m, o.time_utc,
-                                           quick ? 1800.0 : 600.0, stem))
-        written.push_back(f);
-    } else if (out.kind == "sun-elevation-study") {
-      ElevationStudy e;
-      e.output = stem.string();
-      e.step = quick ? 12 : 1;
-      for (const auto& f : run_elevation_study(e, &s)) written.push_back(f);
-    } else if (out.kind == "lut-convergence") {
-      for (const auto& f : write_lut_convergence(s.atmosphere, stem, quick)) written.push_back(f);
-    } else if (out.kind == "optical-depth") {
-      for (const auto& f : write_optical_depth_table(s.atmosphere, stem)) written.push_back(f);
-    } else {
-      throw InputError(s.source + ": output kind '" + out.kind + "' is not handled");
-    }
+    runners.at(out.kind)(out, file, stem);
   }
 }
 

@@ -32,8 +32,14 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version",
                        "atmosh " + atmosh::io::version_string() + " (git " + atmosh::io::git_commit() + ")");
   app.require_subcommand(1);
-  // Options of the main program may follow the subcommand: `atmosh demo --quiet`.
-  app.fallthrough();
+  app.fallthrough();  // global options (--max-memory) also after the subcommand; inherited by subcommands
+  app.add_option_function<std::string>(
+         "--max-memory",
+         [](const std::string& v) { atmosh::cli::set_memory_budget(atmosh::cli::parse_memory_size(v)); },
+         "Memory budget of the command, e.g. 2G or 512M (default: the memory still available, from "
+         "/proc/meminfo MemAvailable and the cgroup's limit). Requests estimated above it are refused "
+         "(exit 2) before any work")
+      ->trigger_on_parse();
   app.add_flag_callback("-q,--quiet", [] { atmosh::cli::set_progress_quiet(true); },
                         "No progress lines or bars on stderr (also ATMOSH_QUIET=1)");
   app.footer(

@@ -3,15 +3,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/sun_disc.hpp"
+#include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/io/exr.hpp"
 #include "atmosh/io/plot.hpp"
+#include "cli_common.hpp"
 
 namespace atmosh::cli {
 
@@ -158,6 +161,26 @@ double write_sky_image(const atmo::SkyImage& img, const std::filesystem::path& e
                                  "2 / (95th percentile of luminance Y in cd/m^2)", exr.filename().string());
   }
   return exposure;
+}
+
+std::size_t sky_output_bytes(int width, int height, std::size_t nw, bool spectral) {
+  const std::size_t n = mul_bytes(static_cast<std::size_t>(std::max(width, 0)), static_cast<std::size_t>(std::max(height, 0)));
+  std::size_t b = atmo::sky_image_bytes(width, height, nw, spectral);
+  for (std::size_t x : {io::exr_image_bytes(width, height, 6 + (spectral ? nw : 0)), io::tonemapped_png_bytes(width, height),
+                        mul_bytes(n, sizeof(float))})
+    b = b > SIZE_MAX - x ? SIZE_MAX : b + x;
+  return b;
+}
+
+std::size_t scene_output_bytes(const scene::Scene& s, const scene::Output& out, std::array<int, 2> size) {
+  if (out.kind == "sky-image")
+    return sky_output_bytes(size[0], size[1], atmo::spectrum_wavelengths(s.atmosphere.spectrum).size(), out.spectral);
+  if (out.kind == "sh-coefficients") {  // write_sky_sh: a Gauss grid of nlat x 2 nlat, three channels of doubles
+    const std::size_t bands = static_cast<std::size_t>(out.bands > 0 ? out.bands : 3);
+    const std::size_t nlat = std::max<std::size_t>(4 * bands, 64);
+    return mul_bytes(mul_bytes(nlat, 2 * nlat), 4 * sizeof(double));
+  }
+  return 0;
 }
 
 std::array<double, 3> display_colour(const atmo::Rgb& c) {

@@ -57,6 +57,14 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
                              int width, int height, double altitude_m, const glm::dvec3& sun, bool spectral, int threads,
                              std::string& used);
 
+// Memory (bytes) of one sky image of width x height with nw wavelengths, from the
+// render to the EXR and PNG written (atmo::sky_image_bytes + io::exr_image_bytes +
+// io::tonemapped_png_bytes + the exposure's luminance list).
+std::size_t sky_output_bytes(int width, int height, std::size_t nw, bool spectral);
+// Memory of one scene output at its image size (sky-image, sh-coefficients; 0 for the
+// kinds whose sizes are fixed).
+std::size_t scene_output_bytes(const scene::Scene& s, const scene::Output& out, std::array<int, 2> size);
+
 // Display colour: linear sRGB scaled so its largest component is 1, then encoded.
 std::array<double, 3> display_colour(const atmo::Rgb& c);
 

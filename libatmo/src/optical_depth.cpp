@@ -1,6 +1,7 @@
 #include "atmosh/atmo/optical_depth.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -438,6 +439,13 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
   else
     fill(sun_up_, opt_.sun_directions, false);
   build_time_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::size_t OpticalDepthLut::estimate_table_bytes(const LutOptions& o) {
+  const long double per_shell = 4.0L * sizeof(double) *
+      ((o.view_tables ? 2.0L * std::max(o.view_directions, 0) : 0.0L) + std::max(o.sun_directions, 0));
+  const long double b = per_shell * std::max(o.shells, 0);
+  return b >= static_cast<long double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(b);
 }
 
 std::size_t OpticalDepthLut::table_bytes() const {

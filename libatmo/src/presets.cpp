@@ -175,6 +175,10 @@ void validate(const AtmosphereSpec& s) {
   for (std::size_t i = 0; i < w.size(); ++i) {
     require(std::isfinite(w[i]) && w[i] > 0.0, "spectrum.wavelengths_nm[" + std::to_string(i) + "]", w[i],
             "must be > 0");
+    // The bins (solar spectrum, CIE weights) lie between neighbouring wavelengths.
+    if (i > 0)
+      require(w[i] > w[i - 1], "spectrum.wavelengths_nm[" + std::to_string(i) + "]", w[i],
+              "must be greater than the wavelength before it (" + num(w[i - 1]) + " nm): the list is increasing");
     if (s.ozone) range(i, kOzoneTableFirstNm, kOzoneTableLastNm, "the ozone cross-section table");
     if (s.rayleigh && s.rayleigh->model == RayleighSpec::Model::Physical)
       range(i, kRayleighPhysicalFirstNm, kRayleighPhysicalLastNm,

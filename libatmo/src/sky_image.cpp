@@ -3,6 +3,7 @@
 #include "atmosh/error.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -63,6 +64,14 @@ SolarSpectrum solar_spectrum_for_bins(const SpectrumSpec& s) {
     e[i] = hi > lo ? solar_irradiance_toa_mean(lo, hi) : solar_irradiance_toa(std::clamp(w[i], kSolarSpectrumFirstNm, kSolarSpectrumLastNm));
   }
   return e;
+}
+
+std::size_t sky_image_bytes(int width, int height, std::size_t wavelengths, bool keep_spectral) {
+  if (width < 1 || height < 1) return 0;
+  const long double n = static_cast<long double>(width) * height;
+  const long double per_pixel = 6 * sizeof(float) + sizeof(std::uint8_t) + (keep_spectral ? wavelengths * sizeof(float) : 0);
+  const long double b = n * per_pixel;
+  return b >= static_cast<long double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(b);
 }
 
 SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int width, int height, double altitude_m,

@@ -2,6 +2,7 @@
 #include "atmosh/sh/projection.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -77,6 +78,14 @@ void ring_sums_centred(int bands, int W, const float* f, const std::vector<doubl
   }
 }
 }  // namespace
+
+std::size_t sampler_bytes(const ProjectOptions& opt, int channels) {
+  long double n = 0;
+  if (opt.method == Method::jittered) n = static_cast<long double>(opt.samples > 0 ? opt.samples : 45) * (opt.samples > 0 ? opt.samples : 45);
+  else if (opt.method == Method::uniform) n = opt.samples > 0 ? opt.samples : 2025;
+  const long double b = n * (sizeof(glm::dvec3) + sizeof(double) + sizeof(double) * std::max(channels, 1));
+  return b >= static_cast<long double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(b);
+}
 
 void sampler_directions(const ProjectOptions& opt, std::vector<glm::dvec3>& dirs, std::vector<double>& weights) {
   if (opt.method == Method::quadrature) throw InputError("sampler_directions: quadrature is not a Monte Carlo sampler");

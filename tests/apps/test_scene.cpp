@@ -69,13 +69,21 @@ TEST(Scene, OmittedTablesLeaveConstituentsOut) {
 }
 
 TEST(Scene, PlanWithoutSkyOutputsSkipsTables) {
-  const Scene s = parse_scene(
-      "version = 1\n[rayleigh]\n[[output]]\nkind = \"sh-coefficients\"\nbands = 5\nfile = \"c.csv\"\n", "t.toml");
+  const Scene s = parse_scene("version = 1\n[rayleigh]\n[observer]\ntime_utc = \"2026-06-21T12:00:00Z\"\n"
+                              "[[output]]\nkind = \"sun-track\"\nfile = \"t.csv\"\n", "t.toml");
   const auto ps = plan(s);
   EXPECT_FALSE(find(ps, "optical-depth-lut:view").needed);
+  EXPECT_FALSE(find(ps, "optical-depth-lut:sun").needed);
   EXPECT_FALSE(find(ps, "constituent:rayleigh").needed);
-  EXPECT_TRUE(find(ps, "sh-projection").needed);
-  EXPECT_NE(find(ps, "sh-projection").reason.find("25 coefficients"), std::string::npos);
+  EXPECT_FALSE(find(ps, "sh-projection").needed);
+  // SH coefficients are those of the sky: they need it (and its tables).
+  const Scene sh = parse_scene(
+      "version = 1\n[rayleigh]\n[sun]\n[[output]]\nkind = \"sh-coefficients\"\nbands = 5\nfile = \"c.csv\"\n", "t.toml");
+  const auto pss = plan(sh);
+  EXPECT_FALSE(find(pss, "optical-depth-lut:view").needed);
+  EXPECT_TRUE(find(pss, "constituent:rayleigh").needed);
+  EXPECT_TRUE(find(pss, "sh-projection").needed);
+  EXPECT_NE(find(pss, "sh-projection").reason.find("25 coefficients"), std::string::npos);
 }
 
 TEST(Scene, ValidationNamesTheKey) {

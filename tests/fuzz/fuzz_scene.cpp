@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "atmosh/error.hpp"
+#include "fuzz_repeat.hpp"
 #include "atmosh/scene/scene.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <string_view>
 #include <stdexcept>
 
 #include "atmosh/error.hpp"
@@ -146,11 +148,11 @@ CsvData parse_csv(const std::string& text, const std::string& source_name) {
     auto cells = split_csv_line(line, open);
     if (open) throw InputError(source_name + ": line " + std::to_string(lineno) + ": unterminated quote");
     if (d.columns.empty()) {
-      for (std::size_t i = 0; i < cells.size(); ++i)
-        for (std::size_t j = 0; j < i; ++j)
-          if (cells[i] == cells[j])
-            throw InputError(source_name + ": line " + std::to_string(lineno) + ": column '" + cells[i] +
-                             "' appears twice in the header");
+      std::set<std::string_view> seen;
+      for (const auto& c : cells)
+        if (!seen.insert(c).second)
+          throw InputError(source_name + ": line " + std::to_string(lineno) + ": column '" + c +
+                           "' appears twice in the header");
       d.columns = std::move(cells);
     } else {
       if (cells.size() != d.columns.size())

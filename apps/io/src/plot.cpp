@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -381,6 +382,12 @@ void write_swatch_png(const std::filesystem::path& file, const std::string& titl
     }
   }
   save_png(file, img);
+}
+
+std::size_t tonemapped_png_bytes(int width, int height) {
+  if (width < 1 || height < 1) return 0;
+  const long double b = 6.0L * width * height;  // CV_8UC3 image + encoded buffer (at most ~ the raw size)
+  return b >= static_cast<long double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(b);
 }
 
 void write_tonemapped_png(const std::filesystem::path& file, int width, int height, const std::vector<float>& r,

@@ -423,6 +423,12 @@ Transfer read_transfer(const std::filesystem::path& file) {
   const std::size_t K = static_cast<std::size_t>(t.bands) * t.bands;
   if (nprops != 8 + K) throw bad(std::to_string(nprops) + " vertex properties for " + std::to_string(t.bands) + " bands");
   if (nv == 0 || nf == 0) throw bad("no vertices or faces");
+  // Counts are the header's word only: each value takes at least two bytes ("0 ").
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(file, ec);
+  if (ec || nv > bytes / (2 * (8 + K)) || nf > bytes / 8)
+    throw bad(std::to_string(nv) + " vertices and " + std::to_string(nf) + " faces cannot fit in " +
+              std::to_string(ec ? 0 : bytes) + " bytes");
   t.mesh.positions.resize(nv);
   t.mesh.normals.resize(nv);
   t.mesh.albedo.resize(nv);
@@ -441,7 +447,9 @@ Transfer read_transfer(const std::filesystem::path& file) {
   t.mesh.triangles.resize(nf);
   for (std::size_t f = 0; f < nf; ++f) {
     long long c, a, b, d;
-    if (!(in >> c >> a >> b >> d) || c != 3 || a < 0 || b < 0 || d < 0) throw bad("face " + std::to_string(f));
+    const auto bad_index = [&](long long i) { return i < 0 || static_cast<unsigned long long>(i) >= nv; };
+    if (!(in >> c >> a >> b >> d) || c != 3 || bad_index(a) || bad_index(b) || bad_index(d))
+      throw bad("face " + std::to_string(f));
     t.mesh.triangles[f] = {static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(d)};
   }
   validate(t.mesh);

@@ -8,6 +8,11 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstring>
+#include <iterator>
+#include <sstream>
+#include <tuple>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -102,7 +107,227 @@ Mesh load_obj(const std::filesystem::path& file) {
   return m;
 }
 
+// ---- PLY validation -------------------------------------------------------------------
+// The mesh library trusts a PLY header's element counts and list lengths: a truncated
+// file aborts inside its triangulation and a binary header with no data reads past
+// the end. So the whole file is walked here first, header and data, without trusting
+// any count: every row must lie inside the file, list lengths must be 3..kMaxPolygon,
+// x/y/z finite, vertex indices in range.
+constexpr std::size_t kMaxPolygon = 1024;
+constexpr std::uint64_t kMaxElements = std::uint64_t{1} << 31;
+
+struct PlyProperty {
+  std::string name;
+  int size = 0;           // bytes of the scalar, or of each list item
+  bool is_float = false, is_signed = false;
+  bool list = false;
+  int count_size = 0;     // bytes of the list length
+  bool count_signed = false;
+};
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> props;
+};
+
+bool ply_type(const std::string& t, int& size, bool& is_float, bool& is_signed) {
+  static const std::map<std::string, std::tuple<int, bool, bool>> types = {
+      {"char", {1, false, true}},   {"int8", {1, false, true}},    {"uchar", {1, false, false}},
+      {"uint8", {1, false, false}}, {"short", {2, false, true}},   {"int16", {2, false, true}},
+      {"ushort", {2, false, false}}, {"uint16", {2, false, false}}, {"int", {4, false, true}},
+      {"int32", {4, false, true}},  {"uint", {4, false, false}},   {"uint32", {4, false, false}},
+      {"float", {4, true, true}},   {"float32", {4, true, true}},  {"double", {8, true, true}},
+      {"float64", {8, true, true}}};
+  const auto it = types.find(t);
+  if (it == types.end()) return false;
+  std::tie(size, is_float, is_signed) = it->second;
+  return true;
+}
+
+class PlyCheck {
+ public:
+  explicit PlyCheck(const std::filesystem::path& file) : file_(file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) fail("cannot be read");
+    data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+
+  void run() {
+    read_header();
+    const PlyElement* vertex = nullptr;
+    for (const auto& e : elements_)
+      if (e.name == "vertex") vertex = &e;
+    if (vertex == nullptr) fail("has no vertex element");
+    nverts_ = vertex->count;
+    for (const auto& e : elements_) {
+      if (e.name == "vertex")
+        for (const char* c : {"x", "y", "z"})
+          if (std::none_of(e.props.begin(), e.props.end(), [&](const PlyProperty& p) { return p.name == c && !p.list; }))
+            fail(std::string("vertex element has no scalar property '") + c + "'");
+      if (e.props.empty() && !ascii_) continue;  // rows of no bytes
+      for (std::uint64_t r = 0; r < e.count; ++r) {
+        if (ascii_) begin_line(e, r);
+        for (const auto& p : e.props) {
+          if (!p.list) {
+            const double v = value(e, r, p.size, p.is_float, p.is_signed);
+            if (e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z") && !std::isfinite(v))
+              fail("vertex " + std::to_string(r) + " has a non-finite " + p.name);
+            continue;
+          }
+          const double n = value(e, r, p.count_size, false, p.count_signed);
+          const bool face = e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
+          if (!(n >= 0) || n > static_cast<double>(kMaxPolygon) || (face && n < 3))
+            fail(e.name + " " + std::to_string(r) + " lists " + io_num(n) + " items (" + (face ? "3" : "0") + ".." +
+                 std::to_string(kMaxPolygon) + " allowed)");
+          for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) {
+            const double idx = value(e, r, p.size, p.is_float, p.is_signed);
+            if (face && !(idx >= 0 && idx < static_cast<double>(nverts_) && idx == std::floor(idx)))
+              fail("face " + std::to_string(r) + " names vertex " + io_num(idx) + " of " + std::to_string(nverts_));
+          }
+        }
+        if (ascii_) end_line(e, r);
+      }
+    }
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(file_.string() + ": PLY " + what);
+  }
+  static std::string io_num(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  }
+
+  bool next_header_line(std::string& line) {
+    if (pos_ >= data_.size()) return false;
+    const std::size_t nl = data_.find('\n', pos_);
+    if (nl == std::string::npos) return false;  // the header ends with a newline
+    line = data_.substr(pos_, nl - pos_);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    pos_ = nl + 1;
+    return true;
+  }
+
+  void read_header() {
+    std::string line;
+    if (!next_header_line(line) || line != "ply") fail("file does not start with 'ply'");
+    bool have_format = false, ended = false;
+    while (next_header_line(line)) {
+      std::istringstream ls(line);
+      std::string w;
+      ls >> w;
+      if (w.empty() || w == "comment" || w == "obj_info") continue;
+      if (w == "end_header") {
+        ended = true;
+        break;
+      }
+      if (w == "format") {
+        std::string f, ver;
+        ls >> f >> ver;
+        if (f == "ascii") ascii_ = true;
+        else if (f == "binary_little_endian") big_ = false;
+        else if (f == "binary_big_endian") big_ = true;
+        else fail("format '" + f + "' is not ascii, binary_little_endian or binary_big_endian");
+        have_format = true;
+      } else if (w == "element") {
+        PlyElement e;
+        std::string count;
+        ls >> e.name >> count;
+        char* end = nullptr;
+        const unsigned long long n = std::strtoull(count.c_str(), &end, 10);
+        if (e.name.empty() || count.empty() || *end != '\0' || count[0] == '-' || n > kMaxElements)
+          fail("element line '" + line + "' has no count in 0.." + std::to_string(kMaxElements));
+        e.count = n;
+        elements_.push_back(e);
+      } else if (w == "property") {
+        if (elements_.empty()) fail("property before any element");
+        PlyProperty p;
+        std::string t;
+        ls >> t;
+        if (t == "list") {
+          std::string ct, it;
+          ls >> ct >> it >> p.name;
+          bool cf = false;
+          if (!ply_type(ct, p.count_size, cf, p.count_signed) || cf || !ply_type(it, p.size, p.is_float, p.is_signed))
+            fail("property line '" + line + "' has an unknown or non-integer list type");
+          p.list = true;
+        } else {
+          ls >> p.name;
+          if (!ply_type(t, p.size, p.is_float, p.is_signed)) fail("property type '" + t + "' is unknown");
+        }
+        if (p.name.empty()) fail("property line '" + line + "' has no name");
+        elements_.back().props.push_back(p);
+      } else {
+        fail("header line '" + line + "' is not understood");
+      }
+    }
+    if (!ended) fail("header has no end_header line");
+    if (!have_format) fail("header has no format line");
+  }
+
+  // ASCII rows: one line per row (blank lines between are tolerated by no reader: refused).
+  void begin_line(const PlyElement& e, std::uint64_t r) {
+    if (pos_ >= data_.size())
+      fail("file ends at " + e.name + " " + std::to_string(r) + " of " + std::to_string(e.count));
+    const std::size_t nl = data_.find('\n', pos_);
+    line_end_ = nl == std::string::npos ? data_.size() : nl;
+  }
+  void end_line(const PlyElement& e, std::uint64_t r) {
+    while (pos_ < line_end_ && (data_[pos_] == ' ' || data_[pos_] == '\t' || data_[pos_] == '\r')) ++pos_;
+    if (pos_ != line_end_) fail(e.name + " " + std::to_string(r) + " has more values than its properties");
+    pos_ = line_end_ + 1;
+  }
+
+  double value(const PlyElement& e, std::uint64_t r, int size, bool is_float, bool is_signed) {
+    if (ascii_) {
+      while (pos_ < line_end_ && (data_[pos_] == ' ' || data_[pos_] == '\t')) ++pos_;
+      const std::size_t start = pos_;
+      while (pos_ < line_end_ && data_[pos_] != ' ' && data_[pos_] != '\t' && data_[pos_] != '\r') ++pos_;
+      if (start == pos_) fail(e.name + " " + std::to_string(r) + " has fewer values than its properties");
+      const std::string tok = data_.substr(start, pos_ - start);
+      char* end = nullptr;
+      const double v = std::strtod(tok.c_str(), &end);
+      if (*end != '\0') fail(e.name + " " + std::to_string(r) + " has a value '" + tok + "' that is not a number");
+      if (!is_float && v != std::floor(v)) fail(e.name + " " + std::to_string(r) + " has a non-integer '" + tok + "'");
+      return v;
+    }
+    if (data_.size() - pos_ < static_cast<std::size_t>(size))
+      fail("file ends inside " + e.name + " " + std::to_string(r) + " of " + std::to_string(e.count) + " (" +
+           std::to_string(data_.size()) + " bytes)");
+    unsigned char b[8];
+    std::memcpy(b, data_.data() + pos_, static_cast<std::size_t>(size));
+    pos_ += static_cast<std::size_t>(size);
+    const bool host_big = std::endian::native == std::endian::big;
+    if (big_ != host_big) std::reverse(b, b + size);
+    if (is_float) {
+      if (size == 4) {
+        float f;
+        std::memcpy(&f, b, 4);
+        return f;
+      }
+      double d;
+      std::memcpy(&d, b, 8);
+      return d;
+    }
+    std::uint64_t u = 0;
+    std::memcpy(&u, b, static_cast<std::size_t>(size));  // little-endian host order assumed below
+    if (host_big) u >>= 8 * (8 - size);
+    if (is_signed && size < 8 && (u >> (8 * size - 1)) & 1u) return static_cast<double>(u) - std::ldexp(1.0, 8 * size);
+    return static_cast<double>(u);
+  }
+
+  std::filesystem::path file_;
+  std::string data_;
+  std::size_t pos_ = 0, line_end_ = 0;
+  bool ascii_ = false, big_ = false;
+  std::vector<PlyElement> elements_;
+  std::uint64_t nverts_ = 0;
+};
+
 Mesh load_ply(const std::filesystem::path& file) {
+  PlyCheck(file).run();  // before the mesh library sees the file
   Assimp::Importer imp;
   // No vertex joining or other changes: the file's vertices are the mesh's vertices.
   const aiScene* sc = imp.ReadFile(file.string(), aiProcess_Triangulate);

@@ -3,28 +3,60 @@
 #include <algorithm>
 #include <sstream>
 
+#include "atmosh/atmo/presets.hpp"
+#include "atmosh/scene/outputs.hpp"
 #include "atmosh/scene/scene.hpp"
 
 namespace atmosh::scene {
 
 namespace {
-bool wants(const Scene& s, std::initializer_list<const char*> kinds) {
+// Whether any output's kind has the property.
+bool any_kind(const Scene& s, bool OutputKind::*what) {
   return std::any_of(s.outputs.begin(), s.outputs.end(), [&](const Output& o) {
-    return std::any_of(kinds.begin(), kinds.end(), [&](const char* k) { return o.kind == k; });
+    const OutputKind* k = find_output_kind(o.kind);
+    return k != nullptr && k->*what;
   });
+}
+bool wants(const Scene& s, const char* kind) {
+  return std::any_of(s.outputs.begin(), s.outputs.end(), [&](const Output& o) { return o.kind == kind; });
+}
+std::string kinds_with(const Scene& s, bool OutputKind::*what) {
+  std::string names;
+  for (const auto& o : s.outputs) {
+    const OutputKind* k = find_output_kind(o.kind);
+    if (k != nullptr && k->*what && names.find(o.kind) == std::string::npos)
+      names += (names.empty() ? "" : ", ") + o.kind;
+  }
+  return names;
+}
+std::string nm(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+// The wavelengths the run uses: the explicit list, or the bins' centres.
+std::string spectrum_summary(const atmo::SpectrumSpec& sp) {
+  const auto w = atmo::spectrum_wavelengths(sp);
+  if (!sp.wavelengths_nm.empty())
+    return std::to_string(w.size()) + (w.size() == 1 ? " wavelength " : " wavelengths ") + nm(w.front()) +
+           (w.size() > 1 ? "\u2013" + nm(w.back()) : "") + " nm (listed)";
+  return std::to_string(w.size()) + (w.size() == 1 ? " wavelength" : " wavelengths") + " in " +
+         std::to_string(sp.count) + " bins " + nm(sp.from_nm) + "\u2013" + nm(sp.to_nm) + " nm (centres " +
+         nm(w.front()) + "\u2013" + nm(w.back()) + " nm)";
 }
 }  // namespace
 
 std::vector<Pass> plan(const Scene& s) {
   std::vector<Pass> p;
   const auto& a = s.atmosphere;
-  const bool sky = wants(s, {"sky-image", "sun-elevation-study"});
-  const bool needs_atmosphere = sky || wants(s, {"optical-depth", "lut-convergence"});
-  const bool needs_sun = sky || wants(s, {"sun-track"});
+  const bool sky = any_kind(s, &OutputKind::sky);
+  const bool needs_atmosphere = sky || any_kind(s, &OutputKind::atmosphere);
+  const bool needs_sun = any_kind(s, &OutputKind::sun) || any_kind(s, &OutputKind::observer);
   const int sh_bands = [&] {
     int b = 0;
     for (const auto& o : s.outputs)
-      if (o.kind == "sh-coefficients") b = std::max(b, o.bands > 0 ? o.bands : 3);
+      if (const OutputKind* k = find_output_kind(o.kind); k != nullptr && k->bands)
+        b = std::max(b, o.bands > 0 ? o.bands : k->default_bands);
     return b;
   }();
 
@@ -36,7 +68,7 @@ std::vector<Pass> plan(const Scene& s) {
   else if (s.sun)
     p.push_back({"sun-position", false, "sun given directly by [sun] elevation/azimuth"});
   else
-    p.push_back({"sun-position", false, "no [observer] or [sun]: outputs use their own sun settings"});
+    p.push_back({"sun-position", false, "no [observer] or [sun]"});  // check_outputs refused it already
 
   struct C {
     const char* name;
@@ -62,10 +94,8 @@ std::vector<Pass> plan(const Scene& s) {
                tables ? "sun-ray optical depths for " + std::to_string(constituents) + " constituent(s)"
                       : "no sky output (or no constituent)"});
   p.push_back({"spectrum", needs_atmosphere,
-               needs_atmosphere ? std::to_string(a.spectrum.count) + " wavelengths " + std::to_string(a.spectrum.from_nm) +
-                                      "-" + std::to_string(a.spectrum.to_nm) + " nm"
-                                : "no output needs spectral quantities"});
-  p.push_back({"sky-radiance:single-scattering", sky, sky ? "sky-image or sun-elevation-study output" : "no sky output"});
+               needs_atmosphere ? spectrum_summary(a.spectrum) : "no output needs spectral quantities"});
+  p.push_back({"sky-radiance:single-scattering", sky, sky ? kinds_with(s, &OutputKind::sky) + " output" : "no sky output"});
   {
     using atmo::ScatteringMethod;
     const auto& m = s.scattering;
@@ -100,8 +130,8 @@ std::vector<Pass> plan(const Scene& s) {
                                         ? "orders = 1: single scattering only"
                                         : "scattering method is " + std::string(atmo::scattering_method_name(m.method))});
   }
-  p.push_back({"lut-convergence-study", wants(s, {"lut-convergence"}),
-               wants(s, {"lut-convergence"}) ? "lut-convergence output" : "not requested"});
+  p.push_back({"lut-convergence-study", wants(s, "lut-convergence"),
+               wants(s, "lut-convergence") ? "lut-convergence output" : "not requested"});
   p.push_back({"sh-projection", sh_bands > 0,
                sh_bands > 0 ? std::to_string(sh_bands) + " bands (" + std::to_string(sh_bands * sh_bands) + " coefficients)"
                             : "no sh-coefficients output"});

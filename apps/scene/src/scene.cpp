@@ -9,8 +9,12 @@
 #include <sstream>
 
 #include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/format.hpp"
+#include "atmosh/scene/outputs.hpp"
+#include "atmosh/scene/toml_limits.hpp"
+#include "toml_read.hpp"
 
 namespace atmosh::scene {
 
@@ -264,6 +268,11 @@ Scene parse_table(const toml::table& root, const std::string& src) {
     auto time = p.string("time_utc");
     if (!time) p.fail("time_utc", "missing (ISO 8601, e.g. 2026-06-21T18:30:00Z)");
     o.time_utc = *time;
+    try {
+      (void)atmo::parse_iso8601(o.time_utc);  // the calendar and NREL SPA's years, as the run needs them
+    } catch (const InputError& e) {
+      p.fail("time_utc", e.what());
+    }
     p.finish();
     s.observer = o;
   }
@@ -323,14 +332,8 @@ Scene parse_table(const toml::table& root, const std::string& src) {
       Reader p(*t, path, src);
       Output o;
       auto kind = p.string("kind");
-      static const std::set<std::string> kinds = {"sky-image", "sun-track", "optical-depth", "sh-coefficients",
-                                                  "sun-elevation-study", "lut-convergence"};
       if (!kind) p.fail("kind", "missing");
-      if (!kinds.count(*kind)) {
-        std::string list;
-        for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
-        p.fail("kind", "'" + *kind + "' is not one of " + list);
-      }
+      if (!find_output_kind(*kind)) p.fail("kind", "'" + *kind + "' is not one of " + output_kind_names());
       o.kind = *kind;
       auto file = p.string("file");
       if (!file || file->empty()) p.fail("file", "missing");
@@ -421,6 +424,10 @@ void apply_override(toml::table& root, const Override& o, const std::string& src
     parts.push_back(part);
   }
   if (parts.empty()) throw InputError(src + ": empty override key");
+  // Each part is one nested table: the same bound as a key path in a file.
+  if (const std::size_t lim = TomlLimits{}.max_key_parts; parts.size() > lim)
+    throw InputError(src + ": override key '" + o.key.substr(0, 64) + "...' has " + std::to_string(parts.size()) +
+                     " parts (this reader's limit is " + std::to_string(lim) + ")");
   if (parts[0] == "sun") root.erase("observer");
   if (parts[0] == "observer") root.erase("sun");
   toml::table* t = &root;
@@ -438,25 +445,13 @@ void apply_override(toml::table& root, const Override& o, const std::string& src
 }  // namespace
 
 Scene parse_scene(std::string_view text, const std::string& source_name, const std::vector<Override>& overrides) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source_name);
-  } catch (const toml::parse_error& e) {
-    std::string d(e.description());
-    if (auto p = d.find('\n'); p != std::string::npos) d.resize(p);
-    throw InputError(source_name + ":" + std::to_string(e.source().begin.line) + ":" +
-                     std::to_string(e.source().begin.column) + ": TOML syntax error: " + d);
-  }
+  toml::table root = detail::parse_toml_checked(text, source_name);
   for (const auto& o : overrides) apply_override(root, o, source_name);
   return parse_table(root, source_name);
 }
 
 Scene load_scene(const std::filesystem::path& file) {
-  std::ifstream f(file, std::ios::binary);
-  if (!f) throw InputError("cannot read scene file '" + file.string() + "'");
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  return parse_scene(ss.str(), file.string());
+  return parse_scene(read_toml_file(file, "scene file"), file.string());
 }
 
 }  // namespace atmosh::scene

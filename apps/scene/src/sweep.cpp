@@ -22,6 +22,8 @@
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/io/csv.hpp"
 #include "atmosh/io/hash.hpp"
+#include "atmosh/scene/toml_limits.hpp"
+#include "toml_read.hpp"
 
 namespace atmosh::scene {
 
@@ -162,14 +164,7 @@ std::string join(const std::vector<std::string>& v) {
 }  // namespace
 
 SweepSpec parse_sweep(std::string_view text, const std::string& src, const fs::path& base_dir) {
-  toml::table root;
-  try {
-    root = toml::parse(text, src);
-  } catch (const toml::parse_error& e) {
-    std::string d(e.description());
-    if (auto p = d.find('\n'); p != std::string::npos) d.resize(p);
-    throw InputError(src + ":" + std::to_string(e.source().begin.line) + ": TOML syntax error: " + d);
-  }
+  toml::table root = detail::parse_toml_checked(text, src);
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
     if (key != "version" && key != "scene" && key != "mode" && key != "parameter")
@@ -184,7 +179,7 @@ SweepSpec parse_sweep(std::string_view text, const std::string& src, const fs::p
     if (!s) throw InputError(src + ": scene: expected a file name");
     fs::path p = s->get();
     if (p.is_relative()) p = base_dir / p;
-    spec.base_scene_text = slurp(p, "scene file");
+    spec.base_scene_text = read_toml_file(p, "scene file");
     spec.base_scene_source = p.string();
   } else {
     spec.base_scene_text = std::string(default_scene_toml());
@@ -236,7 +231,7 @@ SweepSpec parse_sweep(std::string_view text, const std::string& src, const fs::p
 }
 
 SweepSpec load_sweep(const fs::path& file) {
-  return parse_sweep(slurp(file, "sweep file"), file.string(), file.has_parent_path() ? file.parent_path() : ".");
+  return parse_sweep(read_toml_file(file, "sweep file"), file.string(), file.has_parent_path() ? file.parent_path() : ".");
 }
 
 std::string sweep_identity(const SweepSpec& spec, const SweepSettings& settings) {
@@ -257,10 +252,11 @@ std::string sweep_identity(const SweepSpec& spec, const SweepSettings& settings)
   std::string scene = spec.base_scene_text;
   try {  // normalized: comments, layout and key order do not matter
     std::ostringstream os;
-    os << toml::parse(spec.base_scene_text, spec.base_scene_source);
+    os << detail::parse_toml_checked(spec.base_scene_text, spec.base_scene_source);
     scene = os.str();
+  } catch (const InputError&) {
+    // unparsable or beyond the limits: the raw bytes (the run fails on it anyway)
   } catch (const toml::parse_error&) {
-    // unparsable: the raw bytes (the run fails on it anyway)
   }
   h.field(scene);
   h.field("settings");

@@ -349,6 +349,10 @@ class OpticalDepthLut {
   const LutOptions& options() const { return opt_; }
   double build_time_s() const { return build_time_s_; }
   std::size_t table_bytes() const;
+  // table_bytes() of a table built with these options, before building it (shells x
+  // directions x 4 doubles per table: two view tables when view_tables, and the sun
+  // table). Saturates at SIZE_MAX.
+  static std::size_t estimate_table_bytes(const LutOptions& options);
   // Max relative error of the total optical depth at `wavelength_nm` (default, 0:
   // the middle wavelength of the atmosphere's grid) at the midpoints of every shell
   // interval (in rho) and every direction interval (in x) of the view tables (or the

@@ -48,6 +48,12 @@ struct SkyImage {
   long rays = 0;
 };
 
+// Bytes a SkyImage of width x height holds (X, Y, Z, R, G, B as float32, the validity
+// mask, and with keep_spectral one float32 per wavelength per pixel): what render_sky
+// allocates, for callers that check a memory budget before rendering. Saturates at
+// SIZE_MAX instead of wrapping.
+std::size_t sky_image_bytes(int width, int height, std::size_t wavelengths, bool keep_spectral);
+
 // Renders with `threads` worker threads (0 = hardware concurrency).
 SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int width, int height, double altitude_m,
                     const glm::dvec3& sun, bool keep_spectral, int threads = 0);

@@ -61,6 +61,10 @@ struct ProjectOptions {
 /// The sample directions (unit) and equal weights (4 pi / count, sr) of a Monte Carlo
 /// sampler (Method::jittered or Method::uniform), exactly as project_function uses them.
 void sampler_directions(const ProjectOptions& opt, std::vector<glm::dvec3>& dirs, std::vector<double>& weights);
+/// Bytes a Monte Carlo projection (Method::jittered or Method::uniform) holds for its
+/// samples: directions and weights (sampler_directions) and `channels` values per
+/// sample; 0 for Method::quadrature. Saturates at SIZE_MAX. For a budget check first.
+std::size_t sampler_bytes(const ProjectOptions& opt, int channels);
 
 /// Coefficients (bands^2) of a scalar function of direction.
 std::vector<double> project_function(const std::function<double(const glm::dvec3&)>& f, int bands,

@@ -7,6 +7,8 @@
 // string_attributes / float_attributes.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -34,7 +36,13 @@ struct ExrImage {
 
 // Atomic write; provenance stored as "atmosh:<key>" string attributes.
 void write_exr(const std::filesystem::path& file, const ExrImage& image, const Provenance& provenance);
-// Reads every channel as float32. Throws atmosh::InputError if unreadable.
-ExrImage read_exr(const std::filesystem::path& file);
+// Largest side read_exr accepts (the project's image limit).
+inline constexpr int kMaxExrSide = 65536;
+// Bytes of an image of width x height x channels float32 values (what read_exr allocates).
+std::size_t exr_image_bytes(std::int64_t width, std::int64_t height, std::size_t channels);
+// Reads every channel as float32. Throws atmosh::InputError if unreadable, if the data
+// window is empty or larger than kMaxExrSide a side, if a channel is subsampled, or if
+// the image would need more than max_bytes (checked from the header, before reading).
+ExrImage read_exr(const std::filesystem::path& file, std::size_t max_bytes = std::size_t{8} << 30);
 
 }  // namespace atmosh::io

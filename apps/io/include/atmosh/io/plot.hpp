@@ -75,6 +75,9 @@ struct Swatch {
 void write_swatch_png(const std::filesystem::path& file, const std::string& title,
                       const std::vector<Swatch>& swatches);
 
+// Bytes write_tonemapped_png holds for a width x height image (the 8-bit image and
+// the encoder's buffer), for a budget check before the work. Saturates at SIZE_MAX.
+std::size_t tonemapped_png_bytes(int width, int height);
 // 8-bit sRGB PNG from linear RGB (planar, row 0 at top): value * exposure, then
 // the chosen operator ("clamp" or "reinhard"), then the sRGB transfer curve.
 void write_tonemapped_png(const std::filesystem::path& file, int width, int height,

@@ -89,7 +89,9 @@ void check_output_files(const Scene& scene);
 // are applied before validation, so a bad override is reported by its key.
 Scene parse_scene(std::string_view toml_text, const std::string& source_name,
                   const std::vector<Override>& overrides = {});
-// Reads and parses a file; InputError if it cannot be read.
+// Reads and parses a file; InputError if it cannot be read. Whether the scene meets
+// what its outputs need is check_outputs (outputs.hpp), called by `scene check`, `plan`
+// and `run` — not here: `sky --scene` or a sweep point uses the atmosphere, not the outputs.
 Scene load_scene(const std::filesystem::path& file);
 // The built-in default scene (TOML text embedded in the binary).
 std::string_view default_scene_toml();

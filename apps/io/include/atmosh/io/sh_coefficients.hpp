@@ -1,0 +1,30 @@
+// atmosh/io/sh_coefficients.hpp — SH coefficient CSV files as `atmosh sh project`
+// writes them: columns l, m, index (= l(l+1)+m, rows in index order from 0), then
+// one column per channel (real orthonormal SH, Condon-Shortley phase).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace atmosh::io {
+
+struct ShCoefficients {
+  int bands = 0;                                 // rows = bands^2
+  std::vector<std::string> names;                // channel column names
+  std::vector<std::vector<double>> channels;     // [channel][index], finite
+  std::string value_units;                       // provenance line `value_units` (of the projected values), or empty
+};
+
+// Strict reader: a square number of rows, each with the right l, m, index, and
+// finite values. Throws atmosh::InputError naming the file (and row) otherwise.
+ShCoefficients parse_sh_coefficients(const std::string& text, const std::string& source_name);
+ShCoefficients read_sh_coefficients(const std::filesystem::path& file);
+
+// A light for relighting: the first (up to) three channel columns, coefficients of
+// `bands` bands (missing ones are zero, rows of higher bands are ignored); the
+// `index` column places each row. InputError for a bad index or a non-finite value.
+std::vector<std::vector<double>> parse_sh_light(const std::string& text, const std::string& source_name, int bands);
+std::vector<std::vector<double>> read_sh_light(const std::filesystem::path& file, int bands);
+
+}  // namespace atmosh::io

@@ -1,0 +1,24 @@
+// Fuzzes the .ply readers: meshes (`prt bake`, through the mesh library) and transfer
+// files (`prt relight`). Any file must load or throw atmosh::InputError naming the
+// file — never crash inside the mesh library.
+#include <cstddef>
+#include <cstdint>
+
+#include "atmosh/error.hpp"
+#include "fuzz_repeat.hpp"
+#include "atmosh/prt/bake.hpp"
+#include "atmosh/prt/mesh.hpp"
+#include "fuzz_file.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const auto file = atmosh::fuzz::write_input(data, size, ".ply");
+  try {
+    (void)atmosh::prt::load_mesh(file);
+  } catch (const atmosh::InputError&) {
+  }
+  try {
+    (void)atmosh::prt::read_transfer(file);
+  } catch (const atmosh::InputError&) {
+  }
+  return 0;
+}

@@ -1,0 +1,125 @@
+// Hostile mesh files: every fault the PLY walk finds is an InputError naming the file
+// and the fault, before the mesh library sees the file. A truncated binary PLY
+// aborted inside the library's triangulation (exit 134) and a binary header with no
+// data read past the end of the file (exit 139).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "atmosh/error.hpp"
+#include "atmosh/prt/mesh.hpp"
+
+using namespace atmosh;
+namespace fs = std::filesystem;
+
+namespace {
+fs::path dir() {
+  static const fs::path d = [] {
+    const fs::path p = fs::temp_directory_path() / ("atmosh_hostile_mesh_" + std::to_string(::getpid()));
+    fs::create_directories(p);
+    return p;
+  }();
+  return d;
+}
+
+template <class T>
+void put(std::string& s, T v, bool big) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  if (big != (std::endian::native == std::endian::big)) std::reverse(b, b + sizeof(T));
+  s.append(b, sizeof(T));
+}
+
+// A binary PLY of the mesh: float x y z, uchar-count int lists.
+std::string binary_ply(const prt::Mesh& m, bool big) {
+  std::string s = std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
+                  " 1.0\nelement vertex " + std::to_string(m.positions.size()) +
+                  "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                  std::to_string(m.triangles.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const auto& p : m.positions) {
+    put(s, static_cast<float>(p.x), big);
+    put(s, static_cast<float>(p.y), big);
+    put(s, static_cast<float>(p.z), big);
+  }
+  for (const auto& t : m.triangles) {
+    put(s, std::uint8_t{3}, big);
+    for (auto v : t) put(s, static_cast<std::int32_t>(v), big);
+  }
+  return s;
+}
+
+fs::path write(const std::string& name, const std::string& bytes) {
+  const fs::path f = dir() / name;
+  std::ofstream(f, std::ios::binary) << bytes;
+  return f;
+}
+
+std::string error_of(const fs::path& f) {
+  try {
+    prt::load_mesh(f);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(HostileMesh, ValidBinaryPlyLoadsInBothByteOrders) {
+  const prt::Mesh m = prt::builtin_scene("sphere", 8);
+  for (bool big : {false, true}) {
+    const prt::Mesh r = prt::load_mesh(write(big ? "be.ply" : "le.ply", binary_ply(m, big)));
+    ASSERT_EQ(r.positions.size(), m.positions.size());
+    ASSERT_EQ(r.triangles, m.triangles);
+    for (std::size_t i = 0; i < m.positions.size(); ++i)
+      EXPECT_EQ(r.positions[i].z, static_cast<double>(static_cast<float>(m.positions[i].z)));
+  }
+}
+
+TEST(HostileMesh, TruncatedPlyIsRefused) {
+  const std::string full = binary_ply(prt::builtin_scene("sphere", 32), false);
+  ASSERT_GT(full.size(), 3000u);
+  const fs::path f = write("cut.ply", full.substr(0, 3000));  // `head -c 3000 mesh.ply`
+  const std::string msg = error_of(f);
+  EXPECT_EQ(msg.rfind(f.string() + ": PLY file ends inside vertex ", 0), 0u) << msg;
+  // Cut in the faces, and a header with no data at all.
+  EXPECT_NE(error_of(write("cut2.ply", full.substr(0, full.size() - 7))).find("ends inside face"), std::string::npos);
+  const std::string header = full.substr(0, full.find("end_header\n") + 11);
+  EXPECT_NE(error_of(write("header.ply", header)).find("ends inside vertex 0 of"), std::string::npos);
+  // ASCII: a missing line and a short line.
+  const std::string ascii = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  EXPECT_EQ(error_of(write("ok.ply", ascii)), "");
+  EXPECT_NE(error_of(write("a1.ply", ascii.substr(0, ascii.size() - 8))).find("file ends at face 0 of 1"), std::string::npos);
+  EXPECT_NE(error_of(write("a2.ply", ascii.substr(0, ascii.size() - 3))).find("face 0 has fewer values"), std::string::npos);
+}
+
+TEST(HostileMesh, PlyCountsIndicesAndValuesAreChecked) {
+  const prt::Mesh m = prt::builtin_scene("sphere", 8);
+  std::string bad = binary_ply(m, false);
+  // The last face's last index -> 1e9.
+  const std::int32_t big_index = 1000000000;
+  std::memcpy(bad.data() + bad.size() - 4, &big_index, 4);
+  EXPECT_NE(error_of(write("idx.ply", bad)).find("names vertex 1e+09 of"), std::string::npos);
+  std::string nan = binary_ply(m, false);
+  const float q = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(nan.data() + nan.find("end_header\n") + 11 + 4, &q, 4);  // vertex 0, y
+  EXPECT_NE(error_of(write("nan.ply", nan)).find("vertex 0 has a non-finite y"), std::string::npos);
+  std::string list = binary_ply(m, false);
+  list[list.find("end_header\n") + 11 + 12 * m.positions.size()] = 0;  // face 0 lists no vertex
+  EXPECT_NE(error_of(write("list.ply", list)).find("face 0 lists 0 items"), std::string::npos);
+  const std::string huge = "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
+                           "property float y\nproperty float z\nend_header\n";
+  EXPECT_NE(error_of(write("huge.ply", huge)).find("has no count in 0..2147483648"), std::string::npos);
+  EXPECT_NE(error_of(write("type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n0\n"))
+                .find("property type 'quad' is unknown"),
+            std::string::npos);
+  EXPECT_NE(error_of(write("magic.ply", "PLY?\n")).find("does not start with 'ply'"), std::string::npos);
+}
