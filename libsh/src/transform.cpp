@@ -915,6 +915,38 @@ GaussGrid gauss_grid(int bands, int nlat, int nphi) {
   return g;
 }
 
+GaussGrid regular_grid(int bands, LatitudeRule rule, int nlat, int nphi) {
+  check_bands(bands, "regular_grid");
+  if (rule == LatitudeRule::gauss) throw InputError("regular_grid: rule must be fejer or clenshaw_curtis (gauss: use gauss_grid)");
+  if (nlat == 0) nlat = 2 * bands;
+  if (nphi == 0) {
+    nphi = 1;
+    while (nphi < 2 * bands - 1) nphi <<= 1;
+  }
+  if (nlat < 2 * bands - 1 || nlat < 2)
+    throw InputError("regular_grid: nlat must be >= 2*bands-1 (and >= 2), got " + std::to_string(nlat));
+  if (nphi < 2 * bands - 1) throw InputError("regular_grid: nphi must be >= 2*bands-1, got " + std::to_string(nphi));
+  GaussGrid g;
+  g.bands = bands;
+  g.rule = rule;
+  g.nlat = nlat;
+  g.nphi = nphi;
+  g.weights = rule == LatitudeRule::fejer ? fejer1_weights(nlat) : clenshaw_curtis_weights(nlat);
+  g.cos_t.resize(nlat);
+  g.sin_t.resize(nlat);
+  for (int i = 0; i < (nlat + 1) / 2; ++i) {
+    const double t = rule == LatitudeRule::fejer ? std::numbers::pi * (i + 0.5) / nlat
+                                                 : std::numbers::pi * i / (nlat - 1);
+    // exact mirror symmetry (the Legendre stage pairs ring i with ring nlat-1-i)
+    const bool equator = 2 * i + 1 == nlat;
+    g.cos_t[i] = equator ? 0.0 : std::cos(t);
+    g.sin_t[i] = equator ? 1.0 : std::sin(t);
+    g.cos_t[nlat - 1 - i] = -g.cos_t[i];
+    g.sin_t[nlat - 1 - i] = g.sin_t[i];
+  }
+  return g;
+}
+
 std::vector<double> analyse(const GaussGrid& g, const double* values, int threads) {
   if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
     throw InputError("analyse: grid is not initialised (use gauss_grid)");

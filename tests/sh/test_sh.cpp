@@ -500,14 +500,14 @@ TEST(Projection, ImagesOfConstantsAndCubeOrientation) {
   EXPECT_GT(cube_texel_direction(4, 3, 3, 7).z, 0.99);
   EXPECT_GT(cube_texel_direction(2, 3, 3, 7).y, 0.99);
   std::vector<float> img(2 * 16 * 8, 1.0f);
-  const auto ce = project_equirect(ImageView{16, 8, 1, img.data()}, 3)[0];
+  const auto ce = project_equirect(ImageView{16, 8, 1, img.data()}, 3, 1, PixelRule::solid_angle)[0];
   EXPECT_NEAR(ce[0], std::sqrt(4 * kPi), 1e-12);
-  // m != 0 and odd l vanish exactly (uniform rule in p, mirror-symmetric rows); c_20 is the
-  // midpoint error of the pixel-centre basis value, O(1/H^2).
+  // solid-angle rule: m != 0 and odd l vanish exactly (uniform rule in p, mirror-symmetric
+  // rows); c_20 is the midpoint error of the pixel-centre basis value, O(1/H^2).
   for (int i = 1; i < 9; ++i)
     if (i != sh_index(2, 0)) EXPECT_NEAR(ce[i], 0.0, 1e-12);
   std::vector<float> img64(2 * 64 * 64, 1.0f);
-  const auto ce64 = project_equirect(ImageView{128, 64, 1, img64.data()}, 3)[0];
+  const auto ce64 = project_equirect(ImageView{128, 64, 1, img64.data()}, 3, 1, PixelRule::solid_angle)[0];
   EXPECT_LT(std::abs(ce64[6]), std::abs(ce[6]) / 40);
   // cross unpack: horizontal cross of face indices
   std::vector<float> cross(4 * N * 3 * N, -1.0f);
@@ -678,3 +678,4 @@ TEST(Conversions, SchmidtFourPiNoCsAndComplex) {
   const auto orig = random_coeffs(5, 4);
   for (int i = 0; i < 25; ++i) EXPECT_NEAR(back[i], orig[i], 1e-15);
 }
+

@@ -1,6 +1,6 @@
 // atmosh/sh/transform.hpp — exact SH analysis and synthesis on a Gauss–Legendre grid.
 //
-// Grid: nlat rings at the Gauss–Legendre nodes cos t_i (t from +z, ring 0 nearest +z,
+// Grid (gauss_grid): nlat rings at the Gauss–Legendre nodes cos t_i (t from +z, ring 0 nearest +z,
 // i.e. descending cos t) times nphi equally spaced longitudes p_j = 2 pi j / nphi
 // (p from +x towards +y). Sample layout: values[i * nphi + j].
 // Default size for L bands: nlat = L, nphi = the smallest power of two >= 2L - 1.
@@ -26,8 +26,14 @@
 
 namespace atmosh::sh {
 
+/// Rule in latitude of a grid: Gauss–Legendre nodes, equiangular pixel-centre rings
+/// t_i = (i + 1/2) pi / nlat with Fejér's first rule, or equiangular rings with both poles
+/// t_i = i pi / (nlat - 1) with the Clenshaw–Curtis rule (quadrature.hpp).
+enum class LatitudeRule { gauss, fejer, clenshaw_curtis };
+
 struct GaussGrid {
   int bands = 0;
+  LatitudeRule rule = LatitudeRule::gauss;
   int nlat = 0;
   int nphi = 0;
   std::vector<double> cos_t;    ///< per ring, descending (ring 0 nearest +z)
@@ -40,6 +46,14 @@ struct GaussGrid {
 /// Throws InputError for bands < 1 or a grid too small to be exact (nlat < bands or
 /// nphi < 2*bands-1).
 GaussGrid gauss_grid(int bands, int nlat = 0, int nphi = 0);
+
+/// Equiangular ("regular", Driscoll–Healy type) grid: rule fejer (rings at the pixel centres
+/// t_i = (i + 1/2) pi / nlat, no pole) or clenshaw_curtis (t_i = i pi / (nlat - 1), both poles).
+/// The products Pbar_lm Pbar_l'm of a band-limited function's analysis are polynomials of
+/// degree <= 2L - 2 in cos t, so both rules are exact when nlat >= 2L - 1 (and nphi >= 2L - 1);
+/// default nlat = 2L, nphi as for gauss_grid. Throws InputError for smaller grids or for
+/// rule = gauss (use gauss_grid).
+GaussGrid regular_grid(int bands, LatitudeRule rule, int nlat = 0, int nphi = 0);
 
 /// Coefficients (bands^2) of samples on the grid (size nlat*nphi).
 std::vector<double> analyse(const GaussGrid& grid, const double* values, int threads = 1);
