@@ -95,6 +95,22 @@ void BM_EvalGeneral(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations());
 }
 
+// sum_i c_i Y_i(d) at one direction (reconstruct): L <= 8 on the straight-line code and
+// the stack, above through a per-thread buffer.
+void BM_Reconstruct(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  Dirs<double> d(256);
+  std::vector<double> c(sh_count(L), 0.5);
+  std::size_t k = 0;
+  double s = 0;
+  for (auto _ : st) {
+    s += reconstruct(L, c.data(), {d.x[k], d.y[k], d.z[k]});
+    k = (k + 1) & 255;
+  }
+  benchmark::DoNotOptimize(s);
+  st.SetItemsProcessed(st.iterations());
+}
+
 // n directions at once (general path, recurrence vectorised across directions), per
 // direction. Output L^2 * n doubles, coefficient-major, stride padded by 16, rows
 // 64-byte aligned (third argument 0) or one value past (1).
@@ -177,6 +193,7 @@ BENCHMARK_TEMPLATE(BM_EvalFastBatch, float)->ArgsProduct({{2, 4, 8}, {256, 1024}
 BENCHMARK_TEMPLATE(BM_EvalFastBatch, double)->ArgsProduct({{2, 4, 8}, {256, 1024}, {0}})->Args({4, 256, 1});
 BENCHMARK_TEMPLATE(BM_EvalFastBatchInline, float)->Args({4, 256})->Args({4, 1024});
 BENCHMARK(BM_EvalGeneral)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Arg(64);
+BENCHMARK(BM_Reconstruct)->Arg(4)->Arg(8)->Arg(16);
 BENCHMARK_TEMPLATE(BM_EvalBatch, double)->ArgsProduct({{4, 8, 16, 64}, {8, 32, 64, 256}, {0}})->Args({16, 8, 1})->Args({16, 256, 1});
 BENCHMARK_TEMPLATE(BM_EvalBatch, float)->ArgsProduct({{4, 8, 16, 64}, {16, 64, 256}, {0}})->Args({16, 16, 1})->Args({16, 256, 1});
 BENCHMARK(BM_EvalGeneralFloat)->Arg(16)->Arg(64);

@@ -1,5 +1,6 @@
 // Real SH basis of any band: scaled column recurrences of Pbar_lm.
 #include "atmosh/sh/basis.hpp"
+#include "atmosh/sh/fast.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -502,6 +503,10 @@ ATMOSH_TARGET_AVX512 __attribute__((optimize("no-math-errno"))) void evaluate_ba
 #endif
 
 void evaluate_unit(int bands, const glm::dvec3& d, double* out) {
+  if (bands <= kFastMaxBands) {  // straight-line code (fast.hpp); d is of unit length here
+    evaluate_fast(bands, d.x, d.y, d.z, out);
+    return;
+  }
   if (bands < kRowMinBands) {  // few bands: the column path has less set-up
     static const LegendreTable* small = new LegendreTable(kRowBands);
     evaluate_unit_columns(bands, d, out, *small);
@@ -603,9 +608,21 @@ void evaluate_angles(int bands, double theta, double phi, double* out) {
 }
 
 double reconstruct(int bands, const double* coeffs, const glm::dvec3& dir) {
-  std::vector<double> y = evaluate(bands, dir);
+  check_bands(bands, "reconstruct");
+  const glm::dvec3 d = checked_direction(dir, "reconstruct");
+  const int n = sh_count(bands);
   double s = 0.0;
-  for (int i = 0; i < sh_count(bands); ++i) s += coeffs[i] * y[i];
+  if (bands <= kFastMaxBands) {  // on the stack
+    double y[kFastMaxBands * kFastMaxBands];
+    evaluate_fast(bands, d.x, d.y, d.z, y);
+    for (int i = 0; i < n; ++i) s += coeffs[i] * y[i];
+    return s;
+  }
+  // a per-thread buffer, grown to the largest band count seen: no allocation per call
+  thread_local std::vector<double> y;
+  if (y.size() < static_cast<std::size_t>(n)) y.resize(n);
+  evaluate_unit(bands, d, y.data());
+  for (int i = 0; i < n; ++i) s += coeffs[i] * y[i];
   return s;
 }
 

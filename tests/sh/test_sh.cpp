@@ -140,9 +140,11 @@ TEST(Basis, ClosedFormsLowBands) {
 }
 
 TEST(Basis, FastPathAgreesWithGeneralPath) {
+  // evaluate() itself runs the fast path for L <= 8: the reference is the general path at
+  // kFastMaxBands + 1 bands (its first L^2 values).
   for (int L = 1; L <= kFastMaxBands; ++L)
     for (const auto& d : test_dirs(100, 2)) {
-      const auto g = evaluate(L, d);
+      const auto g = evaluate(kFastMaxBands + 1, d);
       double yd[64];
       float yf[64];
       evaluate_fast(L, d.x, d.y, d.z, yd);
@@ -170,7 +172,7 @@ TEST(Basis, FastPathAgreesWithGeneralPath) {
     ASSERT_TRUE(evaluate_fast_batch(L, n, xs.data(), ys.data(), zs.data(), outf.data(), stride));
     ASSERT_TRUE(evaluate_fast_batch(L, n, xd.data(), yd.data(), zd.data(), outd.data(), stride));
     for (std::size_t k = 0; k < n; ++k) {
-      const auto g = evaluate(L, dirs[k]);
+      const auto g = evaluate(kFastMaxBands + 1, dirs[k]);
       for (int l = 0; l < L; ++l) {
         const double scale = std::sqrt((2 * l + 1) / (4 * kPi));
         for (int m = -l; m <= l; ++m) {
@@ -679,3 +681,19 @@ TEST(Conversions, SchmidtFourPiNoCsAndComplex) {
   for (int i = 0; i < 25; ++i) EXPECT_NEAR(back[i], orig[i], 1e-15);
 }
 
+TEST(Basis, ReconstructIsTheSumOfCoefficientsTimesBasis) {
+  // reconstruct() (fast path to 8 bands, a per-thread buffer above) against sum c_i Y_i
+  // with Y from the general path at one band more.
+  for (int L : {1, 4, 8, 9, 20, 130}) {
+    const auto c = random_coeffs(L, 40 + L);
+    for (const auto& d : test_dirs(10, 5)) {
+      const auto y = evaluate(L + 1, d);
+      double s = 0;
+      for (int i = 0; i < L * L; ++i) s += c[i] * y[i];
+      EXPECT_NEAR(reconstruct(L, c.data(), d), s, 1e-13 * L) << L;
+    }
+  }
+  const double c0 = 1.0;
+  EXPECT_THROW(reconstruct(1, &c0, glm::dvec3(0.0)), atmosh::InputError);
+  EXPECT_THROW(reconstruct(0, &c0, glm::dvec3(0, 0, 1)), atmosh::InputError);
+}
