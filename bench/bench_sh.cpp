@@ -173,9 +173,10 @@ void BM_RotationApply(benchmark::State& st) {
   }
 }
 
+// Arguments: bands, threads, nphi (0: the default power of two >= 2L - 1).
 void BM_Analysis(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0)), threads = static_cast<int>(st.range(1));
-  const GaussGrid g = gauss_grid(L);
+  const GaussGrid g = gauss_grid(L, 0, static_cast<int>(st.range(2)));
   std::vector<double> c(sh_count(L), 0.01);
   const auto f = synthesise(g, c.data());
   for (auto _ : st) benchmark::DoNotOptimize(analyse(g, f.data(), threads));
@@ -183,7 +184,7 @@ void BM_Analysis(benchmark::State& st) {
 
 void BM_Synthesis(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0)), threads = static_cast<int>(st.range(1));
-  const GaussGrid g = gauss_grid(L);
+  const GaussGrid g = gauss_grid(L, 0, static_cast<int>(st.range(2)));
   std::vector<double> c(sh_count(L), 0.01);
   for (auto _ : st) benchmark::DoNotOptimize(synthesise(g, c.data(), threads));
 }
@@ -200,5 +201,10 @@ BENCHMARK(BM_EvalGeneralFloat)->Arg(16)->Arg(64);
 BENCHMARK(BM_CubeProject)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RotationBuild)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RotationApply)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_Analysis)->Args({256, 1})->Args({256, 2})->Args({1024, 1})->Args({1024, 2})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Synthesis)->Args({256, 1})->Args({1024, 1})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Analysis)
+    ->Args({256, 1, 0})->Args({256, 1, 511})->Args({256, 1, 768})->Args({256, 2, 0})
+    ->Args({1024, 1, 0})->Args({1024, 1, 2047})->Args({1024, 1, 3072})->Args({1024, 2, 0})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Synthesis)
+    ->Args({256, 1, 0})->Args({256, 1, 511})->Args({256, 1, 768})->Args({1024, 1, 0})->Args({1024, 1, 2047})
+    ->Unit(benchmark::kMillisecond);

@@ -135,22 +135,17 @@ void check_image_t(const BasicImageView<T>& img, const char* where) {
                      std::to_string(img.height) + " x " + std::to_string(img.channels) + ")");
 }
 
-// Ring sums a_m = sum_j f_j cos(m p_j), b_m = sum_j f_j sin(m p_j), p_j = 2 pi (j + 1/2) / W.
+// Ring sums a_m = sum_j f_j cos(m p_j), b_m = sum_j f_j sin(m p_j), p_j = 2 pi (j + 1/2) / W:
+// a real FFT (p = 2 pi j / W) and the phase shift by m pi / W (c2, s2: cos, sin of k pi / W).
 template <class T>
 void ring_sums_centred_t(int bands, int W, const T* f, const std::vector<double>& c2, const std::vector<double>& s2,
-                         double* out) {
+                         detail::RealFft& fft, double* out) {
+  fft.forward(f, bands, out);
   for (int m = 0; m < bands; ++m) {
-    double sc = 0, ss = 0;
-    const long long mod = 2LL * W, step = 2LL * m % mod;
-    long long idx = m % mod;  // m (2j + 1) mod 2W
-    for (int j = 0; j < W; ++j) {
-      sc += f[j] * c2[idx];
-      ss += f[j] * s2[idx];
-      idx += step;
-      if (idx >= mod) idx -= mod;
-    }
-    out[2 * m] = sc;
-    out[2 * m + 1] = ss;
+    const int k = static_cast<int>(static_cast<long long>(m) % (2LL * W));
+    const double a = out[2 * m], b = out[2 * m + 1];
+    out[2 * m] = a * c2[k] - b * s2[k];
+    out[2 * m + 1] = b * c2[k] + a * s2[k];
   }
 }
 
@@ -199,6 +194,7 @@ Channels project_equirect_t(const BasicImageView<T>& img, int bands, int threads
   Channels out(img.channels);
   std::vector<double> rows(static_cast<std::size_t>(H) * L * 2);
   std::vector<double> four(static_cast<std::size_t>(R) * L * 2);
+  detail::RealFft fft(W);
   for (int c = 0; c < img.channels; ++c) {
     for (int r = 0; r < H; ++r) {
       const T* src = img.data + (static_cast<std::size_t>(c) * H + r) * W;
@@ -206,7 +202,7 @@ Channels project_equirect_t(const BasicImageView<T>& img, int bands, int threads
         if (!std::isfinite(src[j]))
           throw InputError("project_equirect: pixel (" + std::to_string(j) + ", " + std::to_string(r) + ") channel " +
                            std::to_string(c) + " is not finite");
-      ring_sums_centred_t(L, W, src, c2, s2, rows.data() + static_cast<std::size_t>(r) * L * 2);
+      ring_sums_centred_t(L, W, src, c2, s2, fft, rows.data() + static_cast<std::size_t>(r) * L * 2);
     }
     for (int i = 0; i < R; ++i) {
       const double* a = rows.data() + static_cast<std::size_t>(i / nsub) * L * 2;
@@ -446,6 +442,22 @@ std::vector<float> render_equirect(const std::vector<double>& coeffs, int bands,
   }
   std::vector<float> img(static_cast<std::size_t>(W) * H);
   std::vector<double> acc(W);
+  if (2 * L - 1 <= W) {
+    // real inverse FFT with the coefficients turned by the half-pixel phase m pi / W
+    detail::RealFft fft(W);
+    std::vector<double> cs(2 * static_cast<std::size_t>(L));
+    for (int r = 0; r < H; ++r) {
+      const double* f = four.data() + static_cast<std::size_t>(r) * L * 2;
+      for (int m = 0; m < L; ++m) {
+        const double C = f[2 * m], S = f[2 * m + 1], c = c2[m % (2 * W)], s = s2[m % (2 * W)];
+        cs[2 * m] = C * c + S * s;
+        cs[2 * m + 1] = S * c - C * s;
+      }
+      fft.inverse(cs.data(), L, acc.data());
+      for (int j = 0; j < W; ++j) img[static_cast<std::size_t>(r) * W + j] = static_cast<float>(acc[j]);
+    }
+    return img;
+  }
   for (int r = 0; r < H; ++r) {
     std::fill(acc.begin(), acc.end(), 0.0);
     const double* f = four.data() + static_cast<std::size_t>(r) * L * 2;

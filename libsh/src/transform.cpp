@@ -12,7 +12,11 @@
 #include <cstring>
 #include <numbers>
 #include <string>
+#include <map>
+#include <mutex>
 #include <thread>
+
+#include <fftw3.h>
 
 #include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
@@ -815,55 +819,89 @@ void fft(double* re, double* im, int n, int sign) {
     fft_stage(re, im, n, half, tw_re.data() + half, tw_im.data() + half, static_cast<double>(sign));
 }
 
+namespace {
+struct FftPlans {
+  fftw_plan r2c = nullptr, c2r = nullptr;
+};
+std::mutex& fftw_planner_mutex() {
+  static std::mutex mu;
+  return mu;
+}
+// Plans of size n, made once (kept for the life of the process).
+const FftPlans* fft_plans(int n) {
+  static std::map<int, FftPlans> plans;
+  std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+  auto it = plans.find(n);
+  if (it != plans.end()) return &it->second;
+  double* r = fftw_alloc_real(static_cast<std::size_t>(n));
+  fftw_complex* c = fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1);
+  FftPlans p;
+  p.r2c = fftw_plan_dft_r2c_1d(n, r, c, FFTW_ESTIMATE);
+  p.c2r = fftw_plan_dft_c2r_1d(n, c, r, FFTW_ESTIMATE);
+  fftw_free(r);
+  fftw_free(c);
+  if (!p.r2c || !p.c2r) throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
+  return &plans.emplace(n, p).first->second;
+}
+}  // namespace
+
+RealFft::RealFft(int n) : n_(n) {
+  if (n < 1) throw InputError("RealFft: size must be >= 1, got " + std::to_string(n));
+  plans_ = fft_plans(n);
+  real_ = fftw_alloc_real(static_cast<std::size_t>(n));
+  spec_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
+  if (!real_ || !spec_) {
+    fftw_free(real_);
+    fftw_free(spec_);
+    throw std::bad_alloc();
+  }
+}
+
+RealFft::~RealFft() {
+  fftw_free(real_);
+  fftw_free(spec_);
+}
+
+template <class T>
+void RealFft::forward(const T* f, int count, double* out) {
+  for (int j = 0; j < n_; ++j) real_[j] = static_cast<double>(f[j]);
+  fftw_execute_dft_r2c(static_cast<const FftPlans*>(plans_)->r2c, real_, reinterpret_cast<fftw_complex*>(spec_));
+  // X_k = sum_j f_j e^{-2 pi i j k / n} = a_k - i b_k
+  const int half = n_ / 2;
+  for (int m = 0; m < count; ++m) {
+    int k = m % n_;
+    double sg = -1.0;
+    if (k > half) {
+      k = n_ - k;
+      sg = 1.0;
+    }
+    out[2 * m] = spec_[2 * k];
+    out[2 * m + 1] = sg * spec_[2 * k + 1];
+  }
+}
+template void RealFft::forward<double>(const double*, int, double*);
+template void RealFft::forward<float>(const float*, int, double*);
+
+void RealFft::inverse(const double* cs, int count, double* v) {
+  if (2 * count - 1 > n_)
+    throw InputError("RealFft::inverse: " + std::to_string(count) + " orders need at least " +
+                     std::to_string(2 * count - 1) + " points, have " + std::to_string(n_));
+  const int nspec = n_ / 2 + 1;
+  // c2r: v_j = X_0 + 2 Re sum_{0 < k < n/2} X_k e^{2 pi i j k / n} (+ X_{n/2} (-1)^j):
+  // X_0 = C_0, X_m = (C_m - i S_m) / 2
+  spec_[0] = count > 0 ? cs[0] : 0.0;
+  spec_[1] = 0.0;
+  for (int m = 1; m < nspec; ++m) {
+    spec_[2 * m] = m < count ? 0.5 * cs[2 * m] : 0.0;
+    spec_[2 * m + 1] = m < count ? -0.5 * cs[2 * m + 1] : 0.0;
+  }
+  fftw_execute_dft_c2r(static_cast<const FftPlans*>(plans_)->c2r, reinterpret_cast<fftw_complex*>(spec_), real_);
+  std::copy(real_, real_ + n_, v);
+}
+
 }  // namespace detail
 
 namespace {
-bool is_pow2(int n) { return n > 0 && (n & (n - 1)) == 0; }
-
-// Ring sums a_m = sum_j f_j cos(m p_j), b_m = sum_j f_j sin(m p_j) for m < bands,
-// two rings at a time (second may be null).
-void ring_fourier(int bands, int nphi, const double* f1, const double* f2, double* out1, double* out2,
-                  std::vector<double>& re, std::vector<double>& im, const std::vector<double>& costab,
-                  const std::vector<double>& sintab) {
-  if (is_pow2(nphi)) {
-    re.assign(f1, f1 + nphi);
-    if (f2)
-      im.assign(f2, f2 + nphi);
-    else
-      im.assign(nphi, 0.0);
-    detail::fft(re.data(), im.data(), nphi, -1);
-    for (int m = 0; m < bands; ++m) {
-      const int mm = (nphi - m) % nphi;
-      // F1 = (Z[m] + conj Z[-m]) / 2 ; F2 = (Z[m] - conj Z[-m]) / (2i)
-      const double f1r = 0.5 * (re[m] + re[mm]), f1i = 0.5 * (im[m] - im[mm]);
-      const double f2r = 0.5 * (im[m] + im[mm]), f2i = -0.5 * (re[m] - re[mm]);
-      out1[2 * m] = f1r;
-      out1[2 * m + 1] = -f1i;
-      if (out2) {
-        out2[2 * m] = f2r;
-        out2[2 * m + 1] = -f2i;
-      }
-    }
-    return;
-  }
-  for (int pass = 0; pass < 2; ++pass) {
-    const double* f = pass == 0 ? f1 : f2;
-    double* o = pass == 0 ? out1 : out2;
-    if (!f) continue;
-    for (int m = 0; m < bands; ++m) {
-      double sc = 0, ss = 0;
-      long long idx = 0;
-      for (int j = 0; j < nphi; ++j) {
-        sc += f[j] * costab[idx];
-        ss += f[j] * sintab[idx];
-        idx += m;
-        if (idx >= nphi) idx -= nphi;
-      }
-      o[2 * m] = sc;
-      o[2 * m + 1] = ss;
-    }
-  }
-}
 // Weighted ring sums of one ring pair for the Legendre stage: from the ring sums fn
 // (north) and fs (south, null: none) at [2 m + {0, 1}] and the rings' quadrature
 // weights, E cos, E sin, xO cos, xO sin at out[f * bands + m]. Rounded as written (no
@@ -952,15 +990,6 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
     throw InputError("analyse: grid is not initialised (use gauss_grid)");
   threads = detail::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
-  std::vector<double> costab, sintab;
-  if (!is_pow2(n)) {
-    costab.resize(n);
-    sintab.resize(n);
-    for (int j = 0; j < n; ++j) {
-      costab[j] = std::cos(2.0 * std::numbers::pi * j / n);
-      sintab[j] = std::sin(2.0 * std::numbers::pi * j / n);
-    }
-  }
   // Ring sums straight into the m-major layout of the Legendre stage: one block of
   // ring pairs at a time (its planes stay in cache while its lanes are filled).
   const detail::Pairs pr = detail::make_pairs(g.nlat, g.cos_t.data(), g.sin_t.data(), true);
@@ -969,7 +998,8 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
   std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(L) * padded * 4]);
   const double dphi = 2.0 * std::numbers::pi / n;
   auto work = [&](int t0, int step) {
-    std::vector<double> re, im, fn(2 * static_cast<std::size_t>(L)), fs(2 * static_cast<std::size_t>(L));
+    detail::RealFft fft(n);
+    std::vector<double> fn(2 * static_cast<std::size_t>(L)), fs(2 * static_cast<std::size_t>(L));
     std::vector<double> lanes(static_cast<std::size_t>(W) * 4 * L);  // [lane][field][m]
     for (int blk = t0; blk < padded / W; blk += step) {
       for (int k = 0; k < W; ++k) {
@@ -980,8 +1010,8 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
           continue;
         }
         const int r = pr.north[q], s = pr.south[q];
-        ring_fourier(L, n, values + static_cast<std::size_t>(r) * n, s >= 0 ? values + static_cast<std::size_t>(s) * n : nullptr,
-                     fn.data(), s >= 0 ? fs.data() : nullptr, re, im, costab, sintab);
+        fft.forward(values + static_cast<std::size_t>(r) * n, L, fn.data());
+        if (s >= 0) fft.forward(values + static_cast<std::size_t>(s) * n, L, fs.data());
         // weights of the Gauss rule in latitude and of the uniform rule in longitude
         pair_sums(L, fn.data(), s >= 0 ? fs.data() : nullptr, g.weights[r] * dphi, s >= 0 ? g.weights[s] * dphi : 0.0,
                   pr.x[q], out);
@@ -1015,49 +1045,10 @@ std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int thr
   std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
   detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four.data(), threads);
   std::vector<double> out(static_cast<std::size_t>(g.nlat) * n, 0.0);
-  const int npairs = (g.nlat + 1) / 2;
   auto work = [&](int t0, int step) {
-    std::vector<double> re(n), im(n);
-    for (int p = t0; p < npairs; p += step) {
-      const int s = g.nlat - 1 - p;
-      const double* fn = four.data() + static_cast<std::size_t>(p) * L * 2;
-      const double* fs = s != p ? four.data() + static_cast<std::size_t>(s) * L * 2 : nullptr;
-      if (is_pow2(n)) {
-        std::fill(re.begin(), re.end(), 0.0);
-        std::fill(im.begin(), im.end(), 0.0);
-        // Z[k] = F_N[k] + i F_S[k]; F[m] = (C - iS)/2, F[-m] = (C + iS)/2, F[0] = C
-        for (int m = 0; m < L; ++m) {
-          const double cn = fn[2 * m], sn = fn[2 * m + 1];
-          const double cs = fs ? fs[2 * m] : 0.0, ss = fs ? fs[2 * m + 1] : 0.0;
-          if (m == 0) {
-            re[0] += cn;
-            im[0] += cs;
-            continue;
-          }
-          // F_N[m] = (cn - i sn)/2 ; i F_S[m] = i (cs - i ss)/2 = (ss + i cs)/2
-          re[m] += 0.5 * (cn + ss);
-          im[m] += 0.5 * (-sn + cs);
-          // F_N[-m] = (cn + i sn)/2 ; i F_S[-m] = i (cs + i ss)/2 = (-ss + i cs)/2
-          re[n - m] += 0.5 * (cn - ss);
-          im[n - m] += 0.5 * (sn + cs);
-        }
-        detail::fft(re.data(), im.data(), n, +1);
-        std::copy(re.begin(), re.end(), out.begin() + static_cast<std::size_t>(p) * n);
-        if (fs) std::copy(im.begin(), im.end(), out.begin() + static_cast<std::size_t>(s) * n);
-      } else {
-        for (int pass = 0; pass < 2; ++pass) {
-          const double* f = pass == 0 ? fn : fs;
-          if (!f) continue;
-          double* o = out.data() + static_cast<std::size_t>(pass == 0 ? p : s) * n;
-          for (int j = 0; j < n; ++j) {
-            double v = 0;
-            const double ph = 2.0 * std::numbers::pi * j / n;
-            for (int m = 0; m < L; ++m) v += f[2 * m] * std::cos(m * ph) + f[2 * m + 1] * std::sin(m * ph);
-            o[j] = v;
-          }
-        }
-      }
-    }
+    detail::RealFft fft(n);
+    for (int r = t0; r < g.nlat; r += step)
+      fft.inverse(four.data() + static_cast<std::size_t>(r) * L * 2, L, out.data() + static_cast<std::size_t>(r) * n);
   };
   if (threads <= 1) {
     work(0, 1);

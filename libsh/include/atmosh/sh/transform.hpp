@@ -8,8 +8,8 @@
 // nlat >= L and nphi >= 2L - 1 (the Gauss rule integrates the degree <= 2L-2 products
 // in cos t; the uniform rule the trigonometric ones in p).
 //
-// Method: per ring an FFT in p (radix 2, two real rings per complex transform;
-// a direct DFT for other nphi), then the Legendre sums, m outer, vectorised over
+// Method: per ring a real FFT in p (FFTW3, any nphi, plans made once per size), then the
+// Legendre sums, m outer, vectorised over
 // blocks of ring pairs and using the equatorial symmetry Pbar_lm(-x) = (-1)^(l+m)
 // Pbar_lm(x). Synthesis runs the scaled column recurrence of basis.hpp; analysis
 // recurs only the degrees of the parity of m, in x^2 (two FMAs per ring pair for two
@@ -73,6 +73,32 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
                         const double* coeffs, bool symmetric, double* fourier, int threads);
 /// In-place complex FFT of size n (power of two), sign -1 forward, +1 inverse (unscaled).
 void fft(double* re, double* im, int n, int sign);
+/// Real FFT of any size n >= 1 through FFTW3. The plans are made once per size (FFTW's
+/// planner is not thread safe: under a process-wide lock) with FFTW_ESTIMATE, so the same
+/// input gives the same bits from run to run; executing them is thread safe. Each object
+/// owns aligned work arrays: one per thread.
+class RealFft {
+ public:
+  explicit RealFft(int n);
+  ~RealFft();
+  RealFft(const RealFft&) = delete;
+  RealFft& operator=(const RealFft&) = delete;
+  int size() const { return n_; }
+  /// a_m = sum_j f_j cos(2 pi j m / n), b_m = sum_j f_j sin(2 pi j m / n) into out[2m],
+  /// out[2m+1] for m < count (any count: orders above n/2 are the aliases).
+  template <class T>
+  void forward(const T* f, int count, double* out);
+  /// v_j = sum_{m < count} (C_m cos(2 pi j m / n) + S_m sin(2 pi j m / n)) from cs[2m], cs[2m+1];
+  /// needs 2 count - 1 <= n.
+  void inverse(const double* cs, int count, double* v);
+
+ private:
+  int n_;
+  const void* plans_;  // the shared plans of size n
+  double* real_;       // n values (FFTW-aligned)
+  double* spec_;       // n/2 + 1 complex values
+};
+
 int resolve_threads(int threads);
 }  // namespace detail
 
