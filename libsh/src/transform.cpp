@@ -114,127 +114,6 @@ static_assert(B == 8, "kernels below are written for 8 lanes");
 static inline V4 lo(const V& v) { return V4{v[0], v[1], v[2], v[3]}; }
 static inline V4 hi(const V& v) { return V4{v[4], v[5], v[6], v[7]}; }
 
-// Even/odd parity sums over l = l0..bands-1 of Pbar_lm(x) c_l,+-m (added to E*, O*).
-ATMOSH_DISPATCH
-static void synthesis_run(int bands, int m, int l0, const double* a, const double* b, const double* coeffs,
-                          const V& xr, const V& p2r, const V& p1r, V& Ec, V& Es, V& Oc, V& Os) {
-  const V4 x0 = lo(xr), x1 = hi(xr);
-  V4 p20 = lo(p2r), p21 = hi(p2r), p10 = lo(p1r), p11 = hi(p1r);
-  V4 ec0 = lo(Ec), ec1 = hi(Ec), es0 = lo(Es), es1 = hi(Es), oc0 = lo(Oc), oc1 = hi(Oc), os0 = lo(Os),
-     os1 = hi(Os);
-  int l = l0;
-  std::size_t ti = tri_index(l, m);
-  if (l < bands && ((l - m) & 1)) {
-    const int i0 = l * (l + 1);
-    const V4 pa0 = a[ti] * x0 * p10 - b[ti] * p20;
-    const V4 pa1 = a[ti] * x1 * p11 - b[ti] * p21;
-    oc0 += pa0 * coeffs[i0 + m];
-    oc1 += pa1 * coeffs[i0 + m];
-    os0 += pa0 * coeffs[i0 - m];
-    os1 += pa1 * coeffs[i0 - m];
-    p20 = p10;
-    p21 = p11;
-    p10 = pa0;
-    p11 = pa1;
-    ti += l + 1;
-    ++l;
-  }
-  for (; l + 1 < bands; l += 2) {
-    const double a0 = a[ti], b0 = b[ti];
-    const double a1 = a[ti + l + 1], b1 = b[ti + l + 1];
-    const int i0 = l * (l + 1), i1 = (l + 1) * (l + 2);
-    const double c0c = coeffs[i0 + m], c0s = coeffs[i0 - m], c1c = coeffs[i1 + m], c1s = coeffs[i1 - m];
-    const V4 pa0 = a0 * x0 * p10 - b0 * p20;
-    const V4 pa1 = a0 * x1 * p11 - b0 * p21;
-    const V4 pb0 = a1 * x0 * pa0 - b1 * p10;
-    const V4 pb1 = a1 * x1 * pa1 - b1 * p11;
-    ec0 += pa0 * c0c;
-    ec1 += pa1 * c0c;
-    es0 += pa0 * c0s;
-    es1 += pa1 * c0s;
-    oc0 += pb0 * c1c;
-    oc1 += pb1 * c1c;
-    os0 += pb0 * c1s;
-    os1 += pb1 * c1s;
-    p20 = pa0;
-    p21 = pa1;
-    p10 = pb0;
-    p11 = pb1;
-    ti += 2 * l + 3;
-  }
-  if (l < bands) {
-    const int i0 = l * (l + 1);
-    const V4 pa0 = a[ti] * x0 * p10 - b[ti] * p20;
-    const V4 pa1 = a[ti] * x1 * p11 - b[ti] * p21;
-    ec0 += pa0 * coeffs[i0 + m];
-    ec1 += pa1 * coeffs[i0 + m];
-    es0 += pa0 * coeffs[i0 - m];
-    es1 += pa1 * coeffs[i0 - m];
-  }
-  for (int k = 0; k < 4; ++k) {
-    Ec[k] = ec0[k];
-    Ec[k + 4] = ec1[k];
-    Es[k] = es0[k];
-    Es[k + 4] = es1[k];
-    Oc[k] = oc0[k];
-    Oc[k + 4] = oc1[k];
-    Os[k] = os0[k];
-    Os[k + 4] = os1[k];
-  }
-}
-
-// Scalar start of a block whose sectoral values need the extended range. Each lane
-// advances (values below 2^-500 are dropped: they cannot change a double result) until
-// every lane is in the plain range; calls out(k, l, value) for l < returned lstar, and
-// leaves p2/p1 = Pbar_lstar-2, Pbar_lstar-1 (lstar >= m+2, or bands).
-template <class Out>
-static int extended_start(int bands, int m, const double* a, const double* b, const V& x, const double* mant,
-                          const int* ex, V& p2v, V& p1v, Out&& out) {
-  double P2[B], P1[B];
-  int E[B], Lk[B];
-  int lstar = m + 2;
-  for (int k = 0; k < B; ++k) {
-    double p2 = mant[k];
-    int e = ex[k];
-    if (e == 0) out(k, m, p2);
-    double p1 = std::sqrt(2.0 * m + 3.0) * x[k] * p2;
-    if (e == 0 && m + 1 < bands) out(k, m + 1, p1);
-    int l = m + 2;
-    std::size_t ti = tri_index(l, m);
-    for (; l < bands && e < 0; ++l) {
-      const double p = a[ti] * x[k] * p1 - b[ti] * p2;
-      p2 = p1;
-      p1 = p;
-      if (std::abs(p1) > 0x1p+100) {
-        p1 *= kScaleDown;
-        p2 *= kScaleDown;
-        e += kScaleExp;
-      }
-      if (e == 0) out(k, l, p1);
-      ti += l + 1;
-    }
-    P2[k] = p2;
-    P1[k] = p1;
-    E[k] = e;
-    Lk[k] = l;
-    lstar = std::max(lstar, l);
-  }
-  for (int k = 0; k < B; ++k) {
-    double p2 = P2[k], p1 = P1[k];
-    std::size_t ti = tri_index(Lk[k], m);
-    for (int l = Lk[k]; l < lstar; ++l) {
-      const double p = a[ti] * x[k] * p1 - b[ti] * p2;
-      p2 = p1;
-      p1 = p;
-      if (E[k] == 0) out(k, l, p1);
-      ti += l + 1;
-    }
-    p2v[k] = E[k] == 0 ? p2 : 0.0;
-    p1v[k] = E[k] == 0 ? p1 : 0.0;
-  }
-  return lstar;
-}
-
 // ---- analysis: even-degree recurrence in x^2 ------------------------------------
 // For one m write P_l = Pbar_lm and eps_l = sqrt((l^2 - m^2) / (4 l^2 - 1)), so that
 // x P_l = eps_l+1 P_l+1 + eps_l P_l-1. Two steps of it give a recurrence over the
@@ -563,6 +442,175 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
 }
 }  // namespace
 
+// ---- synthesis: the same recurrence in x^2, transposed ------------------------
+// For one m, the even degrees l = m + 2k contribute E(x) = sum_k e_k lam_k(x) with
+// e_k = alpha_k c_m+2k. The odd degrees follow from the analysis identity above: with
+// L the unit lower bidiagonal matrix (L_k,k-1 = qa_k) and D = diag(rb_k),
+// Pbar_m+2k+1(x) = x sum_j (L^-1 D)_kj lam_j(x) for every x, so
+// O(x) = sum_k c_m+2k+1 Pbar_m+2k+1(x) = x sum_j d_j lam_j(x) with d = D L^-T c_odd (a
+// backward substitution y_k = c_k - qa_k+1 y_k+1, d_k = rb_k y_k). Per ring pair and two
+// degrees: 2 FMAs of recurrence (the same lam as the analysis) and 4 of accumulation
+// (cos and sin parts of E and of O / x). Blocks of W ring pairs are run one after the
+// other (two at a time, to overlap the recurrences), k inner, with their sums in
+// registers; lanes in the extended range are stepped as in ana_extended and contribute
+// from the step at which they reach the plain range (their terms before are < 2^-250).
+namespace {
+template <int W>
+struct SynState {
+  using D = typename Lanes<W>::D;
+  D csq, lam1, lam2, e, ec, es, dc, ds;
+};
+
+// Extended phase of one block: steps until every lane is plain (returns that step, a
+// multiple of 2) or past kmax; masked sums of the plain lanes meanwhile.
+template <int W>
+__attribute__((always_inline)) inline int syn_extended(int kmax, const double* ap, const double* bp, const double* cf,
+                                                       SynState<W>& g) {
+  using D = typename Lanes<W>::D;
+  using I = typename Lanes<W>::I;
+  const D down = D{} + kScaleDown, step = D{} + static_cast<double>(kScaleExp);
+  const I fold = I{} + std::bit_cast<long long>(kFold), magnitude = I{} + 0x7fffffffffffffffLL;
+  int k = 0;
+  for (; k <= kmax; k += 2) {
+    if (k % kFoldEvery == 0) {
+      I ext = (I)g.e >> 63;
+      const I big = (((fold - ((I)g.lam2 & magnitude)) | (fold - ((I)g.lam1 & magnitude))) >> 63) & ext;
+      if (any(big)) {
+        g.lam1 = (D)(((I)(g.lam1 * down) & big) | ((I)g.lam1 & ~big));
+        g.lam2 = (D)(((I)(g.lam2 * down) & big) | ((I)g.lam2 & ~big));
+        g.e = (D)(((I)(g.e + step) & big) | ((I)g.e & ~big));
+        ext = (I)g.e >> 63;
+      }
+      if (!any(ext)) return k;
+    }
+    const I plain = ~((I)g.e >> 63);
+    const D csq = g.csq, l2 = g.lam2;
+    const D t1 = (ap[k] * csq + bp[k]) * l2 + g.lam1;
+    const D v = (D)((I)l2 & plain), w = (D)((I)t1 & plain);
+    const double* c0 = cf + 4 * k;
+    g.ec += v * c0[0] + w * c0[4];
+    g.es += v * c0[1] + w * c0[5];
+    g.dc += v * c0[2] + w * c0[6];
+    g.ds += v * c0[3] + w * c0[7];
+    g.lam1 = t1;
+    g.lam2 = (ap[k + 1] * csq + bp[k + 1]) * t1 + l2;
+  }
+  return k;
+}
+
+// Plain phase of two blocks from steps k0, k1 to kmax (cf: 4 values per step, zero past
+// the column's last degree; defined to kmax + 1).
+template <int W>
+__attribute__((always_inline)) inline void syn_plain2(int kmax, const double* ap, const double* bp, const double* cf,
+                                                      SynState<W>& g, int k0, SynState<W>& h, int k1) {
+  using D = typename Lanes<W>::D;
+  auto one = [&](SynState<W>& s, int& k) {
+    const D csq = s.csq;
+    D l2 = s.lam2, l1 = s.lam1;
+    const double* c = cf + 4 * k;
+    s.ec += l2 * c[0];
+    s.es += l2 * c[1];
+    s.dc += l2 * c[2];
+    s.ds += l2 * c[3];
+    l1 = (ap[k] * csq + bp[k]) * l2 + l1;
+    s.ec += l1 * c[4];
+    s.es += l1 * c[5];
+    s.dc += l1 * c[6];
+    s.ds += l1 * c[7];
+    s.lam2 = (ap[k + 1] * csq + bp[k + 1]) * l1 + l2;
+    s.lam1 = l1;
+    k += 2;
+  };
+  // the later block first catches up, then both step together (registers hold both)
+  while (k0 < k1 && k0 <= kmax) one(g, k0);
+  while (k1 < k0 && k1 <= kmax) one(h, k1);
+  SynState<W> a = g, b = h;
+  int k = k0;
+  for (; k <= kmax; k += 2) {
+    const double* c = cf + 4 * k;
+    const double a1 = ap[k], b1 = bp[k], a2 = ap[k + 1], b2 = bp[k + 1];
+    const D ca = a.csq, cb = b.csq;
+    D la2 = a.lam2, la1 = a.lam1, lb2 = b.lam2, lb1 = b.lam1;
+    a.ec += la2 * c[0];
+    b.ec += lb2 * c[0];
+    a.es += la2 * c[1];
+    b.es += lb2 * c[1];
+    a.dc += la2 * c[2];
+    b.dc += lb2 * c[2];
+    a.ds += la2 * c[3];
+    b.ds += lb2 * c[3];
+    la1 = (a1 * ca + b1) * la2 + la1;
+    lb1 = (a1 * cb + b1) * lb2 + lb1;
+    a.ec += la1 * c[4];
+    b.ec += lb1 * c[4];
+    a.es += la1 * c[5];
+    b.es += lb1 * c[5];
+    a.dc += la1 * c[6];
+    b.dc += lb1 * c[6];
+    a.ds += la1 * c[7];
+    b.ds += lb1 * c[7];
+    a.lam2 = (a2 * ca + b2) * la1 + la2;
+    b.lam2 = (a2 * cb + b2) * lb1 + lb2;
+    a.lam1 = la1;
+    b.lam1 = lb1;
+  }
+  g = a;
+  h = b;
+}
+
+// Column m for all blocks: x, mant, ex per lane (padded), cf the step coefficients;
+// writes the per-lane sums E cos, E sin, O cos, O sin (O = x * D) to out[4 * q + f].
+template <int W>
+__attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, const double* x, const double* mant,
+                                                      const int* ex, const double* ap, const double* bp,
+                                                      const double* cf, double* out) {
+  for (int gi = 0; gi < ngroups; gi += 2) {
+    SynState<W> st[2];
+    int k[2] = {kmax + 1, kmax + 1};
+    const int nb = std::min(2, ngroups - gi);
+    for (int b = 0; b < 2; ++b) {
+      SynState<W>& g = st[b];
+      for (int j = 0; j < W; ++j) {
+        const int q = W * (gi + std::min(b, nb - 1)) + j;
+        g.csq[j] = x[q] * x[q];
+        g.lam1[j] = 0.0;
+        g.lam2[j] = mant[q];
+        g.e[j] = ex[q];
+        g.ec[j] = g.es[j] = g.dc[j] = g.ds[j] = 0.0;
+      }
+      if (b < nb) {
+        bool plain = true;
+        for (int j = 0; j < W; ++j) plain &= g.e[j] == 0.0;
+        k[b] = plain ? 0 : syn_extended<W>(kmax, ap, bp, cf, g);
+      }
+    }
+    syn_plain2<W>(kmax, ap, bp, cf, st[0], k[0], st[1], k[1]);
+    for (int b = 0; b < nb; ++b)
+      for (int j = 0; j < W; ++j) {
+        const int q = W * (gi + b) + j;
+        double* o = out + 4 * static_cast<std::size_t>(q);
+        o[0] = st[b].ec[j];
+        o[1] = st[b].es[j];
+        o[2] = x[q] * st[b].dc[j];
+        o[3] = x[q] * st[b].ds[j];
+      }
+  }
+}
+
+ATMOSH_DISPATCH
+static void syn_column4(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
+                        const double* bp, const double* cf, double* out) {
+  syn_column<4>(kmax, ngroups, x, mant, ex, ap, bp, cf, out);
+}
+#if ATMOSH_HAS_DISPATCH
+ATMOSH_TARGET_AVX512
+#endif
+static void syn_column8(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
+                        const double* bp, const double* cf, double* out) {
+  syn_column<8>(kmax, ngroups, x, mant, ex, ap, bp, cf, out);
+}
+}  // namespace
+
 namespace {
 // Ring pairs per lane block of the analysis kernels (B is a multiple of both).
 int analysis_lanes() { return has_avx512() ? 8 : 4; }
@@ -684,61 +732,57 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
                         const double* coeffs, bool symmetric, double* fourier, int threads) {
   threads = resolve_threads(threads);
   const auto table = legendre_table(bands);
-  const double* a = table->a();
-  const double* b = table->b();
   const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
   std::vector<double> smant;
   std::vector<int> sexp;
   sectorals(bands, pr, *table, smant, sexp);
+  const int W = analysis_lanes();
 
   parallel_for_m(bands, threads, [&](int t0, int step) {
+    AnaCoef cf;
+    std::vector<double> sc(4 * (static_cast<std::size_t>(bands) + 4)), y(bands + 4);
+    std::vector<double> sums(4 * static_cast<std::size_t>(padded));
     for (int m = t0; m < bands; m += step) {
+      const int kmax = (bands - 1 - m) / 2;
+      ana_coefficients(bands, m, cf);
+      // step coefficients: e_k (cos, sin) and d_k (cos, sin), zero past the last degree
+      std::fill(sc.begin(), sc.begin() + 4 * (kmax + 2), 0.0);
+      for (int k = 0; k <= kmax; ++k) {
+        const int l = m + 2 * k, i = l * (l + 1);
+        sc[4 * k] = cf.alpha[k] * coeffs[i + m];
+        sc[4 * k + 1] = m > 0 ? cf.alpha[k] * coeffs[i - m] : 0.0;
+      }
+      const int kodd = (bands - 2 - m) / 2;  // odd degrees m + 2k + 1 < bands: k <= kodd
+      if (bands - 2 - m >= 0) {
+        double yc = 0.0, ys = 0.0;
+        for (int k = kodd; k >= 0; --k) {
+          const int l = m + 2 * k + 1, i = l * (l + 1);
+          const double q = k + 1 <= kodd ? cf.qa[k + 1] : 0.0;
+          yc = coeffs[i + m] - q * yc;
+          ys = (m > 0 ? coeffs[i - m] : 0.0) - q * ys;
+          sc[4 * k + 2] = cf.rb[k] * yc;
+          sc[4 * k + 3] = cf.rb[k] * ys;
+        }
+      }
+      const std::size_t off = static_cast<std::size_t>(m) * padded;
+      if (W == 8)
+        syn_column8(kmax, padded / 8, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
+                    sc.data(), sums.data());
+      else
+        syn_column4(kmax, padded / 4, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
+                    sc.data(), sums.data());
       const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
-      for (int blk = 0; blk < padded; blk += B) {
-        bool plain = true;
-        V x, p2, p1, Ec{}, Es{}, Oc{}, Os{};
-        const double* mant = smant.data() + static_cast<std::size_t>(m) * padded + blk;
-        const int* ex = sexp.data() + static_cast<std::size_t>(m) * padded + blk;
-        for (int k = 0; k < B; ++k) {
-          x[k] = pr.x[blk + k];
-          p2[k] = mant[k];
-          if (ex[k] != 0) plain = false;
-        }
-        int l0 = m + 2;
-        if (plain) {
-          Ec += p2 * coeffs[sh_index(m, m)];
-          Es += p2 * coeffs[sh_index(m, -m)];
-          p1 = std::sqrt(2.0 * m + 3.0) * x * p2;
-          if (m + 1 < bands) {
-            Oc += p1 * coeffs[sh_index(m + 1, m)];
-            Os += p1 * coeffs[sh_index(m + 1, -m)];
-          }
-        } else {
-          l0 = extended_start(bands, m, a, b, x, mant, ex, p2, p1, [&](int k, int l, double v) {
-            const int i = l * (l + 1);
-            if ((l + m) & 1) {
-              Oc[k] += v * coeffs[i + m];
-              Os[k] += v * coeffs[i - m];
-            } else {
-              Ec[k] += v * coeffs[i + m];
-              Es[k] += v * coeffs[i - m];
-            }
-          });
-        }
-        if (l0 < bands) synthesis_run(bands, m, l0, a, b, coeffs, x, p2, p1, Ec, Es, Oc, Os);
-        for (int k = 0; k < B; ++k) {
-          const int q = blk + k;
-          if (q >= np) break;
-          double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
-          fn[0] = scale * (Ec[k] + Oc[k]);
-          fn[1] = m > 0 ? scale * (Es[k] + Os[k]) : 0.0;
-          if (pr.south[q] >= 0) {
-            double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
-            fs[0] = scale * (Ec[k] - Oc[k]);
-            fs[1] = m > 0 ? scale * (Es[k] - Os[k]) : 0.0;
-          }
+      for (int q = 0; q < np; ++q) {
+        const double* v = sums.data() + 4 * static_cast<std::size_t>(q);
+        double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
+        fn[0] = scale * (v[0] + v[2]);
+        fn[1] = m > 0 ? scale * (v[1] + v[3]) : 0.0;
+        if (pr.south[q] >= 0) {
+          double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
+          fs[0] = scale * (v[0] - v[2]);
+          fs[1] = m > 0 ? scale * (v[1] - v[3]) : 0.0;
         }
       }
     }
