@@ -174,6 +174,26 @@ void BM_RotationApply(benchmark::State& st) {
 }
 
 // Arguments: bands, threads, nphi (0: the default power of two >= 2L - 1).
+// Bands at or above the cache (256 by default) are rebuilt in every application; with
+// reserve_rotation_cache(L) first (second argument 1) nothing is rebuilt.
+void BM_RotationApplyHigh(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  if (st.range(1)) reserve_rotation_cache(L);
+  const Rotation R(L, EulerZYZ{0.3, 1.9, 2.5});
+  std::vector<double> in(sh_count(L), 0.5), out(sh_count(L));
+  for (auto _ : st) {
+    R.apply(in.data(), out.data());
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+
+// One band matrix (band L - 1) of a rotation.
+void BM_RotationBandMatrix(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  const Rotation R(L, EulerZYZ{0.3, 1.9, 2.5});
+  for (auto _ : st) benchmark::DoNotOptimize(R.band_matrix(L - 1));
+}
+
 void BM_Analysis(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0)), threads = static_cast<int>(st.range(1));
   const GaussGrid g = gauss_grid(L, 0, static_cast<int>(st.range(2)));
@@ -201,6 +221,8 @@ BENCHMARK(BM_EvalGeneralFloat)->Arg(16)->Arg(64);
 BENCHMARK(BM_CubeProject)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RotationBuild)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RotationApply)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RotationApplyHigh)->Args({512, 0})->Args({1000, 0})->Args({1000, 1})->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_RotationBandMatrix)->Arg(64)->Arg(256)->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Analysis)
     ->Args({256, 1, 0})->Args({256, 1, 511})->Args({256, 1, 768})->Args({256, 2, 0})
     ->Args({1024, 1, 0})->Args({1024, 1, 2047})->Args({1024, 1, 3072})->Args({1024, 2, 0})
