@@ -366,3 +366,52 @@ TEST(Projection, RenderEquirectMatchesReconstruct) {
     }
   }
 }
+
+TEST(Projection, CubeExactRuleExistsOnlyBelowABandLimit) {
+  // Does any weighting of the 6 N^2 texel centres integrate every product of band-limited
+  // functions (all Y_k with k < (2B-1)^2) exactly? Equivalent: b = sqrt(4 pi) e_0 lies in the
+  // span of the texel columns (Y_k(x_i))_k. Measured by Gram–Schmidt (twice) on the columns.
+  auto residual = [](int N, int B) {
+    const int Lq = 2 * B - 1, K = Lq * Lq;
+    std::vector<std::vector<double>> Q;
+    std::vector<double> y(K);
+    for (int f = 0; f < 6; ++f)
+      for (int r = 0; r < N; ++r)
+        for (int q = 0; q < N; ++q) {
+          evaluate(Lq, cube_texel_direction(f, q, r, N), y.data());
+          std::vector<double> v(y);
+          double n0 = 0;
+          for (double x : v) n0 += x * x;
+          for (int pass = 0; pass < 2; ++pass)
+            for (const auto& u : Q) {
+              double d = 0;
+              for (int k = 0; k < K; ++k) d += u[k] * v[k];
+              for (int k = 0; k < K; ++k) v[k] -= d * u[k];
+            }
+          double nv = 0;
+          for (double x : v) nv += x * x;
+          if (nv > 1e-18 * n0) {
+            for (double& x : v) x /= std::sqrt(nv);
+            Q.push_back(v);
+          }
+        }
+    std::vector<double> b(K, 0.0);
+    b[0] = 1.0;
+    for (int pass = 0; pass < 2; ++pass)
+      for (const auto& u : Q) {
+        double d = 0;
+        for (int k = 0; k < K; ++k) d += u[k] * b[k];
+        for (int k = 0; k < K; ++k) b[k] -= d * u[k];
+      }
+    double r2 = 0;
+    for (double x : b) r2 += x * x;
+    return std::sqrt(r2);
+  };
+  // N = 4 (96 texels): a rule exact for band limit 4 exists, none for 5; N = 8 (384
+  // texels): up to 9, none for 10 — about (2B - 1)^2 <= 6 N^2. The texel solid angles
+  // are not such a rule (CubeSolidAngleRuleIsSecondOrder).
+  EXPECT_LT(residual(4, 4), 1e-12);
+  EXPECT_GT(residual(4, 5), 1e-3);
+  EXPECT_LT(residual(8, 9), 1e-12);
+  EXPECT_GT(residual(8, 10), 1e-3);
+}
