@@ -213,6 +213,15 @@ TEST(Projection, MethodsParseAndApplyToImagesOnly) {
   for (auto& f : cube.faces) f.assign(4, 1.0f);
   o.method = Method::pixel_integrated;
   EXPECT_THROW(project_cube_sampled(cube, 2, o), atmosh::InputError);
+  // the image entry point used by the CLI dispatches the pixel rules
+  std::vector<float> img(16 * 8);
+  for (std::size_t i = 0; i < img.size(); ++i) img[i] = static_cast<float>(std::sin(0.37 * i));
+  const ImageView v{16, 8, 1, img.data()};
+  for (auto [m, r] : {std::pair{Method::solid_angle, PixelRule::solid_angle},
+                      std::pair{Method::pixel_integrated, PixelRule::pixel_integrated}}) {
+    o.method = m;
+    EXPECT_EQ(project_equirect_sampled(v, 3, o)[0], project_equirect(v, 3, 1, r)[0]);
+  }
 }
 
 TEST(Projection, CubeSolidAngleRuleIsSecondOrder) {
