@@ -27,9 +27,12 @@ glm::dvec3 checked_direction(const glm::dvec3& d, const char* where) {
   if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
     throw InputError(std::string(where) + ": direction has a NaN or infinite component");
   const double n = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-  if (!(n > 0.0) || !std::isfinite(n))
-    throw InputError(std::string(where) + ": direction (0,0,0) has no length");
-  return d / n;
+  if (n > 0.0 && std::isfinite(n)) return d / n;
+  // squares under- or overflowed: scale by the largest component first
+  const double big = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+  if (!(big > 0.0)) throw InputError(std::string(where) + ": direction (0,0,0) has no length");
+  const glm::dvec3 s = d / big;
+  return s / std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
 }
 
 LegendreTable::LegendreTable(int bands) : bands_(bands) {
@@ -542,6 +545,16 @@ void evaluate_unit(int bands, const glm::dvec3& d, double* out) {
 }  // namespace
 
 void evaluate(int bands, const glm::dvec3& dir, double* out) {
+  if (bands >= 1 && bands <= kFastMaxBands) {
+    // the common small-band case: one reciprocal square root, then the straight-line code;
+    // zero, NaN, infinite or over/underflowing lengths go through the checked path
+    const double r2 = dir.x * dir.x + dir.y * dir.y + dir.z * dir.z;
+    if (r2 > 0x1p-900 && r2 < 0x1p+900) {
+      const double inv = 1.0 / std::sqrt(r2);
+      evaluate_fast(bands, dir.x * inv, dir.y * inv, dir.z * inv, out);
+      return;
+    }
+  }
   check_bands(bands, "evaluate");
   const glm::dvec3 d = checked_direction(dir, "evaluate");
   evaluate_unit(bands, d, out);
@@ -608,16 +621,22 @@ void evaluate_angles(int bands, double theta, double phi, double* out) {
 }
 
 double reconstruct(int bands, const double* coeffs, const glm::dvec3& dir) {
-  check_bands(bands, "reconstruct");
-  const glm::dvec3 d = checked_direction(dir, "reconstruct");
   const int n = sh_count(bands);
   double s = 0.0;
-  if (bands <= kFastMaxBands) {  // on the stack
+  if (bands >= 1 && bands <= kFastMaxBands) {  // on the stack (checks as in evaluate)
+    const double r2 = dir.x * dir.x + dir.y * dir.y + dir.z * dir.z;
+    glm::dvec3 d;
+    if (r2 > 0x1p-900 && r2 < 0x1p+900)
+      d = dir * (1.0 / std::sqrt(r2));
+    else
+      d = checked_direction(dir, "reconstruct");
     double y[kFastMaxBands * kFastMaxBands];
     evaluate_fast(bands, d.x, d.y, d.z, y);
     for (int i = 0; i < n; ++i) s += coeffs[i] * y[i];
     return s;
   }
+  check_bands(bands, "reconstruct");
+  const glm::dvec3 d = checked_direction(dir, "reconstruct");
   // a per-thread buffer, grown to the largest band count seen: no allocation per call
   thread_local std::vector<double> y;
   if (y.size() < static_cast<std::size_t>(n)) y.resize(n);

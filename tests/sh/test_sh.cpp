@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <complex>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -693,7 +694,19 @@ TEST(Basis, ReconstructIsTheSumOfCoefficientsTimesBasis) {
       EXPECT_NEAR(reconstruct(L, c.data(), d), s, 1e-13 * L) << L;
     }
   }
+  // non-unit lengths (the small-band path normalises; tiny ones go through the checked path)
+  const auto c4 = random_coeffs(4, 77);
+  const glm::dvec3 u = glm::normalize(glm::dvec3(0.3, -0.4, 0.8));
+  const double r0 = reconstruct(4, c4.data(), u);
+  for (double len : {1e-300, 1e-200, 1e-3, 7.5, 1e100, 1e300}) {
+    EXPECT_NEAR(reconstruct(4, c4.data(), u * len), r0, 1e-14) << len;
+    const auto y = evaluate(4, u * len), y0 = evaluate(4, u);
+    for (int i = 0; i < 16; ++i) EXPECT_NEAR(y[i], y0[i], 1e-15) << len;
+  }
   const double c0 = 1.0;
+  EXPECT_THROW(evaluate(4, glm::dvec3(0.0)), atmosh::InputError);
+  EXPECT_THROW(evaluate(4, glm::dvec3(std::nan(""), 0, 1)), atmosh::InputError);
+  EXPECT_THROW(reconstruct(4, &c0, glm::dvec3(0.0, std::numeric_limits<double>::infinity(), 0)), atmosh::InputError);
   EXPECT_THROW(reconstruct(1, &c0, glm::dvec3(0.0)), atmosh::InputError);
   EXPECT_THROW(reconstruct(0, &c0, glm::dvec3(0, 0, 1)), atmosh::InputError);
 }

@@ -26,8 +26,8 @@
 // directions where sin^(bands-1) t < ~1e-240 (near a pole) and other band counts use the
 // column path.
 //
-// Directions need not be normalised (they are normalised here); a zero, NaN or
-// infinite direction throws atmosh::InputError. Units: dimensionless (1/sr^(1/2)).
+// Directions need not be normalised (they are normalised here, at any finite length,
+// 1e-300 or 1e300 included); a zero, NaN or infinite direction throws atmosh::InputError. Units: dimensionless (1/sr^(1/2)).
 #pragma once
 
 #include <cstddef>
