@@ -11,14 +11,18 @@
 // Method: per ring a real FFT in p (FFTW3, any nphi, plans made once per size), then the
 // Legendre sums, m outer, vectorised over
 // blocks of ring pairs and using the equatorial symmetry Pbar_lm(-x) = (-1)^(l+m)
-// Pbar_lm(x). Synthesis runs the scaled column recurrence of basis.hpp; analysis
-// recurs only the degrees of the parity of m, in x^2 (two FMAs per ring pair for two
-// degrees), and gets the other parity from sums of x times the odd ring sums by a
-// forward substitution (transform.cpp).
-// Work is split over m between `threads` threads (0 = all hardware threads).
+// Pbar_lm(x). Analysis recurs only the degrees of the parity of m, in x^2 (two FMAs per
+// ring pair for two degrees), and gets the other parity from sums of x times the odd ring
+// sums by a forward substitution; synthesis runs the same recurrence, with the odd degrees
+// through a backward substitution (the transpose), on blocks of 8 (AVX-512) or 4 (AVX2)
+// ring pairs (transform.cpp). Work is split over m between `threads` threads (0 = all
+// hardware threads). FFTW's planner is not thread safe: plans are made under a lock held
+// by libsh only — other code in the process that plans FFTW transforms concurrently must
+// not race with the first transform of a new nphi.
 //
-// Accuracy: analysis of synthesis reproduces coefficients to ~1e-13 relative at
-// L = 1024 (see tests and docs/sh.md). Units: coefficients carry the units of the
+// Accuracy: analysis of synthesis reproduces coefficients to ~3e-13 relative at
+// L = 1024; synthesised values are within ~1e-12 of max |f| at L = 1024 (1.3e-13 at
+// L = 256) of a long-double reference (docs/sh.md). Units: coefficients carry the units of the
 // samples times sr^(1/2) (integral f Y dOmega).
 #pragma once
 
