@@ -103,17 +103,6 @@ void sectorals(int bands, const Pairs& p, const LegendreTable& t, std::vector<do
 }  // namespace
 
 
-// ---- vectorised column kernels -------------------------------------------------
-// V holds one value per ring pair of a block; GCC lowers it to the widest vectors the
-// target has (SSE2 by default; the AVX2/FMA clone is picked at run time on x86-64).
-typedef double V __attribute__((vector_size(B * sizeof(double))));
-
-// Native-width halves of a lane block (two 4-double vectors: one AVX register each).
-typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
-static_assert(B == 8, "kernels below are written for 8 lanes");
-static inline V4 lo(const V& v) { return V4{v[0], v[1], v[2], v[3]}; }
-static inline V4 hi(const V& v) { return V4{v[4], v[5], v[6], v[7]}; }
-
 // ---- analysis: even-degree recurrence in x^2 ------------------------------------
 // For one m write P_l = Pbar_lm and eps_l = sqrt((l^2 - m^2) / (4 l^2 - 1)), so that
 // x P_l = eps_l+1 P_l+1 + eps_l P_l-1. Two steps of it give a recurrence over the
