@@ -860,10 +860,24 @@ std::mutex& fftw_planner_mutex() {
   static std::mutex mu;
   return mu;
 }
-// Plans of size n, made once (kept for the life of the process).
+// Plans of size n, made once and kept until the process exits; then they are destroyed and
+// FFTW's planner memory released (fftw_cleanup), so that leak checkers see nothing.
+struct PlanCache {
+  std::map<int, FftPlans> plans;
+  ~PlanCache() {
+    std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+    for (auto& [n, p] : plans) {
+      fftw_destroy_plan(p.r2c);
+      fftw_destroy_plan(p.c2r);
+    }
+    plans.clear();
+    fftw_cleanup();
+  }
+};
 const FftPlans* fft_plans(int n) {
-  static std::map<int, FftPlans> plans;
   std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+  static PlanCache cache;
+  auto& plans = cache.plans;
   auto it = plans.find(n);
   if (it != plans.end()) return &it->second;
   double* r = fftw_alloc_real(static_cast<std::size_t>(n));
