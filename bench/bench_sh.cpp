@@ -95,6 +95,22 @@ void BM_EvalGeneral(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations());
 }
 
+// sum_i c_i Y_i(d) at one direction (reconstruct): L <= 8 on the straight-line code and
+// the stack, above through a per-thread buffer.
+void BM_Reconstruct(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  Dirs<double> d(256);
+  std::vector<double> c(sh_count(L), 0.5);
+  std::size_t k = 0;
+  double s = 0;
+  for (auto _ : st) {
+    s += reconstruct(L, c.data(), {d.x[k], d.y[k], d.z[k]});
+    k = (k + 1) & 255;
+  }
+  benchmark::DoNotOptimize(s);
+  st.SetItemsProcessed(st.iterations());
+}
+
 // n directions at once (general path, recurrence vectorised across directions), per
 // direction. Output L^2 * n doubles, coefficient-major, stride padded by 16, rows
 // 64-byte aligned (third argument 0) or one value past (1).
@@ -157,9 +173,30 @@ void BM_RotationApply(benchmark::State& st) {
   }
 }
 
+// Arguments: bands, threads, nphi (0: the default power of two >= 2L - 1).
+// Bands at or above the cache (256 by default) are rebuilt in every application; with
+// reserve_rotation_cache(L) first (second argument 1) nothing is rebuilt.
+void BM_RotationApplyHigh(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  if (st.range(1)) reserve_rotation_cache(L);
+  const Rotation R(L, EulerZYZ{0.3, 1.9, 2.5});
+  std::vector<double> in(sh_count(L), 0.5), out(sh_count(L));
+  for (auto _ : st) {
+    R.apply(in.data(), out.data());
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+
+// One band matrix (band L - 1) of a rotation.
+void BM_RotationBandMatrix(benchmark::State& st) {
+  const int L = static_cast<int>(st.range(0));
+  const Rotation R(L, EulerZYZ{0.3, 1.9, 2.5});
+  for (auto _ : st) benchmark::DoNotOptimize(R.band_matrix(L - 1));
+}
+
 void BM_Analysis(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0)), threads = static_cast<int>(st.range(1));
-  const GaussGrid g = gauss_grid(L);
+  const GaussGrid g = gauss_grid(L, 0, static_cast<int>(st.range(2)));
   std::vector<double> c(sh_count(L), 0.01);
   const auto f = synthesise(g, c.data());
   for (auto _ : st) benchmark::DoNotOptimize(analyse(g, f.data(), threads));
@@ -167,7 +204,7 @@ void BM_Analysis(benchmark::State& st) {
 
 void BM_Synthesis(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0)), threads = static_cast<int>(st.range(1));
-  const GaussGrid g = gauss_grid(L);
+  const GaussGrid g = gauss_grid(L, 0, static_cast<int>(st.range(2)));
   std::vector<double> c(sh_count(L), 0.01);
   for (auto _ : st) benchmark::DoNotOptimize(synthesise(g, c.data(), threads));
 }
@@ -177,11 +214,19 @@ BENCHMARK_TEMPLATE(BM_EvalFastBatch, float)->ArgsProduct({{2, 4, 8}, {256, 1024}
 BENCHMARK_TEMPLATE(BM_EvalFastBatch, double)->ArgsProduct({{2, 4, 8}, {256, 1024}, {0}})->Args({4, 256, 1});
 BENCHMARK_TEMPLATE(BM_EvalFastBatchInline, float)->Args({4, 256})->Args({4, 1024});
 BENCHMARK(BM_EvalGeneral)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Arg(64);
+BENCHMARK(BM_Reconstruct)->Arg(4)->Arg(8)->Arg(16);
 BENCHMARK_TEMPLATE(BM_EvalBatch, double)->ArgsProduct({{4, 8, 16, 64}, {8, 32, 64, 256}, {0}})->Args({16, 8, 1})->Args({16, 256, 1});
 BENCHMARK_TEMPLATE(BM_EvalBatch, float)->ArgsProduct({{4, 8, 16, 64}, {16, 64, 256}, {0}})->Args({16, 16, 1})->Args({16, 256, 1});
 BENCHMARK(BM_EvalGeneralFloat)->Arg(16)->Arg(64);
 BENCHMARK(BM_CubeProject)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RotationBuild)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RotationApply)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_Analysis)->Args({256, 1})->Args({256, 2})->Args({1024, 1})->Args({1024, 2})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Synthesis)->Args({256, 1})->Args({1024, 1})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RotationApplyHigh)->Args({512, 0})->Args({1000, 0})->Args({1000, 1})->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_RotationBandMatrix)->Arg(64)->Arg(256)->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Analysis)
+    ->Args({256, 1, 0})->Args({256, 1, 511})->Args({256, 1, 768})->Args({256, 2, 0})
+    ->Args({1024, 1, 0})->Args({1024, 1, 2047})->Args({1024, 1, 3072})->Args({1024, 2, 0})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Synthesis)
+    ->Args({256, 1, 0})->Args({256, 1, 511})->Args({256, 1, 768})->Args({1024, 1, 0})->Args({1024, 1, 2047})
+    ->Unit(benchmark::kMillisecond);

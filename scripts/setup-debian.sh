@@ -5,7 +5,7 @@ set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build ccache git pkg-config
   clang libclang-rt-14-dev
-  libglm-dev
+  libglm-dev libfftw3-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
   libopenexr-dev
   libgeographiclib-dev

@@ -16,6 +16,7 @@
 #include "atmosh/io/study.hpp"
 #include "atmosh/sh/basis.hpp"
 #include "atmosh/sh/convolution.hpp"
+#include "atmosh/sh/gaunt.hpp"
 #include "atmosh/sh/projection.hpp"
 #include "atmosh/sh/rotation.hpp"
 #include "cli_common.hpp"
@@ -176,7 +177,7 @@ std::vector<std::filesystem::path> run_converge(const LoadedImage& li, int bands
   sh::ProjectOptions q;
   const double tref = timed([&] { return project_image(li, bands, q); }, ref);
   std::vector<io::StudyRow> rows;
-  rows.push_back({li.cross ? "cube-texel-integration" : "pixel-integration", "all pixels (reference)", 0.0, 0.0, tref,
+  rows.push_back({li.cross ? "cube-texel-integration" : "fejer-quadrature", "all pixels (reference)", 0.0, 0.0, tref,
                   {static_cast<double>(li.width) * li.height}});
   const std::vector<int> strata = quick ? std::vector<int>{8, 16, 45} : std::vector<int>{8, 16, 32, 45, 64, 128, 256};
   const std::vector<int> uni = quick ? std::vector<int>{256, 2025, 8192} : std::vector<int>{256, 1024, 2025, 8192, 32768, 131072};
@@ -213,7 +214,8 @@ std::vector<std::filesystem::path> run_converge(const LoadedImage& li, int bands
   spec.extra_columns = {"samples"};
   io::Provenance prov = io::Provenance::current();
   prov.add("input", source).add("sh_bands", std::to_string(bands)).add("seed", std::to_string(seed));
-  prov.add("reference", "exact per-pixel (per-texel) solid-angle integration of the image");
+  prov.add("reference", li.cross ? "texel-centre values times the exact texel solid angles"
+                                 : "Fejer's first rule on the pixel-centre rings (exact for band-limited images)");
   prov.add("error_definition", "max |c - c_ref| / max |c_ref| and ||c - c_ref||_2 / ||c_ref||_2 over all channels");
   return io::write_study(stem, spec, rows, prov);
 }
@@ -249,7 +251,7 @@ void write_band_files(const CoeffFile& cf, const std::filesystem::path& csv, con
 }  // namespace
 
 void register_sh_commands(CLI::App& app) {
-  CLI::App* shc = app.add_subcommand("sh", "Spherical harmonics: project, eval, rotate, irradiance, bands, converge");
+  CLI::App* shc = app.add_subcommand("sh", "Spherical harmonics: project, eval, gaunt, rotate, irradiance, bands, converge");
   shc->require_subcommand(1);
 
   // project
@@ -263,7 +265,8 @@ void register_sh_commands(CLI::App& app) {
     CLI::App* c = shc->add_subcommand("project", "Project an equirect (2:1) or cube-cross EXR onto SH");
     c->add_option("input", o->in, "input EXR")->required();
     c->add_option("--bands", o->bands, "number of bands L (l = 0..L-1)")->required();
-    c->add_option("--method", o->method, "quadrature (exact per-pixel solid angle) | jittered | uniform");
+    c->add_option("--method", o->method, "quadrature (equirect: Fejer's first rule, exact for band-limited images; cube: texel solid angle) | "
+                  "solid-angle | pixel-integrated | jittered | uniform");
     c->add_option("--samples", o->samples, "jittered: strata per side (default 45); uniform: samples (default 2025)");
     c->add_option("--seed", o->seed, "random seed (default 1)");
     c->add_option("--layout", o->layout, "auto | equirect | cross");
@@ -313,6 +316,35 @@ void register_sh_commands(CLI::App& app) {
         print_json(j);
       } else {
         for (auto& [k, v] : values.items()) std::cout << k << " " << io::format_double(v.get<double>()) << "\n";
+      }
+    });
+  }
+  // gaunt
+  {
+    struct Opt {
+      std::vector<int> lm;
+      bool json = false;
+    };
+    auto o = std::make_shared<Opt>();
+    CLI::App* c = shc->add_subcommand(
+        "gaunt", "Gaunt coefficient: integral of Y_l1m1 Y_l2m2 Y_l3m3 over the sphere (real orthonormal SH)");
+    c->add_option("lm", o->lm, "L1 M1 L2 M2 L3 M3")->expected(6)->required();
+    c->add_flag("--json", o->json, "print one JSON object");
+    c->callback([o] {
+      const char* names[6] = {"L1", "M1", "L2", "M2", "L3", "M3"};
+      for (int k = 0; k < 6; k += 2) {
+        const int l = o->lm[k], m = o->lm[k + 1];
+        if (l < 0 || l > 100000) throw InputError(std::string(names[k]) + " must be in [0, 100000], got " + std::to_string(l));
+        if (std::abs(m) > l)
+          throw InputError(std::string(names[k + 1]) + " must satisfy |" + names[k + 1] + "| <= " + names[k] + ", got " +
+                           std::to_string(m));
+      }
+      const double v = sh::gaunt(o->lm[0], o->lm[1], o->lm[2], o->lm[3], o->lm[4], o->lm[5]);
+      if (o->json) {
+        print_json({{"l1", o->lm[0]}, {"m1", o->lm[1]}, {"l2", o->lm[2]}, {"m2", o->lm[3]}, {"l3", o->lm[4]},
+                    {"m3", o->lm[5]}, {"convention", "real orthonormal SH, Condon-Shortley phase"}, {"value", v}});
+      } else {
+        std::printf("%.17g\n", v);
       }
     });
   }

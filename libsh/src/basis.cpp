@@ -1,5 +1,6 @@
 // Real SH basis of any band: scaled column recurrences of Pbar_lm.
 #include "atmosh/sh/basis.hpp"
+#include "atmosh/sh/fast.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -507,6 +508,10 @@ ATMOSH_TARGET_AVX512 __attribute__((optimize("no-math-errno"))) void evaluate_ba
 #endif
 
 void evaluate_unit(int bands, const glm::dvec3& d, double* out) {
+  if (bands <= kFastMaxBands) {  // straight-line code (fast.hpp); d is of unit length here
+    evaluate_fast(bands, d.x, d.y, d.z, out);
+    return;
+  }
   if (bands < kRowMinBands) {  // few bands: the column path has less set-up
     static const LegendreTable* small = new LegendreTable(kRowBands);
     evaluate_unit_columns(bands, d, out, *small);
@@ -542,6 +547,16 @@ void evaluate_unit(int bands, const glm::dvec3& d, double* out) {
 }  // namespace
 
 void evaluate(int bands, const glm::dvec3& dir, double* out) {
+  if (bands >= 1 && bands <= kFastMaxBands) {
+    // the common small-band case: one reciprocal square root, then the straight-line code;
+    // zero, NaN, infinite or over/underflowing lengths go through the checked path
+    const double r2 = dir.x * dir.x + dir.y * dir.y + dir.z * dir.z;
+    if (r2 > 0x1p-900 && r2 < 0x1p+900) {
+      const double inv = 1.0 / std::sqrt(r2);
+      evaluate_fast(bands, dir.x * inv, dir.y * inv, dir.z * inv, out);
+      return;
+    }
+  }
   check_bands(bands, "evaluate");
   const glm::dvec3 d = checked_direction(dir, "evaluate");
   evaluate_unit(bands, d, out);
@@ -608,9 +623,27 @@ void evaluate_angles(int bands, double theta, double phi, double* out) {
 }
 
 double reconstruct(int bands, const double* coeffs, const glm::dvec3& dir) {
-  std::vector<double> y = evaluate(bands, dir);
+  const int n = sh_count(bands);
   double s = 0.0;
-  for (int i = 0; i < sh_count(bands); ++i) s += coeffs[i] * y[i];
+  if (bands >= 1 && bands <= kFastMaxBands) {  // on the stack (checks as in evaluate)
+    const double r2 = dir.x * dir.x + dir.y * dir.y + dir.z * dir.z;
+    glm::dvec3 d;
+    if (r2 > 0x1p-900 && r2 < 0x1p+900)
+      d = dir * (1.0 / std::sqrt(r2));
+    else
+      d = checked_direction(dir, "reconstruct");
+    double y[kFastMaxBands * kFastMaxBands];
+    evaluate_fast(bands, d.x, d.y, d.z, y);
+    for (int i = 0; i < n; ++i) s += coeffs[i] * y[i];
+    return s;
+  }
+  check_bands(bands, "reconstruct");
+  const glm::dvec3 d = checked_direction(dir, "reconstruct");
+  // a per-thread buffer, grown to the largest band count seen: no allocation per call
+  thread_local std::vector<double> y;
+  if (y.size() < static_cast<std::size_t>(n)) y.resize(n);
+  evaluate_unit(bands, d, y.data());
+  for (int i = 0; i < n; ++i) s += coeffs[i] * y[i];
   return s;
 }
 

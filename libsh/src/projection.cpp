@@ -11,6 +11,7 @@
 #include "atmosh/error.hpp"
 #include "atmosh/sh/basis.hpp"
 #include "atmosh/sh/fast.hpp"
+#include "atmosh/sh/quadrature.hpp"
 #include "atmosh/sh/transform.hpp"
 
 namespace atmosh::sh {
@@ -59,24 +60,6 @@ inline void basis_unit(int bands, const glm::dvec3& d, double* y) {
     evaluate(bands, d, y);
 }
 
-// Ring sums a_m = sum_j f_j cos(m p_j), b_m = sum_j f_j sin(m p_j), p_j = 2 pi (j + 1/2) / W.
-void ring_sums_centred(int bands, int W, const float* f, const std::vector<double>& c2, const std::vector<double>& s2,
-                       double* out) {
-  for (int m = 0; m < bands; ++m) {
-    double sc = 0, ss = 0;
-    long long idx = m;  // m (2j + 1) mod 2W
-    const long long step = 2LL * m % (2LL * W), mod = 2LL * W;
-    idx %= mod;
-    for (int j = 0; j < W; ++j) {
-      sc += f[j] * c2[idx];
-      ss += f[j] * s2[idx];
-      idx += step;
-      if (idx >= mod) idx -= mod;
-    }
-    out[2 * m] = sc;
-    out[2 * m + 1] = ss;
-  }
-}
 }  // namespace
 
 std::size_t sampler_bytes(const ProjectOptions& opt, int channels) {
@@ -88,7 +71,8 @@ std::size_t sampler_bytes(const ProjectOptions& opt, int channels) {
 }
 
 void sampler_directions(const ProjectOptions& opt, std::vector<glm::dvec3>& dirs, std::vector<double>& weights) {
-  if (opt.method == Method::quadrature) throw InputError("sampler_directions: quadrature is not a Monte Carlo sampler");
+  if (opt.method != Method::jittered && opt.method != Method::uniform)
+    throw InputError("sampler_directions: only jittered and uniform are Monte Carlo samplers");
   if (opt.samples < 0) throw InputError("sampler_directions: samples must be >= 1, got " + std::to_string(opt.samples));
   dirs.clear();
   weights.clear();
@@ -99,13 +83,18 @@ Method parse_method(const std::string& name) {
   if (name == "quadrature") return Method::quadrature;
   if (name == "jittered") return Method::jittered;
   if (name == "uniform") return Method::uniform;
-  throw InputError("unknown projection method '" + name + "' (quadrature, jittered, uniform)");
+  if (name == "solid-angle") return Method::solid_angle;
+  if (name == "pixel-integrated") return Method::pixel_integrated;
+  throw InputError("unknown projection method '" + name +
+                   "' (quadrature, solid-angle, pixel-integrated, jittered, uniform)");
 }
 
 std::vector<double> project_function(const std::function<double(const glm::dvec3&)>& f, int bands,
                                      const ProjectOptions& opt) {
   check_bands(bands, "project_function");
   if (opt.samples < 0) throw InputError("project_function: samples must be >= 0, got " + std::to_string(opt.samples));
+  if (opt.method == Method::solid_angle || opt.method == Method::pixel_integrated)
+    throw InputError("project_function: solid-angle and pixel-integrated apply to images only");
   if (opt.method == Method::quadrature) {
     const GaussGrid g = gauss_grid(bands, opt.samples > bands ? opt.samples : 0);
     std::vector<double> v(static_cast<std::size_t>(g.nlat) * g.nphi);
@@ -139,8 +128,39 @@ double equirect_pixel_solid_angle(int width, int height, int row) {
   return 2.0 * kPi / width * 2.0 * std::sin(0.5 * (t0 + t1)) * std::sin(0.5 * (t1 - t0));
 }
 
-Channels project_equirect(const ImageView& img, int bands, int threads) {
-  check_image(img, "project_equirect");
+std::vector<double> equirect_ring_weights(int height, PixelRule rule) {
+  if (height < 1) throw InputError("equirect_ring_weights: height must be >= 1, got " + std::to_string(height));
+  if (rule == PixelRule::exact) return fejer1_weights(height);
+  std::vector<double> w(height);
+  for (int r = 0; r < height; ++r) w[r] = equirect_pixel_solid_angle(1, height, r) / (2.0 * kPi);
+  return w;
+}
+
+namespace {
+template <class T>
+void check_image_t(const BasicImageView<T>& img, const char* where) {
+  if (img.width < 1 || img.height < 1 || img.channels < 1 || img.data == nullptr)
+    throw InputError(std::string(where) + ": empty image (" + std::to_string(img.width) + " x " +
+                     std::to_string(img.height) + " x " + std::to_string(img.channels) + ")");
+}
+
+// Ring sums a_m = sum_j f_j cos(m p_j), b_m = sum_j f_j sin(m p_j), p_j = 2 pi (j + 1/2) / W:
+// a real FFT (p = 2 pi j / W) and the phase shift by m pi / W (c2, s2: cos, sin of k pi / W).
+template <class T>
+void ring_sums_centred_t(int bands, int W, const T* f, const std::vector<double>& c2, const std::vector<double>& s2,
+                         detail::RealFft& fft, double* out) {
+  fft.forward(f, bands, out);
+  for (int m = 0; m < bands; ++m) {
+    const int k = static_cast<int>(static_cast<long long>(m) % (2LL * W));
+    const double a = out[2 * m], b = out[2 * m + 1];
+    out[2 * m] = a * c2[k] - b * s2[k];
+    out[2 * m + 1] = b * c2[k] + a * s2[k];
+  }
+}
+
+template <class T>
+Channels project_equirect_t(const BasicImageView<T>& img, int bands, int threads, PixelRule rule) {
+  check_image_t(img, "project_equirect");
   check_bands(bands, "project_equirect");
   const int W = img.width, H = img.height, L = bands;
   std::vector<double> c2(2 * W), s2(2 * W);
@@ -148,38 +168,72 @@ Channels project_equirect(const ImageView& img, int bands, int threads) {
     c2[k] = std::cos(kPi * k / W);
     s2[k] = std::sin(kPi * k / W);
   }
-  std::vector<double> ct(H), st(H);
-  for (int r = 0; r < H; ++r) {
-    const double t = kPi * (r + 0.5) / H;
-    ct[r] = std::cos(t);
-    st[r] = std::sin(t);
+  // Rings of the Legendre stage: one per pixel row (exact, solid_angle), or nsub Gauss
+  // nodes in t per pixel row (pixel_integrated). wt: weight in cos t of each ring.
+  const double h = kPi / H;
+  int nsub = 1;
+  std::vector<double> gx{0.0}, gw{2.0};
+  if (rule == PixelRule::pixel_integrated) {
+    nsub = 10 + static_cast<int>(std::ceil(0.75 * L * h));
+    const GaussLegendre gl = gauss_legendre(nsub);
+    gx = gl.nodes;
+    gw = gl.weights;
   }
-  // exact mirror symmetry of the centres
-  for (int r = 0; r < H / 2; ++r) ct[H - 1 - r] = -ct[r], st[H - 1 - r] = st[r];
-  if (H % 2) ct[H / 2] = 0.0, st[H / 2] = 1.0;
+  const int R = H * nsub;
+  std::vector<double> ct(R), st(R), wt(R);
+  const std::vector<double> rw = rule == PixelRule::pixel_integrated ? std::vector<double>{} : equirect_ring_weights(H, rule);
+  for (int i = 0; i < (R + 1) / 2; ++i) {
+    const int row = i / nsub, k = i % nsub;
+    const double t = (row + 0.5) * h + 0.5 * h * gx[k];
+    const bool centre = 2 * i + 1 == R;
+    ct[i] = centre ? 0.0 : std::cos(t);
+    st[i] = centre ? 1.0 : std::sin(t);
+    ct[R - 1 - i] = -ct[i];
+    st[R - 1 - i] = st[i];
+    // d(cos t) = sin t dt: the Gauss weight in t times sin t
+    wt[i] = wt[R - 1 - i] = rule == PixelRule::pixel_integrated ? 0.5 * h * gw[k] * st[i] : rw[row];
+  }
+  // weight in p per order m (the sqrt2 of the real basis included)
+  std::vector<double> pm(L);
+  for (int m = 0; m < L; ++m) {
+    double f = 2.0 * kPi / W;
+    if (rule == PixelRule::pixel_integrated && m > 0) f = 2.0 / m * std::sin(m * kPi / W);
+    pm[m] = m > 0 ? std::numbers::sqrt2 * f : f;
+  }
   Channels out(img.channels);
-  std::vector<float> row(W);
-  std::vector<double> four(static_cast<std::size_t>(H) * L * 2);
+  std::vector<double> rows(static_cast<std::size_t>(H) * L * 2);
+  std::vector<double> four(static_cast<std::size_t>(R) * L * 2);
+  detail::RealFft fft(W);
   for (int c = 0; c < img.channels; ++c) {
     for (int r = 0; r < H; ++r) {
-      const float* src = img.data + (static_cast<std::size_t>(c) * H + r) * W;
+      const T* src = img.data + (static_cast<std::size_t>(c) * H + r) * W;
       for (int j = 0; j < W; ++j)
         if (!std::isfinite(src[j]))
           throw InputError("project_equirect: pixel (" + std::to_string(j) + ", " + std::to_string(r) + ") channel " +
                            std::to_string(c) + " is not finite");
-      double* o = four.data() + static_cast<std::size_t>(r) * L * 2;
-      ring_sums_centred(L, W, src, c2, s2, o);
-      const double om = equirect_pixel_solid_angle(W, H, r);
+      ring_sums_centred_t(L, W, src, c2, s2, fft, rows.data() + static_cast<std::size_t>(r) * L * 2);
+    }
+    for (int i = 0; i < R; ++i) {
+      const double* a = rows.data() + static_cast<std::size_t>(i / nsub) * L * 2;
+      double* o = four.data() + static_cast<std::size_t>(i) * L * 2;
       for (int m = 0; m < L; ++m) {
-        const double f = om * (m > 0 ? std::numbers::sqrt2 : 1.0);
-        o[2 * m] *= f;
-        o[2 * m + 1] *= (m > 0 ? f : 0.0);
+        const double f = wt[i] * pm[m];
+        o[2 * m] = a[2 * m] * f;
+        o[2 * m + 1] = m > 0 ? a[2 * m + 1] * f : 0.0;
       }
     }
     out[c].assign(sh_count(L), 0.0);
-    detail::legendre_analysis(L, H, ct.data(), st.data(), four.data(), true, out[c].data(), threads);
+    detail::legendre_analysis(L, R, ct.data(), st.data(), four.data(), true, out[c].data(), threads);
   }
   return out;
+}
+}  // namespace
+
+Channels project_equirect(const ImageView& img, int bands, int threads, PixelRule rule) {
+  return project_equirect_t(img, bands, threads, rule);
+}
+Channels project_equirect(const ImageViewD& img, int bands, int threads, PixelRule rule) {
+  return project_equirect_t(img, bands, threads, rule);
 }
 
 void sample_equirect(const ImageView& img, const glm::dvec3& d, double* out) {
@@ -203,6 +257,9 @@ void sample_equirect(const ImageView& img, const glm::dvec3& d, double* out) {
 Channels project_equirect_sampled(const ImageView& img, int bands, const ProjectOptions& opt) {
   check_image(img, "project_equirect_sampled");
   check_bands(bands, "project_equirect_sampled");
+  if (opt.method == Method::solid_angle) return project_equirect(img, bands, opt.threads, PixelRule::solid_angle);
+  if (opt.method == Method::pixel_integrated)
+    return project_equirect(img, bands, opt.threads, PixelRule::pixel_integrated);
   const int C = img.channels;
   Channels out(C, std::vector<double>(sh_count(bands), 0.0));
   std::vector<double> val(C), y(sh_count(bands));
@@ -347,7 +404,10 @@ void sample_cube(const CubeMap& cube, const glm::dvec3& d, double* out) {
 Channels project_cube_sampled(const CubeMap& cube, int bands, const ProjectOptions& opt) {
   check_bands(bands, "project_cube_sampled");
   if (cube.size < 1 || cube.channels < 1) throw InputError("project_cube_sampled: empty cube map");
-  if (opt.method == Method::quadrature) return project_cube(cube, bands, opt.threads);
+  if (opt.method == Method::quadrature || opt.method == Method::solid_angle)
+    return project_cube(cube, bands, opt.threads);
+  if (opt.method == Method::pixel_integrated)
+    throw InputError("project_cube: pixel-integrated is available for equirect images only");
   const int C = cube.channels;
   Channels out(C, std::vector<double>(sh_count(bands), 0.0));
   std::vector<double> val(C), y(sh_count(bands));
@@ -391,6 +451,22 @@ std::vector<float> render_equirect(const std::vector<double>& coeffs, int bands,
   }
   std::vector<float> img(static_cast<std::size_t>(W) * H);
   std::vector<double> acc(W);
+  if (2 * L - 1 <= W) {
+    // real inverse FFT with the coefficients turned by the half-pixel phase m pi / W
+    detail::RealFft fft(W);
+    std::vector<double> cs(2 * static_cast<std::size_t>(L));
+    for (int r = 0; r < H; ++r) {
+      const double* f = four.data() + static_cast<std::size_t>(r) * L * 2;
+      for (int m = 0; m < L; ++m) {
+        const double C = f[2 * m], S = f[2 * m + 1], c = c2[m % (2 * W)], s = s2[m % (2 * W)];
+        cs[2 * m] = C * c + S * s;
+        cs[2 * m + 1] = S * c - C * s;
+      }
+      fft.inverse(cs.data(), L, acc.data());
+      for (int j = 0; j < W; ++j) img[static_cast<std::size_t>(r) * W + j] = static_cast<float>(acc[j]);
+    }
+    return img;
+  }
   for (int r = 0; r < H; ++r) {
     std::fill(acc.begin(), acc.end(), 0.0);
     const double* f = four.data() + static_cast<std::size_t>(r) * L * 2;

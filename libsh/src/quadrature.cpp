@@ -60,4 +60,30 @@ GaussLegendre gauss_legendre(int n) {
   return g;
 }
 
+std::vector<double> fejer1_weights(int n) {
+  if (n < 1) throw InputError("fejer1_weights: n must be >= 1, got " + std::to_string(n));
+  std::vector<double> w(n);
+  for (int j = 0; j < (n + 1) / 2; ++j) {
+    const double t = std::numbers::pi * (j + 0.5) / n;
+    double s = 0.0;
+    for (int k = n / 2; k >= 1; --k) s += std::cos(2.0 * k * t) / (4.0 * k * k - 1.0);
+    w[j] = w[n - 1 - j] = 2.0 / n * (1.0 - 2.0 * s);
+  }
+  return w;
+}
+
+std::vector<double> clenshaw_curtis_weights(int n) {
+  if (n < 2) throw InputError("clenshaw_curtis_weights: n must be >= 2, got " + std::to_string(n));
+  const int N = n - 1;
+  std::vector<double> w(n);
+  for (int j = 0; j <= N / 2; ++j) {
+    const double t = std::numbers::pi * j / N;
+    double s = 0.0;
+    for (int k = N / 2; k >= 1; --k) s += (2 * k == N ? 1.0 : 2.0) * std::cos(2.0 * k * t) / (4.0 * k * k - 1.0);
+    const double c = (j == 0 || j == N) ? 1.0 : 2.0;
+    w[j] = w[N - j] = c / N * (1.0 - s);
+  }
+  return w;
+}
+
 }  // namespace atmosh::sh

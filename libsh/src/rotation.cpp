@@ -2,6 +2,7 @@
 // Wigner d^l(pi/2) by a stable recurrence.
 #include "atmosh/sh/rotation.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -63,8 +64,9 @@ struct BandY90 {
   const double* sym_o = nullptr;   // odd -> odd block
 };
 
-// d^l_{m'm}(pi/2) for 0 <= m, m' <= l into d[m' * (l+1) + m].
-void wigner_half_pi(int l, std::vector<double>& d) {
+// d^l_{m'm}(pi/2) for 0 <= m, m' <= l into d[m' * (l+1) + m] (column by column, extended
+// range: any l).
+void wigner_half_pi_columns(int l, std::vector<double>& d) {
   const int n = l + 1;
   d.assign(static_cast<std::size_t>(n) * n, 0.0);
   std::vector<double> q(n + 1, 0.0);  // q[k] = sqrt((l-k)(l+k+1))
@@ -103,11 +105,62 @@ void wigner_half_pi(int l, std::vector<double>& d) {
   }
 }
 
-void build_band(int l, BandY90& out) {
-  std::vector<double> d;
-  wigner_half_pi(l, d);
+// The same, row by row: row m'-1 from rows m' and m'+1 for all m < m' at once (contiguous,
+// vectorised; reciprocals instead of divisions), the starting row d_{l,m} scaled by 2^S
+// so that its smallest value 2^(S-l) stays a normal double (S = 600 from l = 900 on; the
+// values only grow from the starting row inwards), the upper triangle by symmetry.
+// For l > 1600 the columns path (per-column exponents).
+ATMOSH_DISPATCH_NO_ERRNO
+void wigner_half_pi(int l, std::vector<double>& d, bool fill_upper) {
+  if (l > 1600) {
+    wigner_half_pi_columns(l, d);
+    return;
+  }
   const int n = l + 1;
-  auto D = [&](int mp, int m) { return d[static_cast<std::size_t>(mp) * n + m]; };
+  d.resize(static_cast<std::size_t>(n) * n);
+  std::vector<double> q(n + 1, 0.0), iq(n + 1, 0.0), twom(n);
+  for (int k = 0; k <= l; ++k) {
+    q[k] = std::sqrt(static_cast<double>(l - k) * (l + k + 1));
+    iq[k] = q[k] > 0.0 ? 1.0 / q[k] : 0.0;
+    twom[k] = 2.0 * k;
+  }
+  const int S = l >= 900 ? 600 : 0;
+  double* top = d.data() + static_cast<std::size_t>(l) * n;
+  top[l] = std::ldexp(1.0, S - l);
+  for (int m = l - 1; m >= 0; --m) top[m] = -top[m + 1] * std::sqrt(static_cast<double>(l + m + 1) / (l - m));
+  std::vector<double> zero(n, 0.0);
+  for (int mp = l; mp >= 1; --mp) {
+    const double* r1 = d.data() + static_cast<std::size_t>(mp) * n;
+    const double* r2 = mp < l ? d.data() + static_cast<std::size_t>(mp + 1) * n : zero.data();
+    double* r0 = d.data() + static_cast<std::size_t>(mp - 1) * n;
+    const double qm = q[mp], iqm = iq[mp - 1];
+    for (int m = 0; m < mp; ++m) r0[m] = (twom[m] * r1[m] - qm * r2[m]) * iqm;
+  }
+  if (S != 0) {
+    const double down = std::ldexp(1.0, -S);
+    for (int mp = 0; mp <= l; ++mp) {
+      double* r = d.data() + static_cast<std::size_t>(mp) * n;
+      for (int m = 0; m <= mp; ++m) r[m] *= down;
+    }
+  }
+  if (!fill_upper) return;
+  // upper triangle: d_{m m'} = (-1)^(m'-m) d_{m' m}, in blocks (both matrices stay in cache)
+  constexpr int kB = 32;
+  for (int i0 = 0; i0 < n; i0 += kB)
+    for (int j0 = i0; j0 < n; j0 += kB)
+      for (int mp = j0; mp < std::min(n, j0 + kB); ++mp)
+        for (int m = i0; m < std::min(mp, i0 + kB); ++m)
+          d[static_cast<std::size_t>(m) * n + mp] = ((mp - m) & 1 ? -1.0 : 1.0) * d[static_cast<std::size_t>(mp) * n + m];
+}
+
+void build_band(int l, BandY90& out) {
+  thread_local std::vector<double> d;  // reused from band to band (no zeroing)
+  wigner_half_pi(l, d, false);         // lower triangle (m <= m'); the rest by symmetry
+  const int n = l + 1;
+  auto D = [&](int mp, int m) {
+    return mp >= m ? d[static_cast<std::size_t>(mp) * n + m]
+                   : ((m - mp) & 1 ? -1.0 : 1.0) * d[static_cast<std::size_t>(m) * n + mp];
+  };
   const double r2 = std::numbers::sqrt2;
   // real-basis entries (zero outside the checkerboard and for the m = 0 sine slot)
   auto cval = [&](int mp, int m) {
@@ -156,13 +209,14 @@ void build_band(int l, BandY90& out) {
     for (int r = J; r < out.to; ++r) tile(r, J, fo);
 }
 
-constexpr int kCacheBands = 256;
+constexpr int kDefaultCacheBands = 256;  // ~22 MB of band matrices
+constexpr int kMaxBands = 8192;
 
-// Bands 1..kCacheBands-1, built once in order; `ready` bands are readable without a lock.
 struct Y90Cache {
   std::mutex mu;
-  std::atomic<int> ready{1};
-  std::unique_ptr<BandY90> band[kCacheBands];
+  std::atomic<int> ready{1};                  // bands [1, ready) built
+  std::atomic<int> limit{kDefaultCacheBands};  // bands below this are cached
+  std::unique_ptr<BandY90> band[kMaxBands];
 };
 
 Y90Cache& y90_cache() {
@@ -170,9 +224,10 @@ Y90Cache& y90_cache() {
   return c;
 }
 
-// Makes bands < n (n <= kCacheBands) available; returns the table.
+// Bands 1..min(n, limit)-1 built (once, in order; looked up without a lock afterwards).
 const std::unique_ptr<BandY90>* cached_bands(int n) {
   Y90Cache& c = y90_cache();
+  n = std::min(n, c.limit.load(std::memory_order_acquire));
   if (c.ready.load(std::memory_order_acquire) < n) {
     std::lock_guard<std::mutex> lock(c.mu);
     int l = c.ready.load(std::memory_order_relaxed);
@@ -472,7 +527,7 @@ glm::dmat3 matrix_from_quaternion(const glm::dquat& q) {
 }
 
 Rotation::Rotation(int bands, const EulerZYZ& e) : bands_(bands), e_(e) {
-  check_bands(bands, "Rotation", 8192);
+  check_bands(bands, "Rotation", kMaxBands);
   if (!std::isfinite(e.alpha) || !std::isfinite(e.beta) || !std::isfinite(e.gamma))
     throw InputError("Rotation: Euler angle is not finite");
   trig_table(bands, e.alpha + kPi / 2, ca_, sa_);
@@ -501,18 +556,18 @@ void Rotation::apply(const double* in, double* out) const {
     return ZTable{c.data(), s.data(), c.data() + nh, s.data() + nh};
   };
   const ZTable za = ztable(ca_, sa_), zb = ztable(cb_, sb_), zg = ztable(cg_, sg_);
-  const std::unique_ptr<BandY90>* cache = cached_bands(std::min(bands_, kCacheBands));
+  const std::unique_ptr<BandY90>* cache = cached_bands(bands_);
+  const int ncached = std::min(bands_, y90_cache().ready.load(std::memory_order_acquire));
   BandY90 local;
   out[0] = in[0];
   for (int l = 1; l < bands_; ++l) {
     const BandY90* B;
-    if (l < kCacheBands) {
+    if (l < ncached) {
       B = cache[l].get();
     } else {
       build_band(l, local);
       B = &local;
     }
-    // band l reads up to 7 values past both of its ends: inside `in` for 3 <= l < bands - 1
     rotate_band(*B, in + l * l, out + l * l, l >= 3 && l + 1 < bands_, za, zb, zg, w, u);
   }
 }
@@ -530,16 +585,51 @@ std::vector<double> Rotation::band_matrix(int l) const {
   if (l < 0 || l >= bands_) throw InputError("band_matrix: band " + std::to_string(l) + " out of range");
   const int n = 2 * l + 1;
   std::vector<double> M(static_cast<std::size_t>(n) * n);
-  Rotation one(l + 1, e_);
-  std::vector<double> in(sh_count(l + 1), 0.0), out(sh_count(l + 1));
+  if (l == 0) {
+    M[0] = 1.0;
+    return M;
+  }
+  // band l alone, applied to its 2l+1 unit vectors: (2l+1) band products, O(l^3)
+  const int nh = half_len(bands_);
+  std::vector<double> buf(8 * static_cast<std::size_t>(nh) + 4);
+  double* base = buf.data();
+  while (reinterpret_cast<std::uintptr_t>(base) % 32 != 0) ++base;
+  const Split w{base, base + nh, base + 2 * nh, base + 3 * nh};
+  const Split u{base + 4 * nh, base + 5 * nh, base + 6 * nh, base + 7 * nh};
+  auto ztable = [nh](const std::vector<double>& c, const std::vector<double>& s) {
+    return ZTable{c.data(), s.data(), c.data() + nh, s.data() + nh};
+  };
+  const ZTable za = ztable(ca_, sa_), zb = ztable(cb_, sb_), zg = ztable(cg_, sg_);
+  const std::unique_ptr<BandY90>* cache = cached_bands(l + 1);
+  BandY90 local;
+  const BandY90* B;
+  if (l < y90_cache().ready.load(std::memory_order_acquire)) {
+    B = cache[l].get();
+  } else {
+    build_band(l, local);
+    B = &local;
+  }
+  std::vector<double> in(n, 0.0), out(n);
   for (int j = 0; j < n; ++j) {
-    in[l * l + j] = 1.0;
-    one.apply(in.data(), out.data());
-    in[l * l + j] = 0.0;
-    for (int i = 0; i < n; ++i) M[static_cast<std::size_t>(i) * n + j] = out[l * l + i];
+    in[j] = 1.0;
+    rotate_band(*B, in.data(), out.data(), false, za, zb, zg, w, u);
+    in[j] = 0.0;
+    for (int i = 0; i < n; ++i) M[static_cast<std::size_t>(i) * n + j] = out[i];
   }
   return M;
 }
+
+void reserve_rotation_cache(int bands) {
+  check_bands(bands, "reserve_rotation_cache", kMaxBands);
+  Y90Cache& c = y90_cache();
+  {
+    std::lock_guard<std::mutex> lock(c.mu);
+    if (bands > c.limit.load(std::memory_order_relaxed)) c.limit.store(bands, std::memory_order_release);
+  }
+  cached_bands(bands);
+}
+
+int rotation_cache_bands() { return y90_cache().ready.load(std::memory_order_acquire); }
 
 void rotate_z(int bands, double alpha, const double* in, double* out) {
   check_bands(bands, "rotate_z", 1 << 20);

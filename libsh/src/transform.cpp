@@ -12,7 +12,11 @@
 #include <cstring>
 #include <numbers>
 #include <string>
+#include <map>
+#include <mutex>
 #include <thread>
+
+#include <fftw3.h>
 
 #include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
@@ -94,138 +98,6 @@ void sectorals(int bands, const Pairs& p, const LegendreTable& t, std::vector<do
 }
 }  // namespace
 
-
-// ---- vectorised column kernels -------------------------------------------------
-// V holds one value per ring pair of a block; GCC lowers it to the widest vectors the
-// target has (SSE2 by default; the AVX2/FMA clone is picked at run time on x86-64).
-typedef double V __attribute__((vector_size(B * sizeof(double))));
-
-// Native-width halves of a lane block (two 4-double vectors: one AVX register each).
-typedef double V4 __attribute__((vector_size(4 * sizeof(double))));
-static_assert(B == 8, "kernels below are written for 8 lanes");
-static inline V4 lo(const V& v) { return V4{v[0], v[1], v[2], v[3]}; }
-static inline V4 hi(const V& v) { return V4{v[4], v[5], v[6], v[7]}; }
-
-// Even/odd parity sums over l = l0..bands-1 of Pbar_lm(x) c_l,+-m (added to E*, O*).
-ATMOSH_DISPATCH
-static void synthesis_run(int bands, int m, int l0, const double* a, const double* b, const double* coeffs,
-                          const V& xr, const V& p2r, const V& p1r, V& Ec, V& Es, V& Oc, V& Os) {
-  const V4 x0 = lo(xr), x1 = hi(xr);
-  V4 p20 = lo(p2r), p21 = hi(p2r), p10 = lo(p1r), p11 = hi(p1r);
-  V4 ec0 = lo(Ec), ec1 = hi(Ec), es0 = lo(Es), es1 = hi(Es), oc0 = lo(Oc), oc1 = hi(Oc), os0 = lo(Os),
-     os1 = hi(Os);
-  int l = l0;
-  std::size_t ti = tri_index(l, m);
-  if (l < bands && ((l - m) & 1)) {
-    const int i0 = l * (l + 1);
-    const V4 pa0 = a[ti] * x0 * p10 - b[ti] * p20;
-    const V4 pa1 = a[ti] * x1 * p11 - b[ti] * p21;
-    oc0 += pa0 * coeffs[i0 + m];
-    oc1 += pa1 * coeffs[i0 + m];
-    os0 += pa0 * coeffs[i0 - m];
-    os1 += pa1 * coeffs[i0 - m];
-    p20 = p10;
-    p21 = p11;
-    p10 = pa0;
-    p11 = pa1;
-    ti += l + 1;
-    ++l;
-  }
-  for (; l + 1 < bands; l += 2) {
-    const double a0 = a[ti], b0 = b[ti];
-    const double a1 = a[ti + l + 1], b1 = b[ti + l + 1];
-    const int i0 = l * (l + 1), i1 = (l + 1) * (l + 2);
-    const double c0c = coeffs[i0 + m], c0s = coeffs[i0 - m], c1c = coeffs[i1 + m], c1s = coeffs[i1 - m];
-    const V4 pa0 = a0 * x0 * p10 - b0 * p20;
-    const V4 pa1 = a0 * x1 * p11 - b0 * p21;
-    const V4 pb0 = a1 * x0 * pa0 - b1 * p10;
-    const V4 pb1 = a1 * x1 * pa1 - b1 * p11;
-    ec0 += pa0 * c0c;
-    ec1 += pa1 * c0c;
-    es0 += pa0 * c0s;
-    es1 += pa1 * c0s;
-    oc0 += pb0 * c1c;
-    oc1 += pb1 * c1c;
-    os0 += pb0 * c1s;
-    os1 += pb1 * c1s;
-    p20 = pa0;
-    p21 = pa1;
-    p10 = pb0;
-    p11 = pb1;
-    ti += 2 * l + 3;
-  }
-  if (l < bands) {
-    const int i0 = l * (l + 1);
-    const V4 pa0 = a[ti] * x0 * p10 - b[ti] * p20;
-    const V4 pa1 = a[ti] * x1 * p11 - b[ti] * p21;
-    ec0 += pa0 * coeffs[i0 + m];
-    ec1 += pa1 * coeffs[i0 + m];
-    es0 += pa0 * coeffs[i0 - m];
-    es1 += pa1 * coeffs[i0 - m];
-  }
-  for (int k = 0; k < 4; ++k) {
-    Ec[k] = ec0[k];
-    Ec[k + 4] = ec1[k];
-    Es[k] = es0[k];
-    Es[k + 4] = es1[k];
-    Oc[k] = oc0[k];
-    Oc[k + 4] = oc1[k];
-    Os[k] = os0[k];
-    Os[k + 4] = os1[k];
-  }
-}
-
-// Scalar start of a block whose sectoral values need the extended range. Each lane
-// advances (values below 2^-500 are dropped: they cannot change a double result) until
-// every lane is in the plain range; calls out(k, l, value) for l < returned lstar, and
-// leaves p2/p1 = Pbar_lstar-2, Pbar_lstar-1 (lstar >= m+2, or bands).
-template <class Out>
-static int extended_start(int bands, int m, const double* a, const double* b, const V& x, const double* mant,
-                          const int* ex, V& p2v, V& p1v, Out&& out) {
-  double P2[B], P1[B];
-  int E[B], Lk[B];
-  int lstar = m + 2;
-  for (int k = 0; k < B; ++k) {
-    double p2 = mant[k];
-    int e = ex[k];
-    if (e == 0) out(k, m, p2);
-    double p1 = std::sqrt(2.0 * m + 3.0) * x[k] * p2;
-    if (e == 0 && m + 1 < bands) out(k, m + 1, p1);
-    int l = m + 2;
-    std::size_t ti = tri_index(l, m);
-    for (; l < bands && e < 0; ++l) {
-      const double p = a[ti] * x[k] * p1 - b[ti] * p2;
-      p2 = p1;
-      p1 = p;
-      if (std::abs(p1) > 0x1p+100) {
-        p1 *= kScaleDown;
-        p2 *= kScaleDown;
-        e += kScaleExp;
-      }
-      if (e == 0) out(k, l, p1);
-      ti += l + 1;
-    }
-    P2[k] = p2;
-    P1[k] = p1;
-    E[k] = e;
-    Lk[k] = l;
-    lstar = std::max(lstar, l);
-  }
-  for (int k = 0; k < B; ++k) {
-    double p2 = P2[k], p1 = P1[k];
-    std::size_t ti = tri_index(Lk[k], m);
-    for (int l = Lk[k]; l < lstar; ++l) {
-      const double p = a[ti] * x[k] * p1 - b[ti] * p2;
-      p2 = p1;
-      p1 = p;
-      if (E[k] == 0) out(k, l, p1);
-      ti += l + 1;
-    }
-    p2v[k] = E[k] == 0 ? p2 : 0.0;
-    p1v[k] = E[k] == 0 ? p1 : 0.0;
-  }
-  return lstar;
-}
 
 // ---- analysis: even-degree recurrence in x^2 ------------------------------------
 // For one m write P_l = Pbar_lm and eps_l = sqrt((l^2 - m^2) / (4 l^2 - 1)), so that
@@ -555,6 +427,175 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
 }
 }  // namespace
 
+// ---- synthesis: the same recurrence in x^2, transposed ------------------------
+// For one m, the even degrees l = m + 2k contribute E(x) = sum_k e_k lam_k(x) with
+// e_k = alpha_k c_m+2k. The odd degrees follow from the analysis identity above: with
+// L the unit lower bidiagonal matrix (L_k,k-1 = qa_k) and D = diag(rb_k),
+// Pbar_m+2k+1(x) = x sum_j (L^-1 D)_kj lam_j(x) for every x, so
+// O(x) = sum_k c_m+2k+1 Pbar_m+2k+1(x) = x sum_j d_j lam_j(x) with d = D L^-T c_odd (a
+// backward substitution y_k = c_k - qa_k+1 y_k+1, d_k = rb_k y_k). Per ring pair and two
+// degrees: 2 FMAs of recurrence (the same lam as the analysis) and 4 of accumulation
+// (cos and sin parts of E and of O / x). Blocks of W ring pairs are run one after the
+// other (two at a time, to overlap the recurrences), k inner, with their sums in
+// registers; lanes in the extended range are stepped as in ana_extended and contribute
+// from the step at which they reach the plain range (their terms before are < 2^-250).
+namespace {
+template <int W>
+struct SynState {
+  using D = typename Lanes<W>::D;
+  D csq, lam1, lam2, e, ec, es, dc, ds;
+};
+
+// Extended phase of one block: steps until every lane is plain (returns that step, a
+// multiple of 2) or past kmax; masked sums of the plain lanes meanwhile.
+template <int W>
+__attribute__((always_inline)) inline int syn_extended(int kmax, const double* ap, const double* bp, const double* cf,
+                                                       SynState<W>& g) {
+  using D = typename Lanes<W>::D;
+  using I = typename Lanes<W>::I;
+  const D down = D{} + kScaleDown, step = D{} + static_cast<double>(kScaleExp);
+  const I fold = I{} + std::bit_cast<long long>(kFold), magnitude = I{} + 0x7fffffffffffffffLL;
+  int k = 0;
+  for (; k <= kmax; k += 2) {
+    if (k % kFoldEvery == 0) {
+      I ext = (I)g.e >> 63;
+      const I big = (((fold - ((I)g.lam2 & magnitude)) | (fold - ((I)g.lam1 & magnitude))) >> 63) & ext;
+      if (any(big)) {
+        g.lam1 = (D)(((I)(g.lam1 * down) & big) | ((I)g.lam1 & ~big));
+        g.lam2 = (D)(((I)(g.lam2 * down) & big) | ((I)g.lam2 & ~big));
+        g.e = (D)(((I)(g.e + step) & big) | ((I)g.e & ~big));
+        ext = (I)g.e >> 63;
+      }
+      if (!any(ext)) return k;
+    }
+    const I plain = ~((I)g.e >> 63);
+    const D csq = g.csq, l2 = g.lam2;
+    const D t1 = (ap[k] * csq + bp[k]) * l2 + g.lam1;
+    const D v = (D)((I)l2 & plain), w = (D)((I)t1 & plain);
+    const double* c0 = cf + 4 * k;
+    g.ec += v * c0[0] + w * c0[4];
+    g.es += v * c0[1] + w * c0[5];
+    g.dc += v * c0[2] + w * c0[6];
+    g.ds += v * c0[3] + w * c0[7];
+    g.lam1 = t1;
+    g.lam2 = (ap[k + 1] * csq + bp[k + 1]) * t1 + l2;
+  }
+  return k;
+}
+
+// Plain phase of two blocks from steps k0, k1 to kmax (cf: 4 values per step, zero past
+// the column's last degree; defined to kmax + 1).
+template <int W>
+__attribute__((always_inline)) inline void syn_plain2(int kmax, const double* ap, const double* bp, const double* cf,
+                                                      SynState<W>& g, int k0, SynState<W>& h, int k1) {
+  using D = typename Lanes<W>::D;
+  auto one = [&](SynState<W>& s, int& k) {
+    const D csq = s.csq;
+    D l2 = s.lam2, l1 = s.lam1;
+    const double* c = cf + 4 * k;
+    s.ec += l2 * c[0];
+    s.es += l2 * c[1];
+    s.dc += l2 * c[2];
+    s.ds += l2 * c[3];
+    l1 = (ap[k] * csq + bp[k]) * l2 + l1;
+    s.ec += l1 * c[4];
+    s.es += l1 * c[5];
+    s.dc += l1 * c[6];
+    s.ds += l1 * c[7];
+    s.lam2 = (ap[k + 1] * csq + bp[k + 1]) * l1 + l2;
+    s.lam1 = l1;
+    k += 2;
+  };
+  // the later block first catches up, then both step together (registers hold both)
+  while (k0 < k1 && k0 <= kmax) one(g, k0);
+  while (k1 < k0 && k1 <= kmax) one(h, k1);
+  SynState<W> a = g, b = h;
+  int k = k0;
+  for (; k <= kmax; k += 2) {
+    const double* c = cf + 4 * k;
+    const double a1 = ap[k], b1 = bp[k], a2 = ap[k + 1], b2 = bp[k + 1];
+    const D ca = a.csq, cb = b.csq;
+    D la2 = a.lam2, la1 = a.lam1, lb2 = b.lam2, lb1 = b.lam1;
+    a.ec += la2 * c[0];
+    b.ec += lb2 * c[0];
+    a.es += la2 * c[1];
+    b.es += lb2 * c[1];
+    a.dc += la2 * c[2];
+    b.dc += lb2 * c[2];
+    a.ds += la2 * c[3];
+    b.ds += lb2 * c[3];
+    la1 = (a1 * ca + b1) * la2 + la1;
+    lb1 = (a1 * cb + b1) * lb2 + lb1;
+    a.ec += la1 * c[4];
+    b.ec += lb1 * c[4];
+    a.es += la1 * c[5];
+    b.es += lb1 * c[5];
+    a.dc += la1 * c[6];
+    b.dc += lb1 * c[6];
+    a.ds += la1 * c[7];
+    b.ds += lb1 * c[7];
+    a.lam2 = (a2 * ca + b2) * la1 + la2;
+    b.lam2 = (a2 * cb + b2) * lb1 + lb2;
+    a.lam1 = la1;
+    b.lam1 = lb1;
+  }
+  g = a;
+  h = b;
+}
+
+// Column m for all blocks: x, mant, ex per lane (padded), cf the step coefficients;
+// writes the per-lane sums E cos, E sin, O cos, O sin (O = x * D) to out[4 * q + f].
+template <int W>
+__attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, const double* x, const double* mant,
+                                                      const int* ex, const double* ap, const double* bp,
+                                                      const double* cf, double* out) {
+  for (int gi = 0; gi < ngroups; gi += 2) {
+    SynState<W> st[2];
+    int k[2] = {kmax + 1, kmax + 1};
+    const int nb = std::min(2, ngroups - gi);
+    for (int b = 0; b < 2; ++b) {
+      SynState<W>& g = st[b];
+      for (int j = 0; j < W; ++j) {
+        const int q = W * (gi + std::min(b, nb - 1)) + j;
+        g.csq[j] = x[q] * x[q];
+        g.lam1[j] = 0.0;
+        g.lam2[j] = mant[q];
+        g.e[j] = ex[q];
+        g.ec[j] = g.es[j] = g.dc[j] = g.ds[j] = 0.0;
+      }
+      if (b < nb) {
+        bool plain = true;
+        for (int j = 0; j < W; ++j) plain &= g.e[j] == 0.0;
+        k[b] = plain ? 0 : syn_extended<W>(kmax, ap, bp, cf, g);
+      }
+    }
+    syn_plain2<W>(kmax, ap, bp, cf, st[0], k[0], st[1], k[1]);
+    for (int b = 0; b < nb; ++b)
+      for (int j = 0; j < W; ++j) {
+        const int q = W * (gi + b) + j;
+        double* o = out + 4 * static_cast<std::size_t>(q);
+        o[0] = st[b].ec[j];
+        o[1] = st[b].es[j];
+        o[2] = x[q] * st[b].dc[j];
+        o[3] = x[q] * st[b].ds[j];
+      }
+  }
+}
+
+ATMOSH_DISPATCH
+static void syn_column4(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
+                        const double* bp, const double* cf, double* out) {
+  syn_column<4>(kmax, ngroups, x, mant, ex, ap, bp, cf, out);
+}
+#if ATMOSH_HAS_DISPATCH
+ATMOSH_TARGET_AVX512
+#endif
+static void syn_column8(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
+                        const double* bp, const double* cf, double* out) {
+  syn_column<8>(kmax, ngroups, x, mant, ex, ap, bp, cf, out);
+}
+}  // namespace
+
 namespace {
 // Ring pairs per lane block of the analysis kernels (B is a multiple of both).
 int analysis_lanes() { return has_avx512() ? 8 : 4; }
@@ -676,61 +717,57 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
                         const double* coeffs, bool symmetric, double* fourier, int threads) {
   threads = atmosh::resolve_threads(threads);
   const auto table = legendre_table(bands);
-  const double* a = table->a();
-  const double* b = table->b();
   const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
   std::vector<double> smant;
   std::vector<int> sexp;
   sectorals(bands, pr, *table, smant, sexp);
+  const int W = analysis_lanes();
 
   parallel_for_m(bands, threads, [&](int t0, int step) {
+    AnaCoef cf;
+    std::vector<double> sc(4 * (static_cast<std::size_t>(bands) + 4)), y(bands + 4);
+    std::vector<double> sums(4 * static_cast<std::size_t>(padded));
     for (int m = t0; m < bands; m += step) {
+      const int kmax = (bands - 1 - m) / 2;
+      ana_coefficients(bands, m, cf);
+      // step coefficients: e_k (cos, sin) and d_k (cos, sin), zero past the last degree
+      std::fill(sc.begin(), sc.begin() + 4 * (kmax + 2), 0.0);
+      for (int k = 0; k <= kmax; ++k) {
+        const int l = m + 2 * k, i = l * (l + 1);
+        sc[4 * k] = cf.alpha[k] * coeffs[i + m];
+        sc[4 * k + 1] = m > 0 ? cf.alpha[k] * coeffs[i - m] : 0.0;
+      }
+      const int kodd = (bands - 2 - m) / 2;  // odd degrees m + 2k + 1 < bands: k <= kodd
+      if (bands - 2 - m >= 0) {
+        double yc = 0.0, ys = 0.0;
+        for (int k = kodd; k >= 0; --k) {
+          const int l = m + 2 * k + 1, i = l * (l + 1);
+          const double q = k + 1 <= kodd ? cf.qa[k + 1] : 0.0;
+          yc = coeffs[i + m] - q * yc;
+          ys = (m > 0 ? coeffs[i - m] : 0.0) - q * ys;
+          sc[4 * k + 2] = cf.rb[k] * yc;
+          sc[4 * k + 3] = cf.rb[k] * ys;
+        }
+      }
+      const std::size_t off = static_cast<std::size_t>(m) * padded;
+      if (W == 8)
+        syn_column8(kmax, padded / 8, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
+                    sc.data(), sums.data());
+      else
+        syn_column4(kmax, padded / 4, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
+                    sc.data(), sums.data());
       const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
-      for (int blk = 0; blk < padded; blk += B) {
-        bool plain = true;
-        V x, p2, p1, Ec{}, Es{}, Oc{}, Os{};
-        const double* mant = smant.data() + static_cast<std::size_t>(m) * padded + blk;
-        const int* ex = sexp.data() + static_cast<std::size_t>(m) * padded + blk;
-        for (int k = 0; k < B; ++k) {
-          x[k] = pr.x[blk + k];
-          p2[k] = mant[k];
-          if (ex[k] != 0) plain = false;
-        }
-        int l0 = m + 2;
-        if (plain) {
-          Ec += p2 * coeffs[sh_index(m, m)];
-          Es += p2 * coeffs[sh_index(m, -m)];
-          p1 = std::sqrt(2.0 * m + 3.0) * x * p2;
-          if (m + 1 < bands) {
-            Oc += p1 * coeffs[sh_index(m + 1, m)];
-            Os += p1 * coeffs[sh_index(m + 1, -m)];
-          }
-        } else {
-          l0 = extended_start(bands, m, a, b, x, mant, ex, p2, p1, [&](int k, int l, double v) {
-            const int i = l * (l + 1);
-            if ((l + m) & 1) {
-              Oc[k] += v * coeffs[i + m];
-              Os[k] += v * coeffs[i - m];
-            } else {
-              Ec[k] += v * coeffs[i + m];
-              Es[k] += v * coeffs[i - m];
-            }
-          });
-        }
-        if (l0 < bands) synthesis_run(bands, m, l0, a, b, coeffs, x, p2, p1, Ec, Es, Oc, Os);
-        for (int k = 0; k < B; ++k) {
-          const int q = blk + k;
-          if (q >= np) break;
-          double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
-          fn[0] = scale * (Ec[k] + Oc[k]);
-          fn[1] = m > 0 ? scale * (Es[k] + Os[k]) : 0.0;
-          if (pr.south[q] >= 0) {
-            double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
-            fs[0] = scale * (Ec[k] - Oc[k]);
-            fs[1] = m > 0 ? scale * (Es[k] - Os[k]) : 0.0;
-          }
+      for (int q = 0; q < np; ++q) {
+        const double* v = sums.data() + 4 * static_cast<std::size_t>(q);
+        double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
+        fn[0] = scale * (v[0] + v[2]);
+        fn[1] = m > 0 ? scale * (v[1] + v[3]) : 0.0;
+        if (pr.south[q] >= 0) {
+          double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
+          fs[0] = scale * (v[0] - v[2]);
+          fs[1] = m > 0 ? scale * (v[1] - v[3]) : 0.0;
         }
       }
     }
@@ -811,55 +848,103 @@ void fft(double* re, double* im, int n, int sign) {
     fft_stage(re, im, n, half, tw_re.data() + half, tw_im.data() + half, static_cast<double>(sign));
 }
 
+namespace {
+struct FftPlans {
+  fftw_plan r2c = nullptr, c2r = nullptr;
+};
+std::mutex& fftw_planner_mutex() {
+  static std::mutex mu;
+  return mu;
+}
+// Plans of size n, made once and kept until the process exits; then they are destroyed and
+// FFTW's planner memory released (fftw_cleanup), so that leak checkers see nothing.
+struct PlanCache {
+  std::map<int, FftPlans> plans;
+  ~PlanCache() {
+    std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+    for (auto& [n, p] : plans) {
+      fftw_destroy_plan(p.r2c);
+      fftw_destroy_plan(p.c2r);
+    }
+    plans.clear();
+    fftw_cleanup();
+  }
+};
+const FftPlans* fft_plans(int n) {
+  std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+  static PlanCache cache;
+  auto& plans = cache.plans;
+  auto it = plans.find(n);
+  if (it != plans.end()) return &it->second;
+  double* r = fftw_alloc_real(static_cast<std::size_t>(n));
+  fftw_complex* c = fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1);
+  FftPlans p;
+  p.r2c = fftw_plan_dft_r2c_1d(n, r, c, FFTW_ESTIMATE);
+  p.c2r = fftw_plan_dft_c2r_1d(n, c, r, FFTW_ESTIMATE);
+  fftw_free(r);
+  fftw_free(c);
+  if (!p.r2c || !p.c2r) throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
+  return &plans.emplace(n, p).first->second;
+}
+}  // namespace
+
+RealFft::RealFft(int n) : n_(n) {
+  if (n < 1) throw InputError("RealFft: size must be >= 1, got " + std::to_string(n));
+  plans_ = fft_plans(n);
+  real_ = fftw_alloc_real(static_cast<std::size_t>(n));
+  spec_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
+  if (!real_ || !spec_) {
+    fftw_free(real_);
+    fftw_free(spec_);
+    throw std::bad_alloc();
+  }
+}
+
+RealFft::~RealFft() {
+  fftw_free(real_);
+  fftw_free(spec_);
+}
+
+template <class T>
+void RealFft::forward(const T* f, int count, double* out) {
+  for (int j = 0; j < n_; ++j) real_[j] = static_cast<double>(f[j]);
+  fftw_execute_dft_r2c(static_cast<const FftPlans*>(plans_)->r2c, real_, reinterpret_cast<fftw_complex*>(spec_));
+  // X_k = sum_j f_j e^{-2 pi i j k / n} = a_k - i b_k
+  const int half = n_ / 2;
+  for (int m = 0; m < count; ++m) {
+    int k = m % n_;
+    double sg = -1.0;
+    if (k > half) {
+      k = n_ - k;
+      sg = 1.0;
+    }
+    out[2 * m] = spec_[2 * k];
+    out[2 * m + 1] = sg * spec_[2 * k + 1];
+  }
+}
+template void RealFft::forward<double>(const double*, int, double*);
+template void RealFft::forward<float>(const float*, int, double*);
+
+void RealFft::inverse(const double* cs, int count, double* v) {
+  if (2 * count - 1 > n_)
+    throw InputError("RealFft::inverse: " + std::to_string(count) + " orders need at least " +
+                     std::to_string(2 * count - 1) + " points, have " + std::to_string(n_));
+  const int nspec = n_ / 2 + 1;
+  // c2r: v_j = X_0 + 2 Re sum_{0 < k < n/2} X_k e^{2 pi i j k / n} (+ X_{n/2} (-1)^j):
+  // X_0 = C_0, X_m = (C_m - i S_m) / 2
+  spec_[0] = count > 0 ? cs[0] : 0.0;
+  spec_[1] = 0.0;
+  for (int m = 1; m < nspec; ++m) {
+    spec_[2 * m] = m < count ? 0.5 * cs[2 * m] : 0.0;
+    spec_[2 * m + 1] = m < count ? -0.5 * cs[2 * m + 1] : 0.0;
+  }
+  fftw_execute_dft_c2r(static_cast<const FftPlans*>(plans_)->c2r, reinterpret_cast<fftw_complex*>(spec_), real_);
+  std::copy(real_, real_ + n_, v);
+}
+
 }  // namespace detail
 
 namespace {
-bool is_pow2(int n) { return n > 0 && (n & (n - 1)) == 0; }
-
-// Ring sums a_m = sum_j f_j cos(m p_j), b_m = sum_j f_j sin(m p_j) for m < bands,
-// two rings at a time (second may be null).
-void ring_fourier(int bands, int nphi, const double* f1, const double* f2, double* out1, double* out2,
-                  std::vector<double>& re, std::vector<double>& im, const std::vector<double>& costab,
-                  const std::vector<double>& sintab) {
-  if (is_pow2(nphi)) {
-    re.assign(f1, f1 + nphi);
-    if (f2)
-      im.assign(f2, f2 + nphi);
-    else
-      im.assign(nphi, 0.0);
-    detail::fft(re.data(), im.data(), nphi, -1);
-    for (int m = 0; m < bands; ++m) {
-      const int mm = (nphi - m) % nphi;
-      // F1 = (Z[m] + conj Z[-m]) / 2 ; F2 = (Z[m] - conj Z[-m]) / (2i)
-      const double f1r = 0.5 * (re[m] + re[mm]), f1i = 0.5 * (im[m] - im[mm]);
-      const double f2r = 0.5 * (im[m] + im[mm]), f2i = -0.5 * (re[m] - re[mm]);
-      out1[2 * m] = f1r;
-      out1[2 * m + 1] = -f1i;
-      if (out2) {
-        out2[2 * m] = f2r;
-        out2[2 * m + 1] = -f2i;
-      }
-    }
-    return;
-  }
-  for (int pass = 0; pass < 2; ++pass) {
-    const double* f = pass == 0 ? f1 : f2;
-    double* o = pass == 0 ? out1 : out2;
-    if (!f) continue;
-    for (int m = 0; m < bands; ++m) {
-      double sc = 0, ss = 0;
-      long long idx = 0;
-      for (int j = 0; j < nphi; ++j) {
-        sc += f[j] * costab[idx];
-        ss += f[j] * sintab[idx];
-        idx += m;
-        if (idx >= nphi) idx -= nphi;
-      }
-      o[2 * m] = sc;
-      o[2 * m + 1] = ss;
-    }
-  }
-}
 // Weighted ring sums of one ring pair for the Legendre stage: from the ring sums fn
 // (north) and fs (south, null: none) at [2 m + {0, 1}] and the rings' quadrature
 // weights, E cos, E sin, xO cos, xO sin at out[f * bands + m]. Rounded as written (no
@@ -911,20 +996,43 @@ GaussGrid gauss_grid(int bands, int nlat, int nphi) {
   return g;
 }
 
+GaussGrid regular_grid(int bands, LatitudeRule rule, int nlat, int nphi) {
+  check_bands(bands, "regular_grid");
+  if (rule == LatitudeRule::gauss) throw InputError("regular_grid: rule must be fejer or clenshaw_curtis (gauss: use gauss_grid)");
+  if (nlat == 0) nlat = 2 * bands;
+  if (nphi == 0) {
+    nphi = 1;
+    while (nphi < 2 * bands - 1) nphi <<= 1;
+  }
+  if (nlat < 2 * bands - 1 || nlat < 2)
+    throw InputError("regular_grid: nlat must be >= 2*bands-1 (and >= 2), got " + std::to_string(nlat));
+  if (nphi < 2 * bands - 1) throw InputError("regular_grid: nphi must be >= 2*bands-1, got " + std::to_string(nphi));
+  GaussGrid g;
+  g.bands = bands;
+  g.rule = rule;
+  g.nlat = nlat;
+  g.nphi = nphi;
+  g.weights = rule == LatitudeRule::fejer ? fejer1_weights(nlat) : clenshaw_curtis_weights(nlat);
+  g.cos_t.resize(nlat);
+  g.sin_t.resize(nlat);
+  for (int i = 0; i < (nlat + 1) / 2; ++i) {
+    const double t = rule == LatitudeRule::fejer ? std::numbers::pi * (i + 0.5) / nlat
+                                                 : std::numbers::pi * i / (nlat - 1);
+    // exact mirror symmetry (the Legendre stage pairs ring i with ring nlat-1-i)
+    const bool equator = 2 * i + 1 == nlat;
+    g.cos_t[i] = equator ? 0.0 : std::cos(t);
+    g.sin_t[i] = equator ? 1.0 : std::sin(t);
+    g.cos_t[nlat - 1 - i] = -g.cos_t[i];
+    g.sin_t[nlat - 1 - i] = g.sin_t[i];
+  }
+  return g;
+}
+
 std::vector<double> analyse(const GaussGrid& g, const double* values, int threads) {
   if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
     throw InputError("analyse: grid is not initialised (use gauss_grid)");
   threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
-  std::vector<double> costab, sintab;
-  if (!is_pow2(n)) {
-    costab.resize(n);
-    sintab.resize(n);
-    for (int j = 0; j < n; ++j) {
-      costab[j] = std::cos(2.0 * std::numbers::pi * j / n);
-      sintab[j] = std::sin(2.0 * std::numbers::pi * j / n);
-    }
-  }
   // Ring sums straight into the m-major layout of the Legendre stage: one block of
   // ring pairs at a time (its planes stay in cache while its lanes are filled).
   const detail::Pairs pr = detail::make_pairs(g.nlat, g.cos_t.data(), g.sin_t.data(), true);
@@ -933,7 +1041,8 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
   std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(L) * padded * 4]);
   const double dphi = 2.0 * std::numbers::pi / n;
   auto work = [&](int t0, int step) {
-    std::vector<double> re, im, fn(2 * static_cast<std::size_t>(L)), fs(2 * static_cast<std::size_t>(L));
+    detail::RealFft fft(n);
+    std::vector<double> fn(2 * static_cast<std::size_t>(L)), fs(2 * static_cast<std::size_t>(L));
     std::vector<double> lanes(static_cast<std::size_t>(W) * 4 * L);  // [lane][field][m]
     for (int blk = t0; blk < padded / W; blk += step) {
       for (int k = 0; k < W; ++k) {
@@ -944,8 +1053,8 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
           continue;
         }
         const int r = pr.north[q], s = pr.south[q];
-        ring_fourier(L, n, values + static_cast<std::size_t>(r) * n, s >= 0 ? values + static_cast<std::size_t>(s) * n : nullptr,
-                     fn.data(), s >= 0 ? fs.data() : nullptr, re, im, costab, sintab);
+        fft.forward(values + static_cast<std::size_t>(r) * n, L, fn.data());
+        if (s >= 0) fft.forward(values + static_cast<std::size_t>(s) * n, L, fs.data());
         // weights of the Gauss rule in latitude and of the uniform rule in longitude
         pair_sums(L, fn.data(), s >= 0 ? fs.data() : nullptr, g.weights[r] * dphi, s >= 0 ? g.weights[s] * dphi : 0.0,
                   pr.x[q], out);
@@ -979,49 +1088,10 @@ std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int thr
   std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
   detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four.data(), threads);
   std::vector<double> out(static_cast<std::size_t>(g.nlat) * n, 0.0);
-  const int npairs = (g.nlat + 1) / 2;
   auto work = [&](int t0, int step) {
-    std::vector<double> re(n), im(n);
-    for (int p = t0; p < npairs; p += step) {
-      const int s = g.nlat - 1 - p;
-      const double* fn = four.data() + static_cast<std::size_t>(p) * L * 2;
-      const double* fs = s != p ? four.data() + static_cast<std::size_t>(s) * L * 2 : nullptr;
-      if (is_pow2(n)) {
-        std::fill(re.begin(), re.end(), 0.0);
-        std::fill(im.begin(), im.end(), 0.0);
-        // Z[k] = F_N[k] + i F_S[k]; F[m] = (C - iS)/2, F[-m] = (C + iS)/2, F[0] = C
-        for (int m = 0; m < L; ++m) {
-          const double cn = fn[2 * m], sn = fn[2 * m + 1];
-          const double cs = fs ? fs[2 * m] : 0.0, ss = fs ? fs[2 * m + 1] : 0.0;
-          if (m == 0) {
-            re[0] += cn;
-            im[0] += cs;
-            continue;
-          }
-          // F_N[m] = (cn - i sn)/2 ; i F_S[m] = i (cs - i ss)/2 = (ss + i cs)/2
-          re[m] += 0.5 * (cn + ss);
-          im[m] += 0.5 * (-sn + cs);
-          // F_N[-m] = (cn + i sn)/2 ; i F_S[-m] = i (cs + i ss)/2 = (-ss + i cs)/2
-          re[n - m] += 0.5 * (cn - ss);
-          im[n - m] += 0.5 * (sn + cs);
-        }
-        detail::fft(re.data(), im.data(), n, +1);
-        std::copy(re.begin(), re.end(), out.begin() + static_cast<std::size_t>(p) * n);
-        if (fs) std::copy(im.begin(), im.end(), out.begin() + static_cast<std::size_t>(s) * n);
-      } else {
-        for (int pass = 0; pass < 2; ++pass) {
-          const double* f = pass == 0 ? fn : fs;
-          if (!f) continue;
-          double* o = out.data() + static_cast<std::size_t>(pass == 0 ? p : s) * n;
-          for (int j = 0; j < n; ++j) {
-            double v = 0;
-            const double ph = 2.0 * std::numbers::pi * j / n;
-            for (int m = 0; m < L; ++m) v += f[2 * m] * std::cos(m * ph) + f[2 * m + 1] * std::sin(m * ph);
-            o[j] = v;
-          }
-        }
-      }
-    }
+    detail::RealFft fft(n);
+    for (int r = t0; r < g.nlat; r += step)
+      fft.inverse(four.data() + static_cast<std::size_t>(r) * L * 2, L, out.data() + static_cast<std::size_t>(r) * n);
   };
   if (threads <= 1) {
     work(0, 1);

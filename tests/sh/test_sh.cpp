@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <complex>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -140,9 +141,11 @@ TEST(Basis, ClosedFormsLowBands) {
 }
 
 TEST(Basis, FastPathAgreesWithGeneralPath) {
+  // evaluate() itself runs the fast path for L <= 8: the reference is the general path at
+  // kFastMaxBands + 1 bands (its first L^2 values).
   for (int L = 1; L <= kFastMaxBands; ++L)
     for (const auto& d : test_dirs(100, 2)) {
-      const auto g = evaluate(L, d);
+      const auto g = evaluate(kFastMaxBands + 1, d);
       double yd[64];
       float yf[64];
       evaluate_fast(L, d.x, d.y, d.z, yd);
@@ -170,7 +173,7 @@ TEST(Basis, FastPathAgreesWithGeneralPath) {
     ASSERT_TRUE(evaluate_fast_batch(L, n, xs.data(), ys.data(), zs.data(), outf.data(), stride));
     ASSERT_TRUE(evaluate_fast_batch(L, n, xd.data(), yd.data(), zd.data(), outd.data(), stride));
     for (std::size_t k = 0; k < n; ++k) {
-      const auto g = evaluate(L, dirs[k]);
+      const auto g = evaluate(kFastMaxBands + 1, dirs[k]);
       for (int l = 0; l < L; ++l) {
         const double scale = std::sqrt((2 * l + 1) / (4 * kPi));
         for (int m = -l; m <= l; ++m) {
@@ -500,14 +503,14 @@ TEST(Projection, ImagesOfConstantsAndCubeOrientation) {
   EXPECT_GT(cube_texel_direction(4, 3, 3, 7).z, 0.99);
   EXPECT_GT(cube_texel_direction(2, 3, 3, 7).y, 0.99);
   std::vector<float> img(2 * 16 * 8, 1.0f);
-  const auto ce = project_equirect(ImageView{16, 8, 1, img.data()}, 3)[0];
+  const auto ce = project_equirect(ImageView{16, 8, 1, img.data()}, 3, 1, PixelRule::solid_angle)[0];
   EXPECT_NEAR(ce[0], std::sqrt(4 * kPi), 1e-12);
-  // m != 0 and odd l vanish exactly (uniform rule in p, mirror-symmetric rows); c_20 is the
-  // midpoint error of the pixel-centre basis value, O(1/H^2).
+  // solid-angle rule: m != 0 and odd l vanish exactly (uniform rule in p, mirror-symmetric
+  // rows); c_20 is the midpoint error of the pixel-centre basis value, O(1/H^2).
   for (int i = 1; i < 9; ++i)
     if (i != sh_index(2, 0)) EXPECT_NEAR(ce[i], 0.0, 1e-12);
   std::vector<float> img64(2 * 64 * 64, 1.0f);
-  const auto ce64 = project_equirect(ImageView{128, 64, 1, img64.data()}, 3)[0];
+  const auto ce64 = project_equirect(ImageView{128, 64, 1, img64.data()}, 3, 1, PixelRule::solid_angle)[0];
   EXPECT_LT(std::abs(ce64[6]), std::abs(ce[6]) / 40);
   // cross unpack: horizontal cross of face indices
   std::vector<float> cross(4 * N * 3 * N, -1.0f);
@@ -677,4 +680,33 @@ TEST(Conversions, SchmidtFourPiNoCsAndComplex) {
   const auto back = from_complex(to_complex(random_coeffs(5, 4), 5), 5);
   const auto orig = random_coeffs(5, 4);
   for (int i = 0; i < 25; ++i) EXPECT_NEAR(back[i], orig[i], 1e-15);
+}
+
+TEST(Basis, ReconstructIsTheSumOfCoefficientsTimesBasis) {
+  // reconstruct() (fast path to 8 bands, a per-thread buffer above) against sum c_i Y_i
+  // with Y from the general path at one band more.
+  for (int L : {1, 4, 8, 9, 20, 130}) {
+    const auto c = random_coeffs(L, 40 + L);
+    for (const auto& d : test_dirs(10, 5)) {
+      const auto y = evaluate(L + 1, d);
+      double s = 0;
+      for (int i = 0; i < L * L; ++i) s += c[i] * y[i];
+      EXPECT_NEAR(reconstruct(L, c.data(), d), s, 1e-13 * L) << L;
+    }
+  }
+  // non-unit lengths (the small-band path normalises; tiny ones go through the checked path)
+  const auto c4 = random_coeffs(4, 77);
+  const glm::dvec3 u = glm::normalize(glm::dvec3(0.3, -0.4, 0.8));
+  const double r0 = reconstruct(4, c4.data(), u);
+  for (double len : {1e-300, 1e-200, 1e-3, 7.5, 1e100, 1e300}) {
+    EXPECT_NEAR(reconstruct(4, c4.data(), u * len), r0, 1e-14) << len;
+    const auto y = evaluate(4, u * len), y0 = evaluate(4, u);
+    for (int i = 0; i < 16; ++i) EXPECT_NEAR(y[i], y0[i], 1e-15) << len;
+  }
+  const double c0 = 1.0;
+  EXPECT_THROW(evaluate(4, glm::dvec3(0.0)), atmosh::InputError);
+  EXPECT_THROW(evaluate(4, glm::dvec3(std::nan(""), 0, 1)), atmosh::InputError);
+  EXPECT_THROW(reconstruct(4, &c0, glm::dvec3(0.0, std::numeric_limits<double>::infinity(), 0)), atmosh::InputError);
+  EXPECT_THROW(reconstruct(1, &c0, glm::dvec3(0.0)), atmosh::InputError);
+  EXPECT_THROW(reconstruct(0, &c0, glm::dvec3(0, 0, 1)), atmosh::InputError);
 }

@@ -19,14 +19,15 @@
 // subnormals; nothing overflows.
 // Accuracy: relative error ~ 1e-16 * l for the values that matter (|Y| > 1e-30 of the
 // band's scale); tested to L = 2800 (orthonormality by exact quadrature <= 1e-12).
-// Cost: about 3 flops per (l, m) plus a cos/sin recurrence in m. For 10 <= bands <= 128,
+// Cost: about 3 flops per (l, m) plus a cos/sin recurrence in m. For bands <= 8, evaluate()
+// and reconstruct() run the straight-line code of fast.hpp (same values to ~1e-15). For 10 <= bands <= 128,
 // evaluate() runs the same recurrence row by row (all m of a band at once, vectorised, no
 // allocation or lock per call; an AVX2/FMA clone is picked at run time with GCC on x86-64);
 // directions where sin^(bands-1) t < ~1e-240 (near a pole) and other band counts use the
 // column path.
 //
-// Directions need not be normalised (they are normalised here); a zero, NaN or
-// infinite direction throws atmosh::InputError. Units: dimensionless (1/sr^(1/2)).
+// Directions need not be normalised (they are normalised here, at any finite length,
+// 1e-300 or 1e300 included); a zero, NaN or infinite direction throws atmosh::InputError. Units: dimensionless (1/sr^(1/2)).
 #pragma once
 
 #include <cstddef>
@@ -110,7 +111,8 @@ void evaluate_batch(int bands, std::size_t n, const float* xs, const float* ys, 
 /// Y_i at (t, p) in radians (t from +z, p from +x towards +y).
 void evaluate_angles(int bands, double theta, double phi, double* out);
 
-/// Sum_i c_i Y_i(dir) (a coefficient vector of length >= bands^2).
+/// Sum_i c_i Y_i(dir) (a coefficient vector of length >= bands^2). No allocation per call
+/// (a per-thread buffer above 8 bands). Throws InputError as evaluate().
 double reconstruct(int bands, const double* coeffs, const glm::dvec3& dir);
 
 /// Unit direction of spherical angles (t, p) and back (p in [0, 2 pi)).

@@ -16,8 +16,23 @@
 // Images (planar float data, channel-major: data[(c * height + row) * width + col]):
 //   * equirect: width x height, row 0 at t = 0 (+z), column 0 at p = 0; the pixel centre
 //     (col + 1/2, row + 1/2) maps to p = 2 pi (col + 1/2) / width, t = pi (row + 1/2) / height.
-//     Each pixel is weighted by its exact solid angle (2 pi / width)(cos t0 - cos t1);
-//     the weights sum to 4 pi exactly. The basis is evaluated at pixel centres.
+//     Three rules (PixelRule), each with the basis taken at or integrated over the pixels:
+//     - exact (Method::quadrature, the default): Fejér's first rule in cos t on the H
+//       pixel-centre rings times the uniform rule in p (weight 2 pi / W). For samples of a
+//       function band-limited to B bands (degree <= B-1), coefficient (l, m) is exact (to
+//       rounding, ~1e-15 relative in double) when
+//          l + B - 1 <= H - 1 (<= H when H is odd)   and   |m| + B - 1 <= W - 1,
+//       i.e. for all coefficients of L = B bands: 2L - 1 <= H and 2L - 1 <= W (L <= H/2 on a
+//       2:1 image). Beyond that the result is the aliased (folded) tail.
+//     - solid_angle (Method::solid_angle): pixel-centre basis value times the exact pixel
+//       solid angle (2 pi / W)(cos t0 - cos t1) (sum 4 pi); second-order accurate only
+//       (a constant 64 x 32 image leaks 5e-3 into c_60).
+//     - pixel_integrated (Method::pixel_integrated): each pixel a constant patch; the exact
+//       integral of Y_lm over the pixel: in p in closed form ((2/m) sin(m pi / W) cos(m p_c),
+//       likewise sin), in t by an n-point Gauss–Legendre rule per ring in t with
+//       n = 10 + ceil(0.75 L pi / H) (the integrand Pbar_lm(cos t) sin t is a trigonometric
+//       polynomial of degree <= L in t; the rule's error is below rounding). Exact
+//       coefficients of the piecewise-constant image (not of a band-limited function).
 //   * cube map: six square faces of size N, in the order +X, -X, +Y, -Y, +Z, -Z, with
 //     the OpenGL orientation: texel (i, j) (j = row from the top) has
 //     u = 2 (i + 1/2) / N - 1, v = 2 (j + 1/2) / N - 1 and direction
@@ -25,6 +40,9 @@
 //        -Y: ( u, -1, -v)   +Z: ( u, -v,  1)   -Z: (-u, -v, -1)   (then normalised).
 //     Exact texel solid angle from the corners: A(u,v) = atan2(u v, sqrt(u^2+v^2+1)),
 //     Omega = A(u0,v0) - A(u0,v1) - A(u1,v0) + A(u1,v1); sums to 4 pi at every N.
+//     Texel-centre basis value times that solid angle is second-order accurate (error
+//     ~ N^-2 for smooth content; measured in docs/sh.md); it is not exact for
+//     band-limited content (no rule on these texel centres is used that would be).
 //     unpack_cross() turns a horizontal cross (4N x 3N: +Y above, then -X +Z +X -Z, -Y
 //     below) or a vertical cross (3N x 4N: the same with -Z below -Y, rotated 180 deg)
 //     into the six faces; these layouts are seamless with the orientation above.
@@ -44,9 +62,13 @@
 
 namespace atmosh::sh {
 
-enum class Method { quadrature, jittered, uniform };
+enum class Method { quadrature, jittered, uniform, solid_angle, pixel_integrated };
 
-/// Parses "quadrature" | "jittered" | "uniform" (InputError otherwise).
+/// Weighting of equirect pixels (see above). Method::quadrature on an image is `exact`.
+enum class PixelRule { exact, solid_angle, pixel_integrated };
+
+/// Parses "quadrature" | "jittered" | "uniform" | "solid-angle" | "pixel-integrated"
+/// (InputError otherwise). solid-angle and pixel-integrated apply to images only.
 Method parse_method(const std::string& name);
 
 struct ProjectOptions {
@@ -70,20 +92,29 @@ std::size_t sampler_bytes(const ProjectOptions& opt, int channels);
 std::vector<double> project_function(const std::function<double(const glm::dvec3&)>& f, int bands,
                                      const ProjectOptions& opt = {});
 
-/// A planar float image (not owned).
-struct ImageView {
+/// A planar image (not owned), float (ImageView) or double (ImageViewD).
+template <class T>
+struct BasicImageView {
   int width = 0, height = 0, channels = 0;
-  const float* data = nullptr;  ///< data[(c * height + row) * width + col]
-  float at(int c, int row, int col) const {
+  const T* data = nullptr;  ///< data[(c * height + row) * width + col]
+  T at(int c, int row, int col) const {
     return data[(static_cast<std::size_t>(c) * height + row) * width + col];
   }
 };
+using ImageView = BasicImageView<float>;
+using ImageViewD = BasicImageView<double>;
 
 /// Per-channel coefficients: result[c][i].
 using Channels = std::vector<std::vector<double>>;
 
-/// Equirect image by exact per-pixel solid-angle integration.
-Channels project_equirect(const ImageView& img, int bands, int threads = 1);
+/// Equirect image by the pixel rule `rule` (default: exact for band-limited content).
+Channels project_equirect(const ImageView& img, int bands, int threads = 1, PixelRule rule = PixelRule::exact);
+/// The same for double samples (for band-limited content exact to ~1e-15 relative).
+Channels project_equirect(const ImageViewD& img, int bands, int threads = 1, PixelRule rule = PixelRule::exact);
+/// Weight in cos t of each pixel ring under `rule` (exact: Fejér's first rule; solid_angle:
+/// cos t0 - cos t1; pixel_integrated: the same as solid_angle for the constant m = 0 part).
+/// Sums to 2 for every rule.
+std::vector<double> equirect_ring_weights(int height, PixelRule rule);
 /// Equirect image by a sampler (bilinear lookup; wraps in p, clamps in t).
 Channels project_equirect_sampled(const ImageView& img, int bands, const ProjectOptions& opt);
 /// Bilinear lookup of an equirect image at a unit direction.
@@ -106,7 +137,8 @@ CubeMap unpack_cross(const ImageView& img);
 void sample_cube(const CubeMap& cube, const glm::dvec3& dir, double* out);
 /// Cube map by a sampler (nearest-texel lookup) — Method::jittered or Method::uniform.
 Channels project_cube_sampled(const CubeMap& cube, int bands, const ProjectOptions& opt);
-/// Cube map by exact per-texel solid-angle integration.
+/// Cube map: texel-centre basis values times the exact texel solid angle (second order;
+/// see above).
 Channels project_cube(const CubeMap& cube, int bands, int threads = 1);
 
 /// Reconstruction of one channel on an equirect grid (pixel centres), height rows.

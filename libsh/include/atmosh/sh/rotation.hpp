@@ -17,7 +17,11 @@
 // factorials). In the real basis this matrix has checkerboard sparsity, and by the
 // symmetry d_{m m'} = (-1)^(m'-m) d_{m' m} its parity blocks are symmetric or
 // antisymmetric: only a quarter of the dense band (half of the non-zeros) is stored, in
-// 4 x 4 tiles each used for two products (cached for bands <= 256, rebuilt per band above).
+// 4 x 4 tiles each used for two products. The band matrices are the same for every
+// rotation: a process-wide cache holds bands below 256 (~22 MB) by default and is extended
+// by reserve_rotation_cache(L) (memory ~ L^3 / 6 doubles: 180 MB at L = 512, 1.3 GB at
+// L = 1000); bands above the cache are rebuilt in each application (row recurrence,
+// vectorised: O(l^2) per band, measured in docs/sh.md).
 //
 // Accuracy (measured, docs/sh.md): ||D D^T - I||_max <= 1e-14 at L = 64 and
 // ~1e-13 at L = 1000; rotation commutes with projection to rounding.
@@ -56,7 +60,8 @@ class Rotation {
   /// out = D(R) in (both bands^2 long; may not alias).
   void apply(const double* in, double* out) const;
   std::vector<double> apply(const std::vector<double>& in) const;
-  /// Dense (2l+1) x (2l+1) block of band l, row-major, rows/cols m = -l..l.
+  /// Dense (2l+1) x (2l+1) block of band l, row-major, rows/cols m = -l..l. Cost: 2l+1
+  /// products of band l alone (O(l^3)), plus building band l if it is not cached.
   std::vector<double> band_matrix(int l) const;
 
  private:
@@ -65,6 +70,13 @@ class Rotation {
   // cos/sin(m * angle), m < bands, split by the parity of m (see rotation.cpp)
   std::vector<double> ca_, sa_, cb_, sb_, cg_, sg_;
 };
+
+/// Builds and keeps the Ry(90) band matrices of all bands below `bands` (thread safe; the
+/// cache only grows). Afterwards applying any rotation of up to `bands` bands rebuilds
+/// nothing. Memory: about bands^3 / 6 doubles. InputError for bands outside [1, 8192].
+void reserve_rotation_cache(int bands);
+/// Number of bands whose matrices are cached now.
+int rotation_cache_bands();
 
 /// Closed-form rotation about +z by alpha (radians): in -> out (may alias).
 void rotate_z(int bands, double alpha, const double* in, double* out);
