@@ -241,6 +241,9 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
     }
   const double scale = 1.0 / (opt_.sun_distance_au * opt_.sun_distance_au);
   for (double e : solar_) solar_scaled_.push_back(e * scale);
+  validate(opt_.scattering);
+  if (opt_.scattering.method == ScatteringMethod::Approximate)
+    ms_lut_ = std::make_unique<MultipleScatteringLut>(atm_, *lut_, opt_.scattering);
 }
 
 template <class Visit>
@@ -326,8 +329,26 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
   constexpr std::size_t kBlock = 32;
   detail::SkyNodeTerms block[kBlock];
   std::size_t nb = 0;
+  // Multiple scattering (approximate): sigma_s(x) Psi_ms(r, mu_s) T(observer, x) at
+  // every node, those in the Earth's shadow included (multiple_scattering.hpp).
+  double ms_small[64], psi_small[64];
+  std::vector<double> ms_big, psi_big;
+  double *acc_ms = nullptr, *psi = nullptr;
+  if (ms_lut_) {
+    if (nw > 64) {
+      ms_big.assign(nw, 0.0);
+      psi_big.assign(nw, 0.0);
+      acc_ms = ms_big.data();
+      psi = psi_big.data();
+    } else {
+      std::fill(ms_small, ms_small + nw, 0.0);
+      acc_ms = ms_small;
+      psi = psi_small;
+    }
+  }
   const glm::dvec3 column_end = for_each_node([&](const detail::SkyViewNode& nd) {
     const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, nd.s, nd.r);
+    if (acc_ms) add_ms_node(nw, nd, mus, psi, acc_ms);
     const LutColumn to_sun = sun(nd, mus);
     if (to_sun.hits_ground) return;  // in the Earth's shadow
     const glm::dvec3 x = nd.column + to_sun.column;
@@ -344,6 +365,8 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
   });
   if (nb > 0) detail::accumulate_sky_nodes(n_pad_, ext_f_.data(), sca_f_.data(), block, nb, acc);
   for (std::size_t i = 0; i < nw; ++i) out[i] = solar_scaled_[i] * acc[i];
+  if (acc_ms)
+    for (std::size_t i = 0; i < nw; ++i) out[i] += solar_scaled_[i] * acc_ms[i];
 
   const double albedo = atm_.spec().planet.ground_albedo;
   if (ray.ground && albedo > 0) {
@@ -357,6 +380,20 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
                          column_end + to_sun.column, out);
     }
   }
+}
+
+void SkyIntegrator::add_ms_node(std::size_t nw, const detail::SkyViewNode& nd, double mu_s, double* psi,
+                                double* acc) const {
+  ms_lut_->psi(nd.r, mu_s, psi);
+  const double* er = ext_.data();
+  const double* em = er + nw;
+  const double* eo = em + nw;
+  const double* cr = sca_.data();
+  const double* cm = cr + nw;
+  const double rr = nd.rho[kRayleigh] * nd.w, rm = nd.rho[kMie] * nd.w;
+  const glm::dvec3 x = nd.column;
+  for (std::size_t i = 0; i < nw; ++i)
+    acc[i] += (cr[i] * rr + cm[i] * rm) * psi[i] * exp_neg(er[i] * x[0] + em[i] * x[1] + eo[i] * x[2]);
 }
 
 void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const glm::dvec3& sun, double* out) const {

@@ -43,6 +43,7 @@
 #include <glm/glm.hpp>
 
 #include "atmosh/atmo/atmosphere.hpp"
+#include "atmosh/atmo/multiple_scattering.hpp"
 #include "atmosh/atmo/optical_depth.hpp"
 #include "atmosh/atmo/phase.hpp"
 
@@ -63,6 +64,9 @@ struct SkyOptions {
                                          // (most extinct wavelength, densest end) stays below this
   double sun_distance_au = 1.0;   // Earth-Sun distance; irradiance scales as 1/d^2
   SunModel sun_model = SunModel::Disc;  // direct beam and sun image only (sun_disc.hpp)
+  // Light scattered more than once (multiple_scattering.hpp). The library default is
+  // single scattering; scenes choose (the default scene: docs/scene-format.md).
+  MultipleScatteringOptions scattering;
 };
 
 // Weights of the view column inside a part of a view ray (SkyIntegrator and the GPU
@@ -152,6 +156,9 @@ class SkyIntegrator {
   const OpticalDepthLut& lut() const { return *lut_; }
   const SkyOptions& options() const { return opt_; }
   const SolarSpectrum& solar() const { return solar_; }
+  ScatteringMethod method() const { return opt_.scattering.method; }
+  // The approximation's table (method approximate), else nullptr.
+  const MultipleScatteringLut* ms_lut() const { return ms_lut_.get(); }
 
  private:
   // Calls visit(node) for the nodes of a view ray cut at cuts[0..n_cuts), in order;
@@ -160,6 +167,8 @@ class SkyIntegrator {
   glm::dvec3 trace(const detail::SkyRay& ray, const double* cuts, int n_cuts, Visit&& visit) const;
   // Radiance from the nodes that for_each_node(visit) visits (it returns the whole view
   // column); sun(node, mu_s) is the sun-table column of a node.
+  // The approximation's term of one node into acc[0..nw) (psi: scratch of nw values).
+  void add_ms_node(std::size_t nw, const detail::SkyViewNode& nd, double mu_s, double* psi, double* acc) const;
   template <class ForEachNode, class SunColumn>
   void shade(const detail::SkyRay& ray, ForEachNode&& for_each_node, SunColumn&& sun, double* out) const;
 
@@ -177,6 +186,7 @@ class SkyIntegrator {
   std::size_t n_pad_ = 0;             // wavelengths rounded up to detail::sky_spectral_lanes()
   std::vector<double> cut_radii_;     // shells that cut the view ray
   glm::dvec3 ext_max_{0.0};           // largest extinction per constituent over wavelengths
+  std::unique_ptr<MultipleScatteringLut> ms_lut_;  // method approximate
 };
 
 struct SkyReferenceOptions {

@@ -1,0 +1,122 @@
+// An independent brute-force double-scattering radiance for optically thin
+// atmospheres (tests only): in the thin limit every transmittance is 1 - O(tau), so
+// the radiance scattered exactly twice reaching an observer at the ground is the
+// purely geometric triple integral
+//
+//   L_2(v) = E int_0^S ds sum_c sigma_c rho_c(x) int_sphere dw p_c(-w . -v) ...
+//            ... int_0^d(x, w) dt sum_k sigma_k rho_k(y) p_k(w . l) V(y)
+//
+// (x = o + s v on the view ray, y = x + t w, l the sun direction, V(y) = 1 where the
+// sun ray from y clears the planet, p_c(cos) the phase function of constituent c at
+// the cosine between the propagation directions before and after scattering; the
+// ground reflects nothing). Plain 3-D vectors, composite Gauss-Legendre rules on
+// geometrically growing pieces of each ray, Gauss-Legendre zenith cosines split at
+// the local horizon and uniform azimuths: nothing shared with the library's tables.
+#pragma once
+
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "atmosh/atmo/atmosphere.hpp"
+#include "atmosh/atmo/phase.hpp"
+#include "atmosh/sh/quadrature.hpp"
+
+namespace test_ms {
+
+// Composite n-point Gauss-Legendre over [0, L] on pieces with breaks 0, b, 4b,
+// 16b, ... (geometric), calling f(t, weight).
+inline void geometric_rule(double L, double b, int n, const std::function<void(double, double)>& f) {
+  const auto gl = atmosh::sh::gauss_legendre(n);
+  double a = 0.0, e = std::min(b, L);
+  while (a < L) {
+    const double h = 0.5 * (e - a), m = 0.5 * (e + a);
+    for (std::size_t k = 0; k < gl.nodes.size(); ++k) f(m + h * gl.nodes[k], h * gl.weights[k]);
+    a = e;
+    e = std::min(L, std::max(4.0 * e, b));
+  }
+}
+
+// Distance from p along unit u to the sphere of radius k (p inside it).
+inline double to_sphere(const glm::dvec3& p, const glm::dvec3& u, double k) {
+  const double b = glm::dot(p, u), c = glm::dot(p, p) - k * k;
+  return -b + std::sqrt(std::max(b * b - c, 0.0));
+}
+// Distance to the ground sphere R along u, or -1 if missed.
+inline double to_ground(const glm::dvec3& p, const glm::dvec3& u, double R) {
+  const double b = glm::dot(p, u), c = glm::dot(p, p) - R * R;
+  const double disc = b * b - c;
+  if (b >= 0 || disc < 0) return -1.0;
+  return -b - std::sqrt(disc);
+}
+
+// Double-scattering radiance per unit solar irradiance [1/sr] at wavelength index i,
+// observer at the ground, view v and sun l unit vectors (z up).
+inline double double_scattering_thin(const atmosh::atmo::Atmosphere& atm, std::size_t i, const glm::dvec3& v,
+                                     const glm::dvec3& l, int n_zenith = 48, int n_azimuth = 48) {
+  using namespace atmosh::atmo;
+  const double R = atm.ground_radius(), T = atm.top_radius();
+  const auto& k = atm.coefficients(i);
+  const PhaseFunction pr(atm.spec().rayleigh ? atm.spec().rayleigh->phase : PhaseSpec::of(PhaseSpec::Model::Rayleigh));
+  const PhaseFunction pm(atm.spec().mie ? atm.spec().mie->phase
+                                        : PhaseSpec::of(PhaseSpec::Model::HenyeyGreenstein, 0.0));
+  const double sr = atm.has(kRayleigh) ? k.scattering[kRayleigh] : 0.0;
+  const double sm = atm.has(kMie) ? k.scattering[kMie] : 0.0;
+  auto sigma = [&](const glm::dvec3& p) {
+    const glm::dvec3 rho = atm.density(std::max(glm::length(p) - R, 0.0));
+    return glm::dvec2(sr * rho[kRayleigh], sm * rho[kMie]);
+  };
+  const glm::dvec3 o(0.0, 0.0, R);
+  const double S = to_sphere(o, v, T);
+  const double pi = 3.14159265358979323846;
+  double total = 0.0;
+  geometric_rule(S, 500.0, 12, [&](double s, double ws) {
+    const glm::dvec3 x = o + s * v;
+    const glm::dvec2 sx = sigma(x);
+    const double rx = glm::length(x);
+    const glm::dvec3 up = x / rx;
+    // A frame at x: up, and two horizontal axes.
+    glm::dvec3 e1 = glm::cross(up, glm::dvec3(0.0, 1.0, 0.0));
+    if (glm::length(e1) < 1e-6) e1 = glm::cross(up, glm::dvec3(1.0, 0.0, 0.0));
+    e1 = glm::normalize(e1);
+    const glm::dvec3 e2 = glm::cross(up, e1);
+    const double mu_h = -std::sqrt(std::max(0.0, 1.0 - (R / rx) * (R / rx)));
+    double sphere = 0.0;
+    for (int side = 0; side < 2; ++side) {
+      const double lo = side == 0 ? -1.0 : mu_h, hi = side == 0 ? mu_h : 1.0;
+      const auto gl = atmosh::sh::gauss_legendre(side == 0 ? n_zenith / 4 : n_zenith);
+      for (std::size_t a = 0; a < gl.nodes.size(); ++a) {
+        const double mu = 0.5 * (lo + hi) + 0.5 * (hi - lo) * gl.nodes[a];
+        const double wmu = 0.5 * (hi - lo) * gl.weights[a];
+        const double sn = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+        for (int b = 0; b < n_azimuth; ++b) {
+          const double phi = 2.0 * pi * (b + 0.5) / n_azimuth;
+          const glm::dvec3 w = mu * up + sn * (std::cos(phi) * e1 + std::sin(phi) * e2);
+          const double dg = to_ground(x, w, R);
+          const double d = dg >= 0 ? dg : to_sphere(x, w, T);
+          // Light travels sun -> y -> x -> observer: the first scattering turns -l into
+          // -w (cosine w . l), the second -w into -v (cosine w . v).
+          const double nu1 = glm::dot(w, l), nu2 = glm::dot(w, v);
+          const double p1r = pr.value(nu1), p1m = pm.value(nu1);
+          const double p2r = pr.value(nu2), p2m = pm.value(nu2);
+          double inner = 0.0;
+          geometric_rule(d, 200.0, 10, [&](double t, double wt) {
+            const glm::dvec3 y = x + t * w;
+            if (to_ground(y, l, R) >= 0) return;  // the Earth's shadow
+            const glm::dvec2 sy = sigma(y);
+            inner += wt * (sy.x * p1r + sy.y * p1m);
+          });
+          // Split the second scattering by constituent at x: the first's source is
+          // common to both.
+          sphere += wmu * (2.0 * pi / n_azimuth) * inner * (sx.x * p2r + sx.y * p2m);
+        }
+      }
+    }
+    total += ws * sphere;
+  });
+  return total;
+}
+
+}  // namespace test_ms
