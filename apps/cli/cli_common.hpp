@@ -52,6 +52,7 @@ void register_atmo_commands(CLI::App& app);    // optical-depth, phase, stabilit
 void register_gpu_commands(CLI::App& app);     // gpu info
 void register_sky_commands(CLI::App& app);     // sky, study, sweep, converge sky
 void register_prt_commands(CLI::App& app);     // prt bake|relight|converge
+void register_rt_commands(CLI::App& app);      // rt slab|sky (Monte-Carlo radiative transfer)
 
 // Writes <stem>.csv and <stem>.png: the sun (NREL SPA) over the UTC day that
 // contains time_utc, at a place, every step_s seconds.

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   atmosh::cli::register_gpu_commands(app);
   atmosh::cli::register_sky_commands(app);
   atmosh::cli::register_prt_commands(app);
+  atmosh::cli::register_rt_commands(app);
 
   try {
     app.parse(argc, argv);
