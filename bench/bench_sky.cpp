@@ -96,3 +96,78 @@ static void BM_SkyReferenceRay(benchmark::State& st) {
   }
 }
 BENCHMARK(BM_SkyReferenceRay)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// ------------------------------------------------------------ multiple scattering
+namespace {
+// The default scene's atmosphere shape (earth-graphics constituents, 100 km top,
+// ground albedo 0.1) on 16 wavelengths.
+AtmosphereSpec ms_spec() {
+  AtmosphereSpec s = preset("earth-graphics");
+  s.planet.atmosphere_top_m = 100e3;
+  s.planet.ground_albedo = 0.1;
+  s.spectrum.wavelengths_nm.clear();
+  s.spectrum.from_nm = 380;
+  s.spectrum.to_nm = 780;
+  s.spectrum.count = 16;
+  return s;
+}
+SkyOptions method(ScatteringMethod m) {
+  SkyOptions o;
+  o.scattering.method = m;
+  return o;
+}
+}  // namespace
+
+// Successive-orders tables at the default size, orders 2..N (the arg), 16 wavelengths,
+// both cores. Target (issue 24): <= 10 s for 4 orders on a 2-core CPU.
+static void BM_ScatteringOrdersBuild(benchmark::State& st) {
+  const AtmosphereSpec spec = ms_spec();
+  const Atmosphere atm(spec);
+  MultipleScatteringOptions o = method(ScatteringMethod::Orders).scattering;
+  o.orders = static_cast<int>(st.range(0));
+  for (auto _ : st) {
+    const ScatteringOrders t(atm, o);
+    benchmark::DoNotOptimize(&t);
+  }
+  st.SetLabel(std::to_string(o.orders) + " orders, 16 wavelengths");
+}
+BENCHMARK(BM_ScatteringOrdersBuild)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+// The approximation's table (Hillaire 2020) at the default size, 16 wavelengths.
+static void BM_MultipleScatteringLutBuild(benchmark::State& st) {
+  const AtmosphereSpec spec = ms_spec();
+  const Atmosphere atm(spec);
+  LutOptions lo;
+  lo.view_tables = false;
+  lo.shells = 32;
+  const OpticalDepthLut lut(atm, lo);
+  const MultipleScatteringOptions o = method(ScatteringMethod::Approximate).scattering;
+  for (auto _ : st) {
+    const MultipleScatteringLut t(atm, lut, o);
+    benchmark::DoNotOptimize(&t);
+  }
+}
+BENCHMARK(BM_MultipleScatteringLutBuild)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+
+// One view ray with each scattering method (arg: 0 single, 1 approximate, 2 orders),
+// 16 wavelengths, sun at 20 deg: the per-pixel cost of multiple scattering.
+static void BM_SkyRayMethod(benchmark::State& st) {
+  const AtmosphereSpec spec = ms_spec();
+  const Atmosphere atm(spec);
+  const ScatteringMethod m = st.range(0) == 0 ? ScatteringMethod::Single
+                             : st.range(0) == 1 ? ScatteringMethod::Approximate
+                                                : ScatteringMethod::Orders;
+  const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum), method(m));
+  const glm::dvec3 sun = sun_direction_enu(70.0, 180.0);
+  std::vector<double> L(atm.wavelengths_nm().size());
+  int i = 0;
+  for (auto _ : st) {
+    const glm::dvec3 v = sun_direction_enu((i % 89) + 0.5, (i * 37) % 360);
+    sky.radiance(0.0, v, sun, L.data());
+    benchmark::DoNotOptimize(L.data());
+    ++i;
+  }
+  st.SetItemsProcessed(st.iterations());
+  st.SetLabel(scattering_method_name(m));
+}
+BENCHMARK(BM_SkyRayMethod)->Arg(0)->Arg(1)->Arg(2);

@@ -64,8 +64,8 @@ std::vector<fs::path> run_converge_ms(const ConvergeMs& o) {
   prov.add("bands", "all; day = sun >= 0 deg; civil = -6 <= sun < 0 deg; night = sun < -6 deg");
   prov.add("error", "relative error of the luminance (CIE Y) against the reference's mean; "
                     "error_max_sigma = max |L - L_mc| / stderr_mc; error_max_rel_minus_3sigma = max (e - 3 rel stderr)");
-  prov.add("time_s", "table build + evaluation of every row (fastest of " +
-                         std::to_string(so.timing_repetitions) + " runs, wall clock)");
+  prov.add("time_s", "table build + evaluation of every row (wall clock, all threads; fastest of " +
+                         std::to_string(so.timing_repetitions) + " runs, one run for settings over 2 s)");
 
   std::vector<fs::path> written;
   io::CsvTable csv({"method", "setting", "band", "error_max_rel", "error_rms_rel", "time_s",

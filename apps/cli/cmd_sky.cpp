@@ -35,6 +35,18 @@ struct QualityOptions {
   int shells = 32, segments = 16, samples = 2, threads = 0;
   double max_piece_tau = SkyOptions{}.max_piece_optical_depth;
   std::string sun_model;  // --sun-model: disc | point; empty: the scene's sun_model
+  std::string scattering;  // --scattering: overrides the scene's [scattering] method ("" = the scene's)
+  int orders = 0;          // --orders: overrides the scene's orders (0 = the scene's)
+  // The scene with the command line's scattering overrides (InputError naming the
+  // option for a bad value, before any long work).
+  scene::Scene scene_for(scene::Scene s) const {
+    if (!scattering.empty()) s.scattering.method = parse_scattering_method(scattering, "--scattering");
+    if (orders != 0) {
+      if (orders < 1 || orders > 64) throw InputError("--orders " + std::to_string(orders) + " is outside [1, 64]");
+      s.scattering.orders = orders;
+    }
+    return s;
+  }
   SkyOptions sky(const scene::Scene& s) const {
     SkyOptions o;
     o.lut.shells = shells;
@@ -58,6 +70,9 @@ void add_quality_options(CLI::App* c, QualityOptions& q) {
   c->add_option("--sun-model", q.sun_model,
                 "disc (limb-darkened solar disc: direct beam, sun colour, the sun in images) or point; "
                 "default: the scene's sun_model (disc)");
+  c->add_option("--scattering", q.scattering,
+                "Scattering method: single | orders | approximate (default: the scene's [scattering] method)");
+  c->add_option("--orders", q.orders, "Highest order of scattering for --scattering orders (default: the scene's)");
 }
 
 scene::Scene load_or_default(const std::string& file) {
@@ -107,6 +122,13 @@ SkyImage render_sky_on(const std::string& device, const SkyIntegrator& sky, SkyP
   check_device(device);
   // gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line notice.
   used = "cpu";
+  if (device != "cpu" && sky.method() != ScatteringMethod::Single) {
+    // The GPU pass computes single scattering only.
+    const std::string what = std::string("scattering method '") + scattering_method_name(sky.method()) + "'";
+    if (device == "gpu") throw std::runtime_error("--device gpu: " + what + " is not supported on the GPU (use --scattering single or --device cpu)");
+    std::cerr << "atmosh: " << what << " is not supported on the GPU; rendering on the CPU\n";
+    return render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
+  }
   if (device != "cpu") {
 #ifdef ATMOSH_HAVE_GPU
     try {
@@ -135,7 +157,7 @@ namespace {
 
 void run_sky(const SkyCmd& c) {
   if (c.output.empty()) throw InputError("-o is required (the EXR file to write)");
-  const auto s = load_or_default(c.scene_file);
+  const auto s = c.q.scene_for(load_or_default(c.scene_file));
   const SunPlacement sun = resolve_sun(c, s);
   const auto proj = parse_sky_projection(c.projection);
   const auto size = parse_size(c.size, "--size");
@@ -167,7 +189,15 @@ void run_sky(const SkyCmd& c) {
                         {"device", used},
                         {"render_time_s", img.seconds},
                         {"table_build_time_s", model->build_time_s},
-                        {"rays_per_s", img.seconds > 0 ? img.rays / img.seconds : 0.0}};
+                        {"rays_per_s", img.seconds > 0 ? img.rays / img.seconds : 0.0},
+                        {"scattering", scattering_method_name(model->sky->method())}};
+    if (model->sky->method() == ScatteringMethod::Orders) j["scattering_orders"] = model->sky->options().scattering.orders;
+    const SkyIrradiance irr = sky_irradiance(*model->sky, h, sun.direction());
+    j["irradiance_direct_lux"] = irr.direct_lux;
+    j["irradiance_diffuse_lux"] = irr.diffuse_lux;
+    j["irradiance_direct_w_m2_nm"] = irr.direct;
+    j["irradiance_diffuse_w_m2_nm"] = irr.diffuse;
+    j["wavelengths_nm"] = model->atmosphere->wavelengths_nm();
     if (sun.spa) j["apparent_sun_elevation_deg"] = sun.spa->apparent_elevation_deg;
     print_json(j);
   } else {
@@ -248,7 +278,7 @@ std::vector<fs::path> run_elevation_study(const ElevationStudy& o, const scene::
   if (!(o.step > 0)) throw InputError("--step " + io::format_double(o.step) + " must be > 0");
   if (o.to < o.from) throw InputError("--to " + io::format_double(o.to) + " is below --from");
   const auto s = given ? *given : load_or_default(o.scene_file);
-  const auto model = make_sky_model(s, o.q.sky(s), 1.0);
+  const auto model = make_sky_model(o.q.scene_for(s), o.q.sky(s), 1.0);
   const double h = s.observer ? std::max(s.observer->height_m, 0.0) : 0.0;
   std::vector<double> elev;
   for (double e = o.from; e <= o.to + 1e-9; e += o.step) elev.push_back(e);
@@ -306,7 +336,7 @@ std::vector<fs::path> run_day_study(const DayStudy& o) {
   base.height_m = require_range(o.height, -500, 1e8, "--height");
   const auto series = sun_series(base, jd0, jd0 + 1.0 - 1e-9, step_s, 100000);
   const auto s = load_or_default(o.scene_file);
-  const auto model = make_sky_model(s, o.q.sky(s), 1.0);
+  const auto model = make_sky_model(o.q.scene_for(s), o.q.sky(s), 1.0);
   const double h = std::max(o.height, 0.0);
   const fs::path dir = o.output;
   std::vector<std::string> cols = {"time_utc", "sun_elevation_deg", "sun_azimuth_deg", "apparent_sun_elevation_deg"};
@@ -374,7 +404,7 @@ std::vector<fs::path> run_day_study(const DayStudy& o) {
 // ------------------------------------------------------------------ sweep
 scene::SweepOutputs sweep_point(const scene::Scene& s, const QualityOptions& q) {
   const SunPlacement sun = sun_of_scene(s);
-  const auto m = make_sky_model(s, q.sky(s), sun.distance_au);
+  const auto m = make_sky_model(q.scene_for(s), q.sky(s), sun.distance_au);
   const SkySummary sm = summarize_sky(*m->sky, std::max(sun.observer_height_m, 0.0), sun.direction());
   scene::SweepOutputs out = {{"sun_elevation_deg", sun.elevation_deg}, {"sun_azimuth_deg", sun.azimuth_deg}};
   const auto v = study_values(sm);

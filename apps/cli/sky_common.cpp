@@ -61,6 +61,7 @@ std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const atmo::SkyO
   m->atmosphere = std::make_unique<atmo::Atmosphere>(s.atmosphere);
   atmo::SkyOptions o = options;
   o.sun_distance_au = sun_distance_au;
+  o.scattering = s.scattering;  // the scene's [scattering]
   m->sky = std::make_unique<atmo::SkyIntegrator>(*m->atmosphere, atmo::solar_spectrum_for_bins(s.atmosphere.spectrum), o);
   m->build_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return m;
@@ -97,6 +98,13 @@ io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun) {
                        "(Hestroffer & Magnan 1998); direct beam averaged over the visible disc");
   else
     p.add("sun_model", "point (direct beam along the disc centre; no disc in images)");
+  p.add("scattering", std::string(atmo::scattering_method_name(o.scattering.method)) +
+                          (o.scattering.method == atmo::ScatteringMethod::Orders
+                               ? " (orders 1.." + std::to_string(o.scattering.orders) + ")"
+                           : o.scattering.method == atmo::ScatteringMethod::Approximate
+                               ? " (Hillaire 2020 all-orders table " + std::to_string(o.scattering.ms_altitudes) + "x" +
+                                     std::to_string(o.scattering.ms_sun_directions) + ")"
+                               : ""));
   p.add("solar_spectrum", "ASTM G173-03 extraterrestrial, averaged over each wavelength bin");
   p.add("colour", "CIE 1931 2-degree CMF, 683 lm/W, linear sRGB (D65)");
   return p;

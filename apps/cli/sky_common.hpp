@@ -32,7 +32,7 @@ SunPlacement sun_of_scene(const scene::Scene& s);
 // SPA at a place and time (geometric elevation; apparent reported separately).
 SunPlacement sun_from_place(double lat, double lon, double height_m, const std::string& time_utc);
 
-// An atmosphere and its single-scattering integrator for a scene.
+// An atmosphere and its sky integrator for a scene (the scene's [scattering] method).
 struct SkyModel {
   scene::Scene scene;
   std::unique_ptr<atmo::Atmosphere> atmosphere;

@@ -244,6 +244,8 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
   validate(opt_.scattering);
   if (opt_.scattering.method == ScatteringMethod::Approximate)
     ms_lut_ = std::make_unique<MultipleScatteringLut>(atm_, *lut_, opt_.scattering);
+  if (opt_.scattering.method == ScatteringMethod::Orders && opt_.scattering.orders >= 2)
+    orders_ = std::make_unique<ScatteringOrders>(atm_, opt_.scattering);
 }
 
 template <class Visit>
@@ -369,6 +371,30 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
     for (std::size_t i = 0; i < nw; ++i) out[i] += solar_scaled_[i] * acc_ms[i];
 
   const double albedo = atm_.spec().planet.ground_albedo;
+  if (orders_) {
+    // Orders 2..N: one lookup for the whole ray, and the ground at its end lit by the
+    // sky (orders 1..N-1 of its irradiance; scattering_orders.hpp).
+    double ms_small2[64];
+    std::vector<double> ms_big2;
+    double* v = ms_small2;
+    if (nw > 64) {
+      ms_big2.assign(nw, 0.0);
+      v = ms_big2.data();
+    }
+    orders_->radiance(ray.r, ray.mu, ray.ground, ray.mu_s, ray.nu, v);
+    for (std::size_t i = 0; i < nw; ++i) out[i] += solar_scaled_[i] * v[i];
+    if (ray.ground && albedo > 0) {
+      const double rg = sg::radius_along(ray.r, ray.mu, ray.s_end);
+      const double mus_g = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, ray.s_end, rg);
+      orders_->ground_irradiance(mus_g, v);
+      const double* er = ext_.data();
+      const double* em = er + nw;
+      const double* eo = em + nw;
+      for (std::size_t i = 0; i < nw; ++i)
+        out[i] += solar_scaled_[i] * albedo / kPi * v[i] *
+                  exp_neg(er[i] * column_end[0] + em[i] * column_end[1] + eo[i] * column_end[2]);
+    }
+  }
   if (ray.ground && albedo > 0) {
     const double R = atm_.ground_radius();
     const double rg = sg::radius_along(ray.r, ray.mu, ray.s_end);

@@ -1,4 +1,6 @@
 #include "atmosh/atmo/sky_image.hpp"
+#include "atmosh/sh/quadrature.hpp"
+#include "atmosh/error.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -156,6 +158,44 @@ SkySummary summarize_sky(const SkyIntegrator& sky, double altitude_m, const glm:
     if (std::fabs(wl[i] - 550.0) < std::fabs(wl[best] - 550.0)) best = i;
   s.sun_transmittance_550 = t.empty() ? 0.0 : t[best];
   return s;
+}
+
+SkyIrradiance sky_irradiance(const SkyIntegrator& sky, double altitude_m, const glm::dvec3& sun, int zenith,
+                             int azimuth) {
+  if (zenith < 2 || azimuth < 4)
+    throw InputError("irradiance quadrature " + std::to_string(zenith) + " x " + std::to_string(azimuth) +
+                     " needs >= 2 zenith and >= 4 azimuth points");
+  const std::size_t nw = sky.solar().size();
+  SkyIrradiance out;
+  out.direct.assign(nw, 0.0);
+  out.diffuse.assign(nw, 0.0);
+  const glm::dvec3 l = glm::normalize(sun);
+  if (l.z > 0) {
+    const auto t = sky.sun_transmittance(altitude_m, l);
+    const double d = sky.options().sun_distance_au;
+    for (std::size_t i = 0; i < nw; ++i) out.direct[i] = l.z * sky.solar()[i] / (d * d) * t[i];
+  }
+  const auto gl = sh::gauss_legendre(zenith);
+  const double two_pi = 2.0 * 3.14159265358979323846;
+  std::vector<glm::dvec3> views(static_cast<std::size_t>(azimuth));
+  std::vector<double> L(static_cast<std::size_t>(azimuth) * nw);
+  for (int z = 0; z < zenith; ++z) {
+    const double u = 0.5 * (gl.nodes[static_cast<std::size_t>(z)] + 1.0);
+    const double mu = u * u, w_mu = 2.0 * u * 0.5 * gl.weights[static_cast<std::size_t>(z)];  // d(mu) = 2u du
+    const double sn = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+    for (int a = 0; a < azimuth; ++a) {
+      const double phi = two_pi * (a + 0.5) / azimuth;
+      views[static_cast<std::size_t>(a)] = glm::dvec3(sn * std::cos(phi), sn * std::sin(phi), mu);
+    }
+    sky.radiance_same_zenith(altitude_m, views.data(), views.size(), l, L.data());
+    const double w = w_mu * mu * two_pi / azimuth;
+    for (int a = 0; a < azimuth; ++a)
+      for (std::size_t i = 0; i < nw; ++i) out.diffuse[i] += w * L[static_cast<std::size_t>(a) * nw + i];
+  }
+  const SpectralToXyz cmf(sky.atmosphere().wavelengths_nm());
+  out.direct_lux = cmf(out.direct).Y;
+  out.diffuse_lux = cmf(out.diffuse).Y;
+  return out;
 }
 
 }  // namespace atmosh::atmo

@@ -38,6 +38,9 @@ from_nm = 380.0
 to_nm = 780.0
 count = 16
 
+[scattering]                  # light scattered more than once (docs/sky.md, "Multiple scattering")
+method = "approximate"        # single | orders | approximate
+
 [observer]                    # Paris, summer solstice evening
 latitude_deg = 48.8566
 longitude_deg = 2.3522
@@ -168,6 +171,28 @@ std::string to_toml(const Scene& s) {
     for (std::size_t i = 0; i < a.spectrum.wavelengths_nm.size(); ++i)
       os << (i ? ", " : "") << num(a.spectrum.wavelengths_nm[i]);
     os << "]\n\n";
+  }
+  {
+    const atmo::MultipleScatteringOptions d, &m = s.scattering;
+    std::ostringstream t;
+    auto key = [&](const char* name, int v, int def) {
+      if (v != def) t << name << " = " << v << "\n";
+    };
+    key("orders", m.orders, d.orders);
+    key("ms_altitudes", m.ms_altitudes, d.ms_altitudes);
+    key("ms_sun_directions", m.ms_sun_directions, d.ms_sun_directions);
+    key("ms_zenith_directions", m.ms_zenith_directions, d.ms_zenith_directions);
+    key("ms_azimuth_directions", m.ms_azimuth_directions, d.ms_azimuth_directions);
+    key("ms_ray_steps", m.ms_ray_steps, d.ms_ray_steps);
+    key("orders_radii", m.orders_radii, d.orders_radii);
+    key("orders_view_directions", m.orders_view_directions, d.orders_view_directions);
+    key("orders_sun_directions", m.orders_sun_directions, d.orders_sun_directions);
+    key("orders_azimuths", m.orders_azimuths, d.orders_azimuths);
+    key("orders_sphere_zenith", m.orders_sphere_zenith, d.orders_sphere_zenith);
+    key("orders_sphere_azimuth", m.orders_sphere_azimuth, d.orders_sphere_azimuth);
+    key("orders_ray_steps", m.orders_ray_steps, d.orders_ray_steps);
+    if (m.method != d.method || !t.str().empty())
+      os << "[scattering]\nmethod = " << quoted(atmo::scattering_method_name(m.method)) << "\n" << t.str() << "\n";
   }
   if (s.observer)
     os << "[observer]\nlatitude_deg = " << num(s.observer->latitude_deg) << "\nlongitude_deg = "

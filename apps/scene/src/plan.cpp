@@ -1,6 +1,7 @@
 // Derives the passes a scene needs from its outputs, and says why the others
 // are left out.
 #include <algorithm>
+#include <sstream>
 
 #include "atmosh/scene/scene.hpp"
 
@@ -65,6 +66,40 @@ std::vector<Pass> plan(const Scene& s) {
                                       "-" + std::to_string(a.spectrum.to_nm) + " nm"
                                 : "no output needs spectral quantities"});
   p.push_back({"sky-radiance:single-scattering", sky, sky ? "sky-image or sun-elevation-study output" : "no sky output"});
+  {
+    using atmo::ScatteringMethod;
+    const auto& m = s.scattering;
+    const std::size_t nw = a.spectrum.wavelengths_nm.empty() ? static_cast<std::size_t>(a.spectrum.count)
+                                                              : a.spectrum.wavelengths_nm.size();
+    auto mib = [](double bytes) {
+      std::ostringstream os;
+      os.precision(3);
+      os << bytes / (1024.0 * 1024.0) << " MiB";
+      return os.str();
+    };
+    const bool approx = tables && m.method == ScatteringMethod::Approximate;
+    p.push_back({"multiple-scattering:approximate-table", approx,
+                 approx ? "Hillaire 2020 Psi_ms table " + std::to_string(m.ms_altitudes) + " altitudes x " +
+                              std::to_string(m.ms_sun_directions) + " sun directions x " + std::to_string(nw) +
+                              " wavelengths (" + mib(8.0 * m.ms_altitudes * m.ms_sun_directions * nw) + "), " +
+                              std::to_string(2 * m.ms_zenith_directions * m.ms_azimuth_directions) +
+                              " directions x " + std::to_string(m.ms_ray_steps) + " steps per entry"
+                        : !tables ? "no sky output" : "scattering method is " + std::string(atmo::scattering_method_name(m.method))});
+    const bool orders = tables && m.method == ScatteringMethod::Orders && m.orders >= 2;
+    const double texels = double(m.orders_radii) * m.orders_view_directions * m.orders_sun_directions * m.orders_azimuths;
+    p.push_back({"multiple-scattering:orders-tables", orders,
+                 orders ? "orders 2.." + std::to_string(m.orders) + ": per order a scattering-density and an "
+                              "in-scattered radiance table of " + std::to_string(m.orders_radii) + " radii x " +
+                              std::to_string(m.orders_view_directions) + " view x " +
+                              std::to_string(m.orders_sun_directions) + " sun directions x " +
+                              std::to_string(m.orders_azimuths) + " azimuths x " + std::to_string(nw) +
+                              " wavelengths (" + mib(8.0 * texels * nw) + " each; " + std::to_string(m.orders - 1) +
+                              " passes, plus the single-scattering table and the ground irradiance)"
+                        : !tables ? "no sky output"
+                                  : m.method == ScatteringMethod::Orders
+                                        ? "orders = 1: single scattering only"
+                                        : "scattering method is " + std::string(atmo::scattering_method_name(m.method))});
+  }
   p.push_back({"lut-convergence-study", wants(s, {"lut-convergence"}),
                wants(s, {"lut-convergence"}) ? "lut-convergence output" : "not requested"});
   p.push_back({"sh-projection", sh_bands > 0,

@@ -276,6 +276,42 @@ Scene parse_table(const toml::table& root, const std::string& src) {
     p.finish();
     s.sun = so;
   }
+  if (const auto* t = r.table("scattering")) {
+    Reader p(*t, "scattering", src);
+    auto& m = s.scattering;
+    if (auto v = p.string("method")) {
+      try {
+        m.method = atmo::parse_scattering_method(*v, "method");
+      } catch (const InputError&) {
+        p.fail("method", "\"" + *v + "\" is not one of single, orders, approximate");
+      }
+    }
+    auto int_key = [&](const char* key, int& field) {
+      if (auto v = p.integer(key)) {
+        if (*v < -1000000 || *v > 1000000) p.fail(key, std::to_string(*v) + " is out of range");
+        field = static_cast<int>(*v);
+      }
+    };
+    int_key("orders", m.orders);
+    int_key("ms_altitudes", m.ms_altitudes);
+    int_key("ms_sun_directions", m.ms_sun_directions);
+    int_key("ms_zenith_directions", m.ms_zenith_directions);
+    int_key("ms_azimuth_directions", m.ms_azimuth_directions);
+    int_key("ms_ray_steps", m.ms_ray_steps);
+    int_key("orders_radii", m.orders_radii);
+    int_key("orders_view_directions", m.orders_view_directions);
+    int_key("orders_sun_directions", m.orders_sun_directions);
+    int_key("orders_azimuths", m.orders_azimuths);
+    int_key("orders_sphere_zenith", m.orders_sphere_zenith);
+    int_key("orders_sphere_azimuth", m.orders_sphere_azimuth);
+    int_key("orders_ray_steps", m.orders_ray_steps);
+    p.finish();
+    try {
+      atmo::validate(m);  // its messages start with the key ("scattering.orders = 0: ...")
+    } catch (const InputError& e) {
+      throw InputError(src + ": " + e.what());
+    }
+  }
   if (s.observer && s.sun) r.fail("sun", "give either [observer] (place and time) or [sun], not both");
   r.used_mark("output");
   if (const toml::node* n = root.get("output")) {

@@ -18,7 +18,8 @@
 // skipped (counted in `rows_skipped`).
 //
 // Times are wall clock on the calling machine: time_s = the fastest of
-// `timing_repetitions` (table build + evaluation of every row of the band set), the
+// `timing_repetitions` (table build + evaluation of every row of the study; one run
+// when it takes over 2 s), the
 // integrator's threads as SkyOptions says. The reference's time is reported apart.
 #pragma once
 
@@ -38,9 +39,11 @@ struct MsStudySetting {
 };
 
 // The settings the study runs: single scattering; the approximation at table sizes
-// (altitudes x sun directions) 8x16, 16x32, 32x64 (the default), 64x128 and the
-// default with twice the directions per entry; orders when `with_orders`.
-// quick: single + the approximation at 16x32 and the default.
+// (altitudes x sun directions) 8x16 (8 zenith x 4 azimuth directions, 16 steps per
+// entry), 16x32, 32x64 (the default), 64x128 and the default with twice the
+// directions and steps per entry; orders N = 2, 3, 4, 6 at the default table sizes and
+// N = 4 at half of them (radii, view, sun, azimuths). quick: single + the
+// approximation at 8x16 (coarse entries) and 16x32 (orders' tables take seconds).
 std::vector<MsStudySetting> ms_study_default_settings(bool quick);
 
 struct MsStudyOptions {
@@ -51,7 +54,7 @@ struct MsStudyOptions {
   RtSkyOptions reference;                    // the Monte-Carlo sky's own options (run is replaced)
   SkyOptions sky;                            // integrator options; `scattering` replaced per setting
   std::vector<MsStudySetting> settings = ms_study_default_settings(false);
-  int timing_repetitions = 3;                // >= 1
+  int timing_repetitions = 3;                // >= 1; a setting whose run takes > 2 s runs once
 };
 
 // One view x sun elevation: the reference and every setting's luminance.

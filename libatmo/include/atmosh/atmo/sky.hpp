@@ -46,6 +46,7 @@
 #include "atmosh/atmo/multiple_scattering.hpp"
 #include "atmosh/atmo/optical_depth.hpp"
 #include "atmosh/atmo/phase.hpp"
+#include "atmosh/atmo/scattering_orders.hpp"
 
 namespace atmosh::atmo {
 
@@ -159,6 +160,8 @@ class SkyIntegrator {
   ScatteringMethod method() const { return opt_.scattering.method; }
   // The approximation's table (method approximate), else nullptr.
   const MultipleScatteringLut* ms_lut() const { return ms_lut_.get(); }
+  // The successive-orders tables (method orders with orders >= 2), else nullptr.
+  const ScatteringOrders* orders_tables() const { return orders_.get(); }
 
  private:
   // Calls visit(node) for the nodes of a view ray cut at cuts[0..n_cuts), in order;
@@ -187,6 +190,7 @@ class SkyIntegrator {
   std::vector<double> cut_radii_;     // shells that cut the view ray
   glm::dvec3 ext_max_{0.0};           // largest extinction per constituent over wavelengths
   std::unique_ptr<MultipleScatteringLut> ms_lut_;  // method approximate
+  std::unique_ptr<ScatteringOrders> orders_;       // method orders, orders >= 2
 };
 
 struct SkyReferenceOptions {

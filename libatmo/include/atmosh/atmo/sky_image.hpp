@@ -73,4 +73,26 @@ struct SkySummary {
 SkySummary summarize_sky(const SkyIntegrator& sky, double altitude_m, const glm::dvec3& sun,
                          double horizon_elevation_deg = 1.0);
 
+// Irradiance on a horizontal surface at the observer: what a solar-energy or
+// daylighting user asks for first.
+//   direct  = mu_s E T_sun per wavelength (0 with the sun below the horizontal plane
+//             or behind the planet) [W m^-2 nm^-1], E the solar spectrum at the
+//             sky's Earth-Sun distance, T_sun SkyIntegrator::sun_transmittance;
+//   diffuse = int over the upper hemisphere of L(v) cos(theta) dw, with L the sky's
+//             radiance (its scattering method; the sun disc is not part of L)
+//             [W m^-2 nm^-1]. Quadrature: Gauss-Legendre in u on [0, 1] with
+//             cos(theta) = u^2 (`zenith` points; gathers them toward the horizon,
+//             where the radiance changes fastest) x `azimuth` uniform azimuths
+//             (midpoints). The view rays of one zenith ring share their nodes
+//             (SkyIntegrator::radiance_same_zenith).
+// Illuminances [lux]: 683 lm/W x the CIE 1931 photopic curve over the spectrum
+// (SpectralToXyz, piecewise linear: Y of the irradiance). InputError for zenith < 2 or
+// azimuth < 4.
+struct SkyIrradiance {
+  std::vector<double> direct, diffuse;  // [wavelength] W m^-2 nm^-1
+  double direct_lux = 0, diffuse_lux = 0;
+};
+SkyIrradiance sky_irradiance(const SkyIntegrator& sky, double altitude_m, const glm::dvec3& sun, int zenith = 24,
+                             int azimuth = 48);
+
 }  // namespace atmosh::atmo

@@ -20,6 +20,7 @@
 #include <variant>
 #include <vector>
 
+#include "atmosh/atmo/multiple_scattering.hpp"
 #include "atmosh/atmo/spec.hpp"
 
 namespace atmosh::scene {
@@ -53,6 +54,10 @@ struct Scene {
   std::optional<SunOverride> sun;
   std::string sun_model = "disc";  // "disc" (limb-darkened solar disc) or "point"
   std::vector<Output> outputs;
+  // [scattering]: how the sky treats light scattered more than once (method, orders,
+  // table sizes). A scene without the table keeps single scattering; the built-in
+  // default scene uses multiple scattering (docs/scene-format.md).
+  atmo::MultipleScatteringOptions scattering;
 };
 
 // One scene parameter set by its dotted key path, e.g. {"mie.scattering_per_m",

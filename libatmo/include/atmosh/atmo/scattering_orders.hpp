@@ -1,0 +1,89 @@
+// atmosh/atmo/scattering_orders.hpp — successive orders of scattering into tables
+// (the scheme of E. Bruneton, "Precomputed Atmospheric Scattering: a New
+// Implementation", 2017, and Bruneton & Neyret 2008; own code and parametrisation
+// details below).
+//
+// Quantities, per wavelength of the atmosphere and per unit solar irradiance
+// (E = 1 W m^-2 nm^-1 normal to the beam outside the atmosphere):
+//   S_k(x, w)  radiance of order k arriving at x from the atmosphere along the ray
+//              that leaves x in direction w (to the top or the ground) [1/sr];
+//   E_k(mu_s)  irradiance of order k on the ground from the sky (k >= 1); E_0 the
+//              direct sun mu_s T_sun;
+//   I_k(x, w)  = S_k(x, w) + [w hits the ground at g] T(x, g) a/pi E_{k-1}(mu_s(g))
+//              the radiance of order k arriving at x (ground reflection counts as
+//              one scattering; a the Lambertian ground albedo);
+//   J_k(y, w)  = int_sphere sum_c sigma_c(y) p_c(w . w') I_{k-1}(y, w') dw'
+//              the scattering density of order k >= 2 toward a viewer looking along w;
+//   S_k(x, w)  = int_0^d T(x, y) J_k(y, w) dt,  y = x + t w.
+// S_1 is single scattering (with the phase functions), tabulated only as the source
+// of J_2. Order by order k = 2..N: J_k, then S_k, then E_{k-1} = int_up S_{k-1} mu dw.
+// The sky (SkyIntegrator, method orders) adds sum_{k=2..N} S_k at the observer's
+// ray and, where the view ray ends on the ground, T_view a/pi sum_{k=1..N-1} E_k:
+// with its own single scattering and direct ground term, all orders up to N.
+//
+// Tables (each value per wavelength, float, stored as its logarithm: in the Earth's
+// shadow the light falls by orders of magnitude between neighbouring sun directions
+// and geometric interpolation follows exponential falls):
+//   radius:   rho = sqrt(r^2 - R^2) uniform over [0, H], H = sqrt(T^2 - R^2);
+//   view:     half the samples for rays that hit the ground, half for rays to the
+//             top, each uniform in the distance to the ground / top between its
+//             extremes at that radius (Bruneton 2017's mapping: it resolves the horizon);
+//   sun:      mu_s over [sin(-36 deg), 1] (below: clamped), ~6x denser near the
+//             horizon than uniform (the terminator; ScatteringOrders::Impl::mus_of_u);
+//   azimuth:  phi in [0, pi] between the view's and the sun's vertical planes, uniform
+//             (nu = mu mu_s + sqrt((1 - mu^2)(1 - mu_s^2)) cos phi: every sample valid);
+// multilinear interpolation. J uses a sphere rule of `orders_sphere_zenith` cosines
+// (Gauss-Legendre on each side of the local horizon, gathered toward it) x
+// `orders_sphere_azimuth` uniform azimuths, the phase functions normalised to 1 over
+// the rule (energy kept where the rule cannot resolve a forward peak); the
+// integrals along rays use `orders_ray_steps` trapezoid steps gathered toward the
+// densest point (the tangent point, the ground, or the start). Errors, sizes and
+// build times: docs/sky.md ("Multiple scattering").
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "atmosh/atmo/multiple_scattering.hpp"
+
+namespace atmosh::atmo {
+
+class Atmosphere;
+class OpticalDepthLut;
+
+class ScatteringOrders {
+ public:
+  // Builds orders 2..o.orders (o.orders >= 2; InputError otherwise or for options out
+  // of range). Threads: o.threads.
+  ScatteringOrders(const Atmosphere& atmosphere, const MultipleScatteringOptions& o);
+  ~ScatteringOrders();
+
+  // Radiance of orders 2..N [1/sr per unit solar irradiance] along the ray from
+  // radius r [m] (R <= r <= T) with view zenith cosine mu (hitting the ground iff
+  // `ground`), sun zenith cosine mu_s and cos(view, sun) nu, into out[0..n).
+  void radiance(double r, double mu, bool ground, double mu_s, double nu, double* out) const;
+  // Irradiance of the sky on the ground, orders 1..N-1 [per unit solar irradiance],
+  // at sun zenith cosine mu_s there, into out[0..n).
+  void ground_irradiance(double mu_s, double* out) const;
+
+  int orders() const { return orders_; }
+  std::size_t wavelengths() const { return nw_; }
+  // Entries (texels) of one 4-D table, and the bytes of all tables kept.
+  std::size_t texels() const;
+  std::size_t bytes() const;
+  double build_time_s() const { return build_s_; }
+  // Time of each pass: [0] the single-scattering table, then per order k >= 2 the
+  // scattering density and the radiance (2 (k - 1) - 1 and 2 (k - 1)).
+  const std::vector<double>& pass_times_s() const { return pass_s_; }
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  int orders_ = 0;
+  std::size_t nw_ = 0;
+  double build_s_ = 0;
+  std::vector<double> pass_s_;
+};
+
+}  // namespace atmosh::atmo

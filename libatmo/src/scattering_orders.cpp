@@ -1,0 +1,522 @@
+#include "atmosh/atmo/scattering_orders.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "atmosh/atmo/atmosphere.hpp"
+#include "atmosh/atmo/fast_exp.hpp"
+#include "atmosh/atmo/optical_depth.hpp"
+#include "atmosh/atmo/phase.hpp"
+#include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
+#include "atmosh/sh/quadrature.hpp"
+
+namespace atmosh::atmo {
+
+namespace sg = shared;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kElevationMin = -36.0 * kPi / 180.0;  // lowest tabulated sun elevation
+constexpr float kFloor = 1e-30f;                       // values below are stored as this, read as 0
+const float kLogFloor = std::log(kFloor);
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Zenith rule at radius r (as the approximation's): Gauss-Legendre on each side of the
+// horizon cosine, a quarter below, gathered toward the horizon on both sides.
+void zenith_rule(double R, double r, int n, std::vector<double>& mu, std::vector<double>& w, int& n_ground) {
+  mu.clear();
+  w.clear();
+  const double mu_h = -std::sqrt(std::max(0.0, 1.0 - (R / r) * (R / r)));
+  const int n_lo = std::max(1, n / 4), n_hi = n - n_lo;
+  const auto lo = sh::gauss_legendre(n_lo), hi = sh::gauss_legendre(n_hi);
+  for (std::size_t k = 0; k < lo.nodes.size(); ++k) {
+    const double v = 0.5 * (lo.nodes[k] + 1.0);
+    mu.push_back(mu_h - (mu_h + 1.0) * v * v);
+    w.push_back((mu_h + 1.0) * v * lo.weights[k]);
+  }
+  for (std::size_t k = 0; k < hi.nodes.size(); ++k) {
+    const double v = 0.5 * (hi.nodes[k] + 1.0);
+    mu.push_back(mu_h + (1.0 - mu_h) * v * v);
+    w.push_back((1.0 - mu_h) * v * hi.weights[k]);
+  }
+  n_ground = n_lo;
+}
+}  // namespace
+
+struct ScatteringOrders::Impl {
+  int nr = 0, nmu = 0, ns = 0, na = 0, half = 0;
+  std::size_t nw = 0;
+  double R = 0, T = 0, H = 0;
+  std::vector<float> sum;   // log of sum_{k=2..N} S_k, [r][mu][mu_s][phi][wavelength]
+  std::vector<float> esum;  // log of sum_{k=1..N-1} E_k at the ground, [mu_s][wavelength]
+
+  std::size_t texels() const { return static_cast<std::size_t>(nr) * nmu * ns * na; }
+  std::size_t index(int i, int j, int k, int a) const {
+    return ((((static_cast<std::size_t>(i) * nmu + j) * ns + k) * na + a) * nw);
+  }
+  double r_of(int i) const {
+    const double rho = H * i / (nr - 1);
+    return std::sqrt(rho * rho + R * R);
+  }
+  // View sample j at radius r: its cosine and the ray's length.
+  void mu_of(double r, int j, double& mu, double& d) const {
+    const double rho = std::sqrt(std::max(r * r - R * R, 0.0));
+    if (j < half) {
+      const double x = double(j) / (half - 1), dmin = r - R, dmax = rho;
+      d = dmin + x * (dmax - dmin);
+      mu = d == 0 ? -1.0 : std::clamp(-(rho * rho + d * d) / (2.0 * r * d), -1.0, 1.0);
+    } else {
+      const double x = double(j - half) / (half - 1), dmin = T - r, dmax = rho + H;
+      d = dmin + x * (dmax - dmin);
+      mu = d == 0 ? 1.0 : std::clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
+    }
+  }
+  // Sun coordinate u in [0, 1]: u0 = m / (1 + m) at the horizon (m = -sin(min
+  // elevation)); on each side x in [-1, 1] and mu_s = s x (a + (1 - a)|x|) (s = m
+  // below, 1 above, a = 0.3): ~6x denser near the horizon than uniform in mu_s, where
+  // the light changes fastest (the terminator).
+  static constexpr double kA = 0.3;
+  double mus_of(int k) const { return mus_of_u(double(k) / (ns - 1)); }
+  static double mus_of_u(double u) {
+    const double m = -std::sin(kElevationMin), u0 = m / (1.0 + m);
+    if (u < u0) {
+      const double x = (u0 - u) / u0;
+      return -m * x * (kA + (1.0 - kA) * x);
+    }
+    const double x = (u - u0) / (1.0 - u0);
+    return x * (kA + (1.0 - kA) * x);
+  }
+  static double u_of_mus(double mu_s) {
+    const double m = -std::sin(kElevationMin), u0 = m / (1.0 + m);
+    const double v = mu_s < 0 ? std::min(-mu_s / m, 1.0) : std::min(mu_s, 1.0);
+    const double x = (-kA + std::sqrt(kA * kA + 4.0 * (1.0 - kA) * v)) / (2.0 * (1.0 - kA));
+    return mu_s < 0 ? u0 * (1.0 - x) : u0 + (1.0 - u0) * x;
+  }
+  double phi_of(int a) const { return kPi * a / (na - 1); }
+  static double nu_of(double mu, double mu_s, double phi) {
+    return std::clamp(mu * mu_s + std::sqrt(std::max(0.0, (1 - mu * mu) * (1 - mu_s * mu_s))) * std::cos(phi), -1.0,
+                      1.0);
+  }
+
+  // Interpolation coordinates of the radius and the view (independent of the sun).
+  struct RayCoord {
+    int i0 = 0, j0 = 0;
+    float fr = 0, fm = 0;
+  };
+  RayCoord ray_coord(double r, double mu, bool ground) const {
+    RayCoord c;
+    const double rho = std::sqrt(std::max(r * r - R * R, 0.0));
+    const double ur = std::clamp(rho / H, 0.0, 1.0) * (nr - 1);
+    c.i0 = std::min(static_cast<int>(ur), nr - 2);
+    c.fr = static_cast<float>(ur - c.i0);
+    double d, dmin, dmax;
+    if (ground) {
+      d = std::max(sg::distance_to_ground(r, mu, R), 0.0);
+      dmin = r - R;
+      dmax = rho;
+    } else {
+      d = std::max(sg::distance_to_top(r, mu, T), 0.0);
+      dmin = T - r;
+      dmax = rho + H;
+    }
+    const double x = dmax > dmin ? std::clamp((d - dmin) / (dmax - dmin), 0.0, 1.0) : 0.0;
+    const double um = x * (half - 1);
+    c.j0 = std::min(static_cast<int>(um), half - 2);
+    c.fm = static_cast<float>(um - c.j0);
+    if (!ground) c.j0 += half;
+    return c;
+  }
+  // exp of the multilinear interpolation of a log table into out[0..nw).
+  void interp(const float* tab, const RayCoord& c, double mu, double mu_s, double nu, float* out) const {
+    const double us = u_of_mus(mu_s) * (ns - 1);
+    const int k0 = std::min(static_cast<int>(us), ns - 2);
+    const float fs = static_cast<float>(us - k0);
+    const double den = std::sqrt(std::max(0.0, (1 - mu * mu) * (1 - mu_s * mu_s)));
+    const double cphi = den > 1e-9 ? std::clamp((nu - mu * mu_s) / den, -1.0, 1.0) : 1.0;
+    const double ua = std::acos(cphi) / kPi * (na - 1);
+    const int a0 = std::min(static_cast<int>(ua), na - 2);
+    const float fa = static_cast<float>(ua - a0);
+    float acc[256];
+    std::fill(acc, acc + nw, 0.0f);
+    for (int di = 0; di < 2; ++di)
+      for (int dj = 0; dj < 2; ++dj)
+        for (int dk = 0; dk < 2; ++dk) {
+          const float w3 = (di ? c.fr : 1 - c.fr) * (dj ? c.fm : 1 - c.fm) * (dk ? fs : 1 - fs);
+          const float* p0 = tab + index(c.i0 + di, c.j0 + dj, k0 + dk, a0);
+          const float* p1 = p0 + nw;
+          const float w0 = w3 * (1 - fa), w1 = w3 * fa;
+          for (std::size_t q = 0; q < nw; ++q) acc[q] += w0 * p0[q] + w1 * p1[q];
+        }
+    for (std::size_t q = 0; q < nw; ++q) out[q] = acc[q] > kLogFloor + 0.7f ? std::exp(acc[q]) : 0.0f;
+  }
+  // Ground irradiance table (log, [mu_s sample][wavelength]) at mu_s.
+  void interp_ground(const std::vector<float>& e, double mu_s, float* out) const {
+    const double us = u_of_mus(mu_s) * (ns - 1);
+    const int k0 = std::min(static_cast<int>(us), ns - 2);
+    const float fs = static_cast<float>(us - k0);
+    for (std::size_t q = 0; q < nw; ++q) {
+      const float v = (1 - fs) * e[k0 * nw + q] + fs * e[(k0 + 1) * nw + q];
+      out[q] = v > kLogFloor + 0.7f ? std::exp(v) : 0.0f;
+    }
+  }
+};
+
+ScatteringOrders::~ScatteringOrders() = default;
+
+std::size_t ScatteringOrders::texels() const { return impl_->texels(); }
+std::size_t ScatteringOrders::bytes() const {
+  return (impl_->sum.size() + impl_->esum.size()) * sizeof(float);
+}
+
+ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteringOptions& o)
+    : impl_(std::make_unique<Impl>()) {
+  validate(o);
+  if (o.orders < 2) throw InputError("scattering.orders = " + std::to_string(o.orders) + ": the tables need >= 2");
+  const auto t_start = Clock::now();
+  Impl& m = *impl_;
+  orders_ = o.orders;
+  m.nr = o.orders_radii;
+  m.nmu = o.orders_view_directions;
+  m.half = m.nmu / 2;
+  m.ns = o.orders_sun_directions;
+  m.na = o.orders_azimuths;
+  m.nw = nw_ = atm.wavelengths_nm().size();
+  if (m.nw > 256) throw InputError("scattering orders: at most 256 wavelengths (" + std::to_string(m.nw) + " given)");
+  m.R = atm.ground_radius();
+  m.T = atm.top_radius();
+  m.H = std::sqrt(m.T * m.T - m.R * m.R);
+  const std::size_t nw = m.nw;
+  const int threads = o.threads;
+  const double albedo = atm.spec().planet.ground_albedo;
+
+  // Coefficients [wavelength] and phase functions.
+  std::vector<double> er(nw), em(nw), eo(nw), sr(nw), sm(nw);
+  for (std::size_t i = 0; i < nw; ++i) {
+    const auto& k = atm.coefficients(i);
+    er[i] = atm.has(kRayleigh) ? k.extinction[kRayleigh] : 0.0;
+    em[i] = atm.has(kMie) ? k.extinction[kMie] : 0.0;
+    eo[i] = atm.has(kOzone) ? k.extinction[kOzone] : 0.0;
+    sr[i] = atm.has(kRayleigh) ? k.scattering[kRayleigh] : 0.0;
+    sm[i] = atm.has(kMie) ? k.scattering[kMie] : 0.0;
+  }
+  const PhaseFunction pr(atm.spec().rayleigh ? atm.spec().rayleigh->phase : PhaseSpec::of(PhaseSpec::Model::Rayleigh),
+                         "rayleigh.phase");
+  const PhaseFunction pm(atm.spec().mie ? atm.spec().mie->phase
+                                        : PhaseSpec::of(PhaseSpec::Model::HenyeyGreenstein, 0.0),
+                         "mie.phase");
+  LutOptions lo;
+  lo.threads = threads;
+  const OpticalDepthLut lut(atm, lo);  // sun and view columns
+  auto tr = [&](const glm::dvec3& x, std::size_t i) { return exp_neg(er[i] * x[0] + em[i] * x[1] + eo[i] * x[2]); };
+
+  // ---- the texels' rays: nodes, weights, densities, transmittance from the start.
+  const int K = o.orders_ray_steps, nn = K + 1;
+  struct Node {
+    double t, r, mu, w;
+    double rho_r, rho_m;
+    glm::dvec3 col;
+    Impl::RayCoord c;
+  };
+  const std::size_t nrays = static_cast<std::size_t>(m.nr) * m.nmu;
+  std::vector<Node> nodes(nrays * nn);
+  std::vector<float> ray_t(nrays * nn * nw);  // transmittance start -> node
+  std::vector<double> ray_mu(nrays);
+  parallel_for(nrays, threads, [&](std::size_t ij) {
+    const int i = static_cast<int>(ij / m.nmu), j = static_cast<int>(ij % m.nmu);
+    const double r = m.r_of(i);
+    double mu, d;
+    m.mu_of(r, j, mu, d);
+    ray_mu[ij] = mu;
+    const bool ground = j < m.half;
+    Node* nd = &nodes[ij * nn];
+    // Steps gathered toward the densest point: the tangent point (rays to the top
+    // that dip first), the ground, or the start.
+    const double st = -r * mu;
+    for (int k = 0; k < nn; ++k) {
+      const double u = double(k) / K;
+      double t;
+      if (!ground && mu < 0 && st > 0 && st < d) {  // two pieces around the tangent point
+        const int k_t = K / 2;
+        if (k <= k_t) {
+          const double v = double(k) / k_t;
+          t = st * (1.0 - std::pow(1.0 - v, 1.5));
+        } else {
+          const double v = double(k - k_t) / (K - k_t);
+          t = st + (d - st) * v * std::sqrt(v);
+        }
+      } else if (ground) {
+        t = d * (1.0 - std::pow(1.0 - u, 1.5));
+      } else {
+        t = d * u * std::sqrt(u);
+      }
+      nd[k].t = t;
+      nd[k].r = (ground && k == K) ? m.R : std::max(sg::radius_along(r, mu, t), m.R);
+      nd[k].mu = sg::mu_along(r, mu, t, nd[k].r);
+      const glm::dvec3 rho = atm.density(std::max(nd[k].r - m.R, 0.0));
+      nd[k].rho_r = rho[kRayleigh];
+      nd[k].rho_m = rho[kMie];
+      nd[k].w = 0;
+      nd[k].col = glm::dvec3(0.0);
+      nd[k].c = m.ray_coord(nd[k].r, nd[k].mu, ground);
+    }
+    glm::dvec3 rho_prev = atm.density(std::max(nd[0].r - m.R, 0.0));
+    for (int k = 1; k < nn; ++k) {
+      const double dt = nd[k].t - nd[k - 1].t;
+      const glm::dvec3 rho = atm.density(std::max(nd[k].r - m.R, 0.0));
+      nd[k].col = nd[k - 1].col + 0.5 * dt * (rho_prev + rho);
+      rho_prev = rho;
+      nd[k - 1].w += 0.5 * dt;
+      nd[k].w += 0.5 * dt;
+    }
+    for (int k = 0; k < nn; ++k)
+      for (std::size_t q = 0; q < nw; ++q) ray_t[(ij * nn + k) * nw + q] = static_cast<float>(tr(nd[k].col, q));
+  });
+
+  const std::size_t N = m.texels() * nw;
+  std::vector<float> prev(N), next(N), dens(N);
+  std::vector<float> sum_lin(N, 0.0f);
+  auto to_log = [](double v) { return std::log(std::max(static_cast<float>(v), kFloor)); };
+
+  // ---- S_1: single scattering with the phase functions.
+  auto t0 = Clock::now();
+  parallel_for(nrays, threads, [&](std::size_t ij) {
+    const int i = static_cast<int>(ij / m.nmu), j = static_cast<int>(ij % m.nmu);
+    const double r = m.r_of(i), mu = ray_mu[ij];
+    const Node* nd = &nodes[ij * nn];
+    const std::size_t nka = static_cast<std::size_t>(m.ns) * m.na;
+    std::vector<double> acc(nka * nw, 0.0), nu(nka), mus(nka), ph_r(nka), ph_m(nka);
+    for (int k = 0; k < m.ns; ++k)
+      for (int a = 0; a < m.na; ++a) {
+        const std::size_t ka = static_cast<std::size_t>(k) * m.na + a;
+        mus[ka] = m.mus_of(k);
+        nu[ka] = Impl::nu_of(mu, mus[ka], m.phi_of(a));
+        ph_r[ka] = pr.value(nu[ka]);
+        ph_m[ka] = pm.value(nu[ka]);
+      }
+    for (int n = 0; n < nn; ++n) {
+      if (!(nd[n].w > 0)) continue;
+      const auto sun_at = lut.sun_at(nd[n].r);
+      for (std::size_t ka = 0; ka < nka; ++ka) {
+        const double mus_y = std::clamp((r * mus[ka] + nd[n].t * nu[ka]) / nd[n].r, -1.0, 1.0);
+        const LutColumn c = sun_at(mus_y);
+        if (c.hits_ground) continue;
+        const glm::dvec3 x = nd[n].col + c.column;
+        const double wr = nd[n].w * nd[n].rho_r * ph_r[ka], wm = nd[n].w * nd[n].rho_m * ph_m[ka];
+        double* a = &acc[ka * nw];
+        for (std::size_t q = 0; q < nw; ++q) a[q] += (sr[q] * wr + sm[q] * wm) * tr(x, q);
+      }
+    }
+    for (int k = 0; k < m.ns; ++k)
+      for (int a = 0; a < m.na; ++a) {
+        const double* s = &acc[(static_cast<std::size_t>(k) * m.na + a) * nw];
+        float* out = &prev[m.index(i, j, k, a)];
+        for (std::size_t q = 0; q < nw; ++q) out[q] = to_log(s[q]);
+      }
+  });
+  pass_s_.push_back(since(t0));
+
+  // ---- the sphere rule and the phase matrices of the scattering density, per radius:
+  // P_c[(j, a), q] = w_q p_c(w_ja . w_q), each row normalised to 1 over the rule.
+  const int nz = o.orders_sphere_zenith, nphi = o.orders_sphere_azimuth;
+  const std::size_t nq = static_cast<std::size_t>(nz) * nphi, nout = static_cast<std::size_t>(m.nmu) * m.na;
+  struct Sphere {
+    std::vector<double> mu, w;
+    int n_ground = 0;
+    std::vector<float> Pr, Pm;     // [out][q]
+    std::vector<float> t_ground;   // [q][wavelength] transmittance to the ground (ground directions)
+    std::vector<double> d_ground;  // [q] distance to the ground
+  };
+  std::vector<Sphere> sph(static_cast<std::size_t>(m.nr));
+  std::vector<double> cphi(nphi), sphi(nphi);
+  for (int b = 0; b < nphi; ++b) {
+    cphi[b] = std::cos(2.0 * kPi * (b + 0.5) / nphi);
+    sphi[b] = std::sin(2.0 * kPi * (b + 0.5) / nphi);
+  }
+  parallel_for(static_cast<std::size_t>(m.nr), threads, [&](std::size_t i) {
+    Sphere& S = sph[i];
+    const double r = m.r_of(static_cast<int>(i));
+    zenith_rule(m.R, r, nz, S.mu, S.w, S.n_ground);
+    S.Pr.assign(nout * nq, 0.0f);
+    S.Pm.assign(nout * nq, 0.0f);
+    for (int j = 0; j < m.nmu; ++j) {
+      double mu, d;
+      m.mu_of(r, j, mu, d);
+      const double sn = std::sqrt(std::max(0.0, 1 - mu * mu));
+      for (int a = 0; a < m.na; ++a) {
+        const double phi = m.phi_of(a), cp = std::cos(phi), sp = std::sin(phi);
+        const std::size_t row = (static_cast<std::size_t>(j) * m.na + a) * nq;
+        double nr_ = 0, nm_ = 0;
+        for (int z = 0; z < nz; ++z) {
+          const double snq = std::sqrt(std::max(0.0, 1 - S.mu[z] * S.mu[z]));
+          for (int b = 0; b < nphi; ++b) {
+            const double c = std::clamp(mu * S.mu[z] + sn * snq * (cp * cphi[b] + sp * sphi[b]), -1.0, 1.0);
+            const double wq = S.w[z] * 2.0 * kPi / nphi;
+            const double vr = wq * pr.value(c), vm = wq * pm.value(c);
+            S.Pr[row + z * nphi + b] = static_cast<float>(vr);
+            S.Pm[row + z * nphi + b] = static_cast<float>(vm);
+            nr_ += vr;
+            nm_ += vm;
+          }
+        }
+        for (std::size_t q = 0; q < nq; ++q) {
+          S.Pr[row + q] = static_cast<float>(S.Pr[row + q] / nr_);
+          S.Pm[row + q] = static_cast<float>(S.Pm[row + q] / nm_);
+        }
+      }
+    }
+    S.t_ground.assign(static_cast<std::size_t>(S.n_ground) * nw, 0.0f);
+    S.d_ground.assign(static_cast<std::size_t>(S.n_ground), 0.0);
+    for (int z = 0; z < S.n_ground; ++z) {
+      const LutColumn c = lut.view(r, S.mu[z]);
+      S.d_ground[z] = sg::distance_to_ground(r, S.mu[z], m.R);
+      for (std::size_t q = 0; q < nw; ++q) S.t_ground[z * nw + q] = static_cast<float>(tr(c.column, q));
+    }
+  });
+
+  // Ground irradiance of the order in `tab` (its S), at every tabulated sun direction:
+  // the upper hemisphere at the ground, Gauss-Legendre in mu on [0, 1] gathered toward
+  // the horizon, uniform azimuths.
+  auto ground_irradiance_of = [&](const std::vector<float>& tab) {
+    std::vector<double> e(static_cast<std::size_t>(m.ns) * nw, 0.0);
+    const auto gl = sh::gauss_legendre(nz);
+    std::vector<float> L(nw);
+    for (int k = 0; k < m.ns; ++k) {
+      const double mu_s = m.mus_of(k);
+      for (std::size_t z = 0; z < gl.nodes.size(); ++z) {
+        const double v = 0.5 * (gl.nodes[z] + 1.0), mu = v * v, wmu = v * gl.weights[z];
+        const Impl::RayCoord c = m.ray_coord(m.R, mu, false);
+        for (int b = 0; b < nphi; ++b) {
+          const double nu = std::clamp(mu * mu_s + std::sqrt((1 - mu * mu) * (1 - mu_s * mu_s)) * cphi[b], -1.0, 1.0);
+          m.interp(tab.data(), c, mu, mu_s, nu, L.data());
+          for (std::size_t q = 0; q < nw; ++q) e[k * nw + q] += wmu * (2.0 * kPi / nphi) * mu * L[q];
+        }
+      }
+    }
+    return e;
+  };
+  std::vector<double> e_sum(static_cast<std::size_t>(m.ns) * nw, 0.0);
+  std::vector<float> e_prev_log;  // E_{n-2} (log) for n > 2
+
+  for (int order = 2; order <= orders_; ++order) {
+    // ---- J_order from I_{order-1} = S_{order-1} + the ground's light of order - 1.
+    t0 = Clock::now();
+    parallel_for(static_cast<std::size_t>(m.nr) * m.ns, threads, [&](std::size_t ik) {
+      const int i = static_cast<int>(ik / m.ns), k = static_cast<int>(ik % m.ns);
+      const Sphere& S = sph[static_cast<std::size_t>(i)];
+      const double r = m.r_of(i), mu_s = m.mus_of(k), ss = std::sqrt(std::max(0.0, 1 - mu_s * mu_s));
+      std::vector<float> I(nq * nw), g(nw);
+      for (int z = 0; z < nz; ++z) {
+        const bool ground = z < S.n_ground;
+        const Impl::RayCoord c = m.ray_coord(r, S.mu[z], ground);
+        const double snq = std::sqrt(std::max(0.0, 1 - S.mu[z] * S.mu[z]));
+        for (int b = 0; b < nphi; ++b) {
+          const double nu = std::clamp(S.mu[z] * mu_s + snq * ss * cphi[b], -1.0, 1.0);
+          float* Iq = &I[(static_cast<std::size_t>(z) * nphi + b) * nw];
+          m.interp(prev.data(), c, S.mu[z], mu_s, nu, Iq);
+          if (!ground || !(albedo > 0)) continue;
+          const double mus_g = (r * mu_s + S.d_ground[z] * nu) / m.R;
+          if (order == 2) {  // the direct sun on the ground
+            if (!(mus_g > 0)) continue;
+            const LutColumn cs = lut.sun(m.R, std::min(mus_g, 1.0));
+            if (cs.hits_ground) continue;
+            for (std::size_t q = 0; q < nw; ++q)
+              Iq[q] += static_cast<float>(S.t_ground[z * nw + q] * albedo / kPi * mus_g * tr(cs.column, q));
+          } else {
+            m.interp_ground(e_prev_log, mus_g, g.data());
+            for (std::size_t q = 0; q < nw; ++q)
+              Iq[q] += static_cast<float>(S.t_ground[z * nw + q] * albedo / kPi) * g[q];
+          }
+        }
+      }
+      const glm::dvec3 rho = atm.density(std::max(r - m.R, 0.0));
+      std::vector<float> jr(nw), jm(nw);
+      for (std::size_t out = 0; out < nout; ++out) {
+        std::fill(jr.begin(), jr.end(), 0.0f);
+        std::fill(jm.begin(), jm.end(), 0.0f);
+        const float* Pr = &S.Pr[out * nq];
+        const float* Pm = &S.Pm[out * nq];
+        for (std::size_t q = 0; q < nq; ++q) {
+          const float* Iq = &I[q * nw];
+          const float a = Pr[q], b = Pm[q];
+          for (std::size_t w = 0; w < nw; ++w) {
+            jr[w] += a * Iq[w];
+            jm[w] += b * Iq[w];
+          }
+        }
+        const int j = static_cast<int>(out / m.na), a = static_cast<int>(out % m.na);
+        float* dst = &dens[m.index(i, j, k, a)];
+        for (std::size_t w = 0; w < nw; ++w)
+          dst[w] = to_log(sr[w] * rho[kRayleigh] * jr[w] + sm[w] * rho[kMie] * jm[w]);
+      }
+    });
+    pass_s_.push_back(since(t0));
+
+    // ---- E_{order-1} from S_{order-1} (for the next order's ground, and the sky's).
+    const std::vector<double> e = ground_irradiance_of(prev);
+    e_prev_log.assign(e.size(), 0.0f);
+    for (std::size_t q = 0; q < e.size(); ++q) {
+      e_prev_log[q] = to_log(e[q]);
+      e_sum[q] += e[q];  // E_1..E_{N-1} over the orders
+    }
+
+    // ---- S_order = int T J_order along the texels' rays.
+    t0 = Clock::now();
+    parallel_for(nrays, threads, [&](std::size_t ij) {
+      const int i = static_cast<int>(ij / m.nmu), j = static_cast<int>(ij % m.nmu);
+      const double r = m.r_of(i), mu = ray_mu[ij];
+      const Node* nd = &nodes[ij * nn];
+      const float* T = &ray_t[ij * nn * nw];
+      std::vector<double> acc(nw);
+      std::vector<float> J(nw);
+      for (int k = 0; k < m.ns; ++k) {
+        const double mu_s = m.mus_of(k);
+        for (int a = 0; a < m.na; ++a) {
+          const double nu = Impl::nu_of(mu, mu_s, m.phi_of(a));
+          std::fill(acc.begin(), acc.end(), 0.0);
+          for (int n = 0; n < nn; ++n) {
+            if (!(nd[n].w > 0)) continue;
+            const double mus_y = std::clamp((r * mu_s + nd[n].t * nu) / nd[n].r, -1.0, 1.0);
+            m.interp(dens.data(), nd[n].c, nd[n].mu, mus_y, nu, J.data());
+            const float* Tn = T + static_cast<std::size_t>(n) * nw;
+            for (std::size_t q = 0; q < nw; ++q) acc[q] += nd[n].w * Tn[q] * J[q];
+          }
+          float* dst = &next[m.index(i, j, k, a)];
+          float* s = &sum_lin[m.index(i, j, k, a)];
+          for (std::size_t q = 0; q < nw; ++q) {
+            dst[q] = to_log(acc[q]);
+            s[q] += static_cast<float>(acc[q]);
+          }
+        }
+      }
+    });
+    pass_s_.push_back(since(t0));
+    std::swap(prev, next);
+  }
+  m.sum.resize(N);
+  for (std::size_t q = 0; q < N; ++q) m.sum[q] = to_log(sum_lin[q]);
+  m.esum.resize(e_sum.size());
+  for (std::size_t q = 0; q < e_sum.size(); ++q) m.esum[q] = to_log(e_sum[q]);
+  build_s_ = since(t_start);
+}
+
+void ScatteringOrders::radiance(double r, double mu, bool ground, double mu_s, double nu, double* out) const {
+  const Impl& m = *impl_;
+  float v[256];
+  m.interp(m.sum.data(), m.ray_coord(std::clamp(r, m.R, m.T), mu, ground), mu, mu_s, nu, v);
+  for (std::size_t q = 0; q < m.nw; ++q) out[q] = v[q];
+}
+
+void ScatteringOrders::ground_irradiance(double mu_s, double* out) const {
+  const Impl& m = *impl_;
+  float v[256];
+  m.interp_ground(m.esum, mu_s, v);
+  for (std::size_t q = 0; q < m.nw; ++q) out[q] = v[q];
+}
+
+}  // namespace atmosh::atmo
