@@ -147,8 +147,16 @@ TEST(MsConvergence, MultipleScatteringMethodsAgainstTheMonteCarloReference) {
   o.settings = {{"approximate", "default", approx}, {"orders", "N=4 half tables", orders}};
   const MsStudyResult r = ms_convergence_study(atm, solar_spectrum_for_bins(spec.spectrum), o);
   ASSERT_EQ(r.points.size(), 12u);
-  // Measured (48 000 paths per row, seed 11): APPROX_MEASURED; ORDERS_MEASURED.
-  const double bound[2] = {0.10, 0.10};
+  // Measured at these rows: with `atmosh converge ms` (128 000 paths per row, seed 1,
+  // rel. stderr 0.2-0.5 %) the approximation within 3.0 % and orders N = 4 on these half
+  // tables within 4.9 %; here (48 000 paths, seed 11) within 3.7 % and 6.0 % except the
+  // horizon away from the sun at sun 0 deg: 6.2 % and 7.7 % (stderr 0.84 %) where the
+  // 128 000-path run found -3.0 % and -4.7 %: the reference's spread there exceeds its
+  // stated standard error (rare high-weight paths near the horizon). Bounds: 4.5 % and
+  // 6.5 % (+ 3 sigma). The target (orders <= 1 %) is not met by these
+  // test-sized tables; at the default sizes the study measures orders N = 4 within 1.5 %
+  // for sun >= 0 (docs/radiative-transfer.md), too slow to build in a unit test.
+  const double bound[2] = {0.045, 0.065};
   for (const auto& p : r.points) {
     const double s_rel = p.reference_luminance_stderr / p.reference_luminance;
     EXPECT_LT(s_rel, 0.03) << p.sun_elevation_deg << " " << p.view_elevation_deg;
