@@ -36,14 +36,14 @@ struct QualityOptions {
   double max_piece_tau = SkyOptions{}.max_piece_optical_depth;
   std::string sun_model;  // --sun-model: disc | point; empty: the scene's sun_model
   std::string scattering;  // --scattering: overrides the scene's [scattering] method ("" = the scene's)
-  int orders = 0;          // --orders: overrides the scene's orders (0 = the scene's)
+  std::optional<int> orders;  // --orders: overrides the scene's orders
   // The scene with the command line's scattering overrides (InputError naming the
   // option for a bad value, before any long work).
   scene::Scene scene_for(scene::Scene s) const {
     if (!scattering.empty()) s.scattering.method = parse_scattering_method(scattering, "--scattering");
-    if (orders != 0) {
-      if (orders < 1 || orders > 64) throw InputError("--orders " + std::to_string(orders) + " is outside [1, 64]");
-      s.scattering.orders = orders;
+    if (orders) {
+      if (*orders < 1 || *orders > 64) throw InputError("--orders " + std::to_string(*orders) + " is outside [1, 64]");
+      s.scattering.orders = *orders;
     }
     return s;
   }

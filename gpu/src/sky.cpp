@@ -363,6 +363,8 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
                           bool gpu_tables) {
   if (width < 1 || height < 1 || width > 65536 || height > 65536)
     throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  if (sky.method() != atmo::ScatteringMethod::Single)  // the shaders compute single scattering
+    throw Unsupported(std::string("GPU sky: scattering method '") + atmo::scattering_method_name(sky.method()) + "'");
   const std::string why = sky_unsupported_reason(sky);
   if (!why.empty()) throw Unsupported("GPU sky: " + why);
   // Same input validation as the CPU path (throws InputError).

@@ -160,6 +160,10 @@ TEST(CliAreas, SkyJsonAndBadInput) {
   for (const char* k : {"zenith_luminance_cd_m2", "zenith_srgb", "horizon_srgb", "exposure", "rays_per_s"})
     EXPECT_TRUE(j.contains(k)) << k;
   EXPECT_GT(j["zenith_luminance_cd_m2"].get<double>(), 0.0);
+  // The default scene's multiple scattering, and the irradiance at the ground.
+  EXPECT_EQ(j["scattering"].get<std::string>(), "approximate");
+  EXPECT_GT(j["irradiance_direct_lux"].get<double>(), 0.0);
+  EXPECT_GT(j["irradiance_diffuse_lux"].get<double>(), 0.0);
   // A clear daytime zenith is blue: b > r in linear sRGB.
   EXPECT_GT(j["zenith_srgb"][2].get<double>(), j["zenith_srgb"][0].get<double>());
   const auto img = atmosh::io::read_exr(d / "s.exr");
@@ -172,7 +176,16 @@ TEST(CliAreas, SkyJsonAndBadInput) {
   expect_bad("sky --sun-elevation 5 --projection mercator -o '" + (d / "b.exr").string() + "'", "mercator");
   expect_bad("sky --sun-elevation 5 --size 8x4 --max-piece-tau 0 -o '" + (d / "b.exr").string() + "'",
              "max piece optical depth 0");
+  expect_bad("sky --sun-elevation 5 --scattering triple -o '" + (d / "b.exr").string() + "'", "--scattering");
+  expect_bad("sky --sun-elevation 5 --scattering orders --orders 0 -o '" + (d / "b.exr").string() + "'", "--orders");
   EXPECT_FALSE(fs::exists(d / "b.exr"));
+  // --scattering single overrides the scene: darker than the default's multiple scattering.
+  const auto s1 = run_cli("sky --sun-elevation 30 --size 8x4 --scattering single -o '" + (d / "s1.exr").string() +
+                          "' --json");
+  ASSERT_EQ(s1.exit_code, 0) << s1.err;
+  const auto j1 = nlohmann::json::parse(s1.out);
+  EXPECT_EQ(j1["scattering"].get<std::string>(), "single");
+  EXPECT_LT(j1["zenith_luminance_cd_m2"].get<double>(), j["zenith_luminance_cd_m2"].get<double>());
 }
 
 TEST(CliAreas, SweepWritesOneRowPerPointAndRejectsBadShard) {

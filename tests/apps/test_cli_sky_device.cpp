@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "atmosh/io/exr.hpp"
+#include "atmosh/scene/scene.hpp"
 #include "run_cli.hpp"
 
 using atmosh::test::count_lines;
@@ -44,20 +45,28 @@ bool no_egl_and_optional(const atmosh::test::CliResult& r) {
 
 TEST(CliSkyDevice, SkyAndRunRenderOnTheGpuLikeTheCpu) {
   const fs::path d = scratch_dir("atmosh_cli_sky_device", "gpu");
-  const auto g = run_cli("sky --sun-elevation 20 --size 48x24 --device gpu -o '" + (d / "g.exr").string() + "'");
+  // The GPU pass computes single scattering: compare it with the CPU's single scattering.
+  const auto g = run_cli("sky --sun-elevation 20 --size 48x24 --scattering single --device gpu -o '" +
+                         (d / "g.exr").string() + "'");
   if (no_egl_and_optional(g)) GTEST_SKIP() << g.err;
   ASSERT_EQ(g.exit_code, 0) << g.err;
-  const auto c = run_cli("sky --sun-elevation 20 --size 48x24 --device cpu -o '" + (d / "c.exr").string() + "'");
+  const auto c = run_cli("sky --sun-elevation 20 --size 48x24 --scattering single --device cpu -o '" +
+                         (d / "c.exr").string() + "'");
   ASSERT_EQ(c.exit_code, 0) << c.err;
   const auto eg = atmosh::io::read_exr(d / "g.exr"), ec = atmosh::io::read_exr(d / "c.exr");
   EXPECT_EQ(eg.string_attributes.at("atmosh:device"), "gpu");
   EXPECT_EQ(ec.string_attributes.at("atmosh:device"), "cpu");
   EXPECT_LT(max_rel_y(eg, ec), 1e-4);
 
-  // The built-in scene's sky-image output, quick, on the GPU and on the CPU.
-  const auto rg = run_cli("run --quick --device gpu -o '" + (d / "run_gpu").string() + "'");
+  // The built-in scene's sky-image output with single scattering, quick, on the GPU and
+  // on the CPU; with its own multiple scattering --device gpu is refused.
+  atmosh::scene::Scene single = atmosh::scene::default_scene();
+  single.scattering.method = atmosh::atmo::ScatteringMethod::Single;
+  const fs::path scene_file = d / "single.toml";
+  std::ofstream(scene_file) << atmosh::scene::to_toml(single);
+  const auto rg = run_cli("run '" + scene_file.string() + "' --quick --device gpu -o '" + (d / "run_gpu").string() + "'");
   ASSERT_EQ(rg.exit_code, 0) << rg.err;
-  const auto rc = run_cli("run --quick -o '" + (d / "run_cpu").string() + "'");
+  const auto rc = run_cli("run '" + scene_file.string() + "' --quick -o '" + (d / "run_cpu").string() + "'");
   ASSERT_EQ(rc.exit_code, 0) << rc.err;
   int images = 0;
   for (const auto& e : fs::directory_iterator(d / "run_gpu")) {
@@ -71,6 +80,9 @@ TEST(CliSkyDevice, SkyAndRunRenderOnTheGpuLikeTheCpu) {
     EXPECT_LT(max_rel_y(a, b), 1e-4) << e.path();
   }
   EXPECT_GE(images, 1);
+  const auto ms = run_cli("sky --sun-elevation 20 --size 8x4 --device gpu -o '" + (d / "ms.exr").string() + "'");
+  EXPECT_NE(ms.exit_code, 0);
+  EXPECT_NE(ms.err.find("approximate"), std::string::npos) << ms.err;
 }
 
 TEST(CliSkyDevice, BadDeviceIsBadInput) {

@@ -96,6 +96,40 @@ TEST(Scene, ValidationNamesTheKey) {
   expect_bad("version = 1\n[[output]]\nkind = \"sky-image\"", "output[0].file");
   expect_bad("version = 1\n[observer]\ntime_utc = \"2026-01-01T00:00:00Z\"\n[sun]\nelevation_deg = 3", "sun");
   expect_bad("version = 1\n[mie\n", "TOML syntax error");
+  expect_bad("version = 1\n[scattering]\nmethod = \"double\"", "scattering.method");
+  expect_bad("version = 1\n[scattering]\norders = 0", "scattering.orders");
+  expect_bad("version = 1\n[scattering]\norders_view_directions = 9", "scattering.orders_view_directions");
+  expect_bad("version = 1\n[scattering]\nms_ray_steps = 1", "scattering.ms_ray_steps");
+  expect_bad("version = 1\n[scattering]\nordres = 3", "scattering.ordres");
+}
+
+// [scattering]: the default scene uses multiple scattering, a scene without the table
+// keeps single scattering, the plan lists the extra tables only when they are built,
+// and the table survives the TOML round trip.
+TEST(Scene, ScatteringMethodPlanAndRoundTrip) {
+  const Scene d = default_scene();
+  EXPECT_EQ(d.scattering.method, atmosh::atmo::ScatteringMethod::Approximate);
+  EXPECT_TRUE(find(plan(d), "multiple-scattering:approximate-table").needed);
+  EXPECT_FALSE(find(plan(d), "multiple-scattering:orders-tables").needed);
+  Scene single = parse_scene("version = 1\n[rayleigh]\n[sun]\nelevation_deg = 10\n[[output]]\nkind = \"sky-image\"\nfile = \"s.exr\"\n",
+                             "s.toml");
+  EXPECT_EQ(single.scattering.method, atmosh::atmo::ScatteringMethod::Single);
+  EXPECT_FALSE(find(plan(single), "multiple-scattering:approximate-table").needed);
+  EXPECT_FALSE(find(plan(single), "multiple-scattering:orders-tables").needed);
+  const Scene orders = parse_scene(
+      "version = 1\n[rayleigh]\n[sun]\nelevation_deg = 10\n[scattering]\nmethod = \"orders\"\norders = 5\norders_radii = 8\n"
+      "[[output]]\nkind = \"sky-image\"\nfile = \"s.exr\"\n",
+      "o.toml");
+  EXPECT_EQ(orders.scattering.orders, 5);
+  const std::vector<Pass> po = plan(orders);
+  const Pass& p = find(po, "multiple-scattering:orders-tables");
+  EXPECT_TRUE(p.needed);
+  EXPECT_NE(p.reason.find("orders 2..5"), std::string::npos) << p.reason;
+  const Scene back = parse_scene(to_toml(orders), "back.toml");
+  EXPECT_EQ(back.scattering.method, atmosh::atmo::ScatteringMethod::Orders);
+  EXPECT_EQ(back.scattering.orders, 5);
+  EXPECT_EQ(back.scattering.orders_radii, 8);
+  EXPECT_EQ(to_toml(back), to_toml(orders));
 }
 
 TEST(Scene, PhysicalRangesNamedByKey) {
