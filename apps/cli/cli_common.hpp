@@ -84,6 +84,7 @@ void register_gpu_commands(CLI::App& app);     // gpu info
 void register_sky_commands(CLI::App& app);     // sky, study, sweep, converge sky
 void register_prt_commands(CLI::App& app);     // prt bake|relight|converge
 void register_rt_commands(CLI::App& app);      // rt slab|sky (Monte-Carlo radiative transfer)
+void register_converge_ms_command(CLI::App& app);  // converge ms (scattering methods against the MC reference)
 
 // Writes <stem>.csv and <stem>.png: the sun (NREL SPA) over the UTC day that
 // contains time_utc, at a place, every step_s seconds.
@@ -107,6 +108,7 @@ void demo_sun(DemoContext& ctx);
 void demo_atmo(DemoContext& ctx);
 void demo_sh(DemoContext& ctx);
 void demo_sky(DemoContext& ctx);
+void demo_ms(DemoContext& ctx);  // converge ms --quick
 void demo_prt(DemoContext& ctx);
 
 }  // namespace atmosh::cli

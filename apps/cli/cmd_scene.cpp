@@ -117,6 +117,7 @@ void register_scene_commands(CLI::App& app) {
       demo_sun(ctx);                                     // then every study the toolkit has
       demo_atmo(ctx);
       demo_sky(ctx);
+      demo_ms(ctx);
       demo_sh(ctx);
       demo_prt(ctx);
       std::string manifest = "# atmosh demo results (" + std::string(quick ? "quick" : "full") + " run)\n";

@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
   atmosh::cli::register_sky_commands(app);
   atmosh::cli::register_prt_commands(app);
   atmosh::cli::register_rt_commands(app);
+  atmosh::cli::register_converge_ms_command(app);
 
   try {
     app.parse(argc, argv);

@@ -180,7 +180,7 @@ TEST(Cli, DemoQuickEndToEnd) {
     }
     EXPECT_EQ(plot("sky_sh_bands.png")["y_label"], "energy sum_m c_lm^2 [(cd/m^2 sr)^2]");
     for (const char* f : {"sun_accuracy.png", "sh_converge.png", "lut_convergence.png", "sky_convergence.png",
-                          "prt/converge.png"})
+                          "ms_convergence.png", "prt/converge.png"})
       for (const auto& s : plot(f)["series"]) {
         EXPECT_EQ(s["style"], "points") << f;
         std::vector<double> x;

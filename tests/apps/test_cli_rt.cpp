@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <sstream>
 #include <string>
 
 #include "run_cli.hpp"
@@ -76,5 +78,48 @@ TEST(CliRt, HelpAndBadInput) {
     EXPECT_EQ(r.exit_code, 2) << b.args;
     EXPECT_EQ(count_lines(r.err), 1) << b.args << ": " << r.err;
     EXPECT_NE(r.err.find(b.names), std::string::npos) << b.args << ": " << r.err;
+  }
+}
+
+// `converge ms --quick`: the files, the CSV's provenance and columns, one row per
+// setting and band; bad input exits 2 naming the option, before any work.
+TEST(CliRt, ConvergeMsQuick) {
+  const auto dir = atmosh::test::scratch_dir("atmosh_cli_rt", "converge_ms");
+  const auto r = run_cli("converge ms --quick --paths 8000 --seed 5 -o '" + dir.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* f : {"ms_convergence.csv", "ms_convergence.png", "ms_convergence_points.csv"})
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  const std::string csv = atmosh::test::slurp(dir / "ms_convergence.csv");
+  EXPECT_NE(csv.find("# reference: Monte-Carlo"), std::string::npos);
+  EXPECT_NE(csv.find("8000 paths per row, seed 5"), std::string::npos);
+  std::istringstream in(csv);
+  std::string line, header;
+  int data = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header.empty()) {
+      header = line;
+      continue;
+    }
+    ++data;
+    const bool single = line.rfind("single,", 0) == 0, approx = line.rfind("approximate,", 0) == 0;
+    EXPECT_TRUE(single || approx) << line;
+  }
+  EXPECT_EQ(header,
+            "method,setting,band,error_max_rel,error_rms_rel,time_s,reference_rel_stderr_max,error_max_sigma,"
+            "error_max_rel_minus_3sigma,build_time_s,eval_time_s,rows,rows_skipped");
+  EXPECT_EQ(data, 6);  // 3 settings x bands all, day (the quick study's suns are above the horizon)
+  struct Bad {
+    const char* args;
+    const char* names;
+  };
+  for (const Bad b : {Bad{"converge ms --quick --paths 0 -o /tmp/x", "--paths"},
+                      Bad{"converge ms --quick --paths abc -o /tmp/x", "--paths"},
+                      Bad{"converge ms --quick --scene /nonexistent.toml -o /tmp/x", "nonexistent"},
+                      Bad{"converge ms --quick", "--output"}}) {
+    const auto e = run_cli(b.args);
+    EXPECT_EQ(e.exit_code, 2) << b.args;
+    EXPECT_EQ(count_lines(e.err), 1) << b.args << ": " << e.err;
+    EXPECT_NE(e.err.find(b.names), std::string::npos) << b.args << ": " << e.err;
   }
 }
