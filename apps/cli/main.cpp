@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
     atmosh::io::set_plot_data_files(true);
   CLI::App app{
       "atmosh — physically based sky colour and spherical-harmonic analysis, with error bars and run times.\n"
-      "Single scattering after Nishita 1993 with exact references, NREL SPA sun positions, SH of any band.\n"
+      "Single and multiple scattering (Nishita 1993; Hillaire 2020; successive orders after Bruneton 2017) against a\n"
+      "Monte-Carlo reference, NREL SPA sun positions, SH of any band.\n"
       "Every approximate method reports its error against an exact reference and its run time (CSV + plot).",
       "atmosh"};
   app.set_version_flag("--version",

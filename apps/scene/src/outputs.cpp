@@ -1,6 +1,8 @@
 // The table of scene output kinds (see outputs.hpp).
 #include "atmosh/scene/outputs.hpp"
 
+#include <filesystem>
+
 #include "atmosh/error.hpp"
 
 namespace atmosh::scene {
@@ -36,7 +38,8 @@ const std::vector<OutputKind>& output_kinds() {
     {
       OutputKind o = make("sun-elevation-study", "sky colour against sun elevation (its own suns)");
       o.sky = true;
-      o.files = {"{stem}/"};
+      o.files = {"{stem}", "{stem}/sun_elevation.csv", "{stem}/horizon_colour.png", "{stem}/zenith_colour.png",
+                 "{stem}/luminance.png", "{stem}/chromaticity.png"};
       k.push_back(o);
     }
     {
@@ -72,12 +75,14 @@ std::vector<std::string> output_files(const Output& o) {
   std::vector<std::string> out;
   const OutputKind* k = find_output_kind(o.kind);
   if (k == nullptr) return out;
-  std::string stem = o.file;
+  // Normalised ("./a.csv" and "a.csv" are one file), with '/' separators.
+  const std::string file = std::filesystem::path(o.file).lexically_normal().generic_string();
+  std::string stem = file;
   if (const auto dot = stem.find_last_of('.'); dot != std::string::npos && stem.find('/', dot) == std::string::npos)
     stem.resize(dot);
   for (std::string_view pattern : k->files) {
     std::string f(pattern);
-    if (const auto p = f.find("{file}"); p != std::string::npos) f.replace(p, 6, o.file);
+    if (const auto p = f.find("{file}"); p != std::string::npos) f.replace(p, 6, file);
     if (const auto p = f.find("{stem}"); p != std::string::npos) f.replace(p, 6, stem);
     out.push_back(f);
   }

@@ -369,19 +369,6 @@ Scene parse_table(const toml::table& root, const std::string& src) {
 
 }  // namespace
 
-std::vector<std::string> output_files(const Output& o) {
-  const fs::path file = fs::path(o.file).lexically_normal();
-  fs::path stem = file;
-  stem.replace_extension();
-  const std::string st = stem.generic_string();
-  if (o.kind == "sky-image") return {file.generic_string(), st + ".png", st + ".png.json"};
-  if (o.kind == "sh-coefficients") return {file.generic_string(), st + "_bands.csv", st + "_bands.png"};
-  if (o.kind == "sun-elevation-study")
-    return {st, st + "/sun_elevation.csv", st + "/horizon_colour.png", st + "/zenith_colour.png", st + "/luminance.png",
-            st + "/chromaticity.png"};
-  return {st + ".csv", st + ".png"};  // sun-track, optical-depth, lut-convergence
-}
-
 void check_output_files(const Scene& s) {
   std::map<std::string, std::size_t> owner;  // file -> output index
   for (std::size_t i = 0; i < s.outputs.size(); ++i) {

@@ -71,12 +71,6 @@ struct Override {
 };
 std::string override_value_string(const Override& o);
 
-// The files an output writes, relative to the output folder (generic form): a
-// sky-image FILE, STEM.png and STEM.png.json; sh-coefficients FILE, STEM_bands.csv
-// and STEM_bands.png; sun-track, optical-depth and lut-convergence STEM.csv and
-// STEM.png; sun-elevation-study the folder STEM/ and its sun_elevation.csv and four
-// PNGs (STEM = FILE without its extension).
-std::vector<std::string> output_files(const Output& o);
 
 // Outputs stay inside the output folder and never overwrite each other: every
 // `file` is a relative path without ".." (InputError naming output[i].file
