@@ -167,7 +167,7 @@ TEST(Cli, DemoQuickEndToEnd) {
     EXPECT_NE((*spa)["label"].get<std::string>().find("floor"), std::string::npos) << (*spa)["label"];
     EXPECT_GE(acc["notes"].size(), 1u);
     const auto shc = plot("sh_converge.png");
-    const auto* px = series(shc, "pixel-integration");
+    const auto* px = series(shc, "fejer-quadrature");
     ASSERT_NE(px, nullptr);
     EXPECT_NE((*px)["label"].get<std::string>().find("floor"), std::string::npos);
     const std::string title = shc["title"];

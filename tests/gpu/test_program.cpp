@@ -22,11 +22,9 @@ namespace gpu = atmosh::gpu;
 namespace sg = atmosh::atmo::shared;
 
 namespace {
-// The source tree: this file is tests/gpu/test_program.cpp (CMake compiles it by
-// absolute path).
-std::string source_root() {
-  return std::filesystem::path(__FILE__).parent_path().parent_path().parent_path().string() + "/";
-}
+// The source tree (tests/CMakeLists.txt defines it: __FILE__ is not reliably absolute,
+// a compiler cache may hand the compiler relative paths).
+std::string source_root() { return std::string(ATMOSH_SOURCE_DIR) + "/"; }
 const std::string kGeometry = "libatmo/include/atmosh/atmo/shared/geometry.glsl.hpp";
 
 // Line (1-based) of the first line of `path` (in the source tree) that contains `needle`.
