@@ -17,22 +17,13 @@
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/sky_image.hpp"
 #include "atmosh/error.hpp"
+#include "sanitizer_build.hpp"
 
 using namespace atmosh::atmo;
 
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
+using atmosh::test::kSanitized;
 
 // Sanitizer builds run ~10x slower: fewer paths; every bound carries the reference's
 // 3 standard errors, so it widens with them.

@@ -16,6 +16,7 @@
 #include "atmosh/atmo/sky.hpp"
 #include "atmosh/atmo/sky_image.hpp"
 #include "atmosh/error.hpp"
+#include "sanitizer_build.hpp"
 
 using namespace atmosh::atmo;
 
@@ -25,17 +26,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 // Sanitizer builds run ~10x slower: they use fewer paths and then assert only the
 // statistical bound (3 standard errors), whose width follows the path count.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
+using atmosh::test::kSanitized;
 
 std::int64_t paths(std::int64_t release) { return kSanitized ? std::max<std::int64_t>(release / 8, 1000) : release; }
 
