@@ -180,13 +180,15 @@ TEST(Cli, DemoQuickEndToEnd) {
     }
     EXPECT_EQ(plot("sky_sh_bands.png")["y_label"], "energy sum_m c_lm^2 [(cd/m^2 sr)^2]");
     for (const char* f : {"sun_accuracy.png", "sh_converge.png", "lut_convergence.png", "sky_convergence.png",
-                          "ms_convergence.png", "prt/converge.png"})
-      for (const auto& s : plot(f)["series"]) {
+                          "ms_convergence.png", "prt/converge.png"}) {
+      const auto p = plot(f);  // kept alive: the loop runs over a member of it
+      for (const auto& s : p["series"]) {
         EXPECT_EQ(s["style"], "points") << f;
         std::vector<double> x;
         for (const auto& v : s["x"]) x.push_back(v.is_null() ? NAN : v.get<double>());
         EXPECT_TRUE(std::is_sorted(x.begin(), x.end())) << f << " " << s["label"];
       }
+    }
   }
   // No temporaries left behind.
   for (const auto& e : fs::recursive_directory_iterator(out))
