@@ -85,6 +85,11 @@ function(atmosh_install_component component target)
   # no <target>_EXPORTS define (the same compile line as a static build: ccache hits).
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${component}
     VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR} DEFINE_SYMBOL "")
+  if(BUILD_SHARED_LIBS AND CMAKE_INSTALL_RPATH STREQUAL "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
+    # Installed libraries find each other beside themselves (RUNPATH is not inherited
+    # from the executable).
+    set_target_properties(${target} PROPERTIES INSTALL_RPATH "$ORIGIN")
+  endif()
 
   # Public include folders inside the tree: build-tree only in the export, installed
   # under include/ (where every atmosh header lives, <atmosh/...>).

@@ -4,14 +4,15 @@
 #             EGL and OpenGL poisoned (see below);
 #   prt       find_package(atmosh COMPONENTS prt): a bake through the installed library;
 #   pkgconfig sh_only/main.cpp compiled with `pkg-config --cflags --libs atmosh`.
-# Arguments: BUILD_DIR, SOURCE_DIR (tests/consumer), WORK_DIR, GENERATOR, CXX, SHARED.
+# Arguments: BUILD_DIR, SOURCE_DIR (tests/consumer), WORK_DIR, GENERATOR, CXX, SHARED,
+# LAUNCHER (the build's compiler launcher, e.g. ccache: repeated runs compile nothing).
 #
 # The poison: a folder put first on CMAKE_PREFIX_PATH and CMAKE_MODULE_PATH whose
 # GeographicLib, OpenGL and EGL package files and find-modules stop the configuration
 # with FATAL_ERROR. Any find_package() of those packages, in config or module mode, would
 # load one of them before the real one (Debian's files are found through the same
-# paths, after these). The sh-only consumer must configure through it; as a control,
-# the same project asking for atmosh::atmo must fail on the GeographicLib poison.
+# paths, after these). The sh-only consumer must configure through it; controls show
+# that each poison stops a lookup of its package.
 file(REMOVE_RECURSE "${WORK_DIR}")
 set(prefix "${WORK_DIR}/prefix")
 set(poison "${WORK_DIR}/poison")
@@ -36,6 +37,9 @@ set(CMAKE_MODULE_PATH \"${poison}/modules\" CACHE PATH \"\")\n")
 set(poisoned -C "${poison}/init.cmake")
 
 set(configure ${CMAKE_COMMAND} -G "${GENERATOR}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX})
+if(LAUNCHER)
+  list(APPEND configure -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER})
+endif()
 
 # sh only, poisoned
 run("configuring tests/consumer/sh_only (GeographicLib, OpenGL, EGL poisoned)"
@@ -44,12 +48,36 @@ run("building tests/consumer/sh_only" ${CMAKE_COMMAND} --build "${WORK_DIR}/sh_o
 run("running consumer_sh" "${WORK_DIR}/sh_only/consumer_sh")
 message(STATUS "sh_only: ${last_output}")
 
-# control: the poison is effective (atmosh::atmo needs GeographicLib)
-execute_process(COMMAND ${configure} -S "${SOURCE_DIR}/sh_only" -B "${WORK_DIR}/control" ${poisoned}
+# Controls: the poison bites. atmosh's own GeographicLib lookup and find_package of
+# OpenGL and EGL, each in an empty project, must stop on their poison.
+set(atmosh_cmake_dir "${prefix}/lib/cmake/atmosh")
+if(NOT EXISTS "${atmosh_cmake_dir}")
+  file(GLOB atmosh_cmake_dir "${prefix}/lib/*/cmake/atmosh")
+endif()
+file(WRITE "${WORK_DIR}/control/CMakeLists.txt" "cmake_minimum_required(VERSION 3.25)
+project(poison_control NONE)
+if(WHAT STREQUAL \"GeographicLib\")
+  include(\"${atmosh_cmake_dir}/atmoshGeographicLib.cmake\")
+else()
+  find_package(\${WHAT})
+endif()
+")
+foreach(pkg GeographicLib OpenGL EGL)
+  execute_process(COMMAND ${CMAKE_COMMAND} -S "${WORK_DIR}/control" -B "${WORK_DIR}/control/${pkg}" ${poisoned} -DWHAT=${pkg}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(rc EQUAL 0 OR NOT out MATCHES "atmosh consumer poison: ${pkg} was looked for")
+    message(FATAL_ERROR "control: looking for ${pkg} under the poison should stop on it (${rc}):\n${out}")
+  endif()
+endforeach()
+# atmosh::atmo links GeographicLib privately: a static archive's consumer needs it (the
+# configuration must stop on the poison), a shared library's does not (it must pass).
+execute_process(COMMAND ${configure} -S "${SOURCE_DIR}/sh_only" -B "${WORK_DIR}/atmo" ${poisoned}
                 -DATMOSH_CONSUMER_COMPONENTS=atmo
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
-if(rc EQUAL 0 OR NOT out MATCHES "atmosh consumer poison: GeographicLib was looked for")
-  message(FATAL_ERROR "control: asking for atmosh::atmo under the poison should fail on GeographicLib (${rc}):\n${out}")
+if(SHARED AND NOT rc EQUAL 0)
+  message(FATAL_ERROR "shared build: atmosh::atmo should configure without GeographicLib (${rc}):\n${out}")
+elseif(NOT SHARED AND (rc EQUAL 0 OR NOT out MATCHES "atmosh consumer poison: GeographicLib was looked for"))
+  message(FATAL_ERROR "static build: atmosh::atmo under the poison should stop on GeographicLib (${rc}):\n${out}")
 endif()
 
 # prt
@@ -73,6 +101,6 @@ run("pkg-config ${static} --cflags --libs atmosh"
 string(STRIP "${last_output}" flags)
 separate_arguments(flags UNIX_COMMAND "${flags}")
 run("compiling sh_only/main.cpp with pkg-config's flags"
-    ${CXX} -std=c++20 "${SOURCE_DIR}/sh_only/main.cpp" ${flags} -o "${WORK_DIR}/consumer_pkgconfig")
+    ${LAUNCHER} ${CXX} -std=c++20 "${SOURCE_DIR}/sh_only/main.cpp" ${flags} -o "${WORK_DIR}/consumer_pkgconfig")
 run("running consumer_pkgconfig" ${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${libdir} "${WORK_DIR}/consumer_pkgconfig")
 message(STATUS "pkgconfig: ${last_output}")
