@@ -325,12 +325,11 @@ set(CPACK_COMPONENT_RUNTIME_DESCRIPTION "${PROJECT_DESCRIPTION}: the atmosh comm
 set(CPACK_COMPONENT_DEV_DESCRIPTION "${PROJECT_DESCRIPTION}: headers, CMake package and pkg-config files")
 list(JOIN _atmosh_all_dev_debs ", " CPACK_DEBIAN_DEV_PACKAGE_DEPENDS)
 if(ATMOSH_LIBRARY_KIND STREQUAL "shared")
-  # The libraries are in the runtime package: atmosh-dev needs exactly that version, and
-  # dpkg-shlibdeps resolves the command line's links to them inside the package.
+  # The libraries are in the runtime package (with a shlibs file): atmosh-dev needs
+  # exactly that version. dpkg-shlibdeps resolves the links between the packaged files
+  # through their RUNPATH ($ORIGIN..., set above).
   set(CPACK_COMPONENT_DEV_DEPENDS runtime)
   set(CPACK_DEBIAN_ENABLE_COMPONENT_DEPENDS ON)
   set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
-  set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS
-      ${PROJECT_BINARY_DIR}/_CPack_Packages/Linux/DEB/atmosh-${PROJECT_VERSION}-Linux/runtime${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR})
 endif()
 include(CPack)
