@@ -80,6 +80,17 @@ elseif(NOT SHARED AND (rc EQUAL 0 OR NOT out MATCHES "atmosh consumer poison: Ge
   message(FATAL_ERROR "static build: atmosh::atmo under the poison should stop on GeographicLib (${rc}):\n${out}")
 endif()
 
+# find_package(atmosh) without COMPONENTS where GeographicLib, OpenGL and EGL are absent
+# (CMAKE_DISABLE_FIND_PACKAGE_*): it loads what it can, atmosh::sh among them, and says
+# what it left out (a static build: atmo and everything above it).
+execute_process(COMMAND ${configure} -S "${SOURCE_DIR}/sh_only" -B "${WORK_DIR}/all" -DCMAKE_PREFIX_PATH=${prefix}
+                -DATMOSH_CONSUMER_COMPONENTS= -DCMAKE_DISABLE_FIND_PACKAGE_GeographicLib=ON
+                -DCMAKE_DISABLE_FIND_PACKAGE_OpenGL=ON -DCMAKE_DISABLE_FIND_PACKAGE_EGL=ON
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+if(NOT rc EQUAL 0 OR (NOT SHARED AND NOT out MATCHES "atmosh::atmo needs GeographicLib"))
+  message(FATAL_ERROR "find_package(atmosh) without COMPONENTS, GeographicLib/OpenGL/EGL disabled (${rc}):\n${out}")
+endif()
+
 # prt
 run("configuring tests/consumer/prt" ${configure} -S "${SOURCE_DIR}/prt" -B "${WORK_DIR}/prt" -DCMAKE_PREFIX_PATH=${prefix})
 run("building tests/consumer/prt" ${CMAKE_COMMAND} --build "${WORK_DIR}/prt")
