@@ -252,6 +252,11 @@ foreach(_c IN LISTS ATMOSH_COMPONENTS)
   if(NOT _out)
     set(_out ${_t})
   endif()
+  get_target_property(_type ${_t} TYPE)
+  set(_own_lib "-L\${libdir} -l${_out}")
+  if(_type STREQUAL "INTERFACE_LIBRARY")  # headers only
+    set(_own_lib "")
+  endif()
   list(JOIN _pc_requires " " _r)
   list(JOIN _pc_requires_private " " _rp)
   list(JOIN _pc_libs " " _lpub)
@@ -267,7 +272,7 @@ Version: ${PROJECT_VERSION}
 Requires: ${_r}
 Requires.private: ${_rp}
 Cflags: -I\${includedir}
-Libs: -L\${libdir} -l${_out} ${_lpub}
+Libs: ${_own_lib} ${_lpub}
 Libs.private: ${_lp}
 ")
   list(APPEND _atmosh_all_pc_modules atmosh-${_c})
