@@ -1,5 +1,5 @@
 # Locates every dependency from Debian 12 packages and exposes imported targets.
-# Included by the top-level build and (through atmoshConfig.cmake) by consumers.
+# Included by the top-level build (consumers: the installed atmoshConfig.cmake).
 include_guard(GLOBAL)
 include(CMakeFindDependencyMacro)
 
@@ -8,15 +8,11 @@ if(NOT TARGET glm::glm AND TARGET glm)
   add_library(glm::glm ALIAS glm)
 endif()
 
-# Debian ships GeographicLib's find-module only (no config package): use it and
-# wrap its variables in an imported target.
-list(APPEND CMAKE_MODULE_PATH /usr/share/cmake/geographiclib)
-find_package(GeographicLib REQUIRED)
-if(NOT TARGET GeographicLib::GeographicLib)
-  add_library(GeographicLib::GeographicLib UNKNOWN IMPORTED)
-  set_target_properties(GeographicLib::GeographicLib PROPERTIES
-    IMPORTED_LOCATION "${GeographicLib_LIBRARIES}"
-    INTERFACE_INCLUDE_DIRECTORIES "${GeographicLib_INCLUDE_DIRS}")
+# GeographicLib: its CMake package, else the find-module Debian ships (the same lookup
+# as the installed atmosh package, see atmoshGeographicLib.cmake).
+include(${CMAKE_CURRENT_LIST_DIR}/atmoshGeographicLib.cmake)
+if(NOT ATMOSH_GEOGRAPHICLIB_FOUND)
+  message(FATAL_ERROR "GeographicLib not found: install libgeographiclib-dev (scripts/setup-debian.sh)")
 endif()
 
 if(NOT ATMOSH_DEPENDENCIES_LIBS_ONLY)

@@ -4,6 +4,7 @@
 set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build ccache git pkg-config
+  file  # cpack -G DEB runs dpkg-shlibdeps on the ELF files file(1) finds
   clang libclang-rt-14-dev
   libglm-dev libfftw3-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev

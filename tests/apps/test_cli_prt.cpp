@@ -109,7 +109,7 @@ TEST(CliPrt, BadInputExitsTwo) {
   expect_bad("prt bake --scene-builtin torus --bands 0" + out, "--bands");
   expect_bad("prt bake --scene-builtin torus --samples 1000" + out, "1000");
   expect_bad("prt bake --scene-builtin torus -o '" + (d / "t.obj").string() + "'", "t.obj");
-  expect_bad("prt bake --scene-builtin torus --albedo 1.5" + out, "--albedo");
+  expect_bad("prt bake --scene-builtin torus --albedo 1.5" + out, "albedo");
   expect_bad("prt converge --mode unshadowed -o '" + (d / "c").string() + "'", "unshadowed");
   expect_bad("prt relight '" + (d / "missing.ply").string() + "' --light-dir 0,0,1 -o '" + d.string() + "'", "missing.ply");
   const auto r = run_cli("prt bake '" + (d / "nan.ply").string() + "'" + out);
