@@ -123,7 +123,8 @@ def atmosphere(source=None, wavelengths_nm=None):
       a dict             a scene with the file's schema, e.g.
                          {"planet": {"radius_m": 6360e3, "atmosphere_top_m": 60e3},
                           "rayleigh": {...}, "spectrum": {"wavelengths_nm": [450, 550, 650]}}
-                         (written as TOML and read by the same strict parser)
+                         (written as TOML and read by the same strict parser;
+                         "version" defaults to 1)
     wavelengths_nm: optional wavelengths [nm] replacing the source's spectrum.
     Raises atmosh.InputError naming the bad key or value (the message of `atmosh scene check`).
     """
@@ -131,6 +132,8 @@ def atmosphere(source=None, wavelengths_nm=None):
     if source is None:
         return Atmosphere(_atmo.Atmosphere.default_scene(wl))
     if isinstance(source, dict):
+        if "version" not in source:
+            source = {"version": 1, **source}
         return Atmosphere(_atmo.Atmosphere.from_toml(_toml.dumps(source), "<dict>", wl))
     if isinstance(source, os.PathLike):
         return Atmosphere(_atmo.Atmosphere.from_file(os.fspath(source), wl))
