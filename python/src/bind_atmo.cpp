@@ -56,35 +56,35 @@ py::tuple columns(const PyAtmosphere& a, const DArray& altitude, const DArray& m
   };
   for (std::size_t i = 0; i < n; ++i) check(i);
   {
-  py::gil_scoped_release release;
-  if (method == "reference") {
-    atmo::OpticalDepthReference ref(atm);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double L = pl && std::isfinite(pl[i]) ? pl[i] : -1.0;
-      const atmo::RayColumn c = ref.column(atm.ground_radius() + pa[i], pm[i], L);
-      for (int k = 0; k < 3; ++k) {
-        pc[3 * i + k] = c.column[k];
-        pe[3 * i + k] = c.error[k];
+    py::gil_scoped_release release;
+    if (method == "reference") {
+      atmo::OpticalDepthReference ref(atm);
+      for (std::size_t i = 0; i < n; ++i) {
+        const double L = pl && std::isfinite(pl[i]) ? pl[i] : -1.0;
+        const atmo::RayColumn c = ref.column(atm.ground_radius() + pa[i], pm[i], L);
+        for (int k = 0; k < 3; ++k) {
+          pc[3 * i + k] = c.column[k];
+          pe[3 * i + k] = c.error[k];
+        }
+        ph[i] = c.hits_ground;
       }
-      ph[i] = c.hits_ground;
-    }
-  } else {
-    if (pl)
-      for (std::size_t i = 0; i < n; ++i)
-        if (std::isfinite(pl[i]) && pl[i] >= 0.0) throw InputError("length_m: only with method 'reference'");
-    atmo::LutOptions lo;
-    lo.shells = shells;
-    lo.view_directions = lo.sun_directions = directions;
-    atmo::OpticalDepthLut lut(atm, lo);
-    for (std::size_t i = 0; i < n; ++i) {
-      const atmo::LutColumn c = lut.view(atm.ground_radius() + pa[i], pm[i]);
-      for (int k = 0; k < 3; ++k) {
-        pc[3 * i + k] = c.column[k];
-        pe[3 * i + k] = std::nan("");
+    } else {
+      if (pl)
+        for (std::size_t i = 0; i < n; ++i)
+          if (std::isfinite(pl[i]) && pl[i] >= 0.0) throw InputError("length_m: only with method 'reference'");
+      atmo::LutOptions lo;
+      lo.shells = shells;
+      lo.view_directions = lo.sun_directions = directions;
+      atmo::OpticalDepthLut lut(atm, lo);
+      for (std::size_t i = 0; i < n; ++i) {
+        const atmo::LutColumn c = lut.view(atm.ground_radius() + pa[i], pm[i]);
+        for (int k = 0; k < 3; ++k) {
+          pc[3 * i + k] = c.column[k];
+          pe[3 * i + k] = std::nan("");
+        }
+        ph[i] = c.hits_ground;
       }
-      ph[i] = c.hits_ground;
     }
-  }
   }
   return py::make_tuple(col, err, hits);
 }
