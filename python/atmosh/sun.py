@@ -91,7 +91,7 @@ def position(times, latitude, longitude, height=0.0, pressure=1013.25, temperatu
     if output != "dataframe":
         raise _atmosh.InputError("output: '%s' is not dataframe or dict" % output)
     import pandas as pd
-    if len(shape) > 1:
+    if len(shape) != 1:  # a scalar instant is one row; several axes are flattened
         res = {k: v.ravel() for k, v in res.items()}
     index = None
     t = np.asarray(times) if not hasattr(times, "tz") else times

@@ -200,14 +200,14 @@ void bind_atmo(py::module_& m) {
               d["apparent_elevation_deg"] = s.apparent_elevation_deg;
               d["earth_sun_distance_au"] = s.earth_sun_distance_au;
               d["observer_height_m"] = o.height_m;
-              return std::move(d);
+              return d;
             }
             if (a.scene.sun) {
               d["elevation_deg"] = a.scene.sun->elevation_deg;
               d["azimuth_deg"] = a.scene.sun->azimuth_deg;
               d["earth_sun_distance_au"] = 1.0;
               d["observer_height_m"] = 0.0;
-              return std::move(d);
+              return d;
             }
             return py::none();
           })

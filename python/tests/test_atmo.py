@@ -43,6 +43,9 @@ def test_scene_dict_columns_against_the_closed_form():
     col = a.columns(h0, 1.0)["column_m"]
     np.testing.assert_allclose(col[:, 0], H * (np.exp(-h0 / H) - math.exp(-top / H)), rtol=1e-11)
     np.testing.assert_array_equal(col[:, 1:], 0.0)
+    # a vertical ray of length l from the ground: H (1 - exp(-l/H))
+    part = a.columns(0.0, 1.0, length_m=[100.0, 5000.0])["column_m"][:, 0]
+    np.testing.assert_allclose(part, H * (1 - np.exp(-np.array([100.0, 5000.0]) / H)), rtol=1e-11)
     # lambda^-4 scaling of the coefficients, tau = beta * X
     ext = a.extinction()[:, 0]
     np.testing.assert_allclose(ext, 13.558e-6 * (np.array([440.0, 550.0, 680.0]) / 550.0) ** -4, rtol=1e-12)

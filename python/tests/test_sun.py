@@ -63,6 +63,7 @@ def test_broadcasting_timezones_and_shapes():
     empty = atmosh.sun.position(np.array([], dtype="datetime64[s]"), 0.0, 0.0)
     assert len(empty) == 0 and "elevation_deg" in empty.columns
     assert len(atmosh.sun.position(t[:1], 0.0, 0.0)) == 1
+    assert len(atmosh.sun.position(t[0], 0.0, 0.0)) == 1  # a scalar instant
 
 
 def test_bad_input_raises_the_cli_message(cli):
