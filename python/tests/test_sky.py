@@ -123,3 +123,27 @@ def test_bad_input(cli, sky, tmp_path):
     assert str(e.value) == cli_message(err).replace("--scattering", "scattering")
     with pytest.raises(atmosh.InputError, match="projection|fisheye"):
         sky.image((30.0, 180.0), 4, 4, projection="cube")
+
+
+@pytest.mark.parametrize("scattering", [
+    {"method": "approximate", "ms_altitudes": 4, "ms_sun_directions": 8, "ms_zenith_directions": 4,
+     "ms_azimuth_directions": 2, "ms_ray_steps": 8},
+    {"method": "orders", "orders": 2, "orders_radii": 4, "orders_view_directions": 8, "orders_sun_directions": 4,
+     "orders_azimuths": 4, "orders_sphere_zenith": 4, "orders_sphere_azimuth": 4, "orders_ray_steps": 4},
+])
+def test_the_scenes_scattering_method_matches_cli(cli, tmp_path, scattering):
+    import tomllib
+    scene = tomllib.loads(atmosh.atmo.atmosphere("test-planet").to_toml())
+    scene["scattering"] = scattering  # small tables: the same code path, milliseconds to build
+    scene["sun"] = {"elevation_deg": 20.0, "azimuth_deg": 100.0}
+    a = atmosh.atmo.atmosphere(scene)
+    f = tmp_path / "scene.toml"
+    f.write_text(a.to_toml())
+    j = cli.json("sky", "--scene", f, "--size", "8x4", "-o", tmp_path / "sky.exr")
+    sky = atmosh.sky.Sky(a)
+    assert sky.scattering_method == j["scattering"] == scattering["method"]
+    xyz, srgb = _summary(sky, (20.0, 100.0))
+    assert xyz[0, 1] == pytest.approx(j["zenith_luminance_cd_m2"], rel=1e-12)
+    np.testing.assert_allclose(srgb[1], j["horizon_srgb"], rtol=1e-12)
+    single = atmosh.sky.Sky(a, scattering="single")
+    assert _summary(single, (20.0, 100.0))[0][0, 1] < xyz[0, 1]  # more light with the higher orders
