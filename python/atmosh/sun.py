@@ -33,11 +33,12 @@ def julian_day(times):
     if a.dtype.kind in "US" or a.dtype == object and a.size and isinstance(a.flat[0], str):
         return _sun.parse_iso8601([str(s) for s in a.ravel()]).reshape(a.shape)
     if a.dtype.kind == "M":
-        ns = a.astype("datetime64[ns]").astype(np.int64)
+        # microseconds: +-290 000 years, the whole SPA range (nanoseconds stop at 1677..2262)
+        us = a.astype("datetime64[us]").astype(np.int64)
         nat = np.isnat(a)
-        day_ns = 86400 * 10**9
-        days, rem = np.divmod(ns, day_ns)
-        jd = _UNIX_EPOCH_JD + days.astype(np.float64) + rem.astype(np.float64) / day_ns
+        day_us = 86400 * 10**6
+        days, rem = np.divmod(us, day_us)
+        jd = _UNIX_EPOCH_JD + days.astype(np.float64) + rem.astype(np.float64) / day_us
         return np.where(nat, np.nan, jd)
     if a.dtype.kind in "fiu":
         return a.astype(np.float64)

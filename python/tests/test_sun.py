@@ -64,6 +64,10 @@ def test_broadcasting_timezones_and_shapes():
     assert len(empty) == 0 and "elevation_deg" in empty.columns
     assert len(atmosh.sun.position(t[:1], 0.0, 0.0)) == 1
     assert len(atmosh.sun.position(t[0], 0.0, 0.0)) == 1  # a scalar instant
+    # instants outside numpy's nanosecond range (1677..2262) within SPA's -2000..6000
+    far = np.array(["-1500-03-01T06:00", "1000-06-01T12:00", "4000-12-31T23:59"], dtype="datetime64[m]")
+    iso = ["-1500-03-01T06:00Z", "1000-06-01T12:00Z", "4000-12-31T23:59Z"]
+    np.testing.assert_allclose(atmosh.sun.julian_day(far), atmosh.sun.julian_day(iso), rtol=0, atol=1e-9)
 
 
 def test_bad_input_raises_the_cli_message(cli):
