@@ -11,7 +11,7 @@ from . import _atmosh
 
 _prt = _atmosh.prt
 
-__all__ = ["bake", "relight", "builtin_scene", "builtin_scene_names", "load_mesh", "unshadowed_transfer",
+__all__ = ["bake", "relight", "render", "builtin_scene", "builtin_scene_names", "load_mesh", "unshadowed_transfer",
            "directional_light"]
 
 
@@ -63,6 +63,20 @@ def relight(transfer, light):
         raise _atmosh.InputError("relight: transfer (V, %s) and light %s do not match"
                                  % (t.shape[-1] if t.ndim else "?", lt.shape))
     return t @ lt if lt.ndim == 1 else t @ lt.T
+
+
+def render(vertices, triangles, values, width=256, height=256, view_dir=(1.0, 0.6, 0.8)):
+    """A camera image (H, W) or (H, W, C) of per-vertex values (V,) or (V, C) (e.g. relight's
+    output), interpolated barycentrically on the surface seen by each pixel (Embree ray
+    casting); background 0. The camera (prt::PixelCamera) looks at the bounding-box centre
+    from direction view_dir (centre towards the camera), 40 deg vertical field of view, the
+    bounding sphere in view; row 0 at the top."""
+    val = np.asarray(values, dtype=np.float64)
+    single = val.ndim == 1
+    out = _prt.render_vertex_values(np.asarray(vertices, np.float64), np.asarray(triangles).astype(np.int64),
+                                    np.ascontiguousarray(val[:, np.newaxis] if single else val), width, height,
+                                    np.asarray(view_dir, dtype=np.float64))
+    return out[..., 0] if single else out
 
 
 def unshadowed_transfer(bands, normals, albedo):

@@ -120,6 +120,35 @@ void bind_prt(py::module_& m) {
       py::arg("bands") = 3, py::arg("mode") = "shadowed", py::arg("strata") = 45, py::arg("seed") = 1,
       py::arg("bounces") = 2, py::arg("default_albedo") = 0.8, py::arg("threads") = 0);
   m.def(
+      "render_vertex_values",
+      [](const DArray& vertices, const IArray& triangles, const DArray& values, int width, int height,
+         const DArray& view_dir) {
+        const prt::Mesh mesh = mesh_from_arrays(vertices, triangles, std::nullopt, std::nullopt);
+        if (values.ndim() != 2 || static_cast<std::size_t>(values.shape(0)) != mesh.vertex_count())
+          throw InputError("values: expected shape (V, C) with V = " + std::to_string(mesh.vertex_count()) +
+                           ", got shape " + shape_string(values));
+        if (view_dir.ndim() != 1 || view_dir.shape(0) != 3)
+          throw InputError("view_dir: expected shape (3,), got shape " + shape_string(view_dir));
+        const auto C = values.shape(1);
+        std::vector<std::vector<double>> per_vertex(mesh.vertex_count());
+        for (std::size_t v = 0; v < per_vertex.size(); ++v)
+          per_vertex[v].assign(values.data() + v * C, values.data() + (v + 1) * C);
+        const glm::dvec3 dir(view_dir.data()[0], view_dir.data()[1], view_dir.data()[2]);
+        std::vector<std::vector<float>> img;
+        {
+          py::gil_scoped_release release;
+          const prt::RayScene scene(mesh);
+          img = prt::render_vertex_values(scene, mesh, per_vertex, width, height, dir);
+        }
+        DArray out = new_array({height, width, C});
+        const std::size_t np = static_cast<std::size_t>(width) * height;
+        for (py::ssize_t c = 0; c < C; ++c)
+          for (std::size_t i = 0; i < np; ++i) out.mutable_data()[i * C + c] = img[c][i];
+        return out;
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("values"), py::arg("width"), py::arg("height"),
+      py::arg("view_dir"));
+  m.def(
       "unshadowed_transfer",
       [](int bands, const DArray& normals, const DArray& albedo) {
         sh::check_bands(bands, "bands");

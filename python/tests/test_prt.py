@@ -56,6 +56,23 @@ def test_unshadowed_transfer_closed_form_and_relight():
     np.testing.assert_allclose(s["ao"], 1.0, atol=0.02)
 
 
+def test_render_interpolates_vertex_values():
+    # A unit quad seen from straight above: the image of a linear function of x is linear
+    # across the pixels that see it, 2 at the centre, and 0 on the background (the corners,
+    # outside the bounding sphere's disc).
+    v = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]])
+    tri = np.array([[0, 1, 2], [0, 2, 3]])
+    img = atmosh.prt.render(v, tri, 1.0 + 2.0 * v[:, 0], 33, 33, view_dir=(0.0, 0.0, 1.0))
+    assert img.shape == (33, 33)
+    assert img[16, 16] == pytest.approx(2.0, rel=1e-6)
+    assert img[0, 0] == 0.0 and img[32, 32] == 0.0
+    row = img[16][img[16] > 0]
+    assert len(row) > 10
+    np.testing.assert_allclose(np.diff(row, 2), 0.0, atol=1e-5)
+    two = atmosh.prt.render(v, tri, np.stack([v[:, 0], v[:, 1]], axis=1), 9, 9, view_dir=(0.0, 0.0, 1.0))
+    assert two.shape == (9, 9, 2)
+
+
 def test_bad_input():
     v = np.zeros((3, 3))
     with pytest.raises(atmosh.InputError, match="vertex index 5"):
