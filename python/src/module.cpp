@@ -1,5 +1,5 @@
 // module.cpp — the extension module atmosh._atmosh: one submodule per library area
-// (sun, atmo, sky, sh, prt); the pure-Python package atmosh wraps them with the
+// (sun, atmo, sky, sh, prt, io); the pure-Python package atmosh wraps them with the
 // numpy conveniences and docstrings (python/atmosh/).
 #include "common.hpp"
 
@@ -13,9 +13,11 @@ PYBIND11_MODULE(_atmosh, m) {
   auto sky = m.def_submodule("sky", "Sky radiance, images and colour");
   auto sh = m.def_submodule("sh", "Real spherical harmonics");
   auto prt = m.def_submodule("prt", "Precomputed radiance transfer");
+  auto io = m.def_submodule("io", "Files atmosh writes");
   atmosh::python::bind_sun(sun);
   atmosh::python::bind_atmo(atmo);
   atmosh::python::bind_sky(sky);
   atmosh::python::bind_sh(sh);
   atmosh::python::bind_prt(prt);
+  atmosh::python::bind_io(io);
 }

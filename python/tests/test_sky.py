@@ -39,6 +39,23 @@ def test_radiance_and_irradiance_match_cli(cli, sky, tmp_path):
     assert irr["diffuse_lux"] == pytest.approx(j["irradiance_diffuse_lux"], rel=1e-12)
 
 
+@pytest.mark.parametrize("projection", ["equirect", "fisheye"])
+def test_image_equals_the_cli_exr(cli, sky, tmp_path, projection):
+    f = tmp_path / "sky.exr"
+    cli.text("sky", "--sun-elevation", 12, "--sun-azimuth", 250, "--scattering", "single", "--size", "24x12",
+             "--projection", projection, "--spectral", "-o", f)
+    exr = atmosh.io.read_exr(f, stack=["X", "Y", "Z"])
+    img = sky.image((12.0, 250.0), 24, 12, projection=projection, spectral=True)
+    assert exr["width"] == 24 and exr["height"] == 12
+    np.testing.assert_array_equal(img["xyz"], exr["image"])  # the same float32 render
+    rgb = np.stack([exr["channels"][c] for c in "RGB"], axis=-1)
+    np.testing.assert_array_equal(img["srgb"], rgb)
+    for i, wl in enumerate(img["wavelengths_nm"]):
+        name = [c for c in exr["channels"] if c.startswith("L_") and abs(float(c[2:-2]) - wl) < 0.01]
+        assert len(name) == 1, wl
+        np.testing.assert_array_equal(img["spectral"][..., i], exr["channels"][name[0]])
+
+
 def test_scene_file_with_observer_matches_cli(cli, tmp_path):
     scene = {
         "name": "python-test",
