@@ -73,6 +73,16 @@ def test_render_interpolates_vertex_values():
     assert two.shape == (9, 9, 2)
 
 
+def test_shapes_zero_and_one():
+    v = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    b = atmosh.prt.bake(v, [[0, 1, 2]], bands=2, mode="unshadowed")  # one triangle
+    assert b["transfer"].shape == (3, 4)
+    light = atmosh.prt.directional_light(2, [0.0, 0.0, 1.0])
+    assert atmosh.prt.relight(np.zeros((0, 4)), light).shape == (0,)
+    assert atmosh.prt.relight(b["transfer"][:1], light).shape == (1,)
+    assert atmosh.prt.unshadowed_transfer(2, np.zeros((0, 3)), 0.5).shape == (0, 4)
+
+
 def test_bad_input():
     v = np.zeros((3, 3))
     with pytest.raises(atmosh.InputError, match="vertex index 5"):

@@ -30,6 +30,10 @@ def test_evaluate_band_0_and_1_closed_forms():
     np.testing.assert_allclose(y[:, 3], -C1 * d[:, 0], rtol=1e-14, atol=1e-16)
     assert SH.evaluate(3, np.zeros((0, 3))).shape == (0, 9)
     assert SH.evaluate(3, [[0.0, 0.0, 1.0]]).shape == (1, 9)
+    c = np.ones((2, 9))
+    assert SH.reconstruct(c, np.zeros((0, 3))).shape == (0, 2)
+    assert SH.irradiance_at(c, np.zeros((0, 3))).shape == (0, 2)
+    assert SH.irradiance_at(c[0], [[0.0, 0.0, 1.0]]).shape == (1,)
 
 
 def test_grid_analysis_and_projections_of_known_functions():
