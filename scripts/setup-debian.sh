@@ -14,6 +14,7 @@ PKGS=(
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libtinyobjloader-dev libassimp-dev
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas python3-pytest
 )
 missing=()
 for p in "${PKGS[@]}"; do

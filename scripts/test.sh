@@ -32,7 +32,7 @@ export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DATMOSH_SANITIZE=address,undefined -DATMOSH_BUILD_BENCH=OFF
+  -DATMOSH_SANITIZE=address,undefined -DATMOSH_BUILD_BENCH=OFF -DATMOSH_WITH_PYTHON=OFF
 cmake --build build-asan -j "$JOBS"
 ctest --test-dir build-asan -j "$JOBS" --output-on-failure --timeout 1800 | tee "$LOGS/asan.log"
 count_passed "$LOGS/asan.log"
@@ -41,6 +41,7 @@ echo "== [3/3] libFuzzer: 6 readers of user files, ${FUZZ_SECONDS} s each"
 FUZZERS="fuzz_scene fuzz_sweep fuzz_mesh_obj fuzz_mesh_ply fuzz_exr fuzz_sh_csv"
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DATMOSH_SANITIZE=address,undefined -DATMOSH_BUILD_FUZZ=ON -DATMOSH_BUILD_BENCH=OFF -DATMOSH_WITH_GPU=OFF \
+  -DATMOSH_WITH_PYTHON=OFF \
   -DATMOSH_BUILD_TESTS=OFF
 # shellcheck disable=SC2086
 cmake --build build-fuzz -j "$JOBS" --target $FUZZERS
