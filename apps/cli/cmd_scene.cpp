@@ -8,7 +8,9 @@
 #include "atmosh/io/csv.hpp"
 #include "atmosh/scene/outputs.hpp"
 #include "atmosh/scene/scene.hpp"
+#include "atmosh/studies/scene_run.hpp"
 #include "cli_common.hpp"
+#include "progress.hpp"
 
 namespace atmosh::cli {
 
@@ -17,6 +19,46 @@ scene::Scene scene_from(const std::string& file) {
   return file.empty() ? scene::default_scene() : scene::load_scene(file);
 }
 }  // namespace
+
+void run_scene(const scene::Scene& s, const std::filesystem::path& dir, bool quick,
+               std::vector<std::filesystem::path>& written, const std::string& device) {
+  check_device(device);
+  studies::SceneRunOptions o;
+  o.quick = quick;
+  o.device = device;
+  o.notice = [](const std::string& m) { std::cerr << "atmosh: " << m << "\n"; };
+  o.step = [](const std::string& name, const std::function<void()>& work) {
+    ProgressStep step(name);
+    work();
+  };
+  // The kinds computed by the sun and atmosphere commands (cmd_sun.cpp, cmd_atmo.cpp).
+  o.runners["sun-track"] = [](studies::SceneRunContext& ctx, const scene::Output&, const std::filesystem::path&,
+                              const std::filesystem::path& stem) {
+    const auto& ob = *ctx.scene.observer;  // check_outputs: a sun-track has an [observer]
+    return write_sun_track(ob.latitude_deg, ob.longitude_deg, ob.height_m, ob.time_utc,
+                           ctx.options.quick ? 1800.0 : 600.0, stem);
+  };
+  o.runners["lut-convergence"] = [](studies::SceneRunContext& ctx, const scene::Output&, const std::filesystem::path&,
+                                    const std::filesystem::path& stem) {
+    return write_lut_convergence(ctx.scene.atmosphere, stem, ctx.options.quick);
+  };
+  o.runners["optical-depth"] = [](studies::SceneRunContext& ctx, const scene::Output&, const std::filesystem::path&,
+                                  const std::filesystem::path& stem) {
+    return write_optical_depth_table(ctx.scene.atmosphere, stem);
+  };
+  // The study resolves its worker threads as `study sun-elevation` does, which records
+  // them in the provenance of every file written after it (io::set_threads).
+  o.runners["sun-elevation-study"] = [](studies::SceneRunContext& ctx, const scene::Output& out,
+                                        const std::filesystem::path& file, const std::filesystem::path& stem) {
+    threads_option(0);
+    return studies::scene_output_runners().at("sun-elevation-study")(ctx, out, file, stem);
+  };
+  // Before any work: a runner for every output, and the memory the largest one holds.
+  studies::check_scene_runnable(s, o);
+  if (const auto m = studies::scene_peak_memory(s, o); m.bytes > 0) check_memory(m.bytes, m.what);
+  const auto r = studies::run_scene(s, dir, o);
+  written.insert(written.end(), r.written.begin(), r.written.end());
+}
 
 void register_scene_commands(CLI::App& app) {
   auto* sc = app.add_subcommand("scene", "Show or check scene files (TOML, version 1)")->require_subcommand(1);
