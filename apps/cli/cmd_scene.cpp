@@ -5,7 +5,6 @@
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
-#include "atmosh/io/csv.hpp"
 #include "atmosh/scene/outputs.hpp"
 #include "atmosh/scene/scene.hpp"
 #include "atmosh/studies/scene_run.hpp"
@@ -149,12 +148,7 @@ void register_scene_commands(CLI::App& app) {
       const auto s = scene::default_scene();
       io::write_text_atomically(ctx.out_dir / "scene.toml", std::string(scene::default_scene_toml()));
       ctx.written.push_back(ctx.out_dir / "scene.toml");
-      io::CsvTable plan_csv({"pass", "needed", "reason"});
-      for (const auto& p : scene::plan(s)) plan_csv.add_row({p.name, std::int64_t{p.needed ? 1 : 0}, p.reason});
-      auto prov = io::Provenance::current();
-      prov.add("scene", s.source);
-      plan_csv.write(ctx.out_dir / "plan.csv", prov);
-      ctx.written.push_back(ctx.out_dir / "plan.csv");
+      ctx.written.push_back(studies::write_plan_csv(s, ctx.out_dir / "plan.csv"));
       run_scene(s, ctx.out_dir, ctx.quick, ctx.written);  // the scene's own outputs
       demo_sun(ctx);                                     // then every study the toolkit has
       demo_atmo(ctx);
@@ -162,9 +156,8 @@ void register_scene_commands(CLI::App& app) {
       demo_ms(ctx);
       demo_sh(ctx);
       demo_prt(ctx);
-      std::string manifest = "# atmosh demo results (" + std::string(quick ? "quick" : "full") + " run)\n";
-      for (const auto& f : ctx.written) manifest += f.lexically_relative(ctx.out_dir).string() + "\n";
-      io::write_text_atomically(ctx.out_dir / "MANIFEST.txt", manifest);
+      studies::write_manifest(ctx.out_dir, "atmosh demo results (" + std::string(quick ? "quick" : "full") + " run)",
+                              ctx.written);
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::cout << "atmosh demo: wrote " << ctx.written.size() << " files to " << ctx.out_dir.string() << "/ in "
                 << secs << " s:\n";

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
 
 #include "atmosh/error.hpp"
@@ -146,4 +148,24 @@ TEST(Studies, RunSceneRefusesBeforeAnyWork) {
   EXPECT_NE(peak.what.find("large.exr"), std::string::npos);
   EXPECT_GT(peak.bytes, std::size_t{4096} * 2048 * 6 * sizeof(float));  // at least the EXR's six channels
   EXPECT_LT(studies::scene_peak_memory(s, quick_options()).bytes, peak.bytes);  // quick: at most 64 x 32
+}
+
+TEST(Studies, PlanCsvAndManifestHoldThePlanAndTheFiles) {
+  const fs::path d = scratch("plan");
+  auto s = test::small_scene(test::kParisObserver);
+  s.outputs = {output("sh-coefficients", "sh.csv"), output("lut-convergence", "lut.csv")};
+  const auto csv = io::read_csv(studies::write_plan_csv(s, d / "plan.csv"));
+  const auto passes = scene::plan(s);
+  ASSERT_EQ(csv.rows.size(), passes.size());
+  for (std::size_t i = 0; i < passes.size(); ++i) {
+    EXPECT_EQ(csv.rows[i][csv.column("pass")], passes[i].name);
+    EXPECT_EQ(csv.number(i, csv.column("needed")), passes[i].needed ? 1.0 : 0.0);
+  }
+  EXPECT_EQ(csv.provenance.at("scene"), "small.toml");
+  // The lut-convergence kind lists a pass of its own (OutputKind::plan_pass).
+  EXPECT_TRUE(plan_needs(s, "lut-convergence-study"));
+  const auto m = studies::write_manifest(d, "files", {d / "plan.csv", d / "a" / "b.csv"});
+  std::ifstream in(m);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "# files\nplan.csv\na/b.csv\n");
 }

@@ -4,6 +4,8 @@
 #include <algorithm>
 
 #include "atmosh/error.hpp"
+#include "atmosh/io/atomic.hpp"
+#include "atmosh/io/csv.hpp"
 #include "atmosh/scene/outputs.hpp"
 #include "atmosh/studies/sky_studies.hpp"
 
@@ -118,6 +120,22 @@ SceneRun run_scene(const scene::Scene& s, const fs::path& dir, const SceneRunOpt
   r.skies_built = ctx.skies_built;
   r.spa_computed = ctx.spa_computed;
   return r;
+}
+
+fs::path write_plan_csv(const scene::Scene& s, const fs::path& csv) {
+  io::CsvTable t({"pass", "needed", "reason"});
+  for (const auto& p : scene::plan(s)) t.add_row({p.name, std::int64_t{p.needed ? 1 : 0}, p.reason});
+  auto prov = io::Provenance::current();
+  prov.add("scene", s.source);
+  t.write(csv, prov);
+  return csv;
+}
+
+fs::path write_manifest(const fs::path& dir, const std::string& title, const std::vector<fs::path>& files) {
+  std::string text = "# " + title + "\n";
+  for (const auto& f : files) text += f.lexically_relative(dir).string() + "\n";
+  io::write_text_atomically(dir / "MANIFEST.txt", text);
+  return dir / "MANIFEST.txt";
 }
 
 }  // namespace atmosh::studies

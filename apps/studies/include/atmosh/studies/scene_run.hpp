@@ -81,4 +81,11 @@ struct SceneRun {
 // Computes exactly the outputs a scene lists into dir (check_scene_runnable first).
 SceneRun run_scene(const scene::Scene& s, const std::filesystem::path& dir, const SceneRunOptions& o);
 
+// The scene's plan (scene::plan) as CSV: pass, needed (0/1), reason; the scene in its
+// provenance. Returns the file.
+std::filesystem::path write_plan_csv(const scene::Scene& s, const std::filesystem::path& csv);
+// A manifest: one title line "# <title>", then each file relative to dir, one a line.
+std::filesystem::path write_manifest(const std::filesystem::path& dir, const std::string& title,
+                                     const std::vector<std::filesystem::path>& files);
+
 }  // namespace atmosh::studies
