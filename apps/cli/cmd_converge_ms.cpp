@@ -1,25 +1,18 @@
 // atmosh converge ms — the sky's scattering methods (single, the all-orders
 // approximation, successive orders, table sizes) against the Monte-Carlo reference:
-// error against run time (the computation: atmo::ms_convergence_study).
+// error against run time (the study: atmosh::studies::converge_ms).
 #include <filesystem>
 #include <iostream>
 #include <string>
 
-#include "atmosh/atmo/atmosphere.hpp"
-#include "atmosh/atmo/ms_convergence.hpp"
-#include "atmosh/atmo/sky_image.hpp"
 #include "atmosh/error.hpp"
-#include "atmosh/io/csv.hpp"
-#include "atmosh/io/plot.hpp"
-#include "atmosh/io/provenance.hpp"
-#include "atmosh/io/study.hpp"
 #include "atmosh/scene/scene.hpp"
+#include "atmosh/studies/ms.hpp"
 #include "cli_common.hpp"
 
 namespace atmosh::cli {
 
 namespace fs = std::filesystem;
-using namespace atmosh::atmo;
 
 namespace {
 
@@ -37,78 +30,11 @@ std::vector<fs::path> run_converge_ms(const ConvergeMs& o) {
     throw InputError("--paths " + std::to_string(paths) + ": must be in [1, 2^40]");
   if (o.output.empty()) throw InputError("-o is required (output folder)");
   const scene::Scene s = o.scene_file.empty() ? scene::default_scene() : scene::load_scene(o.scene_file);
-  const Atmosphere atm(s.atmosphere);
-  const SolarSpectrum solar = solar_spectrum_for_bins(s.atmosphere.spectrum);
-
-  MsStudyOptions so;
-  so.reference_run.paths = paths;
-  so.reference_run.seed = o.seed;
-  so.settings = ms_study_default_settings(o.quick);
-  if (o.quick) {
-    // A few seconds: the zenith and the horizon away from the sun, the sun above the horizon.
-    so.views = {{90, 0}, {5, 180}};
-    so.sun_elevations_deg = {30, 10};
-    so.timing_repetitions = 1;
-  }
-  const MsStudyResult r = ms_convergence_study(atm, solar, so);
-
-  const fs::path dir(o.output);
-  const fs::path stem = dir / "ms_convergence";
-  auto prov = io::Provenance::current();
-  prov.add("scene", s.source);
-  prov.add("reference", "Monte-Carlo radiative transfer (atmosh rt sky: every order, ground albedo of the scene), " +
-                            std::to_string(paths) + " paths per row, seed " + std::to_string(o.seed));
-  prov.add("reference_time_s", r.reference_time_s);
-  prov.add("rows", static_cast<double>(r.points.size()));
-  prov.add("views", "elevation/azimuth from the sun [deg]: see ms_convergence_points.csv");
-  prov.add("bands", "all; day = sun >= 0 deg; civil = -6 <= sun < 0 deg; night = sun < -6 deg");
-  prov.add("error", "relative error of the luminance (CIE Y) against the reference's mean; "
-                    "error_max_sigma = max |L - L_mc| / stderr_mc; error_max_rel_minus_3sigma = max (e - 3 rel stderr)");
-  prov.add("time_s", "table build + evaluation of every row (wall clock, all threads; fastest of " +
-                         std::to_string(so.timing_repetitions) + " runs, one run for settings over 2 s)");
-
-  std::vector<fs::path> written;
-  io::CsvTable csv({"method", "setting", "band", "error_max_rel", "error_rms_rel", "time_s",
-                    "reference_rel_stderr_max", "error_max_sigma", "error_max_rel_minus_3sigma", "build_time_s",
-                    "eval_time_s", "rows", "rows_skipped"});
-  std::vector<io::StudyRow> plot_rows;
-  for (const auto& row : r.rows) {
-    csv.add_row({row.method, row.setting, row.band, row.error_max_rel, row.error_rms_rel, row.time_s,
-                 row.reference_rel_stderr_max, row.error_max_sigma, row.error_max_rel_minus_3sigma,
-                 row.build_time_s, row.eval_time_s, std::int64_t{row.rows}, std::int64_t{row.rows_skipped}});
-    // The plot: day and civil twilight (night rows, reference stderr 3-25 %, are in the CSV).
-    if (row.band == "day" || row.band == "civil")
-      plot_rows.push_back({row.method + " (" + row.band + ")", row.setting, row.error_max_rel, row.error_rms_rel,
-                           row.time_s, {}});
-  }
-  fs::path csv_file = stem;
-  csv_file += ".csv";
-  csv.write(csv_file, prov);
-  written.push_back(csv_file);
-
-  io::StudySpec spec;
-  spec.title = "Sky scattering methods against Monte-Carlo RT: luminance error vs run time (sun >= -6 deg)";
-  spec.error_axis_label = "max relative error of luminance";
-  spec.time_axis_label = "table build + evaluation [s]";
-  fs::path png = stem;
-  png += ".png";
-  io::write_plot_png(png, io::study_plot_spec(spec, plot_rows));
-  written.push_back(png);
-
-  std::vector<std::string> cols = {"sun_elevation_deg", "view_elevation_deg", "view_relative_azimuth_deg",
-                                   "reference_luminance_cd_m2", "reference_luminance_stderr_cd_m2"};
-  for (const auto& st : so.settings) cols.push_back(st.method + " " + st.setting);
-  io::CsvTable pts(cols);
-  for (const auto& p : r.points) {
-    std::vector<io::CsvCell> row = {p.sun_elevation_deg, p.view_elevation_deg, p.view_relative_azimuth_deg,
-                                    p.reference_luminance, p.reference_luminance_stderr};
-    for (double l : p.luminance) row.push_back(l);
-    pts.add_row(row);
-  }
-  const fs::path pts_file = dir / "ms_convergence_points.csv";
-  pts.write(pts_file, prov);
-  written.push_back(pts_file);
-  return written;
+  studies::ConvergeMsOptions so;
+  so.paths = paths;
+  so.seed = o.seed;
+  so.quick = o.quick;
+  return studies::write_converge_ms(studies::converge_ms(s, so), o.output);
 }
 
 }  // namespace
@@ -130,10 +56,7 @@ void register_converge_ms_command(CLI::App& app) {
 }
 
 void demo_ms(DemoContext& ctx) {
-  ConvergeMs o;
-  o.quick = true;  // the full study takes minutes (docs/radiative-transfer.md): `atmosh converge ms`
-  o.output = ctx.out_dir.string();
-  for (const auto& f : run_converge_ms(o)) ctx.written.push_back(f);
+  for (const auto& f : studies::demo_ms(ctx.out_dir)) ctx.written.push_back(f);
 }
 
 }  // namespace atmosh::cli

@@ -5,10 +5,11 @@
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
-#include "atmosh/io/csv.hpp"
 #include "atmosh/scene/outputs.hpp"
 #include "atmosh/scene/scene.hpp"
+#include "atmosh/studies/scene_run.hpp"
 #include "cli_common.hpp"
+#include "progress.hpp"
 
 namespace atmosh::cli {
 
@@ -17,6 +18,46 @@ scene::Scene scene_from(const std::string& file) {
   return file.empty() ? scene::default_scene() : scene::load_scene(file);
 }
 }  // namespace
+
+void run_scene(const scene::Scene& s, const std::filesystem::path& dir, bool quick,
+               std::vector<std::filesystem::path>& written, const std::string& device) {
+  check_device(device);
+  studies::SceneRunOptions o;
+  o.quick = quick;
+  o.device = device;
+  o.notice = [](const std::string& m) { std::cerr << "atmosh: " << m << "\n"; };
+  o.step = [](const std::string& name, const std::function<void()>& work) {
+    ProgressStep step(name);
+    work();
+  };
+  // The kinds computed by the sun and atmosphere commands (cmd_sun.cpp, cmd_atmo.cpp).
+  o.runners["sun-track"] = [](studies::SceneRunContext& ctx, const scene::Output&, const std::filesystem::path&,
+                              const std::filesystem::path& stem) {
+    const auto& ob = *ctx.scene.observer;  // check_outputs: a sun-track has an [observer]
+    return write_sun_track(ob.latitude_deg, ob.longitude_deg, ob.height_m, ob.time_utc,
+                           ctx.options.quick ? 1800.0 : 600.0, stem);
+  };
+  o.runners["lut-convergence"] = [](studies::SceneRunContext& ctx, const scene::Output&, const std::filesystem::path&,
+                                    const std::filesystem::path& stem) {
+    return write_lut_convergence(ctx.scene.atmosphere, stem, ctx.options.quick);
+  };
+  o.runners["optical-depth"] = [](studies::SceneRunContext& ctx, const scene::Output&, const std::filesystem::path&,
+                                  const std::filesystem::path& stem) {
+    return write_optical_depth_table(ctx.scene.atmosphere, stem);
+  };
+  // The study resolves its worker threads as `study sun-elevation` does, which records
+  // them in the provenance of every file written after it (io::set_threads).
+  o.runners["sun-elevation-study"] = [](studies::SceneRunContext& ctx, const scene::Output& out,
+                                        const std::filesystem::path& file, const std::filesystem::path& stem) {
+    threads_option(0);
+    return studies::scene_output_runners().at("sun-elevation-study")(ctx, out, file, stem);
+  };
+  // Before any work: a runner for every output, and the memory the largest one holds.
+  studies::check_scene_runnable(s, o);
+  if (const auto m = studies::scene_peak_memory(s, o); m.bytes > 0) check_memory(m.bytes, m.what);
+  const auto r = studies::run_scene(s, dir, o);
+  written.insert(written.end(), r.written.begin(), r.written.end());
+}
 
 void register_scene_commands(CLI::App& app) {
   auto* sc = app.add_subcommand("scene", "Show or check scene files (TOML, version 1)")->require_subcommand(1);
@@ -107,12 +148,7 @@ void register_scene_commands(CLI::App& app) {
       const auto s = scene::default_scene();
       io::write_text_atomically(ctx.out_dir / "scene.toml", std::string(scene::default_scene_toml()));
       ctx.written.push_back(ctx.out_dir / "scene.toml");
-      io::CsvTable plan_csv({"pass", "needed", "reason"});
-      for (const auto& p : scene::plan(s)) plan_csv.add_row({p.name, std::int64_t{p.needed ? 1 : 0}, p.reason});
-      auto prov = io::Provenance::current();
-      prov.add("scene", s.source);
-      plan_csv.write(ctx.out_dir / "plan.csv", prov);
-      ctx.written.push_back(ctx.out_dir / "plan.csv");
+      ctx.written.push_back(studies::write_plan_csv(s, ctx.out_dir / "plan.csv"));
       run_scene(s, ctx.out_dir, ctx.quick, ctx.written);  // the scene's own outputs
       demo_sun(ctx);                                     // then every study the toolkit has
       demo_atmo(ctx);
@@ -120,9 +156,8 @@ void register_scene_commands(CLI::App& app) {
       demo_ms(ctx);
       demo_sh(ctx);
       demo_prt(ctx);
-      std::string manifest = "# atmosh demo results (" + std::string(quick ? "quick" : "full") + " run)\n";
-      for (const auto& f : ctx.written) manifest += f.lexically_relative(ctx.out_dir).string() + "\n";
-      io::write_text_atomically(ctx.out_dir / "MANIFEST.txt", manifest);
+      studies::write_manifest(ctx.out_dir, "atmosh demo results (" + std::string(quick ? "quick" : "full") + " run)",
+                              ctx.written);
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::cout << "atmosh demo: wrote " << ctx.written.size() << " files to " << ctx.out_dir.string() << "/ in "
                 << secs << " s:\n";

@@ -24,11 +24,9 @@
 #include "atmosh/sh/convolution.hpp"
 #include "atmosh/sh/transform.hpp"
 #include "cli_common.hpp"
+#include "atmosh/studies/sky.hpp"
+#include "atmosh/studies/sky_studies.hpp"
 #include "progress.hpp"
-#include "sky_common.hpp"
-#ifdef ATMOSH_HAVE_GPU
-#include "atmosh/gpu/sky.hpp"
-#endif
 
 namespace atmosh::cli {
 
@@ -36,6 +34,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace atmosh::atmo;
+using studies::SunPlacement;
+using studies::sun_from_place;
+using studies::sun_of_scene;
+using studies::make_sky_model;
+using studies::sky_provenance;
+using studies::write_sky_image;
+using studies::sky_output_bytes;
 
 struct QualityOptions {
   int shells = 32, segments = 16, samples = 2, threads = 0;
@@ -79,15 +84,23 @@ struct QualityOptions {
             {"scattering", scattering.empty() ? "scene" : scattering},
             {"orders", orders ? std::to_string(*orders) : "scene"}};
   }
-  SkyOptions sky(const scene::Scene& s) const {
-    SkyOptions o;
-    o.lut.shells = shells;
-    o.segments = segments;
-    o.samples_per_segment = samples;
-    o.max_piece_optical_depth = max_piece_tau;
-    o.sun_model = parse_sun_model(sun_model.empty() ? s.sun_model : sun_model);
-    return o;
+  // The options as the studies take them (InputError naming the option for a bad name).
+  studies::SkySettings settings_for_studies() const {
+    studies::SkySettings k;
+    k.shells = shells;
+    k.segments = segments;
+    k.samples = samples;
+    k.max_piece_tau = max_piece_tau;
+    if (!sun_model.empty()) k.sun_model = parse_sun_model(sun_model);
+    if (!scattering.empty()) k.scattering = parse_scattering_method(scattering, "--scattering");
+    if (orders) {
+      if (*orders < 1 || *orders > 64) throw InputError("--orders " + std::to_string(*orders) + " is outside [1, 64]");
+      k.orders = *orders;
+    }
+    k.threads = threads;
+    return k;
   }
+  SkyOptions sky(const scene::Scene& s) const { return settings_for_studies().sky(s); }
 };
 
 void add_quality_options(CLI::App* c, QualityOptions& q) {
@@ -152,37 +165,8 @@ SunPlacement resolve_sun(const SkyCmd& c, const scene::Scene& s) {
 SkyImage render_sky_on(const std::string& device, const SkyIntegrator& sky, SkyProjection proj, int width, int height,
                        double altitude_m, const glm::dvec3& sun, bool spectral, int threads, std::string& used) {
   check_device(device);
-  // gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line notice.
-  used = "cpu";
-  if (device != "cpu" && sky.method() != ScatteringMethod::Single) {
-    // The GPU pass computes single scattering only.
-    const std::string what = std::string("scattering method '") + scattering_method_name(sky.method()) + "'";
-    if (device == "gpu") throw std::runtime_error("--device gpu: " + what + " is not supported on the GPU (use --scattering single or --device cpu)");
-    std::cerr << "atmosh: " << what << " is not supported on the GPU; rendering on the CPU\n";
-    return render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
-  }
-  if (device != "cpu") {
-#ifdef ATMOSH_HAVE_GPU
-    try {
-      SkyImage img = gpu::render_sky(sky, proj, width, height, altitude_m, sun, spectral);
-      used = "gpu";
-      add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (CPU; a few pixels)
-      return img;
-    } catch (const gpu::Unavailable& e) {
-      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-      std::cerr << "atmosh: no GPU (" << e.what() << "); rendering on the CPU\n";
-    } catch (const gpu::Unsupported& e) {
-      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-      std::cerr << "atmosh: " << e.what() << " is not supported on the GPU; rendering on the CPU\n";
-    }
-#else
-    if (device == "gpu") throw std::runtime_error("--device gpu: atmosh was built without ATMOSH_WITH_GPU");
-    std::cerr << "atmosh: built without GPU support; rendering on the CPU\n";
-#endif
-  }
-  SkyImage img = render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
-  add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (SkyOptions::sun_model)
-  return img;
+  return studies::render_sky_on(device, sky, proj, width, height, altitude_m, sun, spectral, threads, used,
+                                [](const std::string& m) { std::cerr << "atmosh: " << m << "\n"; });
 }
 
 namespace {
@@ -244,69 +228,6 @@ void run_sky(const SkyCmd& cmd) {
   }
 }
 
-// ---------------------------------------------------------- studies (shared)
-const std::vector<std::string> kStudyColumns = {
-    "zenith_luminance_cd_m2", "zenith_x", "zenith_y", "zenith_r", "zenith_g", "zenith_b",
-    "horizon_sun_luminance_cd_m2", "horizon_sun_x", "horizon_sun_y", "horizon_sun_r", "horizon_sun_g", "horizon_sun_b",
-    "horizon_away_luminance_cd_m2", "horizon_away_x", "horizon_away_y", "sun_x", "sun_y",
-    "sun_direct_normal_illuminance_lux", "sun_transmittance_550nm"};
-
-// Chromaticity of a colour, NaN (not the white point) when it is black: the sky in
-// the Earth's shadow has no colour to report (JSON: null).
-Chromaticity chromaticity_or_nan(const Xyz& c) { return xy_chromaticity_or_nan(c); }
-
-// The transmitted sun's chromaticity, as the CSV and the chromaticity plot report it.
-Chromaticity sun_chromaticity_or_nan(const SkySummary& m) {
-  return m.sun_transmitted.Y > 0 ? m.sun_chromaticity : Chromaticity{std::nan(""), std::nan("")};
-}
-
-std::vector<double> study_values(const SkySummary& m) {
-  const auto z = chromaticity_or_nan(m.zenith.xyz), hs = chromaticity_or_nan(m.horizon_toward_sun.xyz),
-             ha = chromaticity_or_nan(m.horizon_away.xyz);
-  return {m.zenith.xyz.Y, z.x, z.y, m.zenith.srgb.r, m.zenith.srgb.g, m.zenith.srgb.b,
-          m.horizon_toward_sun.xyz.Y, hs.x, hs.y, m.horizon_toward_sun.srgb.r, m.horizon_toward_sun.srgb.g,
-          m.horizon_toward_sun.srgb.b, m.horizon_away.xyz.Y, ha.x, ha.y, sun_chromaticity_or_nan(m).x, sun_chromaticity_or_nan(m).y,
-          m.sun_transmitted.Y, m.sun_transmittance_550};
-}
-
-void study_plots(const fs::path& dir, const std::string& xname, const std::string& xlabel, const std::vector<double>& x,
-                 const std::vector<SkySummary>& rows, const std::vector<std::string>& labels, std::vector<fs::path>& written) {
-  std::vector<io::Swatch> hz, zn;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    hz.push_back({display_colour(rows[i].horizon_toward_sun.srgb), labels[i]});
-    zn.push_back({display_colour(rows[i].zenith.srgb), labels[i]});
-  }
-  io::write_swatch_png(dir / "horizon_colour.png", "horizon toward the sun (1 deg up): colour against " + xname, hz);
-  io::write_swatch_png(dir / "zenith_colour.png", "zenith: colour against " + xname, zn);
-  io::PlotSpec p;
-  p.title = "Sky luminance against " + xname;
-  p.x_label = xlabel;
-  p.y_label = "luminance [cd/m^2]";
-  p.log_y = true;
-  io::Series a{"zenith", x, {}}, b{"horizon toward sun", x, {}}, c{"horizon away from sun", x, {}};
-  for (const auto& r : rows) {
-    a.y.push_back(r.zenith.xyz.Y);
-    b.y.push_back(r.horizon_toward_sun.xyz.Y);
-    c.y.push_back(r.horizon_away.xyz.Y);
-  }
-  p.series = {a, b, c};
-  io::write_plot_png(dir / "luminance.png", p);
-  io::PlotSpec q;
-  q.title = "Chromaticity x against " + xname + " (larger = redder)";
-  q.x_label = xlabel;
-  q.y_label = "CIE 1931 x";
-  io::Series qa{"zenith", x, {}}, qb{"horizon toward sun", x, {}}, qc{"direct sunlight", x, {}};
-  for (const auto& r : rows) {
-    qa.y.push_back(chromaticity_or_nan(r.zenith.xyz).x);
-    qb.y.push_back(chromaticity_or_nan(r.horizon_toward_sun.xyz).x);
-    qc.y.push_back(sun_chromaticity_or_nan(r).x);
-  }
-  q.series = {qa, qb, qc};
-  io::write_plot_png(dir / "chromaticity.png", q);
-  for (const char* f : {"horizon_colour.png", "zenith_colour.png", "luminance.png", "chromaticity.png"})
-    written.push_back(dir / f);
-}
-
 // ----------------------------------------------------- study sun-elevation
 struct ElevationStudy {
   std::string scene_file, output;
@@ -314,16 +235,7 @@ struct ElevationStudy {
   QualityOptions q;
 };
 
-// Memory of the study: its elevations, sky summaries, CSV rows (~24 cells) and plot
-// series, per row. Saturates for a hostile step (1e-9 deg: 1.8e11 rows).
-std::size_t elevation_study_bytes(const ElevationStudy& o) {
-  const double rows = std::floor((o.to - o.from) / o.step + 1e-9) + 1;
-  constexpr double kPerRow = sizeof(double) + sizeof(SkySummary) + 24 * 48 + 16 * sizeof(double);
-  return rows * kPerRow >= static_cast<double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(rows * kPerRow);
-}
-
-std::vector<fs::path> run_elevation_study(const ElevationStudy& given_options, const scene::Scene* given = nullptr,
-                                          const ProgressCallback& progress = {}) {
+std::vector<fs::path> run_elevation_study(const ElevationStudy& given_options, const ProgressCallback& progress) {
   ElevationStudy o = given_options;
   o.q = given_options.q.checked();
   if (o.output.empty()) throw InputError("-o is required (output folder)");
@@ -331,46 +243,17 @@ std::vector<fs::path> run_elevation_study(const ElevationStudy& given_options, c
   require_range(o.to, -90, 90, "--to");
   if (!(o.step > 0)) throw InputError("--step " + io::format_double(o.step) + " must be > 0");
   if (o.to < o.from) throw InputError("--to " + io::format_double(o.to) + " is below --from");
-  check_memory(elevation_study_bytes(o), "--from " + io::format_double(o.from) + " --to " + io::format_double(o.to) +
-                                             " --step " + io::format_double(o.step));
-  if (!given) check_output_dir(o.output, "-o");
-  const auto s = given ? *given : load_or_default(o.scene_file);
-  const auto model = make_sky_model(o.q.scene_for(s), o.q.sky(s), 1.0);
-  const double h = s.observer ? std::max(s.observer->height_m, 0.0) : 0.0;
-  std::vector<double> elev;
-  for (double e = o.from; e <= o.to + 1e-9; e += o.step) elev.push_back(e);
-  std::vector<SkySummary> rows(elev.size());
-  auto body = [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) rows[i] = summarize_sky(*model->sky, h, sun_direction_enu(90.0 - elev[i], o.azimuth));
-  };
-  if (progress) parallel_for_ranges(elev.size(), 1, o.q.threads, body, progress);
-  else parallel_for_ranges(elev.size(), 1, o.q.threads, body);
-  std::vector<std::string> cols = {"sun_elevation_deg"};
-  cols.insert(cols.end(), kStudyColumns.begin(), kStudyColumns.end());
-  io::CsvTable t(cols);
-  std::vector<std::string> labels;
-  for (std::size_t i = 0; i < elev.size(); ++i) {
-    std::vector<io::CsvCell> r = {elev[i]};
-    for (double v : study_values(rows[i])) r.emplace_back(v);
-    t.add_row(std::move(r));
-    std::ostringstream l;
-    l << elev[i];
-    labels.push_back(l.str());
-  }
-  SunPlacement sun;
-  sun.azimuth_deg = o.azimuth;
-  sun.elevation_deg = std::nan("");  // varied: the column sun_elevation_deg
-  sun.observer_height_m = h;         // the scene's observer (0 for a scene with [sun] only)
-  auto prov = sky_provenance(*model, sun);
-  prov.add("study", "sun elevation from " + io::format_double(o.from) + " to " + io::format_double(o.to) + " step " +
-                        io::format_double(o.step) + " deg");
-  prov.add("horizon", "view elevation 1 deg, at the sun's azimuth (toward) and opposite (away)");
-  prov.add("rgb_units", "linear sRGB (D65), scaled so that Y is luminance in cd/m^2");
-  const fs::path dir = o.output;
-  std::vector<fs::path> written = {dir / "sun_elevation.csv"};
-  t.write(written[0], prov);
-  study_plots(dir, "sun elevation", "sun elevation [deg]", elev, rows, labels, written);
-  return written;
+  studies::ElevationStudyOptions e;
+  e.from_deg = o.from;
+  e.to_deg = o.to;
+  e.step_deg = o.step;
+  e.azimuth_deg = o.azimuth;
+  check_memory(studies::elevation_study_bytes(e), "--from " + io::format_double(o.from) + " --to " +
+                                                      io::format_double(o.to) + " --step " + io::format_double(o.step));
+  check_output_dir(o.output, "-o");
+  const auto s = load_or_default(o.scene_file);
+  e.sky = o.q.settings_for_studies();
+  return studies::write_elevation_study(studies::sun_elevation_study(s, e, progress), o.output);
 }
 
 // ------------------------------------------------------------- study day
@@ -382,95 +265,38 @@ struct DayStudy {
   QualityOptions q;
 };
 
-std::vector<fs::path> run_day_study(const DayStudy& given_options, const ProgressCallback& progress = {}) {
+std::vector<fs::path> run_day_study(const DayStudy& given_options, const ProgressCallback& progress) {
   DayStudy o = given_options;
   o.q = given_options.q.checked();
   if (o.output.empty()) throw InputError("-o is required (output folder)");
   if (!o.lat || !o.lon) throw InputError("--lat and --lon are required");
   if (o.date.size() != 10) throw InputError("--date '" + o.date + "' is not YYYY-MM-DD");
-  const double jd0 = parse_iso8601(o.date + "T00:00:00Z").jd_utc;
-  const double step_s = parse_duration_s(o.step);
+  parse_iso8601(o.date + "T00:00:00Z");  // InputError for a date that is not one
+  studies::DayStudyOptions d;
+  d.date = o.date;
+  d.step_s = parse_duration_s(o.step);
+  d.step_text = o.step;
   const auto fsize = parse_size(o.frame_size, "--frame-size");
   check_output_dir(o.output, "-o");
   if (o.frames)  // one frame at a time: the largest holding is one sky image
     check_memory(sky_output_bytes(fsize[0], fsize[1], 0, false), "--frame-size " + o.frame_size);
-  SunQuery base;
-  base.latitude_deg = require_range(*o.lat, -90, 90, "--lat");
-  base.longitude_deg = require_range(*o.lon, -180, 180, "--lon");
-  base.height_m = require_range(o.height, -500, 1e8, "--height");
-  const auto series = sun_series(base, jd0, jd0 + 1.0 - 1e-9, step_s, 100000);
+  d.latitude_deg = require_range(*o.lat, -90, 90, "--lat");
+  d.longitude_deg = require_range(*o.lon, -180, 180, "--lon");
+  d.height_m = require_range(o.height, -500, 1e8, "--height");
+  d.frames = o.frames;
+  d.frame_width = fsize[0];
+  d.frame_height = fsize[1];
   const auto s = load_or_default(o.scene_file);
-  const auto model = make_sky_model(o.q.scene_for(s), o.q.sky(s), 1.0);
-  const double h = std::max(o.height, 0.0);
+  d.sky = o.q.settings_for_studies();
   const fs::path dir = o.output;
-  std::vector<std::string> cols = {"time_utc", "sun_elevation_deg", "sun_azimuth_deg", "apparent_sun_elevation_deg"};
-  cols.insert(cols.end(), kStudyColumns.begin(), kStudyColumns.end());
-  io::CsvTable t(cols);
-  std::vector<SkySummary> rows;
-  std::vector<double> hours;
-  std::vector<std::string> labels;
-  std::vector<fs::path> written;
-  for (const auto& smp : series) {
-    if (progress) progress(static_cast<double>(rows.size()) / static_cast<double>(series.size()));
-    const glm::dvec3 sun(smp.east, smp.north, smp.up);
-    const double d2 = smp.position.earth_sun_distance_au;
-    // The tables are built once, for 1 AU; the summary is scaled to this day's distance
-    // in one place (summarize_sky), the sun's XYZ and the sky alike.
-    const SkySummary m = summarize_sky(*model->sky, h, sun, 1.0, d2);
-    const std::string ts = format_iso8601_utc(smp.jd_utc);
-    std::vector<io::CsvCell> r = {ts, smp.position.elevation_deg, smp.position.azimuth_deg,
-                                  smp.position.apparent_elevation_deg};
-    for (double v : study_values(m)) r.emplace_back(v);
-    t.add_row(std::move(r));
-    rows.push_back(m);
-    hours.push_back((smp.jd_utc - jd0) * 24.0);
-    labels.push_back(ts.substr(11, 5));
-    if (o.frames) {
-      SunPlacement sp;
-      sp.elevation_deg = smp.position.elevation_deg;
-      sp.azimuth_deg = smp.position.azimuth_deg;
-      sp.distance_au = d2;
-      sp.observer_height_m = h;
-      SkyImage img = render_sky(*model->sky, SkyProjection::Equirect, fsize[0], fsize[1], h, sun, false, o.q.threads);
-      add_sun_disc(img, *model->sky, SkyProjection::Equirect, h, sun);
-      SkyImage scaled = img;
-      const float f = static_cast<float>(1.0 / (d2 * d2));
-      for (auto* c : {&scaled.R, &scaled.G, &scaled.B, &scaled.X, &scaled.Y, &scaled.Z})
-        for (auto& v : *c) v *= f;
-      std::string stamp = ts.substr(11, 5);
-      stamp.erase(std::remove(stamp.begin(), stamp.end(), ':'), stamp.end());
-      const fs::path exr = dir / "frames" / ("sky_" + stamp + "Z.exr");
-      auto prov = sky_provenance(*model, sp);
-      prov.add("time_utc", ts);
-      write_sky_image(scaled, exr, {}, prov, "equirect", sp);
-      written.push_back(exr);
-    }
-  }
-  SunPlacement sp;
-  sp.elevation_deg = std::nan("");  // varied with the time: columns of the file
-  sp.azimuth_deg = std::nan("");
-  sp.distance_au = std::nan("");
-  sp.observer_height_m = h;
-  auto prov = sky_provenance(*model, sp);
-  prov.add("latitude_deg", base.latitude_deg).add("longitude_deg", base.longitude_deg).add("height_m", base.height_m);
-  prov.add("date_utc", o.date).add("step", o.step);
-  prov.add("sun", "NREL SPA, geometric elevation drives the sky; apparent elevation reported");
-  written.insert(written.begin(), dir / "day.csv");
-  t.write(dir / "day.csv", prov);
-  study_plots(dir, "UTC time on " + o.date, "hours since " + o.date + " 00:00 UTC", hours, rows, labels, written);
+  std::vector<fs::path> frames;
+  const auto st = studies::day_study(
+      s, d, [&](studies::DayFrame&& f) { frames.push_back(studies::write_day_frame(f, dir)); }, progress);
+  const auto files = studies::write_day_study(st, dir);  // day.csv, then the plots
+  std::vector<fs::path> written = {files.front()};
+  written.insert(written.end(), frames.begin(), frames.end());
+  written.insert(written.end(), files.begin() + 1, files.end());
   return written;
-}
-
-// ------------------------------------------------------------------ sweep
-scene::SweepOutputs sweep_point(const scene::Scene& s, const QualityOptions& q) {
-  const SunPlacement sun = sun_of_scene(s);
-  const auto m = make_sky_model(q.scene_for(s), q.sky(s), sun.distance_au);
-  const SkySummary sm = summarize_sky(*m->sky, std::max(sun.observer_height_m, 0.0), sun.direction());
-  scene::SweepOutputs out = {{"sun_elevation_deg", sun.elevation_deg}, {"sun_azimuth_deg", sun.azimuth_deg}};
-  const auto v = study_values(sm);
-  for (std::size_t i = 0; i < v.size(); ++i) out.emplace_back(kStudyColumns[i], v[i]);
-  out.emplace_back("table_build_time_s", m->build_time_s);
-  return out;
 }
 
 // --------------------------------------------------------- converge sky
@@ -481,105 +307,11 @@ struct ConvergeSky {
 };
 
 std::vector<fs::path> run_converge_sky(const ConvergeSky& o) {
-  auto s = load_or_default(o.scene_file);
-  const Atmosphere atm(s.atmosphere);
-  const SolarSpectrum solar = solar_spectrum_for_bins(s.atmosphere.spectrum);
-  const SkyReference ref(atm, solar);
-  struct Ray {
-    double sun_el, view_el, rel_az;
-    std::vector<double> L;
-  };
-  std::vector<Ray> rays;
-  // Day (sun >= 0) and twilight (sun below the horizon) rays are reported separately.
-  const std::vector<double> suns =
-      o.quick ? std::vector<double>{-4, 0, 10} : std::vector<double>{-6, -3, 0, 2, 5, 10, 30, 60};
-  const std::vector<double> views = o.quick ? std::vector<double>{1, 30, 90} : std::vector<double>{0.5, 1, 2, 5, 10, 20, 45, 90};
-  const std::vector<double> azs = o.quick ? std::vector<double>{0, 180} : std::vector<double>{0, 45, 90, 180};
-  for (double se : suns)
-    for (double ve : views)
-      for (double az : azs) {
-        if (ve == 90 && az != azs.front()) continue;
-        rays.push_back({se, ve, az, {}});
-      }
-  // Reference, in parallel.
-  const auto t0 = std::chrono::steady_clock::now();
-  parallel_for(rays.size(), o.threads, [&](std::size_t i) {
-    rays[i].L = ref.radiance(0.0, sun_direction_enu(90 - rays[i].view_el, rays[i].rel_az),
-                             sun_direction_enu(90 - rays[i].sun_el, 0.0)).radiance;
-  });
-  const double ref_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-  struct Setting {
-    int shells, segments, samples;
-    double max_tau = SkyOptions{}.max_piece_optical_depth;
-  };
-  std::vector<Setting> settings;
-  if (o.quick) {
-    settings = {{16, 4, 1}, {32, 8, 2}, {32, 16, 2}};
-  } else {
-    for (int sh : {16, 32, 64})
-      for (int seg : {4, 8, 16, 24})
-        for (int q : {1, 2, 3, 4})
-          if (seg < sh) settings.push_back({sh, seg, q});
-    // Longer pieces near the horizon (fewer splits): faster, less accurate.
-    for (double tau : {1.0, 2.0})
-      for (int seg : {8, 16}) settings.push_back({32, seg, 2, tau});
-  }
-  std::vector<io::StudyRow> out;
-  for (const auto& st : settings) {
-    SkyOptions so;
-    so.lut.shells = st.shells;
-    so.segments = st.segments;
-    so.samples_per_segment = st.samples;
-    so.max_piece_optical_depth = st.max_tau;
-    const auto b0 = std::chrono::steady_clock::now();
-    const SkyIntegrator sky(atm, solar, so);
-    const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - b0).count();
-    std::vector<double> L(solar.size());
-    double emax[2] = {0, 0}, esum[2] = {0, 0};  // [day, twilight]
-    long n[2] = {0, 0};
-    // Time the rays over enough repetitions for a stable per-ray figure.
-    const int reps = o.quick ? 3 : 20;
-    const auto r0 = std::chrono::steady_clock::now();
-    for (int rep = 0; rep < reps; ++rep)
-      for (const auto& r : rays) {
-        sky.radiance(0.0, sun_direction_enu(90 - r.view_el, r.rel_az), sun_direction_enu(90 - r.sun_el, 0.0), L.data());
-        if (rep > 0) continue;
-        const double peak = *std::max_element(r.L.begin(), r.L.end());
-        const int k = r.sun_el < 0 ? 1 : 0;
-        for (std::size_t i = 0; i < L.size(); ++i)
-          if (r.L[i] > 1e-6 * peak) {
-            const double e = std::fabs(L[i] - r.L[i]) / r.L[i];
-            emax[k] = std::max(emax[k], e);
-            esum[k] += e * e;
-            ++n[k];
-          }
-      }
-    const double per_ray = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count() / (reps * rays.size());
-    std::ostringstream name;
-    name << "shells=" << st.shells << " segments=" << st.segments << " samples=" << st.samples
-         << " max_tau=" << st.max_tau;
-    for (int k = 0; k < 2; ++k)
-      out.push_back({std::string(k ? "twilight" : "day") + " q=" + std::to_string(st.samples), name.str(), emax[k],
-                     n[k] ? std::sqrt(esum[k] / n[k]) : 0.0, build + per_ray * 1024.0 * 512.0,
-                     {double(st.shells), double(st.segments), double(st.samples), st.max_tau, build, per_ray,
-                      ref_time / rays.size()}});
-  }
-  io::StudySpec spec;
-  spec.title = "Single-scattering sky: error vs run time (1024x512 image, " + std::to_string(solar.size()) + " wavelengths)";
-  spec.time_axis_label = "run time for a 1024x512 image incl. table build, one core [s]";
-  spec.error_axis_label = "max relative error of spectral radiance";
-  spec.extra_columns = {"shells",       "segments",       "samples_per_segment",     "max_piece_optical_depth",
-                        "build_time_s", "time_per_ray_s", "reference_time_per_ray_s"};
-  auto prov = io::Provenance::current();
-  prov.add("scene", s.source);
-  prov.add("rays", static_cast<double>(rays.size()));
-  prov.add("directions", "view elevations x azimuths relative to the sun x sun elevations; method 'day' = rays with "
-                         "the sun >= 0 deg, 'twilight' = sun below the horizon; error over wavelengths where the "
-                         "reference exceeds 1e-6 of the ray's maximum");
-  prov.add("reference", "adaptive Gauss-Kronrod over the view ray, exact optical depths, rel tol 1e-6");
-  prov.add("time_s", "table build + 524288 rays x measured time per ray (single thread)");
-  return io::write_study(fs::path(o.output), spec, out, prov);
+  const auto s = load_or_default(o.scene_file);
+  studies::ConvergeSkyOptions c;
+  c.quick = o.quick;
+  c.threads = o.threads;
+  return studies::write_converge_sky(studies::converge_sky(s, c), fs::path(o.output));
 }
 
 }  // namespace
@@ -619,7 +351,7 @@ void register_sky_commands(CLI::App& app) {
     add_quality_options(s, o.q);
     s->callback([] {
       ProgressStep step("study sun-elevation");
-      for (const auto& f : run_elevation_study(o, nullptr, step.callback())) std::cout << f.string() << "\n";
+      for (const auto& f : run_elevation_study(o, step.callback())) std::cout << f.string() << "\n";
     });
   }
   {
@@ -681,7 +413,8 @@ void register_sky_commands(CLI::App& app) {
       const auto spec = scene::load_sweep(file);
       ProgressStep step("sweep " + file);
       o.progress = step.callback();
-      const auto r = scene::run_sweep(spec, [qq](const scene::Scene& s) { return sweep_point(s, qq); }, o);
+      const studies::SkySettings k = qq.settings_for_studies();
+      const auto r = scene::run_sweep(spec, [k](const scene::Scene& s) { return studies::sweep_point(s, k); }, o);
       std::cout << "sweep: " << r.points_in_shard << " point(s) of " << r.points_total << " in " << r.csv.string()
                 << " (" << r.points_resumed << " resumed, " << r.points_computed << " computed)\n";
     });
@@ -703,154 +436,9 @@ void register_sky_commands(CLI::App& app) {
   }
 }
 
-std::vector<fs::path> write_sky_sh(const SkyModel& model, const SunPlacement& sun, int bands, const fs::path& csv) {
-  // Sample the sky on a Gauss-Legendre grid four times denser than the band limit
-  // (the sky is not band-limited: the sun's aureole and the horizon), analyse each
-  // linear-sRGB channel. Frame: SH x = east, y = north, z = up (ENU).
-  const int nlat = std::max(4 * bands, 64);
-  const sh::GaussGrid grid = sh::gauss_grid(bands, nlat, 2 * nlat);
-  const SpectralToXyz cmf(model.atmosphere->wavelengths_nm());
-  const double h = std::max(sun.observer_height_m, 0.0);
-  std::vector<std::vector<double>> ch(3, std::vector<double>(static_cast<std::size_t>(grid.nlat) * grid.nphi));
-  parallel_for(static_cast<std::size_t>(grid.nlat), 0, [&](std::size_t i) {
-    for (int j = 0; j < grid.nphi; ++j) {
-      const double ph = grid.phi(j);
-      const glm::dvec3 d(grid.sin_t[i] * std::cos(ph), grid.sin_t[i] * std::sin(ph), grid.cos_t[i]);
-      const SkyColour c = sky_colour(*model.sky, cmf, h, glm::normalize(d), sun.direction());
-      const std::size_t k = i * static_cast<std::size_t>(grid.nphi) + static_cast<std::size_t>(j);
-      ch[0][k] = c.srgb.r;
-      ch[1][k] = c.srgb.g;
-      ch[2][k] = c.srgb.b;
-    }
-  });
-  std::vector<std::vector<double>> coeffs;
-  for (const auto& c : ch) coeffs.push_back(sh::analyse(grid, c.data()));
-  io::CsvTable t({"l", "m", "index", "r", "g", "b"});
-  for (int l = 0; l < bands; ++l)
-    for (int m = -l; m <= l; ++m) {
-      const int i = l * (l + 1) + m;
-      t.add_row({std::int64_t{l}, std::int64_t{m}, std::int64_t{i}, coeffs[0][static_cast<std::size_t>(i)],
-                 coeffs[1][static_cast<std::size_t>(i)], coeffs[2][static_cast<std::size_t>(i)]});
-    }
-  auto prov = sky_provenance(model, sun);
-  prov.add("sh", "real orthonormal SH with Condon-Shortley phase, index l(l+1)+m, " + std::to_string(bands) + " bands");
-  prov.add("sh_frame", "x = east, y = north, z = up (observer's ENU); phi from east towards north");
-  prov.add("sh_units", "coefficients of linear sRGB radiance (Y in cd/m^2) times sr");
-  prov.add("value_units", "cd/m^2");
-  prov.add("sh_projection", "Gauss-Legendre grid " + std::to_string(grid.nlat) + " x " + std::to_string(grid.nphi));
-  t.write(csv, prov);
-  // Band energy (rotation-invariant power per band) of the luminance-like green channel and all three.
-  fs::path stem = csv;
-  stem.replace_extension();
-  const fs::path bcsv = stem.string() + "_bands.csv", bpng = stem.string() + "_bands.png";
-  io::CsvTable bt({"l", "energy_r", "energy_g", "energy_b", "cumulative_fraction_g"});
-  std::vector<std::vector<double>> e;
-  for (const auto& c : coeffs) e.push_back(sh::band_energy(c, bands));
-  const auto cum = sh::cumulative_energy_fraction(e[1]);
-  // Coefficients of linear sRGB radiance on the luminance scale (cd/m^2) times sr.
-  io::PlotSpec p = io::band_energy_plot_spec("Band energy of the sky's SH (linear sRGB channels)",
-                                             {"red", "green", "blue"}, e, "cd/m^2");
-  const std::array<double, 3> cols[] = {{0.85, 0.2, 0.2}, {0.2, 0.65, 0.2}, {0.2, 0.3, 0.85}};
-  for (int c = 0; c < 3; ++c) p.series[static_cast<std::size_t>(c)].color = cols[c];
-  for (int l = 0; l < bands; ++l) {
-    const auto L = static_cast<std::size_t>(l);
-    bt.add_row({std::int64_t{l}, e[0][L], e[1][L], e[2][L], cum[L]});
-  }
-  bt.write(bcsv, prov);
-  io::write_plot_png(bpng, p);
-  return {csv, bcsv, bpng};
-}
-
-void run_scene(const scene::Scene& s, const fs::path& dir, bool quick, std::vector<fs::path>& written,
-               const std::string& device) {
-  check_device(device);
-  scene::check_outputs(s);  // what each kind needs (the scene reader checked it too)
-  std::optional<SunPlacement> sun;
-  std::unique_ptr<SkyModel> model;
-  auto need_sky = [&]() -> const SkyModel& {
-    if (!model) {
-      sun = sun_of_scene(s);
-      model = make_sky_model(s, QualityOptions{}.sky(s), sun->distance_au);
-    }
-    return *model;
-  };
-  auto image_size = [&](const scene::Output& out) {
-    return std::array<int, 2>{quick ? std::min(64, out.size[0]) : out.size[0], quick ? std::min(32, out.size[1]) : out.size[1]};
-  };
-  // One runner per kind of scene::output_kinds(); `file` is dir/out.file, `stem` without its extension.
-  using Runner = std::function<void(const scene::Output&, const fs::path& file, const fs::path& stem)>;
-  const std::map<std::string_view, Runner> runners = {
-      {"sky-image",
-       [&](const scene::Output& out, const fs::path& file, const fs::path&) {
-         const SkyModel& m = need_sky();
-         const auto [w, h] = image_size(out);
-         std::string used;
-         const auto img = render_sky_on(device, *m.sky, parse_sky_projection(out.projection), w, h,
-                                        std::max(sun->observer_height_m, 0.0), sun->direction(), out.spectral, 0, used);
-         fs::path png = file;
-         png.replace_extension(".png");
-         auto prov = sky_provenance(m, *sun);
-         prov.add("device", used);
-         write_sky_image(img, file, png, prov, out.projection, *sun);
-         written.push_back(file);
-         written.push_back(png);
-         fs::path side = png;
-         side += ".json";  // the tone mapping (write_sky_image)
-         written.push_back(side);
-       }},
-      {"sh-coefficients",
-       [&](const scene::Output& out, const fs::path& file, const fs::path&) {
-         const SkyModel& m = need_sky();
-         for (const auto& f : write_sky_sh(m, *sun, out.bands > 0 ? out.bands : 3, file)) written.push_back(f);
-       }},
-      {"sun-track",
-       [&](const scene::Output&, const fs::path&, const fs::path& stem) {
-         const auto& o = *s.observer;  // check_outputs: a sun-track has an [observer]
-         for (const auto& f : write_sun_track(o.latitude_deg, o.longitude_deg, o.height_m, o.time_utc,
-                                              quick ? 1800.0 : 600.0, stem))
-           written.push_back(f);
-       }},
-      {"sun-elevation-study",
-       [&](const scene::Output&, const fs::path&, const fs::path& stem) {
-         ElevationStudy e;
-         e.output = stem.string();
-         e.step = quick ? 12 : 1;
-         for (const auto& f : run_elevation_study(e, &s)) written.push_back(f);
-       }},
-      {"lut-convergence",
-       [&](const scene::Output&, const fs::path&, const fs::path& stem) {
-         for (const auto& f : write_lut_convergence(s.atmosphere, stem, quick)) written.push_back(f);
-       }},
-      {"optical-depth",
-       [&](const scene::Output&, const fs::path&, const fs::path& stem) {
-         for (const auto& f : write_optical_depth_table(s.atmosphere, stem)) written.push_back(f);
-       }},
-  };
-  // Before any work: a runner for every output, and the memory the largest one holds.
-  std::size_t peak = 0;
-  std::string peak_what;
-  for (const auto& out : s.outputs) {
-    if (!runners.count(out.kind)) throw InputError(s.source + ": output kind '" + out.kind + "' has no runner");
-    const std::size_t bytes = scene_output_bytes(s, out, image_size(out));
-    if (bytes > peak) peak = bytes, peak_what = s.source + ": output '" + out.file + "' (" + out.kind + ")";
-  }
-  if (peak > 0) check_memory(peak, peak_what);
-  for (std::size_t oi = 0; oi < s.outputs.size(); ++oi) {
-    const auto& out = s.outputs[oi];
-    ProgressStep step("output[" + std::to_string(oi) + "] " + out.kind + " " + out.file);
-    const fs::path file = dir / out.file;
-    fs::path stem = file;
-    stem.replace_extension();
-    runners.at(out.kind)(out, file, stem);
-  }
-}
-
 void demo_sky(DemoContext& ctx) {
   ProgressStep step("demo: sky error against run time");
-  ConvergeSky c;
-  c.quick = ctx.quick;
-  c.output = (ctx.out_dir / "sky_convergence").string();
-  for (const auto& f : run_converge_sky(c)) ctx.written.push_back(f);
+  for (const auto& f : studies::demo_sky(ctx.out_dir, ctx.quick)) ctx.written.push_back(f);
 }
 
 }  // namespace atmosh::cli

@@ -45,6 +45,7 @@ const std::vector<OutputKind>& output_kinds() {
     {
       OutputKind o = make("lut-convergence", "optical-depth LUT error against build and lookup time");
       o.atmosphere = true;
+      o.plan_pass = "lut-convergence-study";
       o.files = {"{stem}.csv", "{stem}.png"};
       k.push_back(o);
     }

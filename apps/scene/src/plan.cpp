@@ -17,7 +17,7 @@ bool any_kind(const Scene& s, bool OutputKind::*what) {
     return k != nullptr && k->*what;
   });
 }
-bool wants(const Scene& s, const char* kind) {
+bool wants(const Scene& s, std::string_view kind) {
   return std::any_of(s.outputs.begin(), s.outputs.end(), [&](const Output& o) { return o.kind == kind; });
 }
 std::string kinds_with(const Scene& s, bool OutputKind::*what) {
@@ -130,8 +130,11 @@ std::vector<Pass> plan(const Scene& s) {
                                         ? "orders = 1: single scattering only"
                                         : "scattering method is " + std::string(atmo::scattering_method_name(m.method))});
   }
-  p.push_back({"lut-convergence-study", wants(s, "lut-convergence"),
-               wants(s, "lut-convergence") ? "lut-convergence output" : "not requested"});
+  for (const auto& k : output_kinds())  // the kinds that are a pass of their own
+    if (!k.plan_pass.empty()) {
+      const bool w = wants(s, k.name);
+      p.push_back({std::string(k.plan_pass), w, w ? std::string(k.name) + " output" : "not requested"});
+    }
   p.push_back({"sh-projection", sh_bands > 0,
                sh_bands > 0 ? std::to_string(sh_bands) + " bands (" + std::to_string(sh_bands * sh_bands) + " coefficients)"
                             : "no sh-coefficients output"});

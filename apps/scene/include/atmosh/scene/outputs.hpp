@@ -6,7 +6,13 @@
 // may run on the GPU; and which files it writes. The scene reader (kinds, keys and
 // requirements: `scene check`), the pass plan (`plan`) and the runner (`run`, which
 // holds one function per kind and refuses a scene whose kind has none before any
-// work) all read this table: adding a kind is one entry here and its runner.
+// work) all read this table.
+//
+// Adding an output kind: one entry in output_kinds() (apps/scene/src/outputs.cpp),
+// and its runner under the same name in studies::scene_output_runners()
+// (apps/studies/src/studies_scene.cpp). `scene check`, `plan`, the memory check and
+// `run` follow from the entry; Studies.EveryOutputKindHasOneRunner and
+// Studies.PlanAndRunAgreeOnEveryKind hold the runner to it.
 #pragma once
 
 #include <cstddef>
@@ -29,6 +35,8 @@ struct OutputKind {
   bool image = false;       // reads `size`, `projection`, `spectral`
   bool gpu = false;         // computed on --device gpu when asked
   int default_bands = 0;
+  // A pass of its own that `plan` lists (needed when the scene has this kind), or empty.
+  std::string_view plan_pass;
   // Files written, relative to the output folder: "{file}" is the output's file,
   // "{stem}" the file without its extension; a trailing '/' is a folder.
   std::vector<std::string_view> files;

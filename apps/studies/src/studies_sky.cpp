@@ -1,22 +1,95 @@
-#include "sky_common.hpp"
+// A sky from a scene (see atmosh/studies/sky.hpp).
+#include "atmosh/studies/sky.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "atmosh/atmo/observer.hpp"
-#include "atmosh/atmo/sun_disc.hpp"
 #include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/sun_disc.hpp"
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/io/exr.hpp"
 #include "atmosh/io/plot.hpp"
-#include "cli_common.hpp"
+#include "atmosh/scene/outputs.hpp"
+#ifdef ATMOSH_HAVE_GPU
+#include "atmosh/gpu/sky.hpp"
+#endif
 
-namespace atmosh::cli {
+namespace atmosh::studies {
+
+std::size_t mul_bytes(std::size_t a, std::size_t b) {
+  if (a != 0 && b > std::numeric_limits<std::size_t>::max() / a) return std::numeric_limits<std::size_t>::max();
+  return a * b;
+}
+
+scene::Scene SkySettings::scene_for(scene::Scene s) const {
+  if (scattering) s.scattering.method = *scattering;
+  if (orders) s.scattering.orders = *orders;
+  return s;
+}
+
+atmo::SkyOptions SkySettings::sky(const scene::Scene& s) const {
+  atmo::SkyOptions o;
+  o.lut.shells = shells;
+  o.segments = segments;
+  o.samples_per_segment = samples;
+  o.max_piece_optical_depth = max_piece_tau;
+  o.sun_model = sun_model ? *sun_model : atmo::parse_sun_model(s.sun_model);
+  return o;
+}
+
+void check_device_name(const std::string& device) {
+  if (device != "cpu" && device != "gpu" && device != "auto")
+    throw InputError("--device " + device + ": must be cpu, gpu or auto");
+}
+
+atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrator& sky, atmo::SkyProjection proj,
+                             int width, int height, double altitude_m, const glm::dvec3& sun, bool spectral, int threads,
+                             std::string& used, const Notice& notice) {
+  using namespace atmosh::atmo;
+  check_device_name(device);
+  auto tell = [&](const std::string& m) {
+    if (notice) notice(m);
+  };
+  // gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line notice.
+  used = "cpu";
+  if (device != "cpu" && sky.method() != ScatteringMethod::Single) {
+    // The GPU pass computes single scattering only.
+    const std::string what = std::string("scattering method '") + scattering_method_name(sky.method()) + "'";
+    if (device == "gpu") throw std::runtime_error("--device gpu: " + what + " is not supported on the GPU (use --scattering single or --device cpu)");
+    tell(what + " is not supported on the GPU; rendering on the CPU");
+    return render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
+  }
+  if (device != "cpu") {
+#ifdef ATMOSH_HAVE_GPU
+    try {
+      SkyImage img = gpu::render_sky(sky, proj, width, height, altitude_m, sun, spectral);
+      used = "gpu";
+      add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (CPU; a few pixels)
+      return img;
+    } catch (const gpu::Unavailable& e) {
+      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
+      tell(std::string("no GPU (") + e.what() + "); rendering on the CPU");
+    } catch (const gpu::Unsupported& e) {
+      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
+      tell(std::string(e.what()) + " is not supported on the GPU; rendering on the CPU");
+    }
+#else
+    if (device == "gpu") throw std::runtime_error("--device gpu: atmosh was built without ATMOSH_WITH_GPU");
+    tell("built without GPU support; rendering on the CPU");
+#endif
+  }
+  SkyImage img = render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
+  add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (SkyOptions::sun_model)
+  return img;
+}
 
 glm::dvec3 SunPlacement::direction() const { return atmo::sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
 
@@ -173,10 +246,12 @@ std::size_t sky_output_bytes(int width, int height, std::size_t nw, bool spectra
 }
 
 std::size_t scene_output_bytes(const scene::Scene& s, const scene::Output& out, std::array<int, 2> size) {
-  if (out.kind == "sky-image")
+  const scene::OutputKind* k = scene::find_output_kind(out.kind);
+  if (k == nullptr) return 0;
+  if (k->image)  // an image of the sky (sky-image)
     return sky_output_bytes(size[0], size[1], atmo::spectrum_wavelengths(s.atmosphere.spectrum).size(), out.spectral);
-  if (out.kind == "sh-coefficients") {  // write_sky_sh: a Gauss grid of nlat x 2 nlat, three channels of doubles
-    const std::size_t bands = static_cast<std::size_t>(out.bands > 0 ? out.bands : 3);
+  if (k->bands) {  // project_sky_sh: a Gauss grid of nlat x 2 nlat, three channels of doubles
+    const std::size_t bands = static_cast<std::size_t>(out.bands > 0 ? out.bands : k->default_bands);
     const std::size_t nlat = std::max<std::size_t>(4 * bands, 64);
     return mul_bytes(mul_bytes(nlat, 2 * nlat), 4 * sizeof(double));
   }
@@ -190,4 +265,4 @@ std::array<double, 3> display_colour(const atmo::Rgb& c) {
           atmo::srgb_encode(std::max(c.b, 0.0) / m)};
 }
 
-}  // namespace atmosh::cli
+}  // namespace atmosh::studies

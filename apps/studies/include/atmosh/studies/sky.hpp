@@ -1,0 +1,105 @@
+// atmosh/studies/sky.hpp — a sky from a scene: the sun it places, the atmosphere and
+// integrator it builds, the provenance of what it computes, sky images on a device and
+// their files, and the memory those take.
+//
+// Units: degrees for angles, metres for heights, astronomical units for the Earth-Sun
+// distance, bytes for memory estimates. Nothing here prints; failures are
+// atmosh::InputError (bad input) or std::runtime_error (a device that cannot run).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "atmosh/atmo/sky.hpp"
+#include "atmosh/atmo/multiple_scattering.hpp"
+#include "atmosh/atmo/sky_image.hpp"
+#include "atmosh/atmo/sun_disc.hpp"
+#include "atmosh/atmo/sun_position.hpp"
+#include "atmosh/io/provenance.hpp"
+#include "atmosh/scene/scene.hpp"
+
+namespace atmosh::studies {
+
+// Where the sun is: from a place and a time (NREL SPA) or given directly.
+struct SunPlacement {
+  double elevation_deg = 0;  // geometric (drives the sky); NaN: varied by a study
+  double azimuth_deg = 180;  // from north towards east; NaN: varied by a study
+  std::optional<atmo::SunPosition> spa;  // when computed from place and time
+  double observer_height_m = 0;
+  double distance_au = 1.0;  // NaN: varied with the time (a day study)
+  glm::dvec3 direction() const;  // unit vector towards the sun, ENU
+  std::string describe() const;
+};
+
+// The sun of a scene: [observer] (SPA) or [sun]; InputError if it has neither.
+SunPlacement sun_of_scene(const scene::Scene& s);
+// SPA at a place and time (ISO 8601 UTC; geometric elevation; apparent reported in spa).
+SunPlacement sun_from_place(double lat_deg, double lon_deg, double height_m, const std::string& time_utc);
+
+// The settings of the sky integrator that change results (the CLI's quality options,
+// parsed). Unset optionals take the scene's value.
+struct SkySettings {
+  int shells = 32, segments = 16, samples = 2;
+  double max_piece_tau = atmo::SkyOptions{}.max_piece_optical_depth;
+  std::optional<atmo::SunModel> sun_model;               // else the scene's sun_model
+  std::optional<atmo::ScatteringMethod> scattering;      // else the scene's [scattering] method
+  std::optional<int> orders;                             // else the scene's orders
+  int threads = 0;                                       // worker threads (0 = every CPU this process may use)
+  // The scene with the scattering overrides applied.
+  scene::Scene scene_for(scene::Scene s) const;
+  // The integrator's options for a scene (its sun model unless overridden).
+  atmo::SkyOptions sky(const scene::Scene& s) const;
+};
+
+// An atmosphere and its sky integrator for a scene (the scene's [scattering] method).
+struct SkyModel {
+  scene::Scene scene;
+  std::unique_ptr<atmo::Atmosphere> atmosphere;  // outlives `sky`, which refers to it
+  std::unique_ptr<atmo::SkyIntegrator> sky;
+  double build_time_s = 0;  // wall clock of the table build
+};
+std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const atmo::SkyOptions& options, double sun_distance_au);
+
+// Provenance of a sky: scene parameters and the sun (NaN fields are recorded as varied).
+io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun);
+
+// One-line notices of a fallback (the CLI prints them on stderr after "atmosh: ").
+using Notice = std::function<void(const std::string&)>;
+
+// "cpu", "gpu" or "auto"; InputError "--device <name>: must be cpu, gpu or auto" otherwise.
+void check_device_name(const std::string& device);
+
+// The sky image on a device: "cpu"; "gpu" (the GPU pass, or std::runtime_error when
+// there is no EGL device or the method is unsupported there); "auto" (the GPU pass,
+// else the CPU after a one-line notice). `used` receives "cpu" or "gpu".
+// threads: CPU worker threads (0 = all cores).
+atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrator& sky, atmo::SkyProjection projection,
+                             int width, int height, double altitude_m, const glm::dvec3& sun, bool spectral, int threads,
+                             std::string& used, const Notice& notice = {});
+
+// Writes the EXR (R,G,B,X,Y,Z [+ L_<nm>nm]) and, if png is non-empty, a tone-mapped
+// PNG with its operator and exposure in <png>.json. Returns the exposure used.
+double write_sky_image(const atmo::SkyImage& img, const std::filesystem::path& exr, const std::filesystem::path& png,
+                       const io::Provenance& prov, const std::string& projection, const SunPlacement& sun);
+
+// Saturating products for memory estimates (no wrap-around on hostile sizes).
+std::size_t mul_bytes(std::size_t a, std::size_t b);
+// Memory (bytes) of one sky image of width x height with nw wavelengths, from the
+// render to the EXR and PNG written (atmo::sky_image_bytes + io::exr_image_bytes +
+// io::tonemapped_png_bytes + the exposure's luminance list).
+std::size_t sky_output_bytes(int width, int height, std::size_t nw, bool spectral);
+// Memory of one scene output at its image size (sky-image, sh-coefficients; 0 for the
+// kinds whose sizes are fixed).
+std::size_t scene_output_bytes(const scene::Scene& s, const scene::Output& out, std::array<int, 2> size);
+
+// Display colour: linear sRGB scaled so its largest component is 1, then encoded.
+std::array<double, 3> display_colour(const atmo::Rgb& c);
+
+}  // namespace atmosh::studies

@@ -1,0 +1,141 @@
+// The scene runner (see atmosh/studies/scene_run.hpp).
+#include "atmosh/studies/scene_run.hpp"
+
+#include <algorithm>
+
+#include "atmosh/error.hpp"
+#include "atmosh/io/atomic.hpp"
+#include "atmosh/io/csv.hpp"
+#include "atmosh/scene/outputs.hpp"
+#include "atmosh/studies/sky_studies.hpp"
+
+namespace atmosh::studies {
+
+namespace fs = std::filesystem;
+
+const SunPlacement& SceneRunContext::sun() {
+  if (!sun_) {
+    sun_ = sun_of_scene(scene);
+    spa_computed = sun_->spa.has_value();
+  }
+  return *sun_;
+}
+
+const SkyModel& SceneRunContext::sky() {
+  if (!model_) {
+    const SunPlacement& s = sun();
+    model_ = make_sky_model(scene, SkySettings{}.sky(scene), s.distance_au);
+    ++skies_built;
+  }
+  return *model_;
+}
+
+std::array<int, 2> SceneRunContext::image_size(const scene::Output& out) const {
+  const bool q = options.quick;
+  return {q ? std::min(64, out.size[0]) : out.size[0], q ? std::min(32, out.size[1]) : out.size[1]};
+}
+
+// ---- one runner per kind of scene::output_kinds() (add a kind: one entry here) ----
+const std::map<std::string_view, OutputRunner>& scene_output_runners() {
+  static const std::map<std::string_view, OutputRunner> runners = {
+      {"sky-image",
+       [](SceneRunContext& ctx, const scene::Output& out, const fs::path& file, const fs::path&) {
+         const SkyModel& m = ctx.sky();
+         const SunPlacement& sun = ctx.sun();
+         const auto [w, h] = ctx.image_size(out);
+         std::string used;
+         const auto img = render_sky_on(ctx.options.device, *m.sky, atmo::parse_sky_projection(out.projection), w, h,
+                                        std::max(sun.observer_height_m, 0.0), sun.direction(), out.spectral, 0, used,
+                                        ctx.options.notice);
+         fs::path png = file;
+         png.replace_extension(".png");
+         auto prov = sky_provenance(m, sun);
+         prov.add("device", used);
+         write_sky_image(img, file, png, prov, out.projection, sun);
+         fs::path side = png;
+         side += ".json";  // the tone mapping (write_sky_image)
+         return std::vector<fs::path>{file, png, side};
+       }},
+      {"sh-coefficients",
+       [](SceneRunContext& ctx, const scene::Output& out, const fs::path& file, const fs::path&) {
+         const SkyModel& m = ctx.sky();
+         const auto* k = scene::find_output_kind(out.kind);
+         return write_sky_sh(project_sky_sh(m, ctx.sun(), out.bands > 0 ? out.bands : k->default_bands), file);
+       }},
+      {"sun-elevation-study",
+       [](SceneRunContext& ctx, const scene::Output&, const fs::path&, const fs::path& stem) {
+         ElevationStudyOptions e;
+         e.step_deg = ctx.options.quick ? 12 : 1;
+         const ElevationStudy st = sun_elevation_study(ctx.scene, e);  // its own suns and sky
+         ++ctx.skies_built;
+         return write_elevation_study(st, stem);
+       }},
+  };
+  return runners;
+}
+
+namespace {
+const OutputRunner* runner_of(const SceneRunOptions& o, std::string_view kind) {
+  if (auto it = o.runners.find(kind); it != o.runners.end()) return &it->second;
+  const auto& lib = scene_output_runners();
+  if (auto it = lib.find(kind); it != lib.end()) return &it->second;
+  return nullptr;
+}
+}  // namespace
+
+void check_scene_runnable(const scene::Scene& s, const SceneRunOptions& o) {
+  check_device_name(o.device);
+  scene::check_outputs(s);  // what each kind needs (the scene reader checked it too)
+  for (const auto& out : s.outputs)
+    if (runner_of(o, out.kind) == nullptr) throw InputError(s.source + ": output kind '" + out.kind + "' has no runner");
+}
+
+SceneMemory scene_peak_memory(const scene::Scene& s, const SceneRunOptions& o) {
+  SceneRunContext ctx(s, o);
+  SceneMemory m;
+  for (const auto& out : s.outputs) {
+    const std::size_t bytes = scene_output_bytes(s, out, ctx.image_size(out));
+    if (bytes > m.bytes) m.bytes = bytes, m.what = s.source + ": output '" + out.file + "' (" + out.kind + ")";
+  }
+  return m;
+}
+
+SceneRun run_scene(const scene::Scene& s, const fs::path& dir, const SceneRunOptions& o) {
+  check_scene_runnable(s, o);
+  SceneRunContext ctx(s, o);
+  SceneRun r;
+  for (std::size_t oi = 0; oi < s.outputs.size(); ++oi) {
+    const auto& out = s.outputs[oi];
+    const fs::path file = dir / out.file;
+    fs::path stem = file;
+    stem.replace_extension();
+    auto work = [&] {
+      for (const auto& f : (*runner_of(o, out.kind))(ctx, out, file, stem)) r.written.push_back(f);
+    };
+    if (o.step)
+      o.step("output[" + std::to_string(oi) + "] " + out.kind + " " + out.file, work);
+    else
+      work();
+  }
+  r.skies_built = ctx.skies_built;
+  r.spa_computed = ctx.spa_computed;
+  return r;
+}
+
+fs::path write_plan_csv(const scene::Scene& s, const fs::path& csv) {
+  io::CsvTable t({"pass", "needed", "reason"});
+  for (const auto& p : scene::plan(s)) t.add_row({p.name, std::int64_t{p.needed ? 1 : 0}, p.reason});
+  auto prov = io::Provenance::current();
+  prov.add("scene", s.source);
+  t.write(csv, prov);
+  return csv;
+}
+
+fs::path write_manifest(const fs::path& dir, const std::string& title, const std::vector<fs::path>& files) {
+  std::string text = "# " + title + "\n";
+  for (const auto& f : files) text += f.lexically_relative(dir).string() + "\n";
+  io::write_text_atomically(dir / "MANIFEST.txt", text);
+  return dir / "MANIFEST.txt";
+}
+
+}  // namespace atmosh::studies
