@@ -23,7 +23,9 @@ std::vector<std::string> embedded_source_paths() {
 }
 
 ShaderPart real_type_part(const std::string& type) {
-  return ShaderPart{"<real = " + type + ">", 1, "#undef real\n#define real " + type + "\n"};
+  const std::string vec3 = type == "double" ? "dvec3" : type == "float" ? "vec3" : type + "3";
+  return ShaderPart{"<real = " + type + ">", 1,
+                    "#undef real\n#define real " + type + "\n#undef real3\n#define real3 " + vec3 + "\n"};
 }
 
 std::string map_shader_log(const std::string& log, const std::vector<ShaderPart>& parts) {
@@ -66,7 +68,7 @@ void check_gl(const char* what) {
 
 namespace {
 std::string assemble(const std::vector<ShaderPart>& parts, const std::string& defines) {
-  std::string src = "#version 430 core\n#define real float\n#define ATMOSH_FN\n#define ATMOSH_GLSL 1\n" + defines;
+  std::string src = "#version 430 core\n#define real float\n#define real3 vec3\n#define ATMOSH_FN\n#define ATMOSH_GLSL 1\n" + defines;
   if (!src.empty() && src.back() != '\n') src += '\n';
   for (std::size_t i = 0; i < parts.size(); ++i) {
     src += "#line " + std::to_string(parts[i].first_line) + " " + std::to_string(i + 1) + "\n";

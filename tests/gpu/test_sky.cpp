@@ -15,6 +15,7 @@
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/sky_image.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/atmo/shared/sky_params.glsl.hpp"
 #include "atmosh/gpu/program.hpp"
 #include "atmosh/gpu/sky.hpp"
 #include "gpu_fixture.hpp"
@@ -171,9 +172,12 @@ TEST(GpuSky, OzoneColumnMatchesTheCpu) {
   bn.bind(2);
   bi.bind(7);
   bo.bind(8);
-  prog.set("off_oz", 0);
-  prog.set("n_oz", 3);
-  prog.set("n_rays", int(rays.size()));
+  sg::GpuSkyParams params{};  // the parameter block (shared/sky_params.glsl.hpp)
+  params.off_oz = 0;
+  params.n_oz = 3;
+  params.n_items = int(rays.size());
+  gpu::Buffer bp(sizeof params, &params);
+  bp.bind(13);
   prog.dispatch(unsigned(rays.size() + 63) / 64);
   std::vector<float> out(rays.size());
   bo.download(out.data(), out.size() * 4);
