@@ -146,6 +146,14 @@ Program::~Program() {
 
 void Program::use() const { glUseProgram(id_); }
 int Program::uniform(const char* name) const { return glGetUniformLocation(id_, name); }
+int Program::buffer_variable_offset(const char* name) const {
+  const GLuint index = glGetProgramResourceIndex(id_, GL_BUFFER_VARIABLE, name);
+  if (index == GL_INVALID_INDEX) return -1;
+  const GLenum prop = GL_OFFSET;
+  GLint offset = -1;
+  glGetProgramResourceiv(id_, GL_BUFFER_VARIABLE, index, 1, &prop, 1, nullptr, &offset);
+  return offset;
+}
 void Program::set(const char* name, int v) const { glProgramUniform1i(id_, uniform(name), v); }
 void Program::set(const char* name, unsigned v) const { glProgramUniform1ui(id_, uniform(name), v); }
 void Program::set(const char* name, float v) const { glProgramUniform1f(id_, uniform(name), v); }

@@ -3,14 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "atmosh/atmo/colour.hpp"
-#include <cstddef>
-
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/atmo/shared/sky_params.glsl.hpp"
@@ -405,15 +404,7 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   for (std::size_t p = 0; p < n; ++p) {
     if (!img.valid[p]) continue;
     for (int i = 0; i < nw; ++i) Ld[i] = L[p * nw + i];
-    const atmo::Xyz c = cmf(Ld);
-    const atmo::Rgb rgb = atmo::linear_srgb_from_xyz(c);
-    img.X[p] = static_cast<float>(c.X);
-    img.Y[p] = static_cast<float>(c.Y);
-    img.Z[p] = static_cast<float>(c.Z);
-    img.R[p] = static_cast<float>(rgb.r);
-    img.G[p] = static_cast<float>(rgb.g);
-    img.B[p] = static_cast<float>(rgb.b);
-    if (keep_spectral) std::copy(L.begin() + p * nw, L.begin() + (p + 1) * nw, img.spectral.begin() + p * nw);
+    atmo::store_sky_pixel(img, p, cmf, Ld);  // the CPU image's colour step
   }
   img.rays = rays;
   img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -234,8 +234,8 @@ ATMOSH_FN real3 sky_trace(SkyViewRay ray, const real cuts[kMaxViewCuts], int nc,
     real3 rho_b0 = rho_d;
     int parts = piece_parts(glm::dot(ext_max, rho_d) * (b0 - a0), max_tau);
     for (int p = 0; p < parts; ++p) {
-      real a = a0 + (b0 - a0) * real(p) / real(parts);
-      real b = p + 1 == parts ? b0 : a0 + (b0 - a0) * real(p + 1) / real(parts);
+      real a = sky_part_end(a0, b0, p, parts);
+      real b = sky_part_end(a0, b0, p + 1, parts);
       real half_len = real(0.5) * (b - a);
       real mid = real(0.5) * (a + b);
       for (int q = 0; q < n_nodes; ++q) {
