@@ -3,10 +3,9 @@
 layout(local_size_x = 64) in;
 layout(std430, binding = 7) readonly buffer OzIn { vec4 oz_in[]; };
 layout(std430, binding = 8) writeonly buffer OzOut { float oz_out[]; };
-uniform int n_rays;
 void main() {
   int i = int(gl_GlobalInvocationID.x);
-  if (i >= n_rays) return;
+  if (i >= params.n_items) return;
   vec4 q = oz_in[i];
   oz_out[i] = ozone_column(q.x, q.y, q.z);
 }

@@ -16,37 +16,16 @@ layout(std430, binding = 1) readonly buffer Tables { float tab[]; };          //
 layout(std430, binding = 2) readonly buffer Shells { float shell[]; };        // rho, 1/den, ozone and subtracted-kink nodes
 layout(std430, binding = 3) readonly buffer Spectral { float spec[]; };       // ext[3][nw], sca[3][nw], solar[nw]
 layout(std430, binding = 4) writeonly buffer Radiance { float radiance[]; };  // [pixel][nw]
-layout(std430, binding = 5) readonly buffer Quadrature { float gl[]; };       // nodes[n], weights[n], part column weights[n+1][n+2]
+layout(std430, binding = 5) readonly buffer Quadrature { double gl[]; };      // nodes[n], weights[n], part column weights[n+1][n+2]
 layout(std430, binding = 6) readonly buffer ShellsD { double shell_d[]; };    // rho[S], 1/den[(S-3)*4], cut radii
+layout(std430, binding = 13) readonly buffer Params { GpuSkyParams params; };  // shared/sky_params.glsl.hpp
 
-uniform int n_pixels;
-uniform int nw;
-uniform int n_shells;
-uniform int n_sun;                 // directions of the sun table
-uniform int off_sun;               // its offset into tab[] (the sky builds no view tables)
-uniform int off_den, off_cuts, n_cuts, off_oz, n_oz;
-uniform int off_sub[2], n_sub[2];  // OpticalDepthLut::subtracted(c) nodes (radius, value, slope); n < 2: none
-uniform int off_subq[2], n_subq[2];  // OpticalDepthLut::subtracted_curvature(c): radius[n], half_curv[n]; n = 0: none
-uniform int off_nodes[3], n_nodes[3];  // piecewise-linear densities: altitudes[n], values[n] (n = 0: exponential)
-uniform int n_gauss;
-uniform int has_ext[3];            // constituent present (ext/sca nonzero)
-uniform int tabulated[3];          // from the tables (log encoded)
-uniform float scale_height[3];     // exponential constituents
-uniform int phase_model[2];        // 0 Rayleigh, 1 HG, 2 Cornette-Shanks, 3 double HG
-uniform float phase_p[8];          // per scattering constituent: g / depolarisation, g2, weight, unused
-uniform float ext_max[3];
-uniform float ground_radius, top_radius;  // R, T
-uniform double ground_radius_d, top_radius_d, observer_radius_d, horizon_rho_d;  // horizon_rho_d = sqrt(T^2 - R^2)
-uniform vec3 sun_dir;
-uniform float max_piece_optical_depth;
-uniform float irradiance_scale;    // 1 / d_AU^2
-uniform float albedo;
 
 const int kMaxWavelengths = 64;
 
 float phase_value(int c, float nu) {
-  int m = phase_model[c];
-  float a = phase_p[4 * c], b = phase_p[4 * c + 1], w = phase_p[4 * c + 2];
+  int m = params.phase_model[c];
+  float a = params.phase_p[4 * c], b = params.phase_p[4 * c + 1], w = params.phase_p[4 * c + 2];
   if (m == 0) return phase_rayleigh(nu, a);
   if (m == 1) return phase_hg(nu, a);
   if (m == 2) return phase_cornette_shanks(nu, a);
@@ -56,7 +35,7 @@ float phase_value(int c, float nu) {
 // Relative densities at altitude h [m]: exponential, or piecewise linear through
 // (altitude, value) nodes (0 outside them), as atmo::DensityProfile.
 float density_nodes(int c, float h) {
-  int o = off_nodes[c], n = n_nodes[c];
+  int o = params.off_nodes[c], n = params.n_nodes[c];
   if (n < 2 || h < shell[o] || h > shell[o + n - 1]) return 0.0;
   int lo = 0, hi = n - 1;  // shell[o + lo] <= h <= shell[o + hi]
   while (hi - lo > 1) {
@@ -70,7 +49,7 @@ float density_nodes(int c, float h) {
 vec3 density_at(float h) {
   vec3 d = vec3(0.0);
   for (int c = 0; c < 3; ++c)
-    if (has_ext[c] != 0) d[c] = n_nodes[c] > 0 ? density_nodes(c, h) : density_exponential(h, scale_height[c]);
+    if (params.has_ext[c] != 0) d[c] = params.n_nodes[c] > 0 ? density_nodes(c, h) : density_exponential(h, params.scale_height[c]);
   return d;
 }
 
@@ -83,11 +62,11 @@ double shell_rho(int i) { return shell_d[i]; }  // for ATMOSH_LUT_SHELL_INDEX
 dvec3 interpolate(int base, int n, double rho, double x) {
   // Window choice and weights: shared/lut.glsl.hpp (double build), as the CPU's.
   int k;
-  ATMOSH_LUT_SHELL_INDEX(k, n_shells, rho, shell_rho);
-  int w = lut_window_start(k, n_shells);
+  ATMOSH_LUT_SHELL_INDEX(k, params.n_shells, rho, shell_rho);
+  int w = lut_window_start(k, params.n_shells);
   double lw[4];
   for (int i = 0; i < 4; ++i)
-    lw[i] = lut_shell_weight(rho, shell_d[n_shells + w * 4 + i], shell_d[w], shell_d[w + 1], shell_d[w + 2],
+    lw[i] = lut_shell_weight(rho, shell_d[params.n_shells + w * 4 + i], shell_d[w], shell_d[w + 1], shell_d[w + 2],
                              shell_d[w + 3], i);
   int jw = lut_direction_window(x, n);
   double p = lut_direction_offset(x, n, jw);
@@ -106,7 +85,7 @@ dvec3 interpolate(int base, int n, double rho, double x) {
 vec3 decode_times(dvec3 v, float d) {
   vec3 out_v = vec3(0.0);
   for (int c = 0; c < 2; ++c)
-    if (tabulated[c] != 0) out_v[c] = exp(float(v[c])) * d;
+    if (params.tabulated[c] != 0) out_v[c] = exp(float(v[c])) * d;
   return out_v;
 }
 
@@ -136,7 +115,7 @@ float curvature_column(int off, int n_all, float r, float mu, float len) {
 }
 
 // The ozone column (a density: >= 0).
-float ozone_column(float r, float mu, float len) { return max(linear_column(off_oz, n_oz, r, mu, len), 0.0); }
+float ozone_column(float r, float mu, float len) { return max(linear_column(params.off_oz, params.n_oz, r, mu, len), 0.0); }
 
 // OpticalDepthLut::sun for an origin inside the atmosphere: h = r - R given
 // separately (accurately); returns the column to the top, or w = 1 (and no column)
@@ -147,18 +126,18 @@ float ozone_column(float r, float mu, float len) { return max(linear_column(off_
 vec4 sun_lookup(float h, float mu) {
   h = max(h, 0.0);
   mu = clamp(mu, -1.0, 1.0);
-  double hd = double(h), Rd = ground_radius_d, rd = Rd + hd, mud = double(mu);
+  double hd = double(h), Rd = params.ground_radius_d, rd = Rd + hd, mud = double(mu);
   double rho = sqrt(hd * (hd + 2.0LF * Rd));
   if (ray_hits_ground(rd, mud, Rd)) return vec4(0.0, 0.0, 0.0, 1.0);
-  double dd = distance_to_top(rd, mud, top_radius_d);
-  double x = lut_x(dd, top_radius_d - rd, rho + horizon_rho_d);
-  float d = float(dd), r = ground_radius + h;
-  vec3 col = decode_times(interpolate(off_sun, n_sun, rho, x), d);
-  if (has_ext[2] != 0 && tabulated[2] == 0) col[2] = ozone_column(r, mu, d);
+  double dd = distance_to_top(rd, mud, params.top_radius_d);
+  double x = lut_x(dd, params.top_radius_d - rd, rho + params.horizon_rho_d);
+  float d = float(dd), r = params.ground_radius + h;
+  vec3 col = decode_times(interpolate(params.off_sun, params.n_sun, rho, x), d);
+  if (params.has_ext[2] != 0 && params.tabulated[2] == 0) col[2] = ozone_column(r, mu, d);
   for (int c = 0; c < 2; ++c)  // OpticalDepthLut's subtracted kinks, added back
-    if (n_sub[c] >= 2)
-      col[c] = max(col[c] + linear_column(off_sub[c], n_sub[c], r, mu, d) +
-                       (n_subq[c] > 0 ? curvature_column(off_subq[c], n_subq[c], r, mu, d) : 0.0),
+    if (params.n_sub[c] >= 2)
+      col[c] = max(col[c] + linear_column(params.off_sub[c], params.n_sub[c], r, mu, d) +
+                       (params.n_subq[c] > 0 ? curvature_column(params.off_subq[c], params.n_subq[c], r, mu, d) : 0.0),
                    0.0);
   return vec4(col, 0.0);
 }

@@ -6,11 +6,10 @@
 // sky_lib.glsl.
 layout(local_size_x = 64) in;
 
-uniform int n_lookups;
 
 void main() {
   int i = int(gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x);
-  if (i >= n_lookups) return;
+  if (i >= params.n_items) return;
   vec4 c = sun_lookup(dirs[i].x, dirs[i].y);
   for (int k = 0; k < 4; ++k) radiance[4 * i + k] = c[k];
 }

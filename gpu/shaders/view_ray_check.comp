@@ -14,7 +14,7 @@ void main() {
   double r = cut_in[5 * i], mu = cut_in[5 * i + 1];
   double radii[kMaxCutSpheres];
   for (int k = 0; k < n_radii; ++k) radii[k] = cut_radii[k];
-  double rt2 = r * r * ((1.0LF - mu) * (1.0LF + mu));
+  double rt2 = tangent_radius_sq(r, mu);
   ViewRayCuts c = view_ray_cuts(r, mu, cut_in[5 * i + 2], cut_in[5 * i + 3], radius_R, cut_in[5 * i + 4], rt2, radii,
                                 n_radii);
   int o = i * (kMaxViewCuts + 1);

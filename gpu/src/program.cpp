@@ -23,7 +23,9 @@ std::vector<std::string> embedded_source_paths() {
 }
 
 ShaderPart real_type_part(const std::string& type) {
-  return ShaderPart{"<real = " + type + ">", 1, "#undef real\n#define real " + type + "\n"};
+  const std::string vec3 = type == "double" ? "dvec3" : type == "float" ? "vec3" : type + "3";
+  return ShaderPart{"<real = " + type + ">", 1,
+                    "#undef real\n#define real " + type + "\n#undef real3\n#define real3 " + vec3 + "\n"};
 }
 
 std::string map_shader_log(const std::string& log, const std::vector<ShaderPart>& parts) {
@@ -89,7 +91,7 @@ const char* const kSqrtPrelude =
     "#define sqrt atmosh_sqrt\n";
 
 std::string assemble(const std::vector<ShaderPart>& parts, const std::string& defines) {
-  std::string src = "#version 430 core\n#define real float\n#define ATMOSH_FN\n#define ATMOSH_GLSL 1\n";
+  std::string src = "#version 430 core\n#define real float\n#define real3 vec3\n#define ATMOSH_FN\n#define ATMOSH_GLSL 1\n";
   src += kSqrtPrelude;
   src += defines;
   if (!src.empty() && src.back() != '\n') src += '\n';
@@ -169,6 +171,14 @@ Program::~Program() {
 
 void Program::use() const { glUseProgram(id_); }
 int Program::uniform(const char* name) const { return glGetUniformLocation(id_, name); }
+int Program::buffer_variable_offset(const char* name) const {
+  const GLuint index = glGetProgramResourceIndex(id_, GL_BUFFER_VARIABLE, name);
+  if (index == GL_INVALID_INDEX) return -1;
+  const GLenum prop = GL_OFFSET;
+  GLint offset = -1;
+  glGetProgramResourceiv(id_, GL_BUFFER_VARIABLE, index, 1, &prop, 1, nullptr, &offset);
+  return offset;
+}
 void Program::set(const char* name, int v) const { glProgramUniform1i(id_, uniform(name), v); }
 void Program::set(const char* name, unsigned v) const { glProgramUniform1ui(id_, uniform(name), v); }
 void Program::set(const char* name, float v) const { glProgramUniform1f(id_, uniform(name), v); }

@@ -3,13 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "atmosh/atmo/colour.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/atmo/shared/lut.glsl.hpp"
+#include "atmosh/atmo/shared/sky_params.glsl.hpp"
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/gpu/program.hpp"
@@ -24,6 +26,19 @@ using atmo::DensityProfileSpec;
 
 constexpr int kMaxWavelengths = 64;  // sky.comp kMaxWavelengths
 constexpr int kMaxOzoneNodes = sg::kMaxLinearNodes;  // GLSL build of shared/geometry.glsl.hpp
+
+// The parameter block's C++ layout is its std430 layout (shared/sky_params.glsl.hpp):
+// doubles first, then 4-byte scalars and scalar arrays, no padding.
+using Params = sg::GpuSkyParams;
+static_assert(sizeof(double) == 8 && sizeof(float) == 4 && sizeof(int) == 4);
+static_assert(offsetof(Params, horizon_rho_d) == 24 && offsetof(Params, ground_radius) == 32);
+static_assert(offsetof(Params, scale_height) == 40 && offsetof(Params, ext_max) == 52);
+static_assert(offsetof(Params, phase_p) == 64 && offsetof(Params, sun_dir) == 96);
+static_assert(offsetof(Params, albedo) == 116 && offsetof(Params, n_items) == 120);
+static_assert(offsetof(Params, off_sub) == 160 && offsetof(Params, off_nodes) == 192);
+static_assert(offsetof(Params, n_gauss) == 216 && offsetof(Params, phase_model) == 244);
+static_assert(offsetof(Params, n_cross) == 252 && offsetof(Params, log_encoded) == 268);
+static_assert(offsetof(Params, n_q) == 316 && sizeof(Params) == 328);
 
 // Closed-form column at lookup (OpticalDepthLut: piecewise-linear profiles with
 // few nodes), else interpolated from the tables.
@@ -83,10 +98,10 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
       for (int j = 0; j < n; ++j) {
         const double x = static_cast<double>(j) / (n - 1);
         glm::dvec3 mean = lut.tabulated_density(r - R);
+        const double d = sg::lut_table_distance(r, rho, x, R, T, Hh, kind == 1);  // the entry's ray
         if (kind != 1) {
-          const double dmin = T - r, dmax = rho + Hh, d = dmin + x * (dmax - dmin);
           if (d > 0.0) {
-            double mu = std::clamp(((T - r) * (T + r) - d * d) / (2.0 * r * d), -1.0, 1.0);
+            double mu = sg::lut_table_mu(r, rho, d, T, false);
             atmo::LutColumn c = kind == 0 ? lut.view(r, mu) : lut.sun(r, mu);
             for (int t = 0; t < 64 && (c.hits_ground || sg::ray_hits_ground(r, mu, R)); ++t) {
               mu = std::nextafter(mu, 2.0);  // grazing node rounded into the ground
@@ -96,9 +111,8 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
             if (dd > 0.0) mean = (c.column - lut.subtracted_column(r, mu, dd)) / dd;
           }
         } else {
-          const double dmin = r - R, dmax = rho, d = dmin + x * (dmax - dmin);
           if (d > 0.0) {
-            double mu = std::clamp(-(rho * rho + d * d) / (2.0 * r * d), -1.0, 1.0);
+            double mu = sg::lut_table_mu(r, rho, d, T, true);
             atmo::LutColumn c = lut.view(r, mu);
             for (int t = 0; t < 64 && !c.hits_ground; ++t) {
               mu = std::nextafter(mu, -2.0);
@@ -132,20 +146,14 @@ std::vector<ShaderPart> sky_parts(const std::string& main_shader) {
           geometry,  // its ray geometry again, in double (the rest is pasted once)
           lut,
           scatter,
+          embedded_source("libatmo/include/atmosh/atmo/shared/sky_params.glsl.hpp"),
+          embedded_source("gpu/shaders/sky_lib.glsl"),
           embedded_source("libatmo/include/atmosh/atmo/shared/view_ray.glsl.hpp"),
           real_type_part("float"),
-          embedded_source("gpu/shaders/sky_lib.glsl"),
           embedded_source(main_shader)};
 }
 
 namespace {
-
-// "name[i]" for array uniforms (snprintf: GCC 12 warns spuriously on string concatenation).
-std::string indexed(const char* name, int i) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%s[%d]", name, i);
-  return buf;
-}
 
 int phase_code(atmo::PhaseSpec::Model m) {
   using M = atmo::PhaseSpec::Model;
@@ -207,60 +215,71 @@ class SkyInputs {
     b_spec_->bind(3);
     b_quad_->bind(5);
   }
-  void set_uniforms(const Program& prog) const;
+  // The parameter block describing these inputs (the pass adds its own fields).
+  const Params& params() const { return p_; }
 
  private:
-  const atmo::SkyIntegrator& sky_;
-  int S_ = 0, nw_ = 0, off_ground_ = 0, off_sun_ = 0, off_den_ = 0, off_cuts_ = 0, off_oz_ = 0, n_oz_ = 0,
-      n_gauss_ = 0;
-  int off_sub_[2] = {0, 0}, n_sub_[2] = {0, 0}, off_subq_[2] = {0, 0}, n_subq_[2] = {0, 0};
-  int off_nodes_[3] = {0, 0, 0}, n_nodes_[3] = {0, 0, 0};
-  float ext_max_[3] = {0, 0, 0};
+  Params p_{};
   std::unique_ptr<Buffer> b_tab_, b_shell_, b_spec_, b_quad_, b_shell_d_;
 };
 
-SkyInputs::SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gpu_tables) : sky_(sky) {
+// The constituents' fields of the parameter block common to the sky and table passes.
+void set_constituents(Params& p, const atmo::Atmosphere& atm) {
+  const double R = atm.ground_radius(), T = atm.top_radius();
+  p.ground_radius_d = R;
+  p.top_radius_d = T;
+  p.horizon_rho_d = std::sqrt((T - R) * (T + R));
+  p.ground_radius = static_cast<float>(R);
+  p.top_radius = static_cast<float>(T);
+  for (int c = 0; c < 3; ++c) {
+    const bool expo = atm.has(c) && atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential;
+    p.has_ext[c] = atm.has(c) ? 1 : 0;
+    p.tabulated[c] = tabulated(atm, c) ? 1 : 0;
+    p.scale_height[c] = static_cast<float>(expo ? atm.profile(c).spec().scale_height_m : 1.0);
+  }
+}
+
+// Binds the parameter block (binding 13); the buffer lives as long as the pass.
+std::unique_ptr<Buffer> bind_params(const Params& p) {
+  auto b = std::make_unique<Buffer>(sizeof(Params), &p);
+  b->bind(13);
+  return b;
+}
+
+SkyInputs::SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gpu_tables) {
   const auto& atm = sky.atmosphere();
   const auto& lut = sky.lut();
   const double R = atm.ground_radius();
-  nw_ = static_cast<int>(atm.wavelengths_nm().size());
+  set_constituents(p_, atm);
+  p_.nw = static_cast<int>(atm.wavelengths_nm().size());
   // Tables and shells.
-  const std::vector<float> tab = gpu_tables ? build_lut_tables(ctx, lut, atm, off_ground_, off_sun_)
-                                            : lut_tables_from_cpu(lut, atm, off_ground_, off_sun_);
+  int off_ground = 0;
+  const std::vector<float> tab = gpu_tables ? build_lut_tables(ctx, lut, atm, off_ground, p_.off_sun)
+                                            : lut_tables_from_cpu(lut, atm, off_ground, p_.off_sun);
   ctx.make_current();
-  const auto& radii = lut.shell_radii();
-  S_ = static_cast<int>(radii.size());
-  const int S = S_;
-  std::vector<double> rho(static_cast<std::size_t>(S));
-  for (int k = 0; k < S; ++k) rho[k] = std::sqrt(std::max(0.0, (radii[k] - R) * (radii[k] + R)));
-  // Inverse Lagrange denominators of every 4-shell window, in double and in float.
-  std::vector<double> inv_den;
-  for (int w = 0; w + 3 < S; ++w)
-    for (int i = 0; i < 4; ++i) {
-      double d = 1.0;
-      for (int j = 0; j < 4; ++j)
-        if (j != i) d *= rho[w + i] - rho[w + j];
-      inv_den.push_back(1.0 / d);
-    }
+  p_.n_sun = lut.options().sun_directions;
+  // The table's shell parameters and the view-ray cut radii, as libatmo has them.
+  const std::vector<double>& rho = lut.shell_rho();
+  const std::vector<double>& inv_den = lut.shell_inverse_denominators();
+  p_.n_shells = static_cast<int>(rho.size());
   std::vector<double> shells_d = rho;
   shells_d.insert(shells_d.end(), inv_den.begin(), inv_den.end());
   std::vector<float> shells;
   for (double v : rho) shells.push_back(static_cast<float>(v));
-  off_den_ = static_cast<int>(shells.size());
+  p_.off_den = static_cast<int>(shells.size());
   for (double v : inv_den) shells.push_back(static_cast<float>(v));
-  // Radii that cut the view rays (SkyIntegrator's cut_radii_), in double.
-  off_cuts_ = static_cast<int>(shells_d.size());
-  const int segments = sky.options().segments;
-  for (int i = 1; i < segments; ++i)
-    shells_d.push_back(radii[static_cast<std::size_t>(std::lround(double(i) * (S - 1) / segments))]);
-  off_oz_ = static_cast<int>(shells.size());
-  if (atm.has(atmo::kOzone)) n_oz_ = push_linear_nodes(atmo::PiecewiseLinearColumn(atm.profile(atmo::kOzone), R), shells);
+  p_.off_cuts = static_cast<int>(shells_d.size());
+  p_.n_cuts = static_cast<int>(sky.cut_radii().size());
+  shells_d.insert(shells_d.end(), sky.cut_radii().begin(), sky.cut_radii().end());
+  p_.off_oz = static_cast<int>(shells.size());
+  if (atm.has(atmo::kOzone))
+    p_.n_oz = push_linear_nodes(atmo::PiecewiseLinearColumn(atm.profile(atmo::kOzone), R), shells);
   for (int c = 0; c < 2; ++c) {
-    off_sub_[c] = static_cast<int>(shells.size());
-    n_sub_[c] = push_linear_nodes(lut.subtracted(c), shells);
+    p_.off_sub[c] = static_cast<int>(shells.size());
+    p_.n_sub[c] = push_linear_nodes(lut.subtracted(c), shells);
     const auto& q = lut.subtracted_curvature(c);
-    off_subq_[c] = static_cast<int>(shells.size());
-    n_subq_[c] = q.ramps();
+    p_.off_subq[c] = static_cast<int>(shells.size());
+    p_.n_subq[c] = q.ramps();
     for (double x : q.ramp_radii()) shells.push_back(static_cast<float>(x));
     for (double x : q.half_curvatures()) shells.push_back(static_cast<float>(x));
   }
@@ -269,13 +288,13 @@ SkyInputs::SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gp
     if (!atm.has(c) || atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential) continue;
     std::vector<double> h, v;
     profile_nodes(atm.profile(c), h, v);
-    off_nodes_[c] = static_cast<int>(shells.size());
-    n_nodes_[c] = static_cast<int>(h.size());
+    p_.off_nodes[c] = static_cast<int>(shells.size());
+    p_.n_nodes[c] = static_cast<int>(h.size());
     for (double x : h) shells.push_back(static_cast<float>(x));
     for (double x : v) shells.push_back(static_cast<float>(x));
   }
   // Spectral coefficients: ext[3][nw], sca[3][nw], solar[nw].
-  const int nw = nw_;
+  const int nw = p_.nw;
   std::vector<float> spec(static_cast<std::size_t>(7 * nw), 0.0f);
   for (int i = 0; i < nw; ++i) {
     const auto& k = atm.coefficients(static_cast<std::size_t>(i));
@@ -283,70 +302,31 @@ SkyInputs::SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gp
       const double e = atm.has(c) ? k.extinction[c] : 0.0, s = atm.has(c) ? k.scattering[c] : 0.0;
       spec[c * nw + i] = static_cast<float>(e);
       spec[(3 + c) * nw + i] = static_cast<float>(s);
-      ext_max_[c] = std::max(ext_max_[c], static_cast<float>(e));
+      p_.ext_max[c] = std::max(p_.ext_max[c], static_cast<float>(e));
     }
     spec[6 * nw + i] = static_cast<float>(sky.solar()[static_cast<std::size_t>(i)]);
   }
   const auto gl = sh::gauss_legendre(sky.options().samples_per_segment);
-  n_gauss_ = static_cast<int>(gl.nodes.size());
-  std::vector<float> quad;
-  for (double x : gl.nodes) quad.push_back(static_cast<float>(x));
-  for (double w : gl.weights) quad.push_back(static_cast<float>(w));
-  for (double c : atmo::sky_part_column_weights(sky.options().samples_per_segment))  // view column in a part
-    quad.push_back(static_cast<float>(c));
+  p_.n_gauss = static_cast<int>(gl.nodes.size());
+  std::vector<double> quad = gl.nodes;
+  quad.insert(quad.end(), gl.weights.begin(), gl.weights.end());
+  const auto part_w = atmo::sky_part_column_weights(sky.options().samples_per_segment);  // view column in a part
+  quad.insert(quad.end(), part_w.begin(), part_w.end());
+  for (int c = 0; c < 2; ++c) {
+    const auto ps = phase_spec(atm, c);
+    p_.phase_model[c] = phase_code(ps.model);
+    p_.phase_p[4 * c] = static_cast<float>(ps.model == atmo::PhaseSpec::Model::Rayleigh ? ps.depolarization : ps.g);
+    p_.phase_p[4 * c + 1] = static_cast<float>(ps.g2);
+    p_.phase_p[4 * c + 2] = static_cast<float>(ps.weight);
+  }
+  p_.max_piece_optical_depth = static_cast<float>(sky.options().max_piece_optical_depth);
+  p_.irradiance_scale = static_cast<float>(1.0 / (sky.options().sun_distance_au * sky.options().sun_distance_au));
+  p_.albedo = static_cast<float>(atm.spec().planet.ground_albedo);
   b_tab_ = std::make_unique<Buffer>(tab.size() * sizeof(float), tab.data());
   b_shell_ = std::make_unique<Buffer>(shells.size() * sizeof(float), shells.data());
   b_spec_ = std::make_unique<Buffer>(spec.size() * sizeof(float), spec.data());
-  b_quad_ = std::make_unique<Buffer>(quad.size() * sizeof(float), quad.data());
+  b_quad_ = std::make_unique<Buffer>(quad.size() * sizeof(double), quad.data());
   b_shell_d_ = std::make_unique<Buffer>(shells_d.size() * sizeof(double), shells_d.data());
-}
-
-void SkyInputs::set_uniforms(const Program& prog) const {
-  const auto& atm = sky_.atmosphere();
-  const double R = atm.ground_radius(), T = atm.top_radius();
-  prog.set("nw", nw_);
-  prog.set("n_shells", S_);
-  prog.set("n_sun", sky_.lut().options().sun_directions);
-  prog.set("off_sun", off_sun_);
-  prog.set("off_den", off_den_);
-  prog.set("off_cuts", off_cuts_);
-  prog.set("n_cuts", sky_.options().segments - 1);
-  prog.set("off_oz", off_oz_);
-  prog.set("n_oz", n_oz_);
-  for (int c = 0; c < 2; ++c) {
-    prog.set(indexed("off_sub", c).c_str(), off_sub_[c]);
-    prog.set(indexed("n_sub", c).c_str(), n_sub_[c]);
-    prog.set(indexed("off_subq", c).c_str(), off_subq_[c]);
-    prog.set(indexed("n_subq", c).c_str(), n_subq_[c]);
-  }
-  prog.set("n_gauss", n_gauss_);
-  for (int c = 0; c < 3; ++c) {
-    prog.set(indexed("has_ext", c).c_str(), atm.has(c) ? 1 : 0);
-    prog.set(indexed("tabulated", c).c_str(), tabulated(atm, c) ? 1 : 0);
-    prog.set(indexed("scale_height", c).c_str(),
-             static_cast<float>(atm.has(c) && atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential
-                                    ? atm.profile(c).spec().scale_height_m
-                                    : 1.0));
-    prog.set(indexed("ext_max", c).c_str(), ext_max_[c]);
-    prog.set(indexed("off_nodes", c).c_str(), off_nodes_[c]);
-    prog.set(indexed("n_nodes", c).c_str(), n_nodes_[c]);
-  }
-  for (int c = 0; c < 2; ++c) {
-    const auto ps = phase_spec(atm, c);
-    prog.set(indexed("phase_model", c).c_str(), phase_code(ps.model));
-    const float p[4] = {static_cast<float>(ps.model == atmo::PhaseSpec::Model::Rayleigh ? ps.depolarization : ps.g),
-                        static_cast<float>(ps.g2), static_cast<float>(ps.weight), 0.0f};
-    for (int k = 0; k < 4; ++k) prog.set(indexed("phase_p", 4 * c + k).c_str(), p[k]);
-  }
-  prog.set("ground_radius", static_cast<float>(R));
-  prog.set("top_radius", static_cast<float>(T));
-  prog.set_double("horizon_rho_d", std::sqrt((T - R) * (T + R)));
-  prog.set_double("ground_radius_d", R);
-  prog.set_double("top_radius_d", T);
-  prog.set("max_piece_optical_depth", static_cast<float>(sky_.options().max_piece_optical_depth));
-  prog.set("irradiance_scale",
-           static_cast<float>(1.0 / (sky_.options().sun_distance_au * sky_.options().sun_distance_au)));
-  prog.set("albedo", static_cast<float>(atm.spec().planet.ground_albedo));
 }
 
 // Work groups of 64 invocations for n items, as (gx, gy) within the per-dimension limit.
@@ -375,7 +355,7 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   const int nw = static_cast<int>(atm.wavelengths_nm().size());
 
   static const std::vector<ShaderPart> parts = sky_parts("gpu/shaders/sky.comp");
-  Program prog(parts);
+  Program prog(parts, "#define ATMOSH_SKY_TRACE 1\n");  // the shared walk along the ray with sky.comp's hooks
   const SkyInputs inputs(ctx, sky, gpu_tables);
 
   // Pixel directions (the CPU projection).
@@ -405,12 +385,13 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   b_dirs.bind(0);
   b_out.bind(4);
   inputs.bind();
-  inputs.set_uniforms(prog);
-  prog.set("n_pixels", static_cast<int>(n));
-  prog.set_double("observer_radius_d", atm.ground_radius() + std::max(altitude_m, 0.0));
+  Params params = inputs.params();
+  params.n_items = static_cast<int>(n);
+  params.observer_radius_d = atm.ground_radius() + std::max(altitude_m, 0.0);
   const glm::dvec3 l = glm::normalize(sun);
-  prog.set("sun_dir", static_cast<float>(l.x), static_cast<float>(l.y), static_cast<float>(l.z));
-  check_gl("sky uniforms");
+  for (int k = 0; k < 3; ++k) params.sun_dir[k] = static_cast<float>(l[k]);
+  const auto b_params = bind_params(params);
+  check_gl("sky parameters");
   dispatch_items(prog, n);
 
   std::vector<float> L(n * static_cast<std::size_t>(nw));
@@ -422,15 +403,7 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   for (std::size_t p = 0; p < n; ++p) {
     if (!img.valid[p]) continue;
     for (int i = 0; i < nw; ++i) Ld[i] = L[p * nw + i];
-    const atmo::Xyz c = cmf(Ld);
-    const atmo::Rgb rgb = atmo::linear_srgb_from_xyz(c);
-    img.X[p] = static_cast<float>(c.X);
-    img.Y[p] = static_cast<float>(c.Y);
-    img.Z[p] = static_cast<float>(c.Z);
-    img.R[p] = static_cast<float>(rgb.r);
-    img.G[p] = static_cast<float>(rgb.g);
-    img.B[p] = static_cast<float>(rgb.b);
-    if (keep_spectral) std::copy(L.begin() + p * nw, L.begin() + (p + 1) * nw, img.spectral.begin() + p * nw);
+    atmo::store_sky_pixel(img, p, cmf, Ld);  // the CPU image's colour step
   }
   img.rays = rays;
   img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -462,9 +435,10 @@ SunLookups sun_lookups(const Context& ctx, const atmo::SkyIntegrator& sky, const
   b_in.bind(0);
   b_out.bind(4);
   inputs.bind();
-  inputs.set_uniforms(prog);
-  prog.set("n_lookups", static_cast<int>(in.size()));
-  check_gl("sun lookup uniforms");
+  Params params = inputs.params();
+  params.n_items = static_cast<int>(in.size());
+  const auto b_params = bind_params(params);
+  check_gl("sun lookup parameters");
   dispatch_items(prog, in.size());  // warm-up (shader compilation on first use)
   finish();
   const auto t0 = std::chrono::steady_clock::now();
@@ -498,7 +472,7 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
   const auto t0 = std::chrono::steady_clock::now();
   static const std::vector<ShaderPart> parts = sky_parts("gpu/shaders/lut_build.comp");
   Program prog(parts);
-  const double R = atm.ground_radius(), T = atm.top_radius();
+  const double R = atm.ground_radius();
   const auto& radii = lut.shell_radii();
   std::vector<double> cross(radii.begin(), radii.end());
   for (double k : atm.kinks()) cross.push_back(R + k);
@@ -543,21 +517,18 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
   b_cross.bind(9);
   b_rule.bind(11);
   b_radii.bind(12);
-  prog.set("n_cross", static_cast<int>(cross.size()));
-  prog.set("n_rule", static_cast<int>(gl.nodes.size()));
-  prog.set_double("ground_radius_d", R);
-  prog.set_double("top_radius_d", T);
+  Params params{};
+  set_constituents(params, atm);
+  params.n_cross = static_cast<int>(cross.size());
+  params.n_rule = static_cast<int>(gl.nodes.size());
   for (int c = 0; c < 3; ++c) {
-    const bool expo = atm.has(c) && atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential;
-    prog.set(indexed("has_ext", c).c_str(), atm.has(c) ? 1 : 0);
-    prog.set(indexed("off_nodes", c).c_str(), off_nodes[c]);
-    prog.set(indexed("n_nodes", c).c_str(), n_nodes[c]);
-    prog.set(indexed("off_q", c).c_str(), off_q[c]);
-    prog.set(indexed("n_q", c).c_str(), n_q[c]);
-    prog.set(indexed("scale_height", c).c_str(), static_cast<float>(expo ? atm.profile(c).spec().scale_height_m : 1.0));
-    prog.set(indexed("is_exponential", c).c_str(), expo ? 1 : 0);
-    prog.set(indexed("tab_present", c).c_str(), tabulated(atm, c) ? 1 : 0);
-    prog.set(indexed("log_encoded", c).c_str(), tabulated(atm, c) && atm.profile(c).positive_on(top) ? 1 : 0);
+    params.off_nodes[c] = off_nodes[c];
+    params.n_nodes[c] = n_nodes[c];
+    params.off_q[c] = off_q[c];
+    params.n_q[c] = n_q[c];
+    params.is_exponential[c] = atm.has(c) && atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential ? 1 : 0;
+    params.tab_present[c] = tabulated(atm, c) ? 1 : 0;
+    params.log_encoded[c] = tabulated(atm, c) && atm.profile(c).positive_on(top) ? 1 : 0;
   }
   std::vector<float> out;
   auto run = [&](int n, int kind) {
@@ -565,9 +536,10 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
     if (entries == 0) return;
     Buffer b_out(static_cast<std::size_t>(entries) * 3 * sizeof(float));
     b_out.bind(10);
-    prog.set("n_dirs", n);
-    prog.set("table_kind", kind);
-    prog.set("n_entries", entries);
+    params.n_dirs = n;
+    params.table_kind = kind;
+    params.n_items = entries;
+    const auto b_params = bind_params(params);
     prog.dispatch(static_cast<unsigned>((entries + 63) / 64));
     std::vector<float> t(static_cast<std::size_t>(entries) * 3);
     b_out.download(t.data(), t.size() * sizeof(float));

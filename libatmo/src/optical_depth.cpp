@@ -582,26 +582,9 @@ void OpticalDepthLut::fill(Table& t, int n, bool ground) {
     glm::dvec3 at_r = tabulated_density(r - R_);
     for (int j = 0; j < n; ++j) {
       double x = static_cast<double>(j) / (n - 1);
-      glm::dvec3 mean;
-      if (!ground) {
-        double dmin = T_ - r, dmax = rho + Hh_;
-        double d = dmin + x * (dmax - dmin);
-        if (d <= 0.0) {
-          mean = at_r;
-        } else {
-          double mu = std::clamp(((T_ - r) * (T_ + r) - d * d) / (2.0 * r * d), -1.0, 1.0);
-          mean = build_column(r, mu, d) / d;
-        }
-      } else {
-        double dmin = r - R_, dmax = rho;
-        double d = dmin + x * (dmax - dmin);
-        if (d <= 0.0) {
-          mean = at_r;
-        } else {
-          double mu = std::clamp(-(rho * rho + d * d) / (2.0 * r * d), -1.0, 1.0);
-          mean = build_column(r, mu, d) / d;
-        }
-      }
+      // The entry's ray (shared/lut.glsl.hpp, also the GPU build's).
+      const double d = sg::lut_table_distance(r, rho, x, R_, T_, Hh_, ground);
+      const glm::dvec3 mean = d <= 0.0 ? at_r : build_column(r, sg::lut_table_mu(r, rho, d, T_, ground), d) / d;
       glm::dvec3 e = encode(mean);
       double* dst = &t.v[(static_cast<std::size_t>(k) * n + j) * 4];
       dst[0] = e[0];

@@ -40,27 +40,31 @@ Ray make_ray(const Atmosphere& atm, double altitude, const glm::dvec3& view, con
   if (!std::isfinite(altitude) || altitude < -1e-9 * atm.ground_radius())
     throw InputError("observer altitude " + std::to_string(altitude) + " m is below the ground or not finite");
   const glm::dvec3 v = unit(view, "view"), l = unit(sun, "sun");
-  const double R = atm.ground_radius(), T = atm.top_radius();
+  // The shared set-up (shared/view_ray.glsl.hpp, the GPU's too).
+  const sg::SkyViewRay sr = sg::sky_view_ray(atm.ground_radius() + std::max(altitude, 0.0), v.z, l.z,
+                                             glm::clamp(glm::dot(v, l), -1.0, 1.0), atm.ground_radius(),
+                                             atm.top_radius());
   Ray ray;
-  double r = R + std::max(altitude, 0.0), mu = v.z, mu_s = l.z;
-  ray.nu = glm::clamp(glm::dot(v, l), -1.0, 1.0);
-  if (r > T) {
-    const double d = sg::distance_to_top_from_outside(r, mu, T);
-    if (d < 0) {
-      ray.empty = true;
-      return ray;
-    }
-    // Entry point: radius T exactly; cosines transported along the ray.
-    mu = glm::clamp((r * mu + d) / T, -1.0, 1.0);
-    mu_s = glm::clamp((r * mu_s + d * ray.nu) / T, -1.0, 1.0);
-    r = T;
-  }
-  ray.r = r;
-  ray.mu = mu;
-  ray.mu_s = mu_s;
-  ray.ground = sg::ray_hits_ground(r, mu, R);
-  ray.s_end = ray.ground ? sg::distance_to_ground(r, mu, R) : sg::distance_to_top(r, mu, T);
+  ray.empty = sr.empty;
+  ray.r = sr.r;
+  ray.mu = sr.mu;
+  ray.mu_s = sr.mu_s;
+  ray.nu = sr.nu;
+  ray.s_end = sr.s_end;
+  ray.ground = sr.ground;
   return ray;
+}
+
+sg::SkyViewRay shared_ray(const Ray& ray) {
+  sg::SkyViewRay s;
+  s.r = ray.r;
+  s.mu = ray.mu;
+  s.mu_s = ray.mu_s;
+  s.nu = ray.nu;
+  s.s_end = ray.s_end;
+  s.empty = ray.empty;
+  s.ground = ray.ground;
+  return s;
 }
 
 std::vector<PhaseFunction> make_phases(const Atmosphere& atm) {
@@ -251,67 +255,14 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
 
 template <class Visit>
 glm::dvec3 SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, Visit&& visit) const {
-  const double R = atm_.ground_radius();
-  const double st = sg::tangent_distance(ray.r, ray.mu);
-  // Densities along the ray; an altitude that rounds below the ground (a ray's end on
-  // it) counts as the ground: a tabulated profile is 0 below its first node.
-  auto density_at = [&](double s) {
-    return atm_.density(std::max(sg::radius_along(ray.r, ray.mu, s) - R, 0.0));
-  };
-  const int n_nodes = static_cast<int>(gl_x_.size());
-  const int n_points = n_nodes + 2;
-  // View column from the observer to the start of the current part, and the
-  // density there (shared/scatter.glsl.hpp; weights: sky_part_column_weights).
-  glm::dvec3 column(0.0);
-  glm::dvec3 rho_start = atm_.density(ray.r - R);
-  double piece_end = -1.0;     // the current piece's end, where its density is known if
-  glm::dvec3 rho_piece_end(0.0);  // piece_end >= 0 (its densest point)
-  auto part = [&](double a, double b) {
-    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
-    detail::SkyViewNode nq[sg::kMaxPartNodes];
-    for (int q = 0; q < n_nodes; ++q) {
-      detail::SkyViewNode& nd = nq[q];
-      nd.s = mid + half * gl_x_[static_cast<std::size_t>(q)];
-      nd.r = sg::radius_along(ray.r, ray.mu, nd.s);
-      nd.rho = atm_.density(std::max(nd.r - R, 0.0));
-      nd.w = half * gl_w_[static_cast<std::size_t>(q)];
-    }
-    const glm::dvec3 rho_end = b == piece_end ? rho_piece_end : density_at(b);
-    auto column_to = [&](int row) {  // from a, to node `row` (row n_nodes: to b)
-      const double* c = &part_w_[static_cast<std::size_t>(row * n_points)];
-      glm::dvec3 x = c[0] * rho_start + c[n_nodes + 1] * rho_end;
-      for (int j = 0; j < n_nodes; ++j) x += c[j + 1] * nq[j].rho;
-      return half * x;
-    };
-    for (int q = 0; q < n_nodes; ++q) {
-      nq[q].column = column + glm::max(column_to(q), glm::dvec3(0.0));
-      visit(static_cast<const detail::SkyViewNode&>(nq[q]));
-    }
-    column += glm::max(column_to(n_nodes), glm::dvec3(0.0));
-    rho_start = rho_end;
-  };
-  for (int k = 1; k < nc; ++k) {
-    const double a0 = cuts[k - 1], b0 = cuts[k];
-    if (!(b0 > a0)) continue;
-    // Extinction per metre at the densest point of the piece (shared/scatter.glsl.hpp):
-    // an end of the piece unless the tangent point lies inside; the densities at the
-    // ends are those of the parts' ends (same point, same value), computed once.
-    const double sd = sg::piece_densest_point(ray.r, ray.mu, st, a0, b0);
-    piece_end = -1.0;
-    glm::dvec3 rho_d;
-    if (sd == a0) {
-      rho_d = rho_start;
-    } else if (sd == b0) {
-      rho_piece_end = rho_d = density_at(b0);
-      piece_end = b0;
-    } else {
-      rho_d = density_at(sd);
-    }
-    const double tau_piece = glm::dot(ext_max_, rho_d) * (b0 - a0);
-    const int parts = sg::piece_parts(tau_piece, opt_.max_piece_optical_depth);
-    ATMOSH_SKY_PIECE_PARTS(double, a0, b0, parts, part);
-  }
-  return column;
+  // The walk along the ray: shared/view_ray.glsl.hpp (the GPU's sky.comp runs it too).
+  return sg::sky_trace(
+      shared_ray(ray), cuts, nc, atm_.ground_radius(), ext_max_, opt_.max_piece_optical_depth, gl_x_.data(),
+      gl_w_.data(), static_cast<int>(gl_x_.size()), part_w_.data(), [&](double h) { return atm_.density(h); },
+      [&](const sg::SkyViewNode& n) {
+        const detail::SkyViewNode nd{n.s, n.r, n.w, n.rho, n.column};
+        visit(nd);
+      });
 }
 
 template <class ForEachNode, class SunColumn>
@@ -385,8 +336,7 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
     orders_->radiance(ray.r, ray.mu, ray.ground, ray.mu_s, ray.nu, v);
     for (std::size_t i = 0; i < nw; ++i) out[i] += solar_scaled_[i] * v[i];
     if (ray.ground && albedo > 0) {
-      const double rg = sg::radius_along(ray.r, ray.mu, ray.s_end);
-      const double mus_g = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, ray.s_end, rg);
+      const double mus_g = sg::sky_ground_sun_cosine(shared_ray(ray));
       orders_->ground_irradiance(mus_g, v);
       const double* er = ext_.data();
       const double* em = er + nw;
@@ -398,8 +348,7 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
   }
   if (ray.ground && albedo > 0) {
     const double R = atm_.ground_radius();
-    const double rg = sg::radius_along(ray.r, ray.mu, ray.s_end);
-    const double mus_g = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, ray.s_end, rg);
+    const double mus_g = sg::sky_ground_sun_cosine(shared_ray(ray));
     if (mus_g > 0) {
       const LutColumn to_sun = lut_->sun(R, mus_g);
       if (!to_sun.hits_ground)

@@ -74,6 +74,20 @@ std::size_t sky_image_bytes(int width, int height, std::size_t wavelengths, bool
   return b >= static_cast<long double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(b);
 }
 
+void store_sky_pixel(SkyImage& img, std::size_t p, const SpectralToXyz& cmf, std::span<const double> L, bool add) {
+  const Xyz c = cmf(L);
+  const Rgb rgb = linear_srgb_from_xyz(c);
+  const float v[6] = {static_cast<float>(c.X), static_cast<float>(c.Y),   static_cast<float>(c.Z),
+                      static_cast<float>(rgb.r), static_cast<float>(rgb.g), static_cast<float>(rgb.b)};
+  std::vector<float>* const channel[6] = {&img.X, &img.Y, &img.Z, &img.R, &img.G, &img.B};
+  for (int k = 0; k < 6; ++k) (*channel[k])[p] = add ? (*channel[k])[p] + v[k] : v[k];
+  if (!img.spectral.empty()) {
+    float* s = &img.spectral[p * L.size()];
+    for (std::size_t i = 0; i < L.size(); ++i) s[i] = add ? s[i] + static_cast<float>(L[i]) : static_cast<float>(L[i]);
+  }
+  if (!add) img.valid[p] = 1;
+}
+
 SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int width, int height, double altitude_m,
                     const glm::dvec3& sun, bool keep_spectral, int threads) {
   if (width < 1 || height < 1 || width > 65536 || height > 65536)
@@ -117,17 +131,7 @@ SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int widt
           sky.radiance(altitude_m, dir, sun, L.data());
         }
         ++local_rays;
-        const Xyz c = cmf(L);
-        const Rgb rgb = linear_srgb_from_xyz(c);
-        img.X[p] = static_cast<float>(c.X);
-        img.Y[p] = static_cast<float>(c.Y);
-        img.Z[p] = static_cast<float>(c.Z);
-        img.R[p] = static_cast<float>(rgb.r);
-        img.G[p] = static_cast<float>(rgb.g);
-        img.B[p] = static_cast<float>(rgb.b);
-        img.valid[p] = 1;
-        if (keep_spectral)
-          for (std::size_t i = 0; i < nw; ++i) img.spectral[p * nw + i] = static_cast<float>(L[i]);
+        store_sky_pixel(img, p, cmf, L);
       }
     }
     rays += local_rays;

@@ -177,16 +177,7 @@ int add_sun_disc(SkyImage& img, const SkyIntegrator& sky, SkyProjection projecti
       }
       if (!any) continue;
       const std::size_t p = static_cast<std::size_t>(y) * img.width + x;
-      const Xyz c = cmf(L);
-      const Rgb rgb = linear_srgb_from_xyz(c);
-      img.X[p] += static_cast<float>(c.X);
-      img.Y[p] += static_cast<float>(c.Y);
-      img.Z[p] += static_cast<float>(c.Z);
-      img.R[p] += static_cast<float>(rgb.r);
-      img.G[p] += static_cast<float>(rgb.g);
-      img.B[p] += static_cast<float>(rgb.b);
-      if (!img.spectral.empty())
-        for (std::size_t i = 0; i < nw; ++i) img.spectral[p * nw + i] += static_cast<float>(L[i]);
+      store_sky_pixel(img, p, cmf, L, true);
       ++changed;
     }
   return changed;

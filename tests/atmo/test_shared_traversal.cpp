@@ -183,6 +183,36 @@ TEST(SharedLutLookup, WindowsContainTheSampleAndWeightsReproduceCubics) {
   }
 }
 
+// The table entry's ray (lut_table_distance, lut_table_mu) against the geometry it
+// stands for: the ray of length d from radius r with zenith cosine mu ends on the top
+// sphere (toward the top) or the ground sphere (toward the ground), i.e. the shared
+// distance functions, solved independently as roots of the sphere quadratic, give d
+// back; and lut_x inverts the direction sample.
+TEST(SharedLutLookup, TableRaysEndOnTheirSphere) {
+  const double R = 6360e3, T = R + 100e3, Hh = std::sqrt((T - R) * (T + R));
+  for (double h : {10.0, 1e3, 25e3, 80e3}) {
+    const double r = R + h, rho = std::sqrt((r - R) * (r + R));
+    for (double x : {0.05, 0.3, 0.5, 0.77, 0.98}) {
+      for (bool ground : {false, true}) {
+        const double d = sg::lut_table_distance(r, rho, x, R, T, Hh, ground);
+        ASSERT_GT(d, 0.0);
+        const double mu = sg::lut_table_mu(r, rho, d, T, ground);
+        // |P + d v|^2 = r^2 + 2 r mu d + d^2 must be the sphere's radius squared.
+        const double k = ground ? R : T;
+        EXPECT_NEAR(r * r + 2 * r * mu * d + d * d, k * k, 1e-12 * k * k) << h << " " << x << " " << ground;
+        const double dmin = ground ? r - R : T - r, dmax = ground ? rho : rho + Hh;
+        EXPECT_NEAR(sg::lut_x(d, dmin, dmax), x, 1e-12);
+        if (ground) {
+          EXPECT_TRUE(sg::ray_hits_ground(r, mu, R));
+          EXPECT_NEAR(sg::distance_to_ground(r, mu, R), d, 1e-6 * d);
+        } else if (!sg::ray_hits_ground(r, mu, R)) {
+          EXPECT_NEAR(sg::distance_to_top(r, mu, T), d, 1e-6 * d);
+        }
+      }
+    }
+  }
+}
+
 // The closed-form walk with more nodes than the GLSL build holds (and than the
 // CPU's stack scratch) against adaptive quadrature of the same profile.
 TEST(SharedLinearColumn, ManyNodesMatchQuadrature) {
@@ -342,7 +372,7 @@ TEST(SharedScatter, DensestPointSplitAndNodes) {
     }
   };
   const int parts = 4;
-  ATMOSH_SKY_PIECE_PARTS(double, 2.0, 7.0, parts, part);
+  for (int p = 0; p < parts; ++p) part(sg::sky_part_end(2.0, 7.0, p, parts), sg::sky_part_end(2.0, 7.0, p + 1, parts));
   EXPECT_EQ(last_b, 7.0);  // the last part ends exactly at the piece's end
   EXPECT_EQ(count, 12);
   EXPECT_NEAR(weights, 5.0, 1e-14);

@@ -6,15 +6,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <utility>
 
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/sky_image.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/atmo/shared/sky_params.glsl.hpp"
 #include "atmosh/gpu/program.hpp"
 #include "atmosh/gpu/sky.hpp"
 #include "gpu_fixture.hpp"
@@ -146,6 +149,62 @@ TEST(GpuSky, UnsupportedInputIsReportedNotRendered) {
   EXPECT_THROW(gpu::render_sky(sky, SkyProjection::Equirect, 8, 4, 0.0, {0, 0, 1}, false), gpu::Unsupported);
 }
 
+// The parameter block's C++ layout (shared/sky_params.glsl.hpp) is the driver's std430
+// layout of the same struct: every member's offset as the program interface query
+// reports it, and the last member's end within the C++ size.
+TEST(GpuSky, ParameterBlockLayoutMatches) {
+  ATMOSH_GPU_CONTEXT_OR_SKIP(ctx);
+  namespace sg = atmosh::atmo::shared;
+  gpu::Program prog(gpu::sky_parts("gpu/shaders/sky.comp"), "#define ATMOSH_SKY_TRACE 1\n");
+  const std::vector<std::pair<const char*, std::size_t>> members = {
+      {"params.ground_radius_d", offsetof(sg::GpuSkyParams, ground_radius_d)},
+      {"params.top_radius_d", offsetof(sg::GpuSkyParams, top_radius_d)},
+      {"params.observer_radius_d", offsetof(sg::GpuSkyParams, observer_radius_d)},
+      {"params.horizon_rho_d", offsetof(sg::GpuSkyParams, horizon_rho_d)},
+      {"params.ground_radius", offsetof(sg::GpuSkyParams, ground_radius)},
+      {"params.top_radius", offsetof(sg::GpuSkyParams, top_radius)},
+      {"params.scale_height[0]", offsetof(sg::GpuSkyParams, scale_height)},
+      {"params.ext_max[0]", offsetof(sg::GpuSkyParams, ext_max)},
+      {"params.phase_p[0]", offsetof(sg::GpuSkyParams, phase_p)},
+      {"params.sun_dir[0]", offsetof(sg::GpuSkyParams, sun_dir)},
+      {"params.max_piece_optical_depth", offsetof(sg::GpuSkyParams, max_piece_optical_depth)},
+      {"params.irradiance_scale", offsetof(sg::GpuSkyParams, irradiance_scale)},
+      {"params.albedo", offsetof(sg::GpuSkyParams, albedo)},
+      {"params.n_items", offsetof(sg::GpuSkyParams, n_items)},
+      {"params.nw", offsetof(sg::GpuSkyParams, nw)},
+      {"params.n_shells", offsetof(sg::GpuSkyParams, n_shells)},
+      {"params.n_sun", offsetof(sg::GpuSkyParams, n_sun)},
+      {"params.off_sun", offsetof(sg::GpuSkyParams, off_sun)},
+      {"params.off_den", offsetof(sg::GpuSkyParams, off_den)},
+      {"params.off_cuts", offsetof(sg::GpuSkyParams, off_cuts)},
+      {"params.n_cuts", offsetof(sg::GpuSkyParams, n_cuts)},
+      {"params.off_oz", offsetof(sg::GpuSkyParams, off_oz)},
+      {"params.n_oz", offsetof(sg::GpuSkyParams, n_oz)},
+      {"params.off_sub[0]", offsetof(sg::GpuSkyParams, off_sub)},
+      {"params.n_sub[0]", offsetof(sg::GpuSkyParams, n_sub)},
+      {"params.off_subq[0]", offsetof(sg::GpuSkyParams, off_subq)},
+      {"params.n_subq[0]", offsetof(sg::GpuSkyParams, n_subq)},
+      {"params.off_nodes[0]", offsetof(sg::GpuSkyParams, off_nodes)},
+      {"params.n_nodes[0]", offsetof(sg::GpuSkyParams, n_nodes)},
+      {"params.n_gauss", offsetof(sg::GpuSkyParams, n_gauss)},
+      {"params.has_ext[0]", offsetof(sg::GpuSkyParams, has_ext)},
+      {"params.tabulated[0]", offsetof(sg::GpuSkyParams, tabulated)},
+      {"params.phase_model[0]", offsetof(sg::GpuSkyParams, phase_model)},
+      {"params.n_cross", offsetof(sg::GpuSkyParams, n_cross)},
+      {"params.n_rule", offsetof(sg::GpuSkyParams, n_rule)},
+      {"params.n_dirs", offsetof(sg::GpuSkyParams, n_dirs)},
+      {"params.table_kind", offsetof(sg::GpuSkyParams, table_kind)},
+      {"params.log_encoded[0]", offsetof(sg::GpuSkyParams, log_encoded)},
+      {"params.tab_present[0]", offsetof(sg::GpuSkyParams, tab_present)},
+      {"params.is_exponential[0]", offsetof(sg::GpuSkyParams, is_exponential)},
+      {"params.off_q[0]", offsetof(sg::GpuSkyParams, off_q)},
+      {"params.n_q[0]", offsetof(sg::GpuSkyParams, n_q)},
+  };
+  ASSERT_EQ(members.size(), 42u);
+  for (const auto& [name, offset] : members) EXPECT_EQ(prog.buffer_variable_offset(name), int(offset)) << name;
+  EXPECT_EQ(offsetof(sg::GpuSkyParams, n_q) + 3 * sizeof(int), sizeof(sg::GpuSkyParams));
+}
+
 // The GPU closed-form ozone column (sky_lib.glsl, float) against the CPU's
 // PiecewiseLinearColumn (double) for the 10-25-40 km tent.
 TEST(GpuSky, OzoneColumnMatchesTheCpu) {
@@ -171,9 +230,12 @@ TEST(GpuSky, OzoneColumnMatchesTheCpu) {
   bn.bind(2);
   bi.bind(7);
   bo.bind(8);
-  prog.set("off_oz", 0);
-  prog.set("n_oz", 3);
-  prog.set("n_rays", int(rays.size()));
+  sg::GpuSkyParams params{};  // the parameter block (shared/sky_params.glsl.hpp)
+  params.off_oz = 0;
+  params.n_oz = 3;
+  params.n_items = int(rays.size());
+  gpu::Buffer bp(sizeof params, &params);
+  bp.bind(13);
   prog.dispatch(unsigned(rays.size() + 63) / 64);
   std::vector<float> out(rays.size());
   bo.download(out.data(), out.size() * 4);

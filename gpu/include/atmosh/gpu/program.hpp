@@ -74,6 +74,9 @@ class Program {
   unsigned id() const { return id_; }
   // Uniform location (-1 if the uniform is absent or optimised away).
   int uniform(const char* name) const;
+  // Byte offset of a shader-storage block member ("params.n_q[0]") in the driver's
+  // layout (program interface query); -1 if the program has no such variable.
+  int buffer_variable_offset(const char* name) const;
   void set(const char* name, int v) const;
   void set(const char* name, unsigned v) const;
   void set(const char* name, float v) const;

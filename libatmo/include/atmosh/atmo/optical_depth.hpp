@@ -346,6 +346,13 @@ class OpticalDepthLut {
   glm::dvec3 subtracted_column(double r, double mu, double L) const;
 
   const std::vector<double>& shell_radii() const { return radii_; }
+  // The table parameters of the shell interpolation (the GPU's sky_lib.glsl uploads
+  // them): rho_k = sqrt(r_k^2 - R^2) of every shell [m], ascending, and for every
+  // 4-shell window w (shared lut_window_start) and node i the inverse Lagrange
+  // denominator 1 / prod_{j != i} (rho_{w+i} - rho_{w+j}) at [4 w + i] (shared
+  // lut_shell_weight), (shells - 3) x 4 values.
+  const std::vector<double>& shell_rho() const { return rho_; }
+  const std::vector<double>& shell_inverse_denominators() const { return lagrange_den_; }
   const LutOptions& options() const { return opt_; }
   double build_time_s() const { return build_time_s_; }
   std::size_t table_bytes() const;

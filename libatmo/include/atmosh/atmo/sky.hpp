@@ -157,6 +157,9 @@ class SkyIntegrator {
   const OpticalDepthLut& lut() const { return *lut_; }
   const SkyOptions& options() const { return opt_; }
   const SolarSpectrum& solar() const { return solar_; }
+  // Radii [m] of the shells that cut every view ray (segments - 1 of the table's
+  // shells, evenly picked, ascending; shared view_ray_cuts).
+  const std::vector<double>& cut_radii() const { return cut_radii_; }
   ScatteringMethod method() const { return opt_.scattering.method; }
   // The approximation's table (method approximate), else nullptr.
   const MultipleScatteringLut* ms_lut() const { return ms_lut_.get(); }

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,15 @@ struct SkyImage {
 // allocates, for callers that check a memory budget before rendering. Saturates at
 // SIZE_MAX instead of wrapping.
 std::size_t sky_image_bytes(int width, int height, std::size_t wavelengths, bool keep_spectral);
+
+// The one spectrum -> colour step of every sky image (render_sky, gpu::render_sky,
+// add_sun_disc): pixel p of img from its spectral radiance L [W m^-2 sr^-1 nm^-1, one
+// value per wavelength of the image]: X, Y, Z through cmf (the image's wavelengths; Y
+// in cd/m^2), linear sRGB through linear_srgb_from_xyz, and L itself where the image
+// keeps the spectrum (img.spectral not empty), all as float; the pixel becomes valid.
+// With add = true the values are added to the pixel's instead (validity unchanged).
+void store_sky_pixel(SkyImage& img, std::size_t p, const SpectralToXyz& cmf, std::span<const double> L,
+                     bool add = false);
 
 // Renders with `threads` worker threads (0 = hardware concurrency).
 SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int width, int height, double altitude_m,

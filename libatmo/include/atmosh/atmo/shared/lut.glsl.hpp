@@ -24,6 +24,22 @@ ATMOSH_FN real lut_x(real d, real d_min, real d_max) {
   return d_max > d_min ? glm::clamp((d - d_min) / (d_max - d_min), real(0), real(1)) : real(0);
 }
 
+// The ray of a table entry, the inverse of lut_x: from the shell of radius r
+// (rho = sqrt(r^2 - R^2)) at direction sample x in [0, 1], its length d [m] (d_min =
+// T - r, d_max = rho + Hh toward the top, Hh = sqrt(T^2 - R^2); r - R and rho toward
+// the ground) and its zenith cosine mu (the ray of length d from r ending on the
+// top, resp. the ground, sphere). d <= 0 is the degenerate ray (the entry is the
+// density at r), whose mu is not used.
+ATMOSH_FN real lut_table_distance(real r, real rho, real x, real R, real T, real Hh, bool ground) {
+  real d_min = ground ? r - R : T - r;
+  real d_max = ground ? rho : rho + Hh;
+  return d_min + x * (d_max - d_min);
+}
+ATMOSH_FN real lut_table_mu(real r, real rho, real d, real T, bool ground) {
+  real m = ground ? -(rho * rho + d * d) : (T - r) * (T + r) - d * d;
+  return glm::clamp(m / (real(2) * r * d), real(-1), real(1));
+}
+
 // Weight of sample i (0..3) of the cubic Lagrange interpolant through equally
 // spaced samples at 0, 1, 2, 3, evaluated at p (p in [0, 3] inside the window).
 ATMOSH_FN real lagrange_cubic_weight(real p, int i) {

@@ -41,6 +41,15 @@ ATMOSH_FN int piece_parts(real tau_piece, real max_tau) {
   return glm::max(int(glm::min(real(64), glm::ceil(tau_piece / max_tau))), 1);
 }
 
+// End of part p (p = 0..parts; part p is [sky_part_end(p), sky_part_end(p + 1)]) of a
+// piece [a0, b0] split into `parts` equal parts: a0 + (b0 - a0) p / parts, and b0
+// exactly for p = parts. The caller puts the n-point Gauss-Legendre rule on each part
+// and accumulates the view column with the part weights of sky_part_column_weights
+// (sky.hpp): sky_trace (view_ray.glsl.hpp).
+ATMOSH_FN real sky_part_end(real a0, real b0, int p, int parts) {
+  return p == parts ? b0 : a0 + (b0 - a0) * real(p) / real(parts);
+}
+
 // Extinction optical depth of the column x = (x_R, x_M, x_O) [m] with extinction
 // coefficients e0, e1, e2 [1/m] at one wavelength.
 ATMOSH_FN real column_optical_depth(real e0, real e1, real e2, real x0, real x1, real x2) {
@@ -63,20 +72,6 @@ ATMOSH_FN real ground_term(real albedo, real mu_s_ground, real transmittance) {
 #ifndef ATMOSH_SHARED_SCATTER_ONCE  // parts without `real`: once, however often the block is pasted
 #define ATMOSH_SHARED_SCATTER_ONCE
 const int kMaxPartNodes = 8;  // Gauss-Legendre nodes per part (SkyOptions::samples_per_segment <= 8)
-
-// The parts of a piece [a0, b0] split into `parts` equal parts: PART(a, b) for each,
-// in order along the ray (distances [m]). T is the position type (double on both
-// sides). The caller puts the n-point Gauss-Legendre rule on each part, at
-// s = (a + b)/2 + (b - a)/2 x_q with weight (b - a)/2 w_q, and accumulates the view
-// column from the observer with the part weights of sky_part_column_weights
-// (sky.hpp). A macro because the part body differs (a lambda on the CPU, a local
-// macro on the GPU) and the common subset has no function arguments.
-#define ATMOSH_SKY_PIECE_PARTS(T, a0, b0, parts, PART)                  \
-  for (int sky_part_ = 0; sky_part_ < (parts); ++sky_part_) {           \
-    T sky_a_ = (a0) + ((b0) - (a0)) * T(sky_part_) / T(parts);          \
-    T sky_b_ = sky_part_ + 1 == (parts) ? T(b0) : (a0) + ((b0) - (a0)) * T(sky_part_ + 1) / T(parts); \
-    PART(sky_a_, sky_b_);                                               \
-  }
 #endif
 
 // ATMOSH_GLSL_END

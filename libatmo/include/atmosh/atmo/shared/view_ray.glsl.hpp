@@ -1,20 +1,25 @@
-// atmosh/atmo/shared/view_ray.glsl.hpp — the cut points of a view ray of the
-// single-scattering integrand, written once for the CPU (SkyIntegrator::radiance;
-// real = double) and the GPU (gpu/shaders/sky.comp, which pastes this block once
-// after redefining real as double: cut positions need double, a float distance
-// carries ~0.1 m at 1000 km). Same common subset and conventions as
-// geometry.glsl.hpp; the struct is returned by value (no out parameters).
+// atmosh/atmo/shared/view_ray.glsl.hpp — a view ray of the single-scattering sky:
+// its set-up (observer inside the atmosphere or entering it from above), its cut
+// points and the walk along it that yields the quadrature nodes with their densities
+// and view columns, written once for the CPU (SkyIntegrator; real = double) and the
+// GPU (gpu/shaders/sky.comp, which pastes this block once after redefining real as
+// double: cut positions need double, a float distance carries ~0.1 m at 1000 km).
+// Same common subset and conventions as geometry.glsl.hpp; structs are returned by
+// value (no out parameters).
 //
 // Accuracy: exact up to rounding in the real type.
 #pragma once
 
 #include <glm/glm.hpp>
 
+#include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
+#include "atmosh/atmo/shared/scatter.glsl.hpp"
 
 namespace atmosh::atmo::shared {
 
 using real = double;
+using real3 = glm::dvec3;  // GLSL: dvec3 (gpu::real_type_part)
 #define ATMOSH_FN inline
 
 // ATMOSH_GLSL_BEGIN
@@ -101,8 +106,162 @@ ATMOSH_FN ViewRayCuts view_ray_cuts(real r, real mu, real mu_s, real nu, real R,
   return c;
 }
 
+// ---- the view ray of a pixel ----
+
+// A view ray reduced to the planet-centred 2-D geometry and clipped to the
+// atmosphere (lengths in m): origin radius r and view zenith cosine mu (at the
+// entry point for an observer above the top), sun zenith cosine mu_s there,
+// nu = cos(view, sun) (constant along the ray), s_end the length inside the
+// atmosphere; empty: the ray misses it; ground: it ends on the ground.
+struct SkyViewRay {
+  real r;
+  real mu;
+  real mu_s;
+  real nu;
+  real s_end;
+  bool empty;
+  bool ground;
+};
+
+// The view ray from radius r >= R (view zenith cosine mu, sun zenith cosine mu_s,
+// nu = cos(view, sun) in [-1, 1]) in the atmosphere between R and T: an observer
+// above the top is moved to the entry point (radius T exactly, cosines carried along
+// the ray), or the ray is empty when it misses the atmosphere.
+ATMOSH_FN SkyViewRay sky_view_ray(real r, real mu, real mu_s, real nu, real R, real T) {
+  SkyViewRay ray;
+  ray.r = r;
+  ray.mu = mu;
+  ray.mu_s = mu_s;
+  ray.nu = nu;
+  ray.s_end = real(0);
+  ray.empty = false;
+  ray.ground = false;
+  if (r > T) {
+    real d = distance_to_top_from_outside(r, mu, T);
+    if (d < real(0)) {
+      ray.empty = true;
+      return ray;
+    }
+    ray.mu = glm::clamp((r * mu + d) / T, real(-1), real(1));
+    ray.mu_s = glm::clamp((r * mu_s + d * nu) / T, real(-1), real(1));
+    ray.r = T;
+  }
+  ray.ground = ray_hits_ground(ray.r, ray.mu, R);
+  ray.s_end = ray.ground ? distance_to_ground(ray.r, ray.mu, R) : distance_to_top(ray.r, ray.mu, T);
+  return ray;
+}
+
+// Altitude [m] of the point of radius rs above the ground sphere R as the densities
+// take it: rs - R, and the ground where rounding puts a ray's end on it below.
+ATMOSH_FN real sky_altitude(real rs, real R) { return glm::max(rs - R, real(0)); }
+
+// Cosine of the sun's zenith angle where the ray meets the ground (ray.ground).
+ATMOSH_FN real sky_ground_sun_cosine(SkyViewRay ray) {
+  return cos_zenith_along(ray.r, ray.mu_s, ray.nu, ray.s_end, radius_along(ray.r, ray.mu, ray.s_end));
+}
+
+// ---- the walk along the ray: quadrature nodes, densities, view columns ----
+
+const int kMaxPartWeights = (kMaxPartNodes + 1) * (kMaxPartNodes + 2);  // sky_part_column_weights
+
+// A quadrature node of a view ray: distance s from the origin and radius r [m],
+// quadrature weight w [m], relative densities rho and the view column from the origin
+// to the node [m] (Rayleigh, Mie, ozone).
+struct SkyViewNode {
+  real s;
+  real r;
+  real w;
+  real3 rho;
+  real3 column;
+};
+
+// The column from the start of a part (half its length: half_len [m]) to its node `row`
+// (row n_nodes: to its end), from the densities at the part's start, nodes and end
+// and the weights part_w of sky_part_column_weights ((n + 1) x (n + 2), row-major).
+ATMOSH_FN real3 sky_part_column(const real part_w[kMaxPartWeights], int row, int n_nodes, real half_len,
+                                real3 rho_start, const SkyViewNode nq[kMaxPartNodes], real3 rho_end) {
+  int o = row * (n_nodes + 2);
+  real3 x = part_w[o] * rho_start + part_w[o + n_nodes + 1] * rho_end;
+  for (int j = 0; j < n_nodes; ++j) x += part_w[o + j + 1] * nq[j].rho;
+  return half_len * x;
+}
+
+// The walk needs two functions of the caller: sky_density(h), the relative densities
+// at altitude h [m] (real3), and sky_visit(node), called for every node in order
+// along the ray. On the CPU they are the arguments (lambdas); a shader that defines
+// ATMOSH_SKY_TRACE defines them as functions, declared here.
+#ifdef ATMOSH_GLSL
+#define ATMOSH_SKY_HOOK_TEMPLATE
+#define ATMOSH_SKY_HOOKS
+#ifdef ATMOSH_SKY_TRACE
+real3 sky_density(real h);
+void sky_visit(SkyViewNode nd);
+#endif
+#else
+#define ATMOSH_SKY_HOOK_TEMPLATE template <class SkyDensity, class SkyVisit>
+#define ATMOSH_SKY_HOOKS , SkyDensity&& sky_density, SkyVisit&& sky_visit
+#endif
+
+#if !defined(ATMOSH_GLSL) || defined(ATMOSH_SKY_TRACE)
+// The nodes of the view ray cut at cuts[0..nc) (view_ray_cuts), in order: each piece
+// between two cuts is split into piece_parts equal parts by its extinction optical
+// depth at its densest point (extinction per constituent ext_max [1/m]: the largest
+// over the wavelengths; max_tau), each part gets the n_nodes-point Gauss-Legendre rule
+// (nodes gx, weights gw on [-1, 1]) and the view column is accumulated along the ray
+// with the part weights part_w. Returns the ray's whole view column [m]. The density
+// at a piece's end that is its densest point is evaluated once.
+ATMOSH_SKY_HOOK_TEMPLATE
+ATMOSH_FN real3 sky_trace(SkyViewRay ray, const real cuts[kMaxViewCuts], int nc, real R, real3 ext_max, real max_tau,
+                          const real gx[kMaxPartNodes], const real gw[kMaxPartNodes], int n_nodes,
+                          const real part_w[kMaxPartWeights] ATMOSH_SKY_HOOKS) {
+  real st = tangent_distance(ray.r, ray.mu);
+  real3 column = real3(0);
+  real3 rho_start = sky_density(ray.r - R);  // r >= R
+  SkyViewNode nq[kMaxPartNodes];
+  for (int k = 1; k < nc; ++k) {
+    real a0 = cuts[k - 1];
+    real b0 = cuts[k];
+    if (!(b0 > a0)) continue;
+    real sd = piece_densest_point(ray.r, ray.mu, st, a0, b0);
+    bool end_known = false;  // the density at b0, when it is the densest point
+    real3 rho_d = rho_start;
+    if (sd == b0) {
+      rho_d = sky_density(sky_altitude(radius_along(ray.r, ray.mu, b0), R));
+      end_known = true;
+    } else if (sd != a0) {
+      rho_d = sky_density(sky_altitude(radius_along(ray.r, ray.mu, sd), R));
+    }
+    real3 rho_b0 = rho_d;
+    int parts = piece_parts(glm::dot(ext_max, rho_d) * (b0 - a0), max_tau);
+    for (int p = 0; p < parts; ++p) {
+      real a = sky_part_end(a0, b0, p, parts);
+      real b = sky_part_end(a0, b0, p + 1, parts);
+      real half_len = real(0.5) * (b - a);
+      real mid = real(0.5) * (a + b);
+      for (int q = 0; q < n_nodes; ++q) {
+        nq[q].s = mid + half_len * gx[q];
+        nq[q].r = radius_along(ray.r, ray.mu, nq[q].s);
+        nq[q].rho = sky_density(sky_altitude(nq[q].r, R));
+        nq[q].w = half_len * gw[q];
+      }
+      real3 rho_end = (end_known && b == b0) ? rho_b0 : sky_density(sky_altitude(radius_along(ray.r, ray.mu, b), R));
+      for (int q = 0; q < n_nodes; ++q) {
+        real3 part = sky_part_column(part_w, q, n_nodes, half_len, rho_start, nq, rho_end);
+        nq[q].column = column + glm::max(part, real3(0));
+        sky_visit(nq[q]);
+      }
+      column += glm::max(sky_part_column(part_w, n_nodes, n_nodes, half_len, rho_start, nq, rho_end), real3(0));
+      rho_start = rho_end;
+    }
+  }
+  return column;
+}
+#endif
+
 // ATMOSH_GLSL_END
 
 #undef ATMOSH_FN
+#undef ATMOSH_SKY_HOOK_TEMPLATE
+#undef ATMOSH_SKY_HOOKS
 
 }  // namespace atmosh::atmo::shared

@@ -1,0 +1,80 @@
+#!/usr/bin/env python3
+"""Share of each atmosphere shader's code that comes from the shared C++/GLSL headers.
+
+Usage: scripts/glsl_share.py [--root DIR] [--min PERCENT]
+
+Counting rule. A shader is assembled from parts (gpu::sky_parts in gpu/src/sky.cpp,
+the test's list for shared_check.comp): blocks of the shared headers
+libatmo/include/atmosh/atmo/shared/*.glsl.hpp (the lines between ATMOSH_GLSL_BEGIN and
+ATMOSH_GLSL_END, which the C++ build compiles too) and hand-written GLSL under
+gpu/shaders/. A code line is a line that is neither blank nor only a comment
+(`//` or a `/* ... */` line, preprocessor lines count as code). A part pasted twice
+(in float and in double) counts once. share = shared code lines / all code lines of
+the parts. A shared block counts whole, also where the shader calls only some of its
+functions (the driver drops the rest), so the number says how much of the GLSL a
+shader is built from is compiled by the CPU build too, and the hand-written count
+says how much is not.
+"""
+import argparse
+import os
+import sys
+
+SHARED = "libatmo/include/atmosh/atmo/shared/"
+SKY_PARTS = [SHARED + "geometry.glsl.hpp", SHARED + "lut.glsl.hpp", SHARED + "scatter.glsl.hpp",
+             SHARED + "sky_params.glsl.hpp", "gpu/shaders/sky_lib.glsl", SHARED + "view_ray.glsl.hpp"]
+SHADERS = {
+    "sky.comp": SKY_PARTS + ["gpu/shaders/sky.comp"],
+    "lut_build.comp": SKY_PARTS + ["gpu/shaders/lut_build.comp"],
+    "sun_lookup.comp": SKY_PARTS + ["gpu/shaders/sun_lookup.comp"],
+    "ozone_check.comp": SKY_PARTS + ["gpu/shaders/ozone_check.comp"],
+    "view_ray_check.comp": SKY_PARTS + ["gpu/shaders/view_ray_check.comp"],
+    "shared_check.comp": [SHARED + "geometry.glsl.hpp", SHARED + "lut.glsl.hpp", "gpu/shaders/shared_check.comp"],
+}
+
+
+def code_lines(path):
+    with open(path, encoding="utf-8") as f:
+        lines = f.read().split("\n")
+    if path.endswith(".hpp"):
+        begin = next(i for i, l in enumerate(lines) if l.strip().startswith("// ATMOSH_GLSL_BEGIN"))
+        end = next(i for i, l in enumerate(lines) if l.strip().startswith("// ATMOSH_GLSL_END"))
+        lines = lines[begin + 1:end]
+    n = 0
+    for l in lines:
+        s = l.strip()
+        if not s or s.startswith("//") or (s.startswith("/*") and s.endswith("*/")):
+            continue
+        n += 1
+    return n
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--root", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+    ap.add_argument("--min", type=float, default=0.0, help="fail if a shader's share is below this percentage")
+    args = ap.parse_args()
+    print("| shader | shared code lines | hand-written code lines | shared |")
+    print("|---|---|---|---|")
+    worst = 100.0
+    for name, parts in SHADERS.items():
+        shared = hand = 0
+        for p in dict.fromkeys(parts):  # each part once
+            path = os.path.join(args.root, p)
+            if not os.path.exists(path):
+                continue
+            n = code_lines(path)
+            if p.startswith(SHARED):
+                shared += n
+            else:
+                hand += n
+        share = 100.0 * shared / (shared + hand)
+        worst = min(worst, share)
+        print(f"| {name} | {shared} | {hand} | {share:.1f} % |")
+    if worst < args.min:
+        print(f"lowest share {worst:.1f} % is below {args.min} %", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
