@@ -9,6 +9,7 @@
 // in order, after a preamble
 //     #version 430 core
 //     #define real float
+//     #define real3 vec3
 //     #define ATMOSH_FN
 //     #define ATMOSH_GLSL 1
 //     atmosh_sqrt overloads, then #define sqrt atmosh_sqrt (the double one is
