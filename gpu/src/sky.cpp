@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/gpu/program.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/sh/quadrature.hpp"
 
 namespace atmosh::gpu {
@@ -366,20 +368,23 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   img.height = height;
   img.wavelengths_nm = atm.wavelengths_nm();
   img.valid.assign(n, 0);
-  long rays = 0;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      glm::dvec3 d;
-      const std::size_t p = static_cast<std::size_t>(y) * width + x;
-      if (!atmo::sky_pixel_direction(projection, width, height, x, y, d)) continue;
-      d = glm::normalize(d);
-      dirs[4 * p] = static_cast<float>(d.x);
-      dirs[4 * p + 1] = static_cast<float>(d.y);
-      dirs[4 * p + 2] = static_cast<float>(d.z);
-      dirs[4 * p + 3] = 1.0f;
-      img.valid[p] = 1;
-      ++rays;
-    }
+  // Rows in parallel (the CPU side of a large image is otherwise serial work
+  // comparable to the dispatch itself on a fast GPU).
+  parallel_for_ranges(static_cast<std::size_t>(height), 8, 0, [&](std::size_t y0, std::size_t y1) {
+    for (int y = static_cast<int>(y0); y < static_cast<int>(y1); ++y)
+      for (int x = 0; x < width; ++x) {
+        glm::dvec3 d;
+        const std::size_t p = static_cast<std::size_t>(y) * width + x;
+        if (!atmo::sky_pixel_direction(projection, width, height, x, y, d)) continue;
+        d = glm::normalize(d);
+        dirs[4 * p] = static_cast<float>(d.x);
+        dirs[4 * p + 1] = static_cast<float>(d.y);
+        dirs[4 * p + 2] = static_cast<float>(d.z);
+        dirs[4 * p + 3] = 1.0f;
+        img.valid[p] = 1;
+      }
+  });
+  const long rays = static_cast<long>(std::count(img.valid.begin(), img.valid.end(), std::uint8_t{1}));
 
   Buffer b_dirs(dirs.size() * sizeof(float), dirs.data()), b_out(n * static_cast<std::size_t>(nw) * sizeof(float));
   b_dirs.bind(0);
@@ -399,12 +404,14 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   const atmo::SpectralToXyz cmf(img.wavelengths_nm);
   for (auto* c : {&img.X, &img.Y, &img.Z, &img.R, &img.G, &img.B}) c->assign(n, 0.0f);
   if (keep_spectral) img.spectral.assign(n * static_cast<std::size_t>(nw), 0.0f);
-  std::vector<double> Ld(static_cast<std::size_t>(nw));
-  for (std::size_t p = 0; p < n; ++p) {
-    if (!img.valid[p]) continue;
-    for (int i = 0; i < nw; ++i) Ld[i] = L[p * nw + i];
-    atmo::store_sky_pixel(img, p, cmf, Ld);  // the CPU image's colour step
-  }
+  parallel_for_ranges(n, 4096, 0, [&](std::size_t p0, std::size_t p1) {
+    std::vector<double> Ld(static_cast<std::size_t>(nw));
+    for (std::size_t p = p0; p < p1; ++p) {
+      if (!img.valid[p]) continue;
+      for (int i = 0; i < nw; ++i) Ld[i] = L[p * nw + i];
+      atmo::store_sky_pixel(img, p, cmf, Ld);  // the CPU image's colour step
+    }
+  });
   img.rays = rays;
   img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return img;
