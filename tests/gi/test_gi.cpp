@@ -68,6 +68,9 @@ TEST(GiFurnace, RadianceIsEmissionOverOneMinusAlbedo) {
     const auto [m, se] = image_mean(img, c);
     EXPECT_LT(se, 0.01 * expect) << "channel " << c;
     EXPECT_NEAR(m, expect, 4 * se) << "channel " << c << " albedo " << a[c];
+    // The measured error, in the test report (--gtest_output=json; docs/gi.md quotes it).
+    RecordProperty("albedo_" + std::to_string(a[c]).substr(0, 4) + "_error_in_stderr", std::to_string((m - expect) / se));
+    RecordProperty("albedo_" + std::to_string(a[c]).substr(0, 4) + "_relative_stderr", std::to_string(se / expect));
     // The per-pixel standard errors are calibrated: about 95 % of pixels within 2 of them.
     int within = 0;
     for (std::size_t i = 0; i < img.mean[c].size(); ++i)
@@ -109,6 +112,8 @@ TEST(GiFurnace, IrradianceIsPiTimesTheRadiance) {
       const double expect = kPi * le[c] / (1 - a[c]);
       EXPECT_LT(e.stderr_[i][c], 0.02 * expect);
       EXPECT_NEAR(e.mean[i][c], expect, 4 * e.stderr_[i][c]) << "point " << i << " channel " << c;
+      RecordProperty("point" + std::to_string(i) + "_albedo_" + std::to_string(a[c]).substr(0, 4) + "_rel_error",
+                     std::to_string((e.mean[i][c] - expect) / expect));
     }
 }
 

@@ -48,7 +48,7 @@ glm::dvec3 cosine_sample(const glm::dvec3& n, double u1, double u2) {
   glm::dvec3 t, b;
   basis(n, t, b);
   const double r = std::sqrt(u1), phi = 2 * kPi * u2;
-  return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - u1)) * n);
+  return r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - u1)) * n;  // unit: t, b, n orthonormal
 }
 
 double max3(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
@@ -60,6 +60,8 @@ class Tracer {
     const std::size_t nt = m.triangles.size();
     normal_.resize(nt);
     area_.resize(nt);
+    mat_.resize(nt);
+    for (std::size_t i = 0; i < nt; ++i) mat_[i] = &s.materials[s.material[i]];
     for (std::size_t i = 0; i < nt; ++i) {
       const auto& t = m.triangles[i];
       const glm::dvec3 c = glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
@@ -118,13 +120,13 @@ class Tracer {
   // Solid-angle pdf of the emitter sampler for a point on triangle `tri` seen at distance
   // `dist` along unit direction d.
   double emitter_pdf(std::uint32_t tri, double dist, const glm::dvec3& d) const {
-    const Material& m = s_.materials[s_.material[tri]];
+    const Material& m = *mat_[tri];
     const double cos_l = std::abs(glm::dot(normal_[tri], d));
     if (cos_l <= 0) return 0;
     return (m.emission.x + m.emission.y + m.emission.z) / emitter_total_ * dist * dist / cos_l;
   }
   bool emits_towards(std::uint32_t tri, const glm::dvec3& d_to_viewer) const {
-    const Material& m = s_.materials[s_.material[tri]];
+    const Material& m = *mat_[tri];
     return !m.one_sided || glm::dot(normal_[tri], d_to_viewer) > 0;
   }
 
@@ -167,7 +169,7 @@ class Tracer {
           const double pdf_b = c / kPi;
           if (pdf_l > 0 && unoccluded(p, wl, dist - off_, st)) {
             const double w = pdf_l * pdf_l / (pdf_l * pdf_l + pdf_b * pdf_b);
-            L += s_.materials[s_.material[tri]].emission * (c / kPi / pdf_l * w);
+            L += mat_[tri]->emission * (c / kPi / pdf_l * w);
           }
         }
       }
@@ -198,7 +200,7 @@ class Tracer {
         const glm::dvec3 ng = normal_[prim];
         const bool front = glm::dot(ng, d) < 0;
         n = front ? ng : -ng;
-        const Material& m = s_.materials[s_.material[prim]];
+        const Material& m = *mat_[prim];
         if (max3(m.emission) > 0 && emits_towards(prim, -d)) {
           if (from_camera) {
             L += beta * m.emission;
@@ -233,6 +235,7 @@ class Tracer {
   prt::RayScene rays_;
   const TraceOptions& opt_;
   std::vector<glm::dvec3> normal_;
+  std::vector<const Material*> mat_;  // per triangle
   std::vector<double> area_;
   std::vector<std::uint32_t> emitters_;
   std::vector<double> emitter_cdf_;
@@ -288,9 +291,11 @@ RadianceImage render(const Scene& scene, const Camera& cam, int width, int heigh
   const glm::dvec3 f = glm::normalize(fw), right = glm::normalize(rx), up = glm::cross(right, f);
   const double th = std::tan(0.5 * cam.vertical_fov_deg * kPi / 180), aspect = static_cast<double>(width) / height;
 
-  const auto t0 = Clock::now();
+  const auto t_setup = Clock::now();
   const Tracer tracer(scene, opt);
+  const auto t0 = Clock::now();
   RadianceImage img;
+  img.stats.setup_seconds = std::chrono::duration<double>(t0 - t_setup).count();
   img.width = width;
   img.height = height;
   img.samples = opt.samples;
@@ -338,9 +343,11 @@ Irradiance irradiance(const Scene& scene, const std::vector<glm::dvec3>& points,
     if (!std::isfinite(glm::length(points[i])) || !(ln > 0) || !std::isfinite(ln))
       throw InputError("gi irradiance: query " + std::to_string(i) + " has a non-finite point or a zero normal");
   }
-  const auto t0 = Clock::now();
+  const auto t_setup = Clock::now();
   const Tracer tracer(scene, opt);
+  const auto t0 = Clock::now();
   Irradiance out;
+  out.stats.setup_seconds = std::chrono::duration<double>(t0 - t_setup).count();
   out.mean.assign(points.size(), glm::dvec3(0.0));
   out.stderr_.assign(points.size(), glm::dvec3(0.0));
   AtomicStats total;

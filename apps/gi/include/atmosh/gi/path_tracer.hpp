@@ -50,7 +50,8 @@ struct TraceOptions {
 struct Stats {
   std::uint64_t rays = 0;          ///< closest-hit + shadow rays
   std::uint64_t shadow_rays = 0;
-  double seconds = 0;              ///< wall time
+  double seconds = 0;              ///< wall time of the path tracing (rays and shading)
+  double setup_seconds = 0;        ///< wall time of the Embree scene build and light tables
 };
 
 /// Per-pixel radiance; planar per channel [c][row * width + col], row 0 at the top.
