@@ -4,13 +4,17 @@
 //    most B reflections Le (1 - a^(B+1)) / (1 - a); irradiance is pi times that;
 //  * a lone plane under a sun of irradiance E: radiance a E cos(theta) / pi (Lambert), also
 //    for a sun disc (the cosine integral over the disc is exactly pi sin^2(r) cos(theta));
+//  * an equirect environment file of two halves: pi A facing up, pi (A + B) / 2 sideways;
 //  * irradiance under an SH environment: band 0 (uniform L) gives pi L, band 1 adds
 //    2 pi / 3 sum c_1m Y_1m(n) (Ramamoorthi & Hanrahan 2001, "An efficient representation
 //    for irradiance environment maps", eq. 8: A_0 = pi, A_1 = 2 pi / 3);
 //  * determinism across thread counts.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -18,6 +22,7 @@
 #include "atmosh/error.hpp"
 #include "atmosh/gi/path_tracer.hpp"
 #include "atmosh/gi/scene.hpp"
+#include "atmosh/io/exr.hpp"
 #include "atmosh/prt/mesh.hpp"
 
 namespace {
@@ -256,4 +261,32 @@ TEST(GiInput, BadValuesThrowInputError) {
   EXPECT_THROW(gi::irradiance(s, {{0, 0, 0}}, {{0, 0, 0}}, opt), InputError);
 }
 
+}  // namespace
+
+namespace {
+// Equirect environment from an EXR file: the upper half of the sphere (polar angle from the
+// scene's up below 90 degrees, rows 0..1 of 4) of radiance A, the lower half B. A normal up
+// sees only A: E = pi A exactly; a horizontal normal sees half of each, symmetrically in
+// the cosine: E = pi (A + B) / 2.
+TEST(GiEnvironment, EquirectFileHalfAndHalf) {
+  const auto file = std::filesystem::temp_directory_path() / ("atmosh_gi_env_" + std::to_string(::getpid()) + ".exr");
+  io::ExrImage ex(8, 4, {"R", "G", "B"});
+  const glm::dvec3 A(1.0, 2.0, 0.5), B(0.25, 0.0, 3.0);
+  for (int c = 0; c < 3; ++c)
+    for (int row = 0; row < 4; ++row)
+      for (int col = 0; col < 8; ++col) ex.data[c][row * 8 + col] = static_cast<float>(row < 2 ? A[c] : B[c]);
+  io::write_exr(file, ex, io::Provenance{});
+  gi::Scene s = gi::scene_from_mesh(plane(0.5, -1000), gi::Material{glm::dvec3(0), glm::dvec3(0), false});
+  s.env_map = gi::read_environment_map(file);
+  std::filesystem::remove(file);
+  gi::TraceOptions opt;
+  opt.samples = 20000;
+  const auto e = gi::irradiance(s, {{0, 0, 0}, {0, 0, 0}}, {{0, 0, 1}, {1, 0, 0}}, opt);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(e.mean[0][c], kPi * A[c], 1e-12 * (1 + A[c]));
+    const double side = kPi * (A[c] + B[c]) / 2;
+    EXPECT_NEAR(e.mean[1][c], side, 4 * e.stderr_[1][c]) << "channel " << c;
+    EXPECT_LT(e.stderr_[1][c], 0.02 * side);
+  }
+}
 }  // namespace
