@@ -205,8 +205,8 @@ class Tracer {
           if (from_camera) {
             L += beta * m.emission;
           } else {
-            const double pl = emitter_pdf(prim, t, d);
-            L += beta * m.emission * (prev_pdf * prev_pdf / (prev_pdf * prev_pdf + pl * pl));
+            const double pl = emitter_pdf(prim, t, d), pb2 = prev_pdf * prev_pdf, den = pb2 + pl * pl;
+            if (den > 0) L += beta * m.emission * (pb2 / den);
           }
         }
         albedo = m.albedo;
