@@ -13,6 +13,7 @@
 #include "atmosh/io/exr.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
+#include "atmosh/io/sh_coefficients.hpp"
 #include "cli_common.hpp"
 #include "progress.hpp"
 
@@ -22,7 +23,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 struct GiRenderOptions {
-  std::string builtin, mesh, method = "path", light, sun_irradiance = "1,1,1", sky, env, size = "256x256", out, png;
+  std::string builtin, mesh, method = "path", light, sun_irradiance = "1,1,1", sky, env, env_sh, size = "256x256", out, png;
   double sun_radius_deg = 0, albedo = 0.8;
   int bounces = -1, samples = 16, threads = 0, resolution = 32;
   std::uint64_t seed = 1;
@@ -76,6 +77,14 @@ gi::Scene prepare(const GiRenderOptions& o, int& w, int& h) {
       if (v < 0) throw InputError("--sky-radiance: '" + o.sky + "' has a negative value");
     s.env_bands = 1;
     for (int c = 0; c < 3; ++c) s.env_sh[c] = {L[c] * 2 * std::sqrt(kPi)};  // Y_00 = 1 / (2 sqrt(pi))
+  }
+  if (!o.env_sh.empty()) {
+    if (!o.sky.empty()) throw InputError("give at most one of --sky-radiance and --env-sh");
+    const io::ShCoefficients sh = io::read_sh_coefficients(o.env_sh);
+    if (sh.channels.empty() || sh.bands < 1 || sh.bands > 64)
+      throw InputError("--env-sh: '" + o.env_sh + "' has no channel columns or more than 64 bands");
+    s.env_bands = sh.bands;
+    for (int c = 0; c < 3; ++c) s.env_sh[c] = sh.channels[std::min<std::size_t>(c, sh.channels.size() - 1)];
   }
   if (!o.env.empty()) s.env_map = gi::read_environment_map(o.env);
   bool emitters = false;
@@ -153,6 +162,9 @@ void register_gi_commands(CLI::App& app) {
   c->add_option("--sun-irradiance", o->sun_irradiance, "sun irradiance R,G,B at normal incidence (default 1,1,1)");
   c->add_option("--sun-radius", o->sun_radius_deg, "sun angular radius in degrees (default 0: a point)");
   c->add_option("--sky-radiance", o->sky, "uniform sky radiance R,G,B (SH band 0)");
+  c->add_option("--env-sh", o->env_sh,
+                "environment as SH coefficients (CSV as `atmosh sh project` writes; first three channel columns = "
+                "R, G, B, one column = grey; frame x east, y north, z up)");
   c->add_option("--env", o->env, "equirectangular environment EXR (R, G, B; row 0 at the zenith)");
   c->add_option("--albedo", o->albedo, "--mesh: albedo where the file gives none (default 0.8)");
   c->add_option("--resolution", o->resolution, "tessellation of sphere-on-plane / box-occluder (default 32)");

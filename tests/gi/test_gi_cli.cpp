@@ -2,6 +2,9 @@
 // value, before any work; a small render writes an EXR with radiance and standard errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <fstream>
 #include <string>
 
 #include "../apps/run_cli.hpp"
@@ -53,6 +56,30 @@ TEST(GiCli, RenderWritesRadianceAndStandardError) {
   double sum = 0;
   for (float v : img.channel("G")) sum += v;
   EXPECT_GT(sum, 0);
+}
+
+// An SH environment from a CSV file (the layout `atmosh sh project` writes), no reflections:
+// the background shows its radiance L exactly, the scene is black.
+TEST(GiCli, ShEnvironmentFileIsTheBackground) {
+  const auto dir = atmosh::test::scratch_dir("atmosh_gi_cli", "env");
+  const double y00 = 0.5 / std::sqrt(3.14159265358979323846);  // Y_00 = 1 / (2 sqrt(pi))
+  {
+    std::ofstream f(dir / "sky.csv");
+    f.precision(17);
+    f << "l,m,index,R,G,B\n0,0,0," << 0.5 / y00 << "," << 1.0 / y00 << "," << 2.0 / y00 << "\n";
+  }
+  const auto exr = dir / "bg.exr";
+  const auto r = run_cli("gi render --scene-builtin box-occluder --resolution 8 --env-sh '" + (dir / "sky.csv").string() +
+                         "' --bounces 0 --samples 2 --size 16x12 -o '" + exr.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto img = atmosh::io::read_exr(exr);
+  const double L[3] = {0.5, 1.0, 2.0};
+  const char* names[3] = {"R", "G", "B"};
+  for (int c = 0; c < 3; ++c) {
+    const auto& v = img.channel(names[c]);
+    EXPECT_NEAR(*std::max_element(v.begin(), v.end()), L[c], 1e-6 * L[c]) << c;
+    EXPECT_EQ(*std::min_element(v.begin(), v.end()), 0.0f) << c;
+  }
 }
 
 }  // namespace
