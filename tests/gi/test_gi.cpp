@@ -2,6 +2,7 @@
 //  * furnace: inside a closed surface of uniform albedo a and uniform emitted radiance Le,
 //    the radiance is Le / (1 - a) everywhere (the Neumann series Le sum a^k), and with at
 //    most B reflections Le (1 - a^(B+1)) / (1 - a); irradiance is pi times that;
+//  * irradiance below a square emitter: its configuration factor (Howell's catalogue, B-3);
 //  * a lone plane under a sun of irradiance E: radiance a E cos(theta) / pi (Lambert), also
 //    for a sun disc (the cosine integral over the disc is exactly pi sin^2(r) cos(theta));
 //  * an equirect environment file of two halves: pi A facing up, pi (A + B) / 2 sideways;
@@ -287,6 +288,39 @@ TEST(GiEnvironment, EquirectFileHalfAndHalf) {
     const double side = kPi * (A[c] + B[c]) / 2;
     EXPECT_NEAR(e.mean[1][c], side, 4 * e.stderr_[1][c]) << "channel " << c;
     EXPECT_LT(e.stderr_[1][c], 0.02 * side);
+  }
+}
+}  // namespace
+
+namespace {
+// Irradiance at a point below a square emitter of radiance L (side 2s, parallel, centred at
+// height h): E = pi L F with the configuration factor of a differential element to a
+// parallel rectangle with one corner above it (Howell, "A Catalog of Radiation Heat
+// Transfer Configuration Factors", case B-3), four quadrants:
+//   F = 4 / (2 pi) [X / sqrt(1 + X^2) atan(Y / sqrt(1 + X^2)) + Y / sqrt(1 + Y^2) atan(X / sqrt(1 + Y^2))],
+// X = Y = s / h. Exercises the emitter sampling and its MIS with the hemisphere samples;
+// the emitter is one-sided, so the same square facing up gives exactly 0.
+TEST(GiEmitter, SquareLightIrradianceMatchesTheConfigurationFactor) {
+  const double s = 0.7, h = 1.3;
+  const glm::dvec3 L(1.0, 2.0, 4.0);
+  for (bool facing_down : {true, false}) {
+    prt::Mesh m = plane(s, h);
+    if (facing_down) m.triangles = {{0, 2, 1}, {0, 3, 2}};
+    gi::Scene sc = gi::scene_from_mesh(m, gi::Material{glm::dvec3(0), L, true});
+    gi::TraceOptions opt;
+    opt.samples = 4000;
+    const auto e = gi::irradiance(sc, {{0, 0, 0}}, {{0, 0, 1}}, opt);
+    const double X = s / h, r = std::sqrt(1 + X * X);
+    const double F = 4 / (2 * kPi) * 2 * (X / r * std::atan(X / r));
+    for (int c = 0; c < 3; ++c) {
+      if (!facing_down) {
+        EXPECT_EQ(e.mean[0][c], 0.0);
+        continue;
+      }
+      const double expect = kPi * L[c] * F;
+      EXPECT_LT(e.stderr_[0][c], 0.01 * expect);
+      EXPECT_NEAR(e.mean[0][c], expect, 4 * e.stderr_[0][c]) << "channel " << c;
+    }
   }
 }
 }  // namespace
