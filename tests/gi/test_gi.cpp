@@ -2,7 +2,7 @@
 //  * furnace: inside a closed surface of uniform albedo a and uniform emitted radiance Le,
 //    the radiance is Le / (1 - a) everywhere (the Neumann series Le sum a^k), and with at
 //    most B reflections Le (1 - a^(B+1)) / (1 - a); irradiance is pi times that;
-//  * irradiance below a square emitter: its configuration factor (Howell's catalogue, B-3);
+//  * irradiance below a square emitter: its configuration factor (Howell's catalogue: plane element to a parallel rectangle);
 //  * a lone plane under a sun of irradiance E: radiance a E cos(theta) / pi (Lambert), also
 //    for a sun disc (the cosine integral over the disc is exactly pi sin^2(r) cos(theta));
 //  * an equirect environment file of two halves: pi A facing up, pi (A + B) / 2 sideways;
@@ -296,7 +296,8 @@ namespace {
 // Irradiance at a point below a square emitter of radiance L (side 2s, parallel, centred at
 // height h): E = pi L F with the configuration factor of a differential element to a
 // parallel rectangle with one corner above it (Howell, "A Catalog of Radiation Heat
-// Transfer Configuration Factors", case B-3), four quadrants:
+// Transfer Configuration Factors": plane element to a parallel rectangle, the normal
+// through a corner), four quadrants:
 //   F = 4 / (2 pi) [X / sqrt(1 + X^2) atan(Y / sqrt(1 + X^2)) + Y / sqrt(1 + Y^2) atan(X / sqrt(1 + Y^2))],
 // X = Y = s / h. Exercises the emitter sampling and its MIS with the hemisphere samples;
 // the emitter is one-sided, so the same square facing up gives exactly 0.
