@@ -177,6 +177,7 @@ atmosh_install_component(io atmosh_io)
 atmosh_install_component(scene atmosh_scene)
 atmosh_install_component(prt atmosh_prt)
 atmosh_install_component(studies atmosh_studies)
+atmosh_install_component(gi atmosh_gi)
 
 if(TARGET atmosh)
   install(TARGETS atmosh RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)

@@ -12,6 +12,8 @@
 #include "cli_common.hpp"
 #include "progress.hpp"
 
+namespace atmosh::cli { void register_gi_commands(CLI::App& app); }  // cmd_gi.cpp
+
 namespace {
 std::string first_line(std::string s) {
   if (auto p = s.find('\n'); p != std::string::npos) s.resize(p);
@@ -58,6 +60,7 @@ int main(int argc, char** argv) {
   atmosh::cli::register_sky_commands(app);
   atmosh::cli::register_prt_commands(app);
   atmosh::cli::register_rt_commands(app);
+  atmosh::cli::register_gi_commands(app);
   atmosh::cli::register_converge_ms_command(app);
 
   try {

@@ -1,0 +1,85 @@
+// The CLI contract of `atmosh gi render`: bad input exits 2 with one line naming the bad
+// value, before any work; a small render writes an EXR with radiance and standard errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "../apps/run_cli.hpp"
+#include "atmosh/io/exr.hpp"
+
+namespace {
+using atmosh::test::count_lines;
+using atmosh::test::run_cli;
+
+void expect_bad(const std::string& args, const std::string& named) {
+  const auto r = run_cli(args);
+  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << args << "\n" << r.err;
+  EXPECT_NE(r.err.find(named), std::string::npos) << args << "\n" << r.err;
+}
+
+TEST(GiCli, BadInputExitsTwoNamingTheValue) {
+  const auto dir = atmosh::test::scratch_dir("atmosh_gi_cli", "bad");
+  const std::string out = " -o '" + (dir / "x.exr").string() + "'";
+  expect_bad("gi render --scene-builtin no-such-box" + out, "no-such-box");
+  expect_bad("gi render --scene-builtin cornell-box --method probes" + out, "not implemented yet");
+  expect_bad("gi render --scene-builtin cornell-box --method lpv" + out, "lpv");
+  expect_bad("gi render --scene-builtin cornell-box --method magic" + out, "magic");
+  expect_bad("gi render --scene-builtin cornell-box --samples 1" + out, "--samples");
+  expect_bad("gi render --scene-builtin cornell-box --bounces -5" + out, "-5");
+  expect_bad("gi render --scene-builtin cornell-box --size 0x10" + out, "0x10");
+  expect_bad("gi render --scene-builtin cornell-box --light moon:1,2" + out, "moon:1,2");
+  expect_bad("gi render --scene-builtin cornell-box --light sun:10,95" + out, "sun:10,95");
+  expect_bad("gi render --scene-builtin cornell-box --sun-irradiance 1,x,1 --light sun:0,45" + out, "1,x,1");
+  expect_bad("gi render --mesh '" + (dir / "missing.obj").string() + "'" + out, "missing.obj");
+  expect_bad("gi render --scene-builtin cornell-box -o '" + (dir / "x.png").string() + "'", "x.png");
+  expect_bad("gi render" + out, "--scene-builtin");
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));
+}
+
+TEST(GiCli, RenderWritesRadianceAndStandardError) {
+  const auto dir = atmosh::test::scratch_dir("atmosh_gi_cli", "ok");
+  const auto exr = dir / "box.exr", png = dir / "box.png";
+  const auto r = run_cli("gi render --scene-builtin sphere-on-plane --resolution 8 --light sun:30,40 --samples 2 "
+                         "--size 12x8 --bounces 2 -o '" + exr.string() + "' --png '" + png.string() + "' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"rays_per_second\""), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(png));
+  const auto img = atmosh::io::read_exr(exr);
+  EXPECT_EQ(img.width, 12);
+  EXPECT_EQ(img.height, 8);
+  for (const char* ch : {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"}) EXPECT_GE(img.find_channel(ch), 0) << ch;
+  EXPECT_EQ(img.string_attributes.count("atmosh:method"), 1u);
+  double sum = 0;
+  for (float v : img.channel("G")) sum += v;
+  EXPECT_GT(sum, 0);
+}
+
+// An SH environment from a CSV file (the layout `atmosh sh project` writes), no reflections:
+// the background shows its radiance L exactly, the scene is black.
+TEST(GiCli, ShEnvironmentFileIsTheBackground) {
+  const auto dir = atmosh::test::scratch_dir("atmosh_gi_cli", "env");
+  const double y00 = 0.5 / std::sqrt(3.14159265358979323846);  // Y_00 = 1 / (2 sqrt(pi))
+  {
+    std::ofstream f(dir / "sky.csv");
+    f.precision(17);
+    f << "l,m,index,R,G,B\n0,0,0," << 0.5 / y00 << "," << 1.0 / y00 << "," << 2.0 / y00 << "\n";
+  }
+  const auto exr = dir / "bg.exr";
+  const auto r = run_cli("gi render --scene-builtin box-occluder --resolution 8 --env-sh '" + (dir / "sky.csv").string() +
+                         "' --bounces 0 --samples 2 --size 16x12 -o '" + exr.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto img = atmosh::io::read_exr(exr);
+  const double L[3] = {0.5, 1.0, 2.0};
+  const char* names[3] = {"R", "G", "B"};
+  for (int c = 0; c < 3; ++c) {
+    const auto& v = img.channel(names[c]);
+    EXPECT_NEAR(*std::max_element(v.begin(), v.end()), L[c], 1e-6 * L[c]) << c;
+    EXPECT_EQ(*std::min_element(v.begin(), v.end()), 0.0f) << c;
+  }
+}
+
+}  // namespace
