@@ -68,20 +68,27 @@ void check_gl(const char* what) {
 
 namespace {
 // Every shader's square root goes through atmosh_sqrt. The double overload
-// refines the driver's result with one Newton step, y + (x - y^2) / (2 y) written
-// as (y + x / y) / 2: NVIDIA's GLSL sqrt(double) returns only single-precision
+// refines the driver's result y with one Newton step written as a correction,
+// y + (x - y^2) (0.5 / y): NVIDIA's GLSL sqrt(double) has only single-precision
 // accuracy (measured on an H200, driver 580.159: a cut distance of 365 087.549 m
-// came back as 365 087.5625, 3.6e-8 relative), one step takes that to ~1e-16,
-// and on a correctly rounded sqrt (Mesa llvmpipe) it moves the result by at most
-// an ulp. 0, +inf and NaN pass through unchanged. Float keeps the built-in.
+// came back as 365 087.5625, 3.6e-8 relative, and the altitudes r(s) - R of the
+// sky's nodes moved by ~0.2 m, 2e-4 of the Mie density). The residual is exact to
+// ~1 ulp of x, so the step leaves ~1e-16 whatever the accuracy of the division.
+// `precise` stops the compiler from simplifying the step away (y * y = x, and
+// x / sqrt(x) = sqrt(x), are legal rewrites without it). On a correctly rounded
+// sqrt (Mesa llvmpipe) the step moves the result by at most an ulp. 0, +inf and
+// NaN pass through unchanged. Float keeps the built-in.
 const char* const kSqrtPrelude =
     "float atmosh_sqrt(float x) { return sqrt(x); }\n"
     "vec2 atmosh_sqrt(vec2 x) { return sqrt(x); }\n"
     "vec3 atmosh_sqrt(vec3 x) { return sqrt(x); }\n"
     "vec4 atmosh_sqrt(vec4 x) { return sqrt(x); }\n"
     "double atmosh_sqrt(double x) {\n"
-    "  double y = sqrt(x);\n"
-    "  return (y > 0.0LF && y < 1.0e300LF) ? 0.5LF * (y + x / y) : y;\n"
+    "  precise double y = sqrt(x);\n"
+    "  if (!(y > 0.0LF && y < 1.0e300LF)) return y;\n"
+    "  precise double e = x - y * y;\n"
+    "  precise double r = y + e * (0.5LF / y);\n"
+    "  return r;\n"
     "}\n"
     "dvec2 atmosh_sqrt(dvec2 x) { return dvec2(atmosh_sqrt(x.x), atmosh_sqrt(x.y)); }\n"
     "dvec3 atmosh_sqrt(dvec3 x) { return dvec3(atmosh_sqrt(x.x), atmosh_sqrt(x.y), atmosh_sqrt(x.z)); }\n"
