@@ -20,6 +20,7 @@
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/io/study.hpp"
+#include "atmosh/studies/study_table.hpp"
 
 namespace atmosh::studies {
 
@@ -55,13 +56,6 @@ struct LutConvergenceOptions {
   std::string device = "cpu";
   // One-line notices (the GPU fallback of "auto"); empty: none.
   std::function<void(const std::string&)> notice;
-};
-
-// A study table: the spec of io::write_study, its rows and provenance.
-struct StudyTable {
-  io::StudySpec spec;
-  std::vector<io::StudyRow> rows;
-  io::Provenance provenance;
 };
 
 // Optical-depth tables (atmo::OpticalDepthLut) against the exact reference
