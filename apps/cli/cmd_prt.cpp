@@ -23,6 +23,7 @@
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/io/sh_coefficients.hpp"
 #include "atmosh/io/study.hpp"
+#include "atmosh/io/transfer_exr.hpp"
 #include "atmosh/prt/bake.hpp"
 #include "atmosh/sh/basis.hpp"
 #include "cli_common.hpp"
@@ -155,36 +156,20 @@ std::vector<fs::path> relight_to(const prt::Transfer& t, const RelightOptions& o
 // sum_i T_i(pixel) light_i per channel; ao.(exr|png) is the image's `ao` channel. The
 // image size and view are the EXR's own.
 std::vector<fs::path> relight_pixels_to(const fs::path& file, const RelightOptions& o, const fs::path& dir) {
-  const io::ExrImage ex = io::read_exr(file, memory_budget());
-  std::vector<std::size_t> coeff_ch;
-  for (int l = 0;; ++l) {
-    bool all = true;
-    std::vector<std::size_t> band;
-    for (int m = -l; m <= l && all; ++m) {
-      const auto it = std::find(ex.channels.begin(), ex.channels.end(), "sh_l" + std::to_string(l) + "_m" + std::to_string(m));
-      if (it == ex.channels.end()) all = false;
-      else band.push_back(static_cast<std::size_t>(it - ex.channels.begin()));
-    }
-    if (!all) break;
-    coeff_ch.insert(coeff_ch.end(), band.begin(), band.end());
-  }
-  const int bands = static_cast<int>(std::lround(std::sqrt(static_cast<double>(coeff_ch.size()))));
-  const auto ao_it = std::find(ex.channels.begin(), ex.channels.end(), "ao");
-  if (bands < 1 || ao_it == ex.channels.end())
-    throw InputError(file.string() + ": not a per-pixel transfer image (needs channels sh_l0_m0 ... and ao)");
+  const io::TransferImage ex = io::read_transfer_exr(file, memory_budget());
+  const int bands = ex.bands;
   const auto lights = relight_lights(o, bands);
   const std::size_t np = static_cast<std::size_t>(ex.width) * ex.height;
   auto prov = io::Provenance::current();
   prov.add("transfer_bands", std::to_string(bands)).add("transfer_file", file.string());
-  std::vector<fs::path> written =
-      write_image(dir / "ao", {ex.data[static_cast<std::size_t>(ao_it - ex.channels.begin())]}, ex.width, ex.height,
-                  1.0, "1 (occlusion is in [0, 1])", prov, "ambient occlusion (cosine-weighted visible fraction)");
+  std::vector<fs::path> written = write_image(dir / "ao", {ex.ao}, ex.width, ex.height, 1.0, "1 (occlusion is in [0, 1])",
+                                             prov, "ambient occlusion (cosine-weighted visible fraction)");
   auto render = [&](const std::vector<std::vector<double>>& light) {
     std::vector<std::vector<float>> img(light.size(), std::vector<float>(np, 0.0f));
     for (std::size_t c = 0; c < light.size(); ++c)
       for (std::size_t p = 0; p < np; ++p) {
         double v = 0;
-        for (std::size_t i = 0; i < coeff_ch.size(); ++i) v += ex.data[coeff_ch[i]][p] * light[c][i];
+        for (std::size_t i = 0; i < ex.coefficients.size(); ++i) v += ex.coefficients[i][p] * light[c][i];
         img[c][p] = static_cast<float>(v);
       }
     return img;
@@ -371,7 +356,12 @@ void register_prt_commands(CLI::App& app) {
     c->add_flag("--quiet", o->quiet, "no progress on stderr");
     c->callback([o] {
       prt::BakeOptions bo;
+      if (o->device != "cpu" && o->device != "gpu")
+        throw InputError("--device: unknown device '" + o->device + "' (cpu, gpu)");
       bo.device = prt::parse_device(o->device);
+      if (o->bounces < 0 || o->bounces > 100) throw InputError("--bounces: must be in 0..100, got " + std::to_string(o->bounces));
+      if (!(o->albedo >= 0 && o->albedo <= 1))
+        throw InputError("--albedo: must be in [0, 1], got " + std::to_string(o->albedo));
       bo.depth_resolution = o->depth_map;
       if (o->depth_map < 16 || o->depth_map > 16384)
         throw InputError("--depth-map: must be in 16..16384, got " + std::to_string(o->depth_map));
@@ -388,6 +378,8 @@ void register_prt_commands(CLI::App& app) {
         throw InputError("-o: '" + o->out + "' must end in .ply (per-vertex) or .exr (per-pixel)");
       if (bo.device == prt::Device::gpu && ext != ".exr")
         throw InputError("--device gpu: the depth-map method is per-pixel; write an .exr (per-vertex bakes use --device cpu)");
+      if (ext == ".exr" && bo.mode == sh::prt::TransferMode::interreflected)
+        throw InputError("--mode interreflected: per-pixel transfer is unshadowed or shadowed");
       const auto sz = parse_size(o->size, "--size");
       const auto vv = parse_triple(o->view, "--view");
       const prt::Mesh mesh = load_input(o->mesh, o->builtin, o->resolution);
@@ -400,25 +392,25 @@ void register_prt_commands(CLI::App& app) {
         const bool gpu_run = px.device == prt::Device::gpu;
         const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
         if (show) std::fprintf(stderr, "\n");
-        std::vector<std::string> names;
-        for (int l = 0; l < px.bands; ++l)
-          for (int m = -l; m <= l; ++m) names.push_back("sh_l" + std::to_string(l) + "_m" + std::to_string(m));
-        names.push_back("ao");
-        names.push_back("mask");
-        io::ExrImage ex(px.width, px.height, names);
         const std::size_t K = static_cast<std::size_t>(px.bands) * px.bands, np = px.mask.size();
+        io::TransferImage ex;
+        ex.width = px.width;
+        ex.height = px.height;
+        ex.bands = px.bands;
+        ex.coefficients.assign(K, std::vector<float>(np));
         for (std::size_t i = 0; i < K; ++i)
-          for (std::size_t p = 0; p < np; ++p) ex.data[i][p] = static_cast<float>(px.coeffs[p * K + i]);
-        for (std::size_t p = 0; p < np; ++p) ex.data[K][p] = static_cast<float>(px.ao[p]), ex.data[K + 1][p] = px.mask[p];
-        ex.string_attributes["atmosh:quantity"] = std::string("per-pixel diffuse transfer, ") + sh::prt::transfer_mode_name(bo.mode);
-        ex.string_attributes["atmosh:sh_convention"] = "real orthonormal, Condon-Shortley phase, index l(l+1)+m";
-        ex.string_attributes["atmosh:view"] = o->view;
-        ex.string_attributes["atmosh:samples"] = std::to_string(px.samples);
-        ex.string_attributes["atmosh:device"] = gpu_run ? "gpu" : "cpu";
-        if (gpu_run) ex.string_attributes["atmosh:depth_map"] = std::to_string(px.depth_resolution);
+          for (std::size_t p = 0; p < np; ++p) ex.coefficients[i][p] = static_cast<float>(px.coeffs[p * K + i]);
+        ex.ao.resize(np);
+        for (std::size_t p = 0; p < np; ++p) ex.ao[p] = static_cast<float>(px.ao[p]);
+        ex.mask = px.mask;
+        ex.attributes["quantity"] = std::string("per-pixel diffuse transfer, ") + sh::prt::transfer_mode_name(bo.mode);
+        ex.attributes["view"] = o->view;
+        ex.attributes["samples"] = std::to_string(px.samples);
+        ex.attributes["device"] = gpu_run ? "gpu" : "cpu";
+        if (gpu_run) ex.attributes["depth_map"] = std::to_string(px.depth_resolution);
         auto prov = io::Provenance::current();
         prov.add("mesh", mesh.name);
-        io::write_exr(o->out, ex, prov);
+        io::write_transfer_exr(o->out, ex, prov);
         if (o->json)
           print_json({{"file", o->out}, {"width", px.width}, {"height", px.height}, {"bands", px.bands},
                       {"coefficients", px.bands * px.bands}, {"samples", px.samples},

@@ -34,7 +34,7 @@ using Clock = std::chrono::steady_clock;
 Device parse_device(const std::string& name) {
   if (name == "cpu") return Device::cpu;
   if (name == "gpu") return Device::gpu;
-  throw InputError("--device: unknown device '" + name + "' (cpu, gpu)");
+  throw InputError("device '" + name + "' is not cpu or gpu");
 }
 
 // ---- Embree scene ---------------------------------------------------------------------
@@ -150,14 +150,14 @@ glm::dvec3 PixelCamera::ray(int row, int col) const {
 // ---- bake -------------------------------------------------------------------------------
 Transfer bake(const Mesh& mesh_in, const BakeOptions& opt) {
   if (opt.device == Device::gpu)
-    throw InputError("--device gpu: the GPU depth-map method is per-pixel (write an .exr); per-vertex bakes use --device cpu");
-  if (opt.bands < 1 || opt.bands > 16) throw InputError("--bands: must be in 1..16, got " + std::to_string(opt.bands));
+    throw InputError("the GPU depth-map method is per-pixel (bake_pixels); per-vertex bakes run on the CPU");
+  if (opt.bands < 1 || opt.bands > 16) throw InputError("bands: must be in 1..16, got " + std::to_string(opt.bands));
   if (opt.strata < 1 || opt.strata > 2000)
-    throw InputError("--samples: strata per side must be in 1..2000, got " + std::to_string(opt.strata));
-  if (opt.bounces < 0 || opt.bounces > 100) throw InputError("--bounces: must be in 0..100, got " + std::to_string(opt.bounces));
-  if (opt.threads < 0 || opt.threads > 1024) throw InputError("--threads: must be in 0..1024, got " + std::to_string(opt.threads));
+    throw InputError("strata per side: must be in 1..2000, got " + std::to_string(opt.strata));
+  if (opt.bounces < 0 || opt.bounces > 100) throw InputError("bounces: must be in 0..100, got " + std::to_string(opt.bounces));
+  if (opt.threads < 0 || opt.threads > 1024) throw InputError("threads: must be in 0..1024, got " + std::to_string(opt.threads));
   if (!(opt.default_albedo >= 0 && opt.default_albedo <= 1))
-    throw InputError("--albedo: must be in [0, 1], got " + std::to_string(opt.default_albedo));
+    throw InputError("default albedo: must be in [0, 1], got " + std::to_string(opt.default_albedo));
   validate(mesh_in);
 
   Transfer tr;
@@ -258,26 +258,26 @@ PixelTransfer gpu_pixels(const Mesh& m, const PixelCamera& cam, const BakeOption
   return px;
 #else
   (void)m, (void)cam, (void)opt;
-  throw InputError("--device gpu: this build of atmosh has no GPU support (ATMOSH_WITH_GPU=OFF)");
+  throw InputError("GPU depth-map method: this build of atmosh has no GPU support (ATMOSH_WITH_GPU=OFF)");
 #endif
 }
 }  // namespace
 
 PixelTransfer bake_pixels(const Mesh& mesh_in, const BakeOptions& opt, int width, int height, const glm::dvec3& view_dir) {
   if (opt.mode == sh::prt::TransferMode::interreflected)
-    throw InputError("--mode interreflected: per-pixel transfer is unshadowed or shadowed");
-  if (opt.bands < 1 || opt.bands > 16) throw InputError("--bands: must be in 1..16, got " + std::to_string(opt.bands));
+    throw InputError("interreflected transfer: per-pixel transfer is unshadowed or shadowed");
+  if (opt.bands < 1 || opt.bands > 16) throw InputError("bands: must be in 1..16, got " + std::to_string(opt.bands));
   if (opt.strata < 1 || opt.strata > 2000)
-    throw InputError("--samples: strata per side must be in 1..2000, got " + std::to_string(opt.strata));
-  if (opt.threads < 0 || opt.threads > 1024) throw InputError("--threads: must be in 0..1024, got " + std::to_string(opt.threads));
+    throw InputError("strata per side: must be in 1..2000, got " + std::to_string(opt.strata));
+  if (opt.threads < 0 || opt.threads > 1024) throw InputError("threads: must be in 0..1024, got " + std::to_string(opt.threads));
   if (!(opt.default_albedo >= 0 && opt.default_albedo <= 1))
-    throw InputError("--albedo: must be in [0, 1], got " + std::to_string(opt.default_albedo));
+    throw InputError("default albedo: must be in [0, 1], got " + std::to_string(opt.default_albedo));
   validate(mesh_in);
   Mesh m = mesh_in;
   if (m.normals.size() != m.positions.size()) compute_normals(m);
   if (m.albedo.empty()) m.albedo.assign(m.positions.size(), opt.default_albedo);
   if (opt.device == Device::gpu && (opt.depth_resolution < 16 || opt.depth_resolution > 16384))
-    throw InputError("--depth-map: must be in 16..16384, got " + std::to_string(opt.depth_resolution));
+    throw InputError("depth-map resolution: must be in 16..16384, got " + std::to_string(opt.depth_resolution));
   const PixelCamera cam(m, width, height, view_dir);
   const bool shadowed = opt.mode == sh::prt::TransferMode::shadowed;
   if (opt.device == Device::gpu) return gpu_pixels(m, cam, opt);
@@ -338,7 +338,7 @@ PixelTransfer bake_pixels(const Mesh& mesh_in, const BakeOptions& opt, int width
 // ---- transfer files -------------------------------------------------------------------
 void write_transfer(const std::filesystem::path& file, const Transfer& t, const io::Provenance& prov) {
   std::string ext = file.extension().string();
-  if (ext != ".ply") throw InputError(file.string() + ": per-vertex transfer is written as .ply (per-pixel .exr needs --device gpu, not available yet)");
+  if (ext != ".ply") throw InputError(file.string() + ": per-vertex transfer is written as .ply (per-pixel transfer: io::write_transfer_exr)");
   const std::size_t nv = t.mesh.positions.size(), K = static_cast<std::size_t>(t.bands) * t.bands;
   std::string s;
   s.reserve(nv * (K + 8) * 14 + t.mesh.triangles.size() * 24 + 4096);
