@@ -122,6 +122,7 @@ std::vector<fs::path> converge_study(const prt::Mesh& mesh, int bands, sh::prt::
   o.device = px.device;
   o.depth_maps = px.depth_maps;
   o.notice = [](const std::string& m) { std::cerr << "atmosh: " << m << "\n"; };
+  o.cpu_only_note = "not run (--device cpu)";
   try {
     const studies::StudyTable t = studies::prt_convergence(mesh, o);
     return io::write_study(stem, t.spec, t.rows, t.provenance);

@@ -198,7 +198,7 @@ StudyTable prt_convergence(const prt::Mesh& mesh, const PrtConvergenceOptions& p
   prov = io::Provenance::current();
   // Per-pixel rows (shadowed only): CPU ray casting and the GPU depth-map method against
   // a per-pixel reference of the same camera.
-  std::string gpu_note = "not run (--device cpu)";
+  std::string gpu_note = px.cpu_only_note;
   if (mode == sh::prt::TransferMode::shadowed) {
     bo.strata = ref_strata;
     bo.seed = 12345;

@@ -81,6 +81,8 @@ struct PrtConvergenceOptions {
   std::string device = "auto";
   std::vector<int> depth_maps = {256, 1024};
   std::function<void(const std::string&)> notice;  // one-line notices; empty: none
+  // The provenance line gpu_method when device is "cpu" (how the caller chose it).
+  std::string cpu_only_note = "not run (device cpu)";
 };
 // Rows cpu-<mode>-jittered (per vertex), cpu-pixel-<mode>-jittered and
 // gpu-depthmap<N>-<mode>-jittered (per pixel), extra columns samples, rays, depth_map.
