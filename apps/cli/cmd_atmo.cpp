@@ -30,9 +30,7 @@ namespace {
 
 using namespace atmosh::atmo;
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 AtmosphereSpec load_atmosphere(const std::string& scene_file, const std::string& preset_name) {
   if (!scene_file.empty() && !preset_name.empty()) throw InputError("--scene and --preset: give only one");
@@ -40,7 +38,6 @@ AtmosphereSpec load_atmosphere(const std::string& scene_file, const std::string&
   return preset(preset_name.empty() ? "earth-graphics" : preset_name);
 }
 
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // ---- converge lut --------------------------------------------------------------
 
@@ -127,38 +124,11 @@ void register_atmo_commands(CLI::App& app) {
                          ": outside the physical Rayleigh model's range (240-1690 nm)");
       Atmosphere atm(spec);
       if (alt < 0.0) throw InputError("--altitude " + io::format_double(alt) + ": below the ground");
-      const double r = atm.ground_radius() + alt, mu = std::cos(zen * kDegToRad);
-      auto k = atm.coefficients(0);
-      glm::dvec3 col, err(0.0);
-      bool hits = false;
-      double rel_err = 0.0, time_s = 0.0;
-      auto t0 = Clock::now();
-      if (o->method == "reference") {
-        OpticalDepthReference ref(atm);
-        auto c = ref.column(r, mu);
-        time_s = seconds_since(t0);
-        col = c.column;
-        err = c.error;
-        hits = c.hits_ground;
-      } else {
-        LutOptions lo;
-        lo.shells = o->shells;
-        lo.view_directions = lo.sun_directions = o->directions;
-        OpticalDepthLut lut(atm, lo);
-        auto c = lut.view(r, mu);
-        time_s = seconds_since(t0);  // build + lookup
-        col = c.column;
-        hits = c.hits_ground;
-        // The table's a-posteriori estimate (OpticalDepthLut::estimate_max_rel_error:
-        // the largest relative error of the total at this wavelength over samples
-        // midway between the table's shells and directions, against fresh integrals);
-        // computed after the clock stops, it is not part of the method's cost.
-        rel_err = lut.estimate_max_rel_error(nm);
-      }
-      glm::dvec3 tau = k.extinction * col;
-      double total = tau.x + tau.y + tau.z;
-      double error_estimate = std::abs(glm::dot(k.extinction, err));
-      if (o->method == "lut") error_estimate = rel_err * total;
+      const studies::OpticalDepthAnswer q =
+          studies::optical_depth_query(atm, {alt, zen, o->method == "lut", o->shells, o->directions});
+      const glm::dvec3 tau(q.rayleigh, q.mie, q.ozone);
+      const double total = q.total, error_estimate = q.error_estimate, time_s = q.time_s;
+      const bool hits = q.hits_ground;
       if (o->json) {
         print_json({{"rayleigh", tau.x}, {"mie", tau.y}, {"ozone", tau.z}, {"total", total},
                     {"transmittance", transmittance(total)}, {"method", o->method},

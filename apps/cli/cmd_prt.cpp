@@ -202,22 +202,8 @@ void register_prt_commands(CLI::App& app) {
         const bool gpu_run = px.device == prt::Device::gpu;
         const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
         if (show) std::fprintf(stderr, "\n");
-        const std::size_t K = static_cast<std::size_t>(px.bands) * px.bands, np = px.mask.size();
-        io::TransferImage ex;
-        ex.width = px.width;
-        ex.height = px.height;
-        ex.bands = px.bands;
-        ex.coefficients.assign(K, std::vector<float>(np));
-        for (std::size_t i = 0; i < K; ++i)
-          for (std::size_t p = 0; p < np; ++p) ex.coefficients[i][p] = static_cast<float>(px.coeffs[p * K + i]);
-        ex.ao.resize(np);
-        for (std::size_t p = 0; p < np; ++p) ex.ao[p] = static_cast<float>(px.ao[p]);
-        ex.mask = px.mask;
-        ex.attributes["quantity"] = std::string("per-pixel diffuse transfer, ") + sh::prt::transfer_mode_name(bo.mode);
-        ex.attributes["view"] = o->view;
-        ex.attributes["samples"] = std::to_string(px.samples);
-        ex.attributes["device"] = gpu_run ? "gpu" : "cpu";
-        if (gpu_run) ex.attributes["depth_map"] = std::to_string(px.depth_resolution);
+        const std::size_t K = static_cast<std::size_t>(px.bands) * px.bands;
+        const io::TransferImage ex = studies::transfer_image(px, bo.mode, o->view);
         auto prov = io::Provenance::current();
         prov.add("mesh", mesh.name);
         io::write_transfer_exr(o->out, ex, prov);

@@ -10,6 +10,7 @@
 //   cross-checked with a 400 000-point midpoint sum of the integral, 3.38439354 at
 //   h = 1 km); truncating the ray at the top changes it by < 4e-6 (exp(-z_t/H));
 // - a ray from radius r meets the ground iff mu < -sqrt(1 - (R/r)^2).
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <set>
@@ -149,6 +150,25 @@ TEST(StudiesAtmo, LutConvergenceRowsBoundTheClosedFormErrorAndShrinkWithFinerTab
   EXPECT_LT(t.rows[2].error_max, t.rows[1].error_max);
   EXPECT_LT(t.rows[2].error_max, 1e-3);
   EXPECT_EQ(entry(t.provenance, "device"), "cpu");
+}
+
+TEST(StudiesAtmo, OpticalDepthQueryMatchesTheVerticalClosedForm) {
+  auto spec = exponential_rayleigh();
+  spec.spectrum.wavelengths_nm = {550.0};
+  const atmo::Atmosphere atm(spec);
+  const double h = 2500.0;
+  const auto exact = studies::optical_depth_query(atm, {h, 0.0, false, 40, 64});
+  EXPECT_NEAR(exact.rayleigh, vertical_tau(h), 1e-10 * vertical_tau(h));
+  EXPECT_EQ(exact.mie, 0.0);
+  EXPECT_EQ(exact.total, exact.rayleigh);
+  EXPECT_LT(exact.error_estimate, 1e-9 * exact.total);
+  EXPECT_FALSE(exact.hits_ground);
+  const auto lut = studies::optical_depth_query(atm, {h, 0.0, true, 40, 64});
+  // The tables' error stays within their own a-posteriori estimate's order.
+  EXPECT_NEAR(lut.total, vertical_tau(h), std::max(3 * lut.error_estimate, 1e-6 * vertical_tau(h)));
+  EXPECT_GT(lut.error_estimate, 0.0);
+  EXPECT_TRUE(studies::optical_depth_query(atm, {h, 180.0, false, 40, 64}).hits_ground);
+  EXPECT_THROW(studies::optical_depth_query(atm, {-1.0, 0.0, false, 40, 64}), InputError);
 }
 
 TEST(StudiesAtmo, LutConvergenceRejectsAnUnknownDevice) {

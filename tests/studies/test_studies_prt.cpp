@@ -124,6 +124,23 @@ TEST(StudiesPrt, TransferImageRoundTripsAndRelightsToTheClosedForm) {
   EXPECT_THROW(io::read_transfer_exr(d / "plain.exr"), InputError);
 }
 
+TEST(StudiesPrt, PixelBakeBecomesTheTransferImageItWrites) {
+  prt::BakeOptions bo;
+  bo.bands = 2;
+  bo.strata = 3;
+  const prt::PixelTransfer px = prt::bake_pixels(prt::builtin_scene("sphere", 6), bo, 8, 6, {1, -1.6, 1.1});
+  const io::TransferImage t = studies::transfer_image(px, bo.mode, "1,-1.6,1.1");
+  ASSERT_EQ(t.coefficients.size(), 4u);
+  for (std::size_t p = 0; p < px.mask.size(); ++p) {
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(t.coefficients[i][p], static_cast<float>(px.coeffs[p * 4 + i]));
+    EXPECT_EQ(t.ao[p], static_cast<float>(px.ao[p]));
+    EXPECT_EQ(t.mask[p], px.mask[p]);
+  }
+  EXPECT_EQ(t.attributes.at("device"), "cpu");
+  EXPECT_EQ(t.attributes.at("samples"), std::to_string(px.samples));
+  EXPECT_EQ(t.attributes.count("depth_map"), 0u);
+}
+
 TEST(StudiesPrt, ConvergenceRowsAreTheBakesErrorsAgainstTheReference) {
   const prt::Mesh mesh = prt::builtin_scene("sphere-on-plane", 4);
   studies::PrtConvergenceOptions o;

@@ -233,6 +233,48 @@ StudyTable lut_convergence(const AtmosphereSpec& spec, const LutConvergenceOptio
   return out;
 }
 
+OpticalDepthAnswer optical_depth_query(const Atmosphere& atm, const OpticalDepthQuery& q) {
+  if (!(q.altitude_m >= 0.0)) throw InputError("altitude " + io::format_double(q.altitude_m) + " m: below the ground");
+  const double r = atm.ground_radius() + q.altitude_m, mu = std::cos(q.zenith_deg * kDegToRad);
+  auto k = atm.coefficients(0);
+  glm::dvec3 col, err(0.0);
+  bool hits = false;
+  double rel_err = 0.0, time_s = 0.0;
+  auto t0 = Clock::now();
+  if (!q.tables) {
+    OpticalDepthReference ref(atm);
+    auto c = ref.column(r, mu);
+    time_s = seconds_since(t0);
+    col = c.column;
+    err = c.error;
+    hits = c.hits_ground;
+  } else {
+    LutOptions lo;
+    lo.shells = q.shells;
+    lo.view_directions = lo.sun_directions = q.directions;
+    OpticalDepthLut lut(atm, lo);
+    auto c = lut.view(r, mu);
+    time_s = seconds_since(t0);  // build + lookup
+    col = c.column;
+    hits = c.hits_ground;
+    // The table's a-posteriori estimate (OpticalDepthLut::estimate_max_rel_error:
+    // the largest relative error of the total at this wavelength over samples
+    // midway between the table's shells and directions, against fresh integrals);
+    // computed after the clock stops, it is not part of the method's cost.
+    rel_err = lut.estimate_max_rel_error(atm.wavelengths_nm().at(0));
+  }
+  const glm::dvec3 tau = k.extinction * col;
+  OpticalDepthAnswer a;
+  a.rayleigh = tau.x;
+  a.mie = tau.y;
+  a.ozone = tau.z;
+  a.total = tau.x + tau.y + tau.z;
+  a.error_estimate = q.tables ? rel_err * a.total : std::abs(glm::dot(k.extinction, err));
+  a.time_s = time_s;
+  a.hits_ground = hits;
+  return a;
+}
+
 ZenithSweep zenith_sweep(const AtmosphereSpec& spec, double altitude) {
   Atmosphere atm(spec);
   OpticalDepthReference ref(atm);

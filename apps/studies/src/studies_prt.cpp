@@ -128,6 +128,27 @@ std::vector<fs::path> relight_pixels_to(const io::TransferImage& ex, const std::
   return written;
 }
 
+io::TransferImage transfer_image(const prt::PixelTransfer& px, sh::prt::TransferMode mode, const std::string& view) {
+  const bool gpu_run = px.device == prt::Device::gpu;
+  const std::size_t K = static_cast<std::size_t>(px.bands) * px.bands, np = px.mask.size();
+  io::TransferImage ex;
+  ex.width = px.width;
+  ex.height = px.height;
+  ex.bands = px.bands;
+  ex.coefficients.assign(K, std::vector<float>(np));
+  for (std::size_t i = 0; i < K; ++i)
+    for (std::size_t p = 0; p < np; ++p) ex.coefficients[i][p] = static_cast<float>(px.coeffs[p * K + i]);
+  ex.ao.resize(np);
+  for (std::size_t p = 0; p < np; ++p) ex.ao[p] = static_cast<float>(px.ao[p]);
+  ex.mask = px.mask;
+  ex.attributes["quantity"] = std::string("per-pixel diffuse transfer, ") + sh::prt::transfer_mode_name(mode);
+  ex.attributes["view"] = view;
+  ex.attributes["samples"] = std::to_string(px.samples);
+  ex.attributes["device"] = gpu_run ? "gpu" : "cpu";
+  if (gpu_run) ex.attributes["depth_map"] = std::to_string(px.depth_resolution);
+  return ex;
+}
+
 std::pair<double, double> transfer_error(const prt::Transfer& t, const prt::Transfer& ref) {
   const std::size_t nv = ref.mesh.positions.size(), K = static_cast<std::size_t>(ref.bands) * ref.bands;
   double scale = 0, emax = 0, esum = 0;

@@ -87,6 +87,24 @@ ZenithSweep zenith_sweep(const atmo::AtmosphereSpec& spec, double altitude_m);
 std::vector<std::filesystem::path> write_zenith_sweep(const ZenithSweep& sweep, const std::string& atmosphere_name,
                                                       double altitude_m, const std::filesystem::path& stem);
 
+// Optical depth along one ray at the atmosphere's first wavelength, from altitude_m
+// above the ground (>= 0) at zenith_deg (90 = horizontal, > 90 looks down), by the
+// exact reference (its own quadrature error estimate) or by tables of the given size
+// (error estimate: OpticalDepthLut::estimate_max_rel_error times the total, computed
+// after the clock stops). time_s: the reference's integral, or table build + lookup.
+struct OpticalDepthQuery {
+  double altitude_m = 0.0, zenith_deg = 0.0;
+  bool tables = false;  // false: reference; true: atmo::OpticalDepthLut
+  int shells = 40, directions = 64;
+};
+struct OpticalDepthAnswer {
+  double rayleigh = 0.0, mie = 0.0, ozone = 0.0, total = 0.0;
+  double error_estimate = 0.0;  // absolute, of the total
+  double time_s = 0.0;
+  bool hits_ground = false;
+};
+OpticalDepthAnswer optical_depth_query(const atmo::Atmosphere& atmosphere, const OpticalDepthQuery& query);
+
 // The stiff/extreme-case table (atmo::run_stiff_cases) as CSV with provenance.
 void write_stability_csv(const std::vector<atmo::StiffCase>& cases, const std::filesystem::path& file);
 

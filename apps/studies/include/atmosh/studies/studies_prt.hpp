@@ -55,6 +55,12 @@ std::vector<std::filesystem::path> relight_pixels_to(const io::TransferImage& tr
                                                      const RelightImageOptions& options,
                                                      const std::filesystem::path& dir);
 
+// A per-pixel bake as the transfer image io::write_transfer_exr writes: coefficients
+// as float channels, ao, mask, and the attributes quantity, view (as given), samples,
+// device and (GPU) depth_map.
+io::TransferImage transfer_image(const prt::PixelTransfer& transfer, sh::prt::TransferMode mode,
+                                 const std::string& view);
+
 // Transfer error of `t` against `ref` (same mesh): per vertex |T - T_ref|_2 relative to
 // max_v |T_ref,v|_2; {max, rms over vertices}.
 std::pair<double, double> transfer_error(const prt::Transfer& t, const prt::Transfer& ref);
