@@ -23,8 +23,10 @@
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/io/sh_coefficients.hpp"
 #include "atmosh/io/study.hpp"
+#include "atmosh/io/transfer_exr.hpp"
 #include "atmosh/prt/bake.hpp"
 #include "atmosh/sh/basis.hpp"
+#include "atmosh/studies/studies_prt.hpp"
 #include "cli_common.hpp"
 #include "progress.hpp"
 
@@ -49,23 +51,6 @@ prt::Mesh load_input(const std::string& mesh_file, const std::string& builtin, i
   return builtin.empty() ? prt::load_mesh(mesh_file) : prt::builtin_scene(builtin, resolution);
 }
 
-// Writes STEM.exr, STEM.png (tone-mapped) and STEM.png.json (the tone mapping, as for
-// sky images).
-std::vector<fs::path> write_image(const fs::path& stem, const std::vector<std::vector<float>>& img, int w, int h,
-                                  double exposure, const std::string& exposure_rule, const io::Provenance& prov,
-                                  const std::string& what) {
-  io::ExrImage ex(w, h, {"R", "G", "B"});
-  for (int c = 0; c < 3; ++c) ex.data[c] = img[std::min<std::size_t>(c, img.size() - 1)];
-  ex.string_attributes["atmosh:quantity"] = what;
-  ex.string_attributes["atmosh:units"] = "units of the light (exit radiance = transfer . light)";
-  const fs::path exr = stem.string() + ".exr", png = stem.string() + ".png";
-  io::write_exr(exr, ex, prov);
-  io::write_tonemapped_png(png, w, h, ex.data[0], ex.data[1], ex.data[2], exposure, "reinhard");
-  const fs::path side = io::write_tone_map_side_file(png, "reinhard v/(1+v) on linear RGB, then the sRGB transfer curve",
-                                                     exposure, exposure_rule, exr.filename().string());
-  return {exr, png, side};
-}
-
 struct RelightOptions {
   std::vector<std::string> light_dirs;
   std::string light_csv;
@@ -76,171 +61,48 @@ struct RelightOptions {
 };
 
 // The lights of a relight run: [frame][channel][coefficient].
-std::vector<std::vector<std::vector<double>>> relight_lights(const RelightOptions& o, int bands) {
+std::vector<studies::ShLight> relight_lights(const RelightOptions& o, int bands) {
   if (o.light_csv.empty() == o.light_dirs.empty()) throw InputError("give exactly one of --light CSV or --light-dir x,y,z");
   if (o.frames < 1 || o.frames > 3600) throw InputError("--frames: must be in 1..3600, got " + std::to_string(o.frames));
-  std::vector<std::vector<std::vector<double>>> lights;
-  if (!o.light_csv.empty()) {
-    lights.push_back(io::read_sh_light(o.light_csv, bands));
-    return lights;
-  }
+  if (!o.light_csv.empty()) return {io::read_sh_light(o.light_csv, bands)};
+  std::vector<glm::dvec3> dirs;
   for (const auto& s : o.light_dirs) {
     const auto d = parse_triple(s, "--light-dir");
-    glm::dvec3 dir(d[0], d[1], d[2]);
-    if (glm::length(dir) == 0) throw InputError("--light-dir: zero vector '" + s + "'");
-    for (int f = 0; f < o.frames; ++f) {  // the light turned about +z in `frames` steps
-      const double a = 2 * kPi * f / o.frames;
-      const glm::dvec3 r(std::cos(a) * dir.x - std::sin(a) * dir.y, std::sin(a) * dir.x + std::cos(a) * dir.y, dir.z);
-      lights.push_back({sh::prt::directional_light(bands, r, kPi)});  // E = pi: white Lambertian -> rho V cos
-    }
+    dirs.emplace_back(d[0], d[1], d[2]);
+    if (glm::length(dirs.back()) == 0) throw InputError("--light-dir: zero vector '" + s + "'");
   }
-  return lights;
+  return studies::turning_lights(dirs, o.frames, bands);
 }
 
-// Auto exposure: the 99th percentile of the first channel maps to ~1.
-double auto_exposure(std::vector<float> v) {
-  std::sort(v.begin(), v.end());
-  const double p = v.empty() ? 1.0 : v[static_cast<std::size_t>(0.99 * (v.size() - 1))];
-  return p > 0 ? 1.0 / p : 1.0;
-}
-
-// Writes the frames of `lights` rendered by `render(light)` and returns the files.
-template <class Render>
-std::vector<fs::path> write_frames(const std::vector<std::vector<std::vector<double>>>& lights, const Render& render,
-                                   const RelightOptions& o, int w, int h, const io::Provenance& prov, const fs::path& dir) {
-  std::vector<fs::path> written;
-  double exposure = o.exposure;
-  for (std::size_t f = 0; f < lights.size(); ++f) {
-    const std::vector<std::vector<float>> img = render(lights[f]);
-    if (exposure <= 0) exposure = auto_exposure(img[0]);  // fixed by the first frame
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%04zu", f);
-    const std::string rule = o.exposure > 0 ? "given (--exposure)"
-                                            : "1 / (99th percentile of the first channel of frame 0), every frame";
-    auto wr = write_image(dir / name, img, w, h, exposure, rule, prov, "relit exit radiance");
-    written.insert(written.end(), wr.begin(), wr.end());
-  }
-  return written;
+studies::RelightImageOptions image_options(const RelightOptions& o) {
+  const auto vv = parse_triple(o.view, "--view");
+  studies::RelightImageOptions io;
+  io.width = o.width;
+  io.height = o.height;
+  io.view = {vv[0], vv[1], vv[2]};
+  if (glm::length(io.view) == 0) throw InputError("--view: zero vector '" + o.view + "'");
+  io.exposure = o.exposure;
+  io.given_exposure_rule = "given (--exposure)";
+  return io;
 }
 
 // Writes frame_NNNN.(exr|png) for each light and ao.(exr|png) (band-0 simple occlusion).
 std::vector<fs::path> relight_to(const prt::Transfer& t, const RelightOptions& o, const fs::path& dir) {
   const auto lights = relight_lights(o, t.bands);
-  const auto vv = parse_triple(o.view, "--view");
-  const glm::dvec3 view(vv[0], vv[1], vv[2]);
-  if (glm::length(view) == 0) throw InputError("--view: zero vector '" + o.view + "'");
-  std::vector<fs::path> written;
-  const prt::RayScene scene(t.mesh);
-  auto prov = io::Provenance::current();
-  prov.add("transfer_bands", std::to_string(t.bands)).add("transfer_mode", sh::prt::transfer_mode_name(t.mode));
-  // Simple occlusion: band 0 scaled to ambient occlusion.
-  {
-    std::vector<std::vector<double>> ao(t.mesh.positions.size(), std::vector<double>(1));
-    for (std::size_t v = 0; v < ao.size(); ++v)
-      ao[v][0] = t.mesh.albedo[v] > 0 ? sh::prt::ambient_occlusion(t.at(v)[0], t.mesh.albedo[v]) : t.ao[v];
-    const auto img = prt::render_vertex_values(scene, t.mesh, ao, o.width, o.height, view);
-    auto w = write_image(dir / "ao", img, o.width, o.height, 1.0, "1 (occlusion is in [0, 1])", prov,
-                         "ambient occlusion from SH band 0");
-    written.insert(written.end(), w.begin(), w.end());
-  }
-  auto render = [&](const std::vector<std::vector<double>>& light) {
-    return prt::render_vertex_values(scene, t.mesh, prt::relight_vertices(t, light), o.width, o.height, view);
-  };
-  const auto frames = write_frames(lights, render, o, o.width, o.height, prov, dir);
-  written.insert(written.end(), frames.begin(), frames.end());
-  return written;
+  return studies::relight_vertices_to(t, lights, image_options(o), dir);
 }
 
-// Per-pixel relighting of a per-pixel transfer EXR (prt bake -o X.exr): each frame is
-// sum_i T_i(pixel) light_i per channel; ao.(exr|png) is the image's `ao` channel. The
-// image size and view are the EXR's own.
+// Per-pixel relighting of a per-pixel transfer EXR (prt bake -o X.exr).
 std::vector<fs::path> relight_pixels_to(const fs::path& file, const RelightOptions& o, const fs::path& dir) {
-  const io::ExrImage ex = io::read_exr(file, memory_budget());
-  std::vector<std::size_t> coeff_ch;
-  for (int l = 0;; ++l) {
-    bool all = true;
-    std::vector<std::size_t> band;
-    for (int m = -l; m <= l && all; ++m) {
-      const auto it = std::find(ex.channels.begin(), ex.channels.end(), "sh_l" + std::to_string(l) + "_m" + std::to_string(m));
-      if (it == ex.channels.end()) all = false;
-      else band.push_back(static_cast<std::size_t>(it - ex.channels.begin()));
-    }
-    if (!all) break;
-    coeff_ch.insert(coeff_ch.end(), band.begin(), band.end());
-  }
-  const int bands = static_cast<int>(std::lround(std::sqrt(static_cast<double>(coeff_ch.size()))));
-  const auto ao_it = std::find(ex.channels.begin(), ex.channels.end(), "ao");
-  if (bands < 1 || ao_it == ex.channels.end())
-    throw InputError(file.string() + ": not a per-pixel transfer image (needs channels sh_l0_m0 ... and ao)");
-  const auto lights = relight_lights(o, bands);
-  const std::size_t np = static_cast<std::size_t>(ex.width) * ex.height;
-  auto prov = io::Provenance::current();
-  prov.add("transfer_bands", std::to_string(bands)).add("transfer_file", file.string());
-  std::vector<fs::path> written =
-      write_image(dir / "ao", {ex.data[static_cast<std::size_t>(ao_it - ex.channels.begin())]}, ex.width, ex.height,
-                  1.0, "1 (occlusion is in [0, 1])", prov, "ambient occlusion (cosine-weighted visible fraction)");
-  auto render = [&](const std::vector<std::vector<double>>& light) {
-    std::vector<std::vector<float>> img(light.size(), std::vector<float>(np, 0.0f));
-    for (std::size_t c = 0; c < light.size(); ++c)
-      for (std::size_t p = 0; p < np; ++p) {
-        double v = 0;
-        for (std::size_t i = 0; i < coeff_ch.size(); ++i) v += ex.data[coeff_ch[i]][p] * light[c][i];
-        img[c][p] = static_cast<float>(v);
-      }
-    return img;
-  };
-  const auto frames = write_frames(lights, render, o, ex.width, ex.height, prov, dir);
-  written.insert(written.end(), frames.begin(), frames.end());
-  return written;
+  const io::TransferImage ex = io::read_transfer_exr(file, memory_budget());
+  const auto lights = relight_lights(o, ex.bands);
+  return studies::relight_pixels_to(ex, file.string(), lights, image_options(o), dir);
 }
 
-// Transfer error of `t` against `ref` (same mesh): per vertex |T - T_ref|_2 relative to
-// max_v |T_ref,v|_2; returns {max, rms}.
-std::pair<double, double> transfer_error(const prt::Transfer& t, const prt::Transfer& ref) {
-  const std::size_t nv = ref.mesh.positions.size(), K = static_cast<std::size_t>(ref.bands) * ref.bands;
-  double scale = 0, emax = 0, esum = 0;
-  for (std::size_t v = 0; v < nv; ++v) {
-    double s = 0;
-    for (std::size_t i = 0; i < K; ++i) s += ref.at(v)[i] * ref.at(v)[i];
-    scale = std::max(scale, std::sqrt(s));
-  }
-  for (std::size_t v = 0; v < nv; ++v) {
-    double e = 0;
-    for (std::size_t i = 0; i < K; ++i) e += std::pow(t.at(v)[i] - ref.at(v)[i], 2);
-    emax = std::max(emax, std::sqrt(e));
-    esum += e;
-  }
-  scale = scale > 0 ? scale : 1.0;
-  return {emax / scale, std::sqrt(esum / static_cast<double>(nv)) / scale};
-}
-
-// Per-pixel transfer error of `t` against `ref` (same camera): per pixel seen by both,
-// |T - T_ref|_2 relative to max_p |T_ref,p|_2; returns {max, rms}.
-std::pair<double, double> pixel_error(const prt::PixelTransfer& t, const prt::PixelTransfer& ref) {
-  const std::size_t np = ref.mask.size(), K = static_cast<std::size_t>(ref.bands) * ref.bands;
-  double scale = 0, emax = 0, esum = 0, n = 0;
-  for (std::size_t p = 0; p < np; ++p) {
-    double s = 0;
-    for (std::size_t i = 0; i < K; ++i) s += ref.coeffs[p * K + i] * ref.coeffs[p * K + i];
-    scale = std::max(scale, std::sqrt(s));
-  }
-  for (std::size_t p = 0; p < np; ++p) {
-    if (t.mask[p] == 0 || ref.mask[p] == 0) continue;
-    double e = 0;
-    for (std::size_t i = 0; i < K; ++i) e += std::pow(t.coeffs[p * K + i] - ref.coeffs[p * K + i], 2);
-    emax = std::max(emax, std::sqrt(e));
-    esum += e;
-    n += 1;
-  }
-  scale = scale > 0 ? scale : 1.0;
-  return {emax / scale, n > 0 ? std::sqrt(esum / n) / scale : 0.0};
-}
-
-// What the per-pixel rows of a converge study cover: the camera image size, and whether
-// (and at which depth-map resolutions) the GPU depth-map method runs.
+// What the per-pixel rows of a converge study cover (studies::PrtConvergenceOptions).
 struct PixelStudy {
   int width = 96, height = 96;
-  std::string device = "auto";       // cpu: CPU rows only; gpu: GPU rows or an error; auto: GPU rows if possible
+  std::string device = "auto";
   std::vector<int> depth_maps = {256, 1024};
   glm::dvec3 view{1, -1.6, 1.1};
 };
@@ -248,92 +110,25 @@ struct PixelStudy {
 std::vector<fs::path> converge_study(const prt::Mesh& mesh, int bands, sh::prt::TransferMode mode, int ref_strata,
                                      const std::vector<int>& strata, int threads, const PixelStudy& px,
                                      const fs::path& stem) {
-  prt::BakeOptions bo;
-  bo.bands = bands;
-  bo.mode = mode;
-  bo.threads = threads;
-  bo.strata = ref_strata;
-  bo.seed = 12345;  // the reference uses its own seed: independent of the rows
-  const prt::Transfer ref = prt::bake(mesh, bo);
-  std::vector<io::StudyRow> rows;
-  bo.strata = 1;
-  prt::bake(mesh, bo);  // warm-up: one-time library start-up is not part of any row's time
-  const std::string mode_name = sh::prt::transfer_mode_name(mode);
-  for (int s : strata) {
-    bo.strata = s;
-    bo.seed = 1;
-    const auto t0 = Clock::now();
-    const prt::Transfer t = prt::bake(mesh, bo);
-    const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
-    const auto [emax, erms] = transfer_error(t, ref);
-    rows.push_back({"cpu-" + mode_name + "-jittered", std::to_string(s * s) + " samples", emax, erms, dt,
-                    {static_cast<double>(s * s), static_cast<double>(t.rays), 0.0}});
+  studies::PrtConvergenceOptions o;
+  o.bands = bands;
+  o.mode = mode;
+  o.reference_strata = ref_strata;
+  o.strata = strata;
+  o.threads = threads;
+  o.width = px.width;
+  o.height = px.height;
+  o.view = px.view;
+  o.device = px.device;
+  o.depth_maps = px.depth_maps;
+  o.notice = [](const std::string& m) { std::cerr << "atmosh: " << m << "\n"; };
+  o.cpu_only_note = "not run (--device cpu)";
+  try {
+    const studies::StudyTable t = studies::prt_convergence(mesh, o);
+    return io::write_study(stem, t.spec, t.rows, t.provenance);
+  } catch (const studies::PrtDeviceUnavailable& e) {
+    throw std::runtime_error(std::string("--device gpu: ") + e.what());
   }
-  auto prov = io::Provenance::current();
-  // Per-pixel rows (shadowed only): CPU ray casting and the GPU depth-map method against
-  // a per-pixel reference of the same camera.
-  std::string gpu_note = "not run (--device cpu)";
-  if (mode == sh::prt::TransferMode::shadowed) {
-    bo.strata = ref_strata;
-    bo.seed = 12345;
-    bo.device = prt::Device::cpu;
-    const prt::PixelTransfer pref = prt::bake_pixels(mesh, bo, px.width, px.height, px.view);
-    bool gpu = px.device != "cpu";
-    if (gpu) {
-      bo.device = prt::Device::gpu;
-      bo.strata = 1;
-      bo.depth_resolution = px.depth_maps.front();
-      try {
-        prt::bake_pixels(mesh, bo, px.width, px.height, px.view);  // warm-up (driver start-up, shader compile)
-        gpu_note = "depth-map method, per pixel";
-      } catch (const std::exception& e) {
-        if (px.device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-        std::cerr << "atmosh: no GPU (" << e.what() << "); the study has no GPU rows\n";
-        gpu_note = std::string("not run (") + e.what() + ")";
-        gpu = false;
-      }
-    }
-    std::vector<std::vector<io::StudyRow>> gpu_rows(px.depth_maps.size());  // one line per depth map
-    for (int s : strata) {
-      bo.strata = s;
-      bo.seed = 1;
-      bo.device = prt::Device::cpu;
-      auto t0 = Clock::now();
-      const prt::PixelTransfer c = prt::bake_pixels(mesh, bo, px.width, px.height, px.view);
-      double dt = std::chrono::duration<double>(Clock::now() - t0).count();
-      auto [emax, erms] = pixel_error(c, pref);
-      rows.push_back({"cpu-pixel-" + mode_name + "-jittered", std::to_string(s * s) + " samples", emax, erms, dt,
-                      {static_cast<double>(s * s), static_cast<double>(c.rays), 0.0}});
-      if (!gpu) continue;
-      bo.device = prt::Device::gpu;
-      for (std::size_t k = 0; k < px.depth_maps.size(); ++k) {
-        const int d = px.depth_maps[k];
-        bo.depth_resolution = d;
-        t0 = Clock::now();
-        const prt::PixelTransfer g = prt::bake_pixels(mesh, bo, px.width, px.height, px.view);
-        dt = std::chrono::duration<double>(Clock::now() - t0).count();
-        std::tie(emax, erms) = pixel_error(g, pref);
-        gpu_rows[k].push_back({"gpu-depthmap" + std::to_string(d) + "-" + mode_name + "-jittered",
-                        std::to_string(s * s) + " samples", emax, erms, dt,
-                        {static_cast<double>(s * s), 0.0, static_cast<double>(d)}});
-      }
-    }
-    for (const auto& g : gpu_rows) rows.insert(rows.end(), g.begin(), g.end());
-    prov.add("pixel_image", std::to_string(px.width) + "x" + std::to_string(px.height));
-    prov.add("pixel_error_definition",
-             "per pixel seen by both: |T - T_ref|_2 / max_p |T_ref|_2, reference: CPU ray casting, same camera");
-  } else {
-    gpu_note = "not run (per-pixel rows are shadowed only)";
-  }
-  io::StudySpec spec;
-  spec.title = "PRT transfer (" + mesh.name + ", " + std::to_string(bands) + " bands) vs " +
-               std::to_string(ref_strata * ref_strata) + "-sample reference";
-  spec.extra_columns = {"samples", "rays", "depth_map"};
-  prov.add("mesh", mesh.name).add("bands", std::to_string(bands)).add("mode", mode_name);
-  prov.add("reference_samples", std::to_string(ref_strata * ref_strata));
-  prov.add("error_definition", "per-vertex rows: per-vertex |T - T_ref|_2 / max_v |T_ref|_2");
-  prov.add("gpu_method", gpu_note);
-  return io::write_study(stem, spec, rows, prov);
 }
 
 }  // namespace
@@ -371,7 +166,12 @@ void register_prt_commands(CLI::App& app) {
     c->add_flag("--quiet", o->quiet, "no progress on stderr");
     c->callback([o] {
       prt::BakeOptions bo;
+      if (o->device != "cpu" && o->device != "gpu")
+        throw InputError("--device: unknown device '" + o->device + "' (cpu, gpu)");
       bo.device = prt::parse_device(o->device);
+      if (o->bounces < 0 || o->bounces > 100) throw InputError("--bounces: must be in 0..100, got " + std::to_string(o->bounces));
+      if (!(o->albedo >= 0 && o->albedo <= 1))
+        throw InputError("--albedo: must be in [0, 1], got " + std::to_string(o->albedo));
       bo.depth_resolution = o->depth_map;
       if (o->depth_map < 16 || o->depth_map > 16384)
         throw InputError("--depth-map: must be in 16..16384, got " + std::to_string(o->depth_map));
@@ -388,6 +188,8 @@ void register_prt_commands(CLI::App& app) {
         throw InputError("-o: '" + o->out + "' must end in .ply (per-vertex) or .exr (per-pixel)");
       if (bo.device == prt::Device::gpu && ext != ".exr")
         throw InputError("--device gpu: the depth-map method is per-pixel; write an .exr (per-vertex bakes use --device cpu)");
+      if (ext == ".exr" && bo.mode == sh::prt::TransferMode::interreflected)
+        throw InputError("--mode interreflected: per-pixel transfer is unshadowed or shadowed");
       const auto sz = parse_size(o->size, "--size");
       const auto vv = parse_triple(o->view, "--view");
       const prt::Mesh mesh = load_input(o->mesh, o->builtin, o->resolution);
@@ -400,25 +202,11 @@ void register_prt_commands(CLI::App& app) {
         const bool gpu_run = px.device == prt::Device::gpu;
         const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
         if (show) std::fprintf(stderr, "\n");
-        std::vector<std::string> names;
-        for (int l = 0; l < px.bands; ++l)
-          for (int m = -l; m <= l; ++m) names.push_back("sh_l" + std::to_string(l) + "_m" + std::to_string(m));
-        names.push_back("ao");
-        names.push_back("mask");
-        io::ExrImage ex(px.width, px.height, names);
-        const std::size_t K = static_cast<std::size_t>(px.bands) * px.bands, np = px.mask.size();
-        for (std::size_t i = 0; i < K; ++i)
-          for (std::size_t p = 0; p < np; ++p) ex.data[i][p] = static_cast<float>(px.coeffs[p * K + i]);
-        for (std::size_t p = 0; p < np; ++p) ex.data[K][p] = static_cast<float>(px.ao[p]), ex.data[K + 1][p] = px.mask[p];
-        ex.string_attributes["atmosh:quantity"] = std::string("per-pixel diffuse transfer, ") + sh::prt::transfer_mode_name(bo.mode);
-        ex.string_attributes["atmosh:sh_convention"] = "real orthonormal, Condon-Shortley phase, index l(l+1)+m";
-        ex.string_attributes["atmosh:view"] = o->view;
-        ex.string_attributes["atmosh:samples"] = std::to_string(px.samples);
-        ex.string_attributes["atmosh:device"] = gpu_run ? "gpu" : "cpu";
-        if (gpu_run) ex.string_attributes["atmosh:depth_map"] = std::to_string(px.depth_resolution);
+        const std::size_t K = static_cast<std::size_t>(px.bands) * px.bands;
+        const io::TransferImage ex = studies::transfer_image(px, bo.mode, o->view);
         auto prov = io::Provenance::current();
         prov.add("mesh", mesh.name);
-        io::write_exr(o->out, ex, prov);
+        io::write_transfer_exr(o->out, ex, prov);
         if (o->json)
           print_json({{"file", o->out}, {"width", px.width}, {"height", px.height}, {"bands", px.bands},
                       {"coefficients", px.bands * px.bands}, {"samples", px.samples},

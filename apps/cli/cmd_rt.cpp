@@ -6,21 +6,18 @@
 #include <memory>
 #include <string>
 
-#include "atmosh/atmo/atmosphere.hpp"
 #include "atmosh/atmo/radiative_transfer.hpp"
-#include "atmosh/atmo/sky_image.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/parallel.hpp"
 #include "atmosh/scene/scene.hpp"
+#include "atmosh/studies/studies_rt.hpp"
 #include "cli_common.hpp"
 
 namespace atmosh::cli {
 namespace {
 
 using namespace atmosh::atmo;
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
-
 std::int64_t require_paths(std::int64_t n, const std::string& what) {
   if (n < 1 || n > (std::int64_t{1} << 40)) throw InputError(what + " " + std::to_string(n) + ": must be in [1, 2^40]");
   return n;
@@ -91,7 +88,7 @@ void register_rt_commands(CLI::App& app) {
       require_range(o->run.threads, 0, 1024, "--threads");
       RtOptions run = o->run;
       run.max_orders = o->orders;
-      const SlabResult r = slab_reflection_transmission(s, mu0, mu, phi * kDegToRad, run);
+      const SlabResult r = studies::rt_slab(s, mu0, mu, phi, run);
       if (o->json) {
         nlohmann::json j;
         j["tau"] = s.tau;
@@ -180,11 +177,8 @@ void register_rt_commands(CLI::App& app) {
       so.run = o->run;
       so.run.max_orders = o->orders;
       so.ground_albedo = o->ground_albedo;
-      const Atmosphere atm(s.atmosphere);
-      const MonteCarloSky mc(atm, solar_spectrum_for_bins(s.atmosphere.spectrum), so);
-      const glm::dvec3 view = enu_direction(o->view_elevation, o->view_azimuth);
-      const glm::dvec3 sun = enu_direction(o->sun_elevation, o->sun_azimuth);
-      const RtSkyResult r = mc.radiance(o->height, view, sun);
+      const RtSkyResult r = studies::rt_sky_view(
+          s.atmosphere, {o->sun_elevation, o->sun_azimuth, o->view_elevation, o->view_azimuth, o->height}, so);
       if (o->json) {
         nlohmann::json j;
         j["scene"] = s.source;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 
 #include "atmosh/error.hpp"
@@ -39,6 +40,29 @@ ShCoefficients parse_sh_coefficients(const std::string& text, const std::string&
     for (std::size_t k = 0; k < chan.size(); ++k) cf.channels[k][r] = d.number(r, chan[k]);  // finite or InputError
   }
   return cf;
+}
+
+void write_sh_coefficients(const std::filesystem::path& file, const ShCoefficients& cf, Provenance prov,
+                           bool add_convention) {
+  const std::size_t n = static_cast<std::size_t>(cf.bands) * static_cast<std::size_t>(cf.bands);
+  if (cf.names.size() != cf.channels.size()) throw std::invalid_argument("write_sh_coefficients: names and channels differ in count");
+  for (const auto& c : cf.channels)
+    if (c.size() < n) throw std::invalid_argument("write_sh_coefficients: a channel has fewer than bands^2 coefficients");
+  std::vector<std::string> cols = {"l", "m", "index"};
+  for (const auto& name : cf.names) cols.push_back(name);
+  CsvTable t(cols);
+  for (int l = 0; l < cf.bands; ++l)
+    for (int m = -l; m <= l; ++m) {
+      const int i = l * (l + 1) + m;
+      std::vector<CsvCell> row = {std::int64_t{l}, std::int64_t{m}, std::int64_t{i}};
+      for (const auto& c : cf.channels) row.emplace_back(c[static_cast<std::size_t>(i)]);
+      t.add_row(std::move(row));
+    }
+  if (add_convention) {
+    prov.add("sh_convention", "real orthonormal, Condon-Shortley phase, index l(l+1)+m, t from +z, p from +x to +y");
+    prov.add("sh_bands", std::to_string(cf.bands));
+  }
+  t.write(file, prov);
 }
 
 namespace {

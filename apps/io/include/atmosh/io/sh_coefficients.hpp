@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "atmosh/io/provenance.hpp"
+
 namespace atmosh::io {
 
 struct ShCoefficients {
@@ -20,6 +22,14 @@ struct ShCoefficients {
 // finite values. Throws atmosh::InputError naming the file (and row) otherwise.
 ShCoefficients parse_sh_coefficients(const std::string& text, const std::string& source_name);
 ShCoefficients read_sh_coefficients(const std::filesystem::path& file);
+
+// The one writer (atomic, with provenance): columns l, m, index, then one column per
+// channel named by `names`, rows in index order. add_convention appends the
+// provenance lines sh_convention and sh_bands; a caller that states the convention
+// in its own words passes false. Throws std::invalid_argument when the channels do
+// not hold bands^2 coefficients each or the names do not match them.
+void write_sh_coefficients(const std::filesystem::path& file, const ShCoefficients& coefficients,
+                           Provenance provenance, bool add_convention = true);
 
 // A light for relighting: the first (up to) three channel columns, coefficients of
 // `bands` bands (missing ones are zero, rows of higher bands are ignored); the

@@ -1,0 +1,31 @@
+// atmosh/studies/studies_rt.hpp — the Monte-Carlo radiative-transfer references as
+// drivers with plain inputs: a plane-parallel slab's reflection and transmission, and
+// one view of a scene's sky with every scattering order (atmo::MonteCarloSky with the
+// scene's solar spectrum). Angles in degrees as named; heights in metres.
+#pragma once
+
+#include "atmosh/atmo/radiative_transfer.hpp"
+#include "atmosh/atmo/spec.hpp"
+
+namespace atmosh::studies {
+
+// R = pi I_up / (mu0 F0) and T = pi I_down / (mu0 F0) (diffuse) of the slab, with
+// standard errors; phi_deg: azimuth of the viewed light's propagation relative to the
+// beam's (0 = same azimuth).
+atmo::SlabResult rt_slab(const atmo::SlabSpec& slab, double mu0, double mu, double phi_deg,
+                         const atmo::RtOptions& options);
+
+// One view of the sky: sun and view directions by elevation and azimuth (from north
+// towards east), observer height above the ground.
+struct RtSkyView {
+  double sun_elevation_deg = 30.0, sun_azimuth_deg = 180.0;
+  double view_elevation_deg = 90.0, view_azimuth_deg = 180.0;
+  double observer_height_m = 0.0;
+};
+// Spectral radiance [W m^-2 sr^-1 nm^-1], luminance [cd/m^2] and XYZ with standard
+// errors, at the atmosphere's wavelengths, lit by the spectrum's solar irradiance
+// (atmo::solar_spectrum_for_bins).
+atmo::RtSkyResult rt_sky_view(const atmo::AtmosphereSpec& atmosphere, const RtSkyView& view,
+                              const atmo::RtSkyOptions& options);
+
+}  // namespace atmosh::studies
