@@ -33,6 +33,9 @@ FILES = [
     "sky_sh_bands.csv",
     "sh_bands.csv",
     "sh_windows.csv",
+    "sky_sh.csv",
+    "sh_coeffs.csv",
+    "sh_irradiance.csv",
     "sh_sky_input.exr",
     "sh_reconstruct.exr",
     "optical_depth_vs_zenith.csv",
@@ -121,8 +124,12 @@ UNITS = [("_cd_m2", "cd/m$^2$"), ("_deg", "deg"), ("_s", "s"), ("_ns", "ns"), ("
          ("_nm", "nm"), ("_m", "m"), ("_km", "km"), ("_au", "au"), ("_rel", "relative"),
          ("_bytes", "bytes"), ("_min", "min")]
 
+NAMES = {{"zenith_deg": "zenith angle [deg]", "sun_elevation_deg": "sun elevation [deg]"}}
+
 def label(col):
     \"\"\"An axis label from a column name whose suffix is its unit: 'time_s' -> 'time [s]'.\"\"\"
+    if col in NAMES:
+        return NAMES[col]
     for suffix, unit in sorted(UNITS, key=lambda u: -len(u[0])):
         if col.endswith(suffix):
             return col[: -len(suffix)].replace("_", " ") + f" [{{unit}}]"
@@ -293,9 +300,16 @@ def error_vs_time(name, stem, err="error_max_rel", time="time_s", group=("method
     keys = [g for g in group if g in df]
     fig, ax = plt.subplots(figsize=(6, 4.2))
     zero = df[~(df[err] > 0)]
+    # a second grouping column (the band of ms_convergence.csv) changes marker and line style,
+    # so groups with equal rows stay visible
+    sub = list(dict.fromkeys(df[keys[1]])) if len(keys) > 1 else [None]
+    looks = [("o", "-", None), ("s", "--", "none"), ("^", ":", "none"), ("v", "-.", "none")]
     for key, g in df[df[err] > 0].groupby(keys, sort=False):
         g = g.sort_values(time)
-        ax.loglog(g[time], g[err], style, ms=4, lw=1, label=" / ".join(map(str, key if isinstance(key, tuple) else (key,))))
+        mk, ls, mfc = looks[sub.index(key[1]) % len(looks)] if len(keys) > 1 else looks[0]
+        if style == "o":
+            ls = "none"
+        ax.loglog(g[time], g[err], marker=mk, ls=ls, mfc=mfc, ms=5, lw=1, label=" / ".join(map(str, key if isinstance(key, tuple) else (key,))))
     ax.set_xlabel(label(time) + f"  ({meta.get('host_cores', '?')} cores, {meta.get('threads', '?')} threads)")
     ax.set_ylabel(label(err) if not err.endswith("_rel") else err.replace("_rel", "").replace("_", " ") + " [relative]")
     ax.legend(fontsize=7); ax.grid(True, which="both", alpha=0.25)
@@ -370,6 +384,42 @@ for name, stem, what in [("sky_sh_bands.csv", "sky_sh_bands", "the default scene
     b.set_xlabel("band l"); b.set_ylabel("cumulative fraction of the energy"); b.set_ylim(0, 1.02); b.legend(fontsize=7)
     fig.suptitle(f"SH band energy of {what} — {cite(name, meta)}", fontsize=9)
     fig.tight_layout(); save(fig, stem)
+""")
+code("fig-sh-coefficients", """
+# Left: log10 |c_lm| of the sky's SH coefficients (sky_sh.csv, green channel) on the (l, m)
+# triangle. Right: irradiance coefficients over radiance coefficients (sh_irradiance.csv /
+# sh_coeffs.csv, per coefficient) against the closed form of the clamped-cosine kernel
+# A_l (Ramamoorthi & Hanrahan 2001, "An efficient representation for irradiance environment
+# maps", eq. 8-9): A_0 = pi, A_1 = 2 pi / 3, A_l = 0 for odd l > 1, and for even l
+# A_l = 2 pi (-1)^(l/2 - 1) / ((l + 2)(l - 1)) * l! / (2^l ((l/2)!)^2).
+from math import factorial, pi
+def clamped_cosine(l):
+    if l == 0: return pi
+    if l == 1: return 2 * pi / 3
+    if l % 2: return 0.0
+    return 2 * pi * (-1) ** (l // 2 - 1) / ((l + 2) * (l - 1)) * factorial(l) / (2 ** l * factorial(l // 2) ** 2)
+if have("sky_sh.csv", "sh_coeffs.csv", "sh_irradiance.csv"):
+    sky, meta = read("sky_sh.csv")
+    L = int(sky["l"].max()) + 1
+    grid = np.full((L, 2 * L - 1), np.nan)
+    for l, m, g in sky[["l", "m", "g"]].to_numpy():
+        grid[int(l), int(m) + L - 1] = np.log10(max(abs(g), 1e-300))
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 3.8))
+    im = a.imshow(grid, origin="upper", cmap="viridis", extent=[-L + 0.5, L - 0.5, L - 0.5, -0.5], aspect="auto")
+    fig.colorbar(im, ax=a, label="log$_{10}$ |c$_{lm}$| (green) [cd/m$^2$ sr]")
+    a.set_xlabel("order m"); a.set_ylabel("band l"); a.grid(False)
+    a.set_title("sky_sh.csv", fontsize=9)
+    rad, _ = read("sh_coeffs.csv"); irr, meta_i = read("sh_irradiance.csv")
+    both = rad.merge(irr, on=["l", "m"], suffixes=("_rad", "_irr"))
+    ok = both["g_rad"].abs() > 1e-9 * both["g_rad"].abs().max()
+    b.plot(both["l"][ok], (both["g_irr"] / both["g_rad"])[ok], "o", ms=5, mfc="none", label="sh_irradiance.csv / sh_coeffs.csv (each c$_{lm}$, green)")
+    ls = np.arange(int(both["l"].max()) + 1)
+    b.plot(ls, [clamped_cosine(int(l)) for l in ls], "k+", ms=12, mew=1.5, label="A$_l$, closed form (Ramamoorthi & Hanrahan 2001)")
+    b.axhline(0, color="k", lw=0.5)
+    b.set_xlabel("band l"); b.set_ylabel("irradiance / radiance coefficient [sr]"); b.legend(fontsize=7)
+    b.set_title("sh_coeffs.csv, sh_irradiance.csv", fontsize=9)
+    fig.suptitle(f"SH coefficients of the sky and the irradiance kernel — {cite('sky_sh.csv', meta)}", fontsize=9)
+    fig.tight_layout(); save(fig, "sh_coefficients")
 """)
 code("fig-sh-windows", """
 NAME = "sh_windows.csv"
@@ -474,7 +524,7 @@ if have(NAME):
     ax.scatter(np.maximum(df["bound"], floor), y, marker="|", color="k", s=60, label="bound", zorder=3)
     ax.set_xscale("log"); ax.set_xlim(left=floor / 2)
     ax.set_yticks(y, df["case"], fontsize=5); ax.invert_yaxis()
-    ax.set_xlabel("error (absolute, in the unit of each quantity; zero drawn at 1e-17)"); ax.legend(fontsize=7)
+    ax.set_xlabel("error (column 'error', in the unit of each case's quantity; zero drawn at 1e-17)"); ax.legend(fontsize=7)
     ax.set_title(f"{int((df['pass'] > 0).sum())} of {len(df)} cases within their bounds — {cite(NAME, meta)}", fontsize=9)
     fig.tight_layout(); save(fig, "stability")
 """)
