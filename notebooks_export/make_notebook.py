@@ -293,10 +293,12 @@ One line per method (and band, where the study has one), its points sorted by ru
 reference of a study) cannot be drawn on a log axis; they are listed under the figure.
 """)
 code("error-time-helper", """
-def error_vs_time(name, stem, err="error_max_rel", time="time_s", group=("method",), title="", style="o-"):
+def error_vs_time(name, stem, err="error_max_rel", time="time_s", group=("method",), title="", style="o-", strip=None):
     if not have(name):
         return
     df, meta = read(name)
+    if strip:  # a refinement level written into the method name (sky_convergence.csv: 'day q=2')
+        df["method"] = df["method"].str.replace(strip, "", regex=True)
     keys = [g for g in group if g in df]
     fig, ax = plt.subplots(figsize=(6, 4.2))
     zero = df[~(df[err] > 0)]
@@ -310,28 +312,40 @@ def error_vs_time(name, stem, err="error_max_rel", time="time_s", group=("method
         if style == "o":
             ls = "none"
         ax.loglog(g[time], g[err], marker=mk, ls=ls, mfc=mfc, ms=5, lw=1, label=" / ".join(map(str, key if isinstance(key, tuple) else (key,))))
-    ax.set_xlabel(label(time) + f"  ({meta.get('host_cores', '?')} cores, {meta.get('threads', '?')} threads)")
+        if style != "o" and "setting" in g and (len(keys) < 2 or sub.index(key[1]) == 0):  # each point's setting
+            for x, y, t in zip(g[time], g[err], g["setting"]):
+                ax.annotate(str(t)[:48], (x, y), xytext=(3, 3), textcoords="offset points", fontsize=5, alpha=0.8)
+    ax.set_xlabel(label(time) + f"  (host with {meta.get('host_cores', '?')} cores)")
     ax.set_ylabel(label(err) if not err.endswith("_rel") else err.replace("_rel", "").replace("_", " ") + " [relative]")
     ax.legend(fontsize=7); ax.grid(True, which="both", alpha=0.25)
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # decade labels only: no overlap
+    for axis, (lo, hi) in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        if hi / lo < 30:  # less than 1.5 decades: label 1, 2, 5 x 10^k
+            axis.set_major_locator(matplotlib.ticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+            axis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%.2g"))
+        axis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # no overlapping minor labels
     ax.set_title(f"{title} — {cite(name, meta)}", fontsize=9)
+    notes = []
+    if meta.get(time):  # what the run time covers, as the file says
+        notes.append(f"{time}: {meta[time]}")
     if len(zero):
-        note = "zero error (reference): " + ", ".join(f"{m} {s}" for m, s in zip(zero.get("method", zero.index), zero.get("setting", [""] * len(zero))))
-        fig.text(0.01, -0.02, note[:180], fontsize=6, va="top")
+        notes.append("zero error (reference): " + ", ".join(f"{m} {s}" for m, s in zip(zero.get("method", zero.index), zero.get("setting", [""] * len(zero))))[:160])
+    if notes:
+        fig.text(0.01, -0.02, "\\n".join(notes), fontsize=6, va="top")
     fig.tight_layout(); save(fig, stem)
 """)
 for name, stem, err, group, title in [
     ("sun_accuracy.csv", "sun_accuracy", "error_max_deg", ("method",), "Sun position: fast algorithms against SPA (one point per latitude)"),
     ("lut_convergence.csv", "lut_convergence", "error_max_rel", ("method",), "Optical-depth tables against exact quadrature"),
-    ("sky_convergence.csv", "sky_convergence", "error_max_rel", ("method",), "Single-scattering sky integrator against the exact reference"),
+    ("sky_convergence.csv", "sky_convergence", "error_max_rel", ("method",), "Single-scattering sky integrator against the exact reference (day and twilight rays)"),
     ("ms_convergence.csv", "ms_convergence", "error_max_rel", ("method", "band"), "Scattering methods against the Monte-Carlo reference"),
     ("sh_converge.csv", "sh_converge", "error_max_rel", ("method",), "SH projection methods against the exact quadrature"),
     ("prt/converge.csv", "prt_converge", "error_max_rel", ("method",), "PRT transfer against the high-sample reference"),
 ]:
     # The sun-accuracy rows are latitudes, not refinements: points only (a scatter).
     style = "o" if stem == "sun_accuracy" else "o-"
+    strip = r"\s+q=\S+$" if stem == "sky_convergence" else None
     code("fig-" + stem, f"""
-error_vs_time({name!r}, {stem!r}, err={err!r}, group={group!r}, title={title!r}, style={style!r})
+error_vs_time({name!r}, {stem!r}, err={err!r}, group={group!r}, title={title!r}, style={style!r}, strip={strip!r})
 """)
 code("fig-ms-points", """
 NAME = "ms_convergence_points.csv"
