@@ -443,9 +443,9 @@ if have(NAME):
     fig, ax = plt.subplots(figsize=(7, 3.6))
     x = np.arange(len(df)); w = 0.8 / len(cols)
     for i, c in enumerate(cols):
-        ax.bar(x + (i - (len(cols) - 1) / 2) * w, df[c].abs(), w, label=f"|{c}|")
-    ax.set_xticks(x, df["window"]); ax.set_yscale("symlog", linthresh=1e-3)
-    ax.set_xlabel("window"); ax.set_ylabel("relative value (|min| overshoot, changes) [relative]"); ax.legend(fontsize=7)
+        ax.bar(x + (i - (len(cols) - 1) / 2) * w, np.maximum(df[c].abs(), 1e-12), w, label=f"|{c}|")
+    ax.set_xticks(x, df["window"]); ax.set_yscale("log"); ax.set_ylim(3e-13, 3 * df[cols].abs().to_numpy().max())
+    ax.set_xlabel("window"); ax.set_ylabel("|value| [relative] (zero drawn at 1e-12)"); ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
     ax.set_title(f"Ringing windows: overshoot left and what each costs — {cite(NAME, meta)}", fontsize=9)
     fig.tight_layout(); save(fig, "sh_windows")
 """)
