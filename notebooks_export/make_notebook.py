@@ -210,7 +210,9 @@ if have("sun_track.csv"):
     a.plot(t, df["apparent_elevation_deg"], "--", label="apparent (refracted)")
     a.axhline(0, color="k", lw=0.6)
     a.set_xlabel("time [UTC]"); a.set_ylabel(label("elevation_deg")); a.legend()
-    b.plot(t, df["azimuth_deg"], ".-", ms=3)
+    az = df["azimuth_deg"].to_numpy(dtype=float).copy()
+    az[1:][np.abs(np.diff(az)) > 180] = np.nan  # no line across the 360 -> 0 wrap
+    b.plot(t, df["azimuth_deg"], ".", ms=3, color="tab:blue"); b.plot(t, az, "-", color="tab:blue")
     b.set_xlabel("time [UTC]"); b.set_ylabel("azimuth from north towards east [deg]"); b.set_ylim(0, 360)
     b.set_yticks(np.arange(0, 361, 90))
     for ax in (a, b):
