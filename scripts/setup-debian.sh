@@ -15,6 +15,9 @@ PKGS=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libtinyobjloader-dev libassimp-dev
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas python3-pytest
+  # the figure notebooks (notebooks_export/), executed headless by the test suite and the main job
+  jupyter-nbconvert python3-nbconvert python3-ipykernel python3-nbformat python3-nbclient
+  python3-matplotlib python3-openimageio
 )
 missing=()
 for p in "${PKGS[@]}"; do

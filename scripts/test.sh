@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up (Debian 12, as root), builds and runs the whole atmosh test suite:
 #   1. Release build with the default compiler: unit tests, CLI and end-to-end tests,
-#      install + consumer project;
+#      install + consumer project, the figure notebook executed on the quick main job
+#      (figures_notebooks);
 #   2. clang + AddressSanitizer + UndefinedBehaviorSanitizer build running the suite;
 #   3. libFuzzer on every reader of user files (scene and sweep TOML, OBJ, PLY, EXR, SH
 #      coefficient CSV), each for a bounded time (ATMOSH_FUZZ_SECONDS, 25 s each).
