@@ -108,24 +108,24 @@ int subtracted_kinks(const OpticalDepthLut& lut) {
 std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::vector<int>& shells,
                                        const std::vector<int>& directions, bool quick, const fs::path& stem,
                                        const std::string& device = "cpu") {
-  check_device(device);
+  const DeviceRequest request = check_device(device);
   Atmosphere atm(spec);
+  std::optional<GpuUnusable> unusable;
 #ifdef ATMOSH_HAVE_GPU
   // With a GPU, every setting gets a second row: the same tables built by the
   // GPU table pass (gpu::build_lut_tables), looked up by the same CPU code.
   std::unique_ptr<gpu::Context> ctx;
-  if (device != "cpu") {
+  if (request != DeviceRequest::cpu) {
     try {
       ctx = std::make_unique<gpu::Context>();
     } catch (const gpu::Unavailable& e) {
-      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-      std::cerr << "atmosh: no GPU (" << e.what() << "); building the tables on the CPU only\n";
+      unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), {}};
     }
   }
 #else
-  if (device == "gpu") throw std::runtime_error("--device gpu: atmosh was built without ATMOSH_WITH_GPU");
-  if (device == "auto") std::cerr << "atmosh: built without GPU support; building the tables on the CPU only\n";
+  unusable = GpuUnusable{GpuUnusable::Why::not_built, {}, {}};
 #endif
+  device_notice(resolve_device(request, unusable, "building the tables on the CPU only"));
   OpticalDepthReference ref(atm);
   auto rays = study_rays(atm);
   auto k = atm.coefficients_at(550.0);
@@ -233,8 +233,8 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
         evaluate(from_gpu, "lut_gpu", s, d, gpu_s);
         used = "gpu";
       } catch (const gpu::Unsupported& e) {
-        if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-        std::cerr << "atmosh: " << e.what() << " is not supported on the GPU; building the tables on the CPU only\n";
+        device_notice(resolve_device(request, GpuUnusable{GpuUnusable::Why::unsupported, e.what(), {}},
+                                     "building the tables on the CPU only"));
         ctx.reset();
       }
     }

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -27,6 +28,10 @@
 #include "atmosh/sh/basis.hpp"
 #include "cli_common.hpp"
 #include "progress.hpp"
+
+#ifdef ATMOSH_HAVE_GPU
+#include "atmosh/gpu/context.hpp"
+#endif
 
 namespace atmosh::cli {
 
@@ -278,20 +283,28 @@ std::vector<fs::path> converge_study(const prt::Mesh& mesh, int bands, sh::prt::
     bo.seed = 12345;
     bo.device = prt::Device::cpu;
     const prt::PixelTransfer pref = prt::bake_pixels(mesh, bo, px.width, px.height, px.view);
-    bool gpu = px.device != "cpu";
+    const DeviceRequest request = check_device(px.device);
+    bool gpu = request != DeviceRequest::cpu;
     if (gpu) {
+      std::optional<GpuUnusable> unusable;
+#ifdef ATMOSH_HAVE_GPU
       bo.device = prt::Device::gpu;
       bo.strata = 1;
       bo.depth_resolution = px.depth_maps.front();
       try {
         prt::bake_pixels(mesh, bo, px.width, px.height, px.view);  // warm-up (driver start-up, shader compile)
         gpu_note = "depth-map method, per pixel";
-      } catch (const std::exception& e) {
-        if (px.device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-        std::cerr << "atmosh: no GPU (" << e.what() << "); the study has no GPU rows\n";
+      } catch (const gpu::Unavailable& e) {
+        unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), {}};
         gpu_note = std::string("not run (") + e.what() + ")";
-        gpu = false;
       }
+#else
+      unusable = GpuUnusable{GpuUnusable::Why::not_built, {}, {}};
+      gpu_note = "not run (built without GPU support)";
+#endif
+      const DeviceDecision decision = resolve_device(request, unusable, "the study has no GPU rows");
+      device_notice(decision);
+      gpu = decision.gpu;
     }
     std::vector<std::vector<io::StudyRow>> gpu_rows(px.depth_maps.size());  // one line per depth map
     for (int s : strata) {

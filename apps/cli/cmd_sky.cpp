@@ -151,17 +151,18 @@ SunPlacement resolve_sun(const SkyCmd& c, const scene::Scene& s) {
 
 SkyImage render_sky_on(const std::string& device, const SkyIntegrator& sky, SkyProjection proj, int width, int height,
                        double altitude_m, const glm::dvec3& sun, bool spectral, int threads, std::string& used) {
-  check_device(device);
+  const DeviceRequest request = check_device(device);
   // gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line notice.
   used = "cpu";
-  if (device != "cpu" && sky.method() != ScatteringMethod::Single) {
+  if (request != DeviceRequest::cpu && sky.method() != ScatteringMethod::Single) {
     // The GPU pass computes single scattering only.
     const std::string what = std::string("scattering method '") + scattering_method_name(sky.method()) + "'";
-    if (device == "gpu") throw std::runtime_error("--device gpu: " + what + " is not supported on the GPU (use --scattering single or --device cpu)");
-    std::cerr << "atmosh: " << what << " is not supported on the GPU; rendering on the CPU\n";
+    device_notice(resolve_device(request, GpuUnusable{GpuUnusable::Why::unsupported, what, "use --scattering single or --device cpu"},
+                                 "rendering on the CPU"));
     return render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
   }
-  if (device != "cpu") {
+  if (request != DeviceRequest::cpu) {
+    std::optional<GpuUnusable> unusable;
 #ifdef ATMOSH_HAVE_GPU
     try {
       SkyImage img = gpu::render_sky(sky, proj, width, height, altitude_m, sun, spectral);
@@ -169,16 +170,14 @@ SkyImage render_sky_on(const std::string& device, const SkyIntegrator& sky, SkyP
       add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (CPU; a few pixels)
       return img;
     } catch (const gpu::Unavailable& e) {
-      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-      std::cerr << "atmosh: no GPU (" << e.what() << "); rendering on the CPU\n";
+      unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), {}};
     } catch (const gpu::Unsupported& e) {
-      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-      std::cerr << "atmosh: " << e.what() << " is not supported on the GPU; rendering on the CPU\n";
+      unusable = GpuUnusable{GpuUnusable::Why::unsupported, e.what(), {}};
     }
 #else
-    if (device == "gpu") throw std::runtime_error("--device gpu: atmosh was built without ATMOSH_WITH_GPU");
-    std::cerr << "atmosh: built without GPU support; rendering on the CPU\n";
+    unusable = GpuUnusable{GpuUnusable::Why::not_built, {}, {}};
 #endif
+    device_notice(resolve_device(request, unusable, "rendering on the CPU"));
   }
   SkyImage img = render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
   add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (SkyOptions::sun_model)
