@@ -8,11 +8,11 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
-#include <thread>
 #include <vector>
 
 #include <glm/geometric.hpp>
 
+#include "atmosh/parallel.hpp"
 #include "atmosh/prt/bake.hpp"
 #include "atmosh/sh/prt.hpp"
 
@@ -25,7 +25,7 @@ const prt::Mesh& big_mesh() {
   return m;
 }
 constexpr int kStrata = 10;  // 100 directions per vertex keeps one bake near a second
-int threads() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
+int threads() { return atmosh::available_cpus(); }  // the CPUs this process may use
 
 void BM_BakeShadowed(benchmark::State& state) {
   const prt::Mesh& m = big_mesh();
@@ -71,13 +71,16 @@ void BM_EmbreeOccluded(benchmark::State& state) {
   const double eps = 1e-4 * prt::bounding_diagonal(m);
   std::uint64_t rays_total = 0;
   for (auto _ : state) {
-    std::atomic<std::size_t> next{0};
     std::atomic<std::uint64_t> rays{0}, free{0};
-    auto work = [&] {
+    // Blocks of 16 vertices from the toolkit's parallel loop, as prt::bake takes them.
+    auto make_context = [] {
       RTCIntersectContext ctx;
       rtcInitIntersectContext(&ctx);
+      return ctx;
+    };
+    auto work = [&](RTCIntersectContext& ctx, std::size_t v0, std::size_t v1) {
       std::uint64_t nr = 0, nf = 0;
-      for (std::size_t v; (v = next.fetch_add(1)) < m.vertex_count();) {
+      for (std::size_t v = v0; v < v1; ++v) {
         const glm::dvec3 n = m.normals[v], o = m.positions[v] + eps * n;
         if constexpr (Packet == 1) {
           for (const auto& d : samples.dirs) {
@@ -114,9 +117,7 @@ void BM_EmbreeOccluded(benchmark::State& state) {
       rays += nr;
       free += nf;
     };
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads(); ++t) pool.emplace_back(work);
-    for (auto& t : pool) t.join();
+    parallel_for_ranges_local(m.vertex_count(), 16, threads(), make_context, work);
     rays_total += rays.load();
     benchmark::DoNotOptimize(free.load());
   }

@@ -170,6 +170,7 @@ function(_atmosh_link_items target out_public out_private)
 endfunction()
 
 # The installed libraries, in dependency order. A new library is one line here.
+atmosh_install_component(core atmosh_core)
 atmosh_install_component(sh atmosh_sh)
 atmosh_install_component(atmo atmosh_atmo)
 atmosh_install_component(gpu atmosh_gpu)

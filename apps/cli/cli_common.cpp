@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 
+#include "atmosh/device.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/parallel.hpp"
 #include "atmosh/io/provenance.hpp"
@@ -66,17 +67,15 @@ double require_range(double v, double lo, double hi, const std::string& what) {
 }
 
 int threads_option(int requested, const std::string& option) {
-  if (requested < 0 || requested > 1024)
-    throw InputError(option + " " + std::to_string(requested) + ": must be in 0..1024 (0 = the " +
-                     std::to_string(available_cpus()) + " CPUs this process may use)");
-  const int n = resolve_threads(requested);
+  const int n = resolve_threads(requested, option);
   io::set_threads(n);
   return n;
 }
 
-void check_device(const std::string& device) {
-  if (device != "cpu" && device != "gpu" && device != "auto")
-    throw InputError("--device " + device + ": must be cpu, gpu or auto");
+DeviceRequest check_device(const std::string& device) { return parse_device_request(device, "--device"); }
+
+void device_notice(const DeviceDecision& decision) {
+  if (!decision.notice.empty()) std::cerr << "atmosh: " << decision.notice << "\n";
 }
 
 }  // namespace atmosh::cli

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "atmosh/atmo/spec.hpp"
+#include "atmosh/device.hpp"
 #include "atmosh/scene/scene.hpp"
 
 namespace atmosh::cli {
@@ -32,8 +33,10 @@ std::vector<double> parse_list(const std::string& text, const std::string& what)
 std::array<int, 2> parse_size(const std::string& text, const std::string& what);
 // --device cpu|gpu|auto: InputError naming any other value. (Meaning, everywhere:
 // "cpu" never touches EGL; "gpu" needs a headless EGL device, else exit 1; "auto"
-// falls back to the CPU with a one-line notice on stderr.)
-void check_device(const std::string& device);
+// falls back to the CPU with a one-line notice on stderr: atmosh::resolve_device.)
+DeviceRequest check_device(const std::string& device);
+// Prints the decision's fallback notice, if any, as one "atmosh: ..." line on stderr.
+void device_notice(const DeviceDecision& decision);
 // --threads: the worker count for a requested one, by the toolkit's one policy
 // (atmosh::resolve_threads: 0 = the CPUs this process may use, affinity and cgroup
 // quota included); InputError naming the option for a negative count or one > 1024.

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -29,6 +30,10 @@
 #include "atmosh/studies/studies_prt.hpp"
 #include "cli_common.hpp"
 #include "progress.hpp"
+
+#ifdef ATMOSH_HAVE_GPU
+#include "atmosh/gpu/context.hpp"
+#endif
 
 namespace atmosh::cli {
 

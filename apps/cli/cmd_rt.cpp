@@ -85,7 +85,7 @@ void register_rt_commands(CLI::App& app) {
       const double phi = require_range(o->phi, -360.0, 360.0, "--phi-deg");
       require_paths(o->run.paths, "--paths");
       require_range(o->orders, 0, 1 << 30, "--orders");
-      require_range(o->run.threads, 0, 1024, "--threads");
+      resolve_threads(o->run.threads, "--threads");  // the one thread-count policy
       RtOptions run = o->run;
       run.max_orders = o->orders;
       const SlabResult r = studies::rt_slab(s, mu0, mu, phi, run);
@@ -156,7 +156,7 @@ void register_rt_commands(CLI::App& app) {
       require_range(o->height, 0.0, 1e9, "--height");
       if (o->ground_albedo != -1) require_range(o->ground_albedo, 0.0, 1.0, "--ground-albedo");
       require_range(o->orders, 0, 1 << 30, "--orders");
-      require_range(o->run.threads, 0, 1024, "--threads");
+      resolve_threads(o->run.threads, "--threads");  // the one thread-count policy
       require_paths(o->run.paths, "--paths");
       RtSkyOptions so;
       if (o->sun_depth == "table")

@@ -72,8 +72,7 @@ void validate(const MultipleScatteringOptions& o) {
   at_most(o.orders_sphere_zenith, 256, "orders_sphere_zenith");
   at_most(o.orders_sphere_azimuth, 256, "orders_sphere_azimuth");
   at_most(o.orders_ray_steps, 4096, "orders_ray_steps");
-  if (o.threads < 0 || o.threads > 1024)
-    throw InputError("scattering.threads = " + std::to_string(o.threads) + ": must be in [0, 1024]");
+  resolve_threads(o.threads, "scattering.threads");  // the toolkit's policy: 0..1024
 }
 
 namespace {

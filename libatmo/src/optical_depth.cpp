@@ -230,8 +230,7 @@ OpticalDepthLut::OpticalDepthLut(const Atmosphere& atmosphere, LutOptions option
     throw InputError("lut gauss_points = " + std::to_string(opt_.gauss_points) + ": must be in [2, 64]");
   if (opt_.analytic_max_nodes < 0)
     throw InputError("lut analytic_max_nodes = " + std::to_string(opt_.analytic_max_nodes) + ": must be >= 0");
-  if (opt_.threads < 0 || opt_.threads > 1024)
-    throw InputError("lut threads = " + std::to_string(opt_.threads) + ": must be in [0, 1024]");
+  resolve_threads(opt_.threads, "lut threads");  // the toolkit's policy: 0..1024
   if (opt_.subtracted_kinks < 0 || opt_.subtracted_kinks > 15)
     throw InputError("lut subtracted_kinks = " + std::to_string(opt_.subtracted_kinks) + ": must be in [0, 15]");
   auto t0 = std::chrono::steady_clock::now();

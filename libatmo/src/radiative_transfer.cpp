@@ -161,7 +161,7 @@ double trace(const Medium& m, typename Medium::Ray ray, Rng& rng, const RtOption
 void check_run(const RtOptions& o) {
   if (o.paths < 1) throw InputError("paths = " + std::to_string(o.paths) + ": must be >= 1");
   if (o.max_orders < 0) throw InputError("max_orders = " + std::to_string(o.max_orders) + ": must be >= 0");
-  if (o.threads < 0 || o.threads > 1024) throw InputError("threads = " + std::to_string(o.threads) + ": must be in [0, 1024]");
+  resolve_threads(o.threads);  // the toolkit's policy: 0..1024
   if (o.batches < 1 || o.batches > 1 << 20) throw InputError("batches = " + std::to_string(o.batches) + ": must be in [1, 2^20]");
   if (!(o.roulette_weight > 0.0 && o.roulette_weight <= 1.0))
     throw InputError("roulette_weight = " + std::to_string(o.roulette_weight) + ": must be in (0, 1]");

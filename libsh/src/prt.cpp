@@ -2,15 +2,15 @@
 #include "atmosh/sh/prt.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <string>
-#include <thread>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/sh/basis.hpp"
 #include "atmosh/sh/convolution.hpp"
 #include "atmosh/sh/fast.hpp"
@@ -25,21 +25,6 @@ void check_albedo(double albedo, const char* where) {
     throw InputError(std::string(where) + ": albedo must be in [0, 1], got " + std::to_string(albedo));
 }
 
-// Runs body(begin, end) over [0, n) split into `threads` contiguous chunks.
-template <class F>
-void parallel_ranges(std::size_t n, int threads, F body) {
-  threads = std::max(1, std::min<int>(threads, static_cast<int>(std::max<std::size_t>(1, n / 64))));
-  if (threads == 1) {
-    body(std::size_t{0}, n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) {
-    const std::size_t b = n * t / threads, e = n * (t + 1) / threads;
-    pool.emplace_back([&, b, e] { body(b, e); });
-  }
-  for (auto& th : pool) th.join();
-}
 }  // namespace
 
 TransferMode parse_transfer_mode(const std::string& name) {
@@ -146,8 +131,9 @@ std::vector<double> interreflect(const std::vector<double>& direct, int bands, c
   std::vector<double> total = direct, prev = direct, next(direct.size());
   if (report) report->energy = {energy(direct)};
   for (int b = 0; b < bounces; ++b) {
-    parallel_ranges(nv, threads, [&](std::size_t v0, std::size_t v1) {
-      std::vector<double> acc(K);
+    // Blocks of 64 vertices from the toolkit's parallel loop; each vertex writes only its own row.
+    atmosh::parallel_for_ranges_local(nv, 64, threads, [&] { return std::vector<double>(K); },
+                                      [&](std::vector<double>& acc, std::size_t v0, std::size_t v1) {
       for (std::size_t v = v0; v < v1; ++v) {
         std::fill(acc.begin(), acc.end(), 0.0);
         for (const Hit& h : hits[v]) {

@@ -14,7 +14,6 @@
 #include <string>
 #include <map>
 #include <mutex>
-#include <thread>
 
 #include <fftw3.h>
 
@@ -31,18 +30,19 @@ namespace detail {
 
 
 namespace {
-template <class F>
-void parallel_for_m(int bands, int threads, F&& body) {
-  // interleaved distribution of m (column cost ~ bands - m)
-  if (threads <= 1 || bands < 8) {
-    body(0, 1);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back([&, t] { body(t, threads); });
-  body(0, threads);
-  for (auto& th : pool) th.join();
+// body(local, i) for i in [0, count) (columns m or blocks of them) on the toolkit's
+// parallel loop, one index at a time from a shared counter: column cost ~ bands - m, so
+// the dearest columns go first. make_local() builds each worker's scratch once; every
+// column overwrites the scratch it reads, so results do not depend on the thread count.
+template <class MakeLocal, class F>
+void parallel_for_m(int count, int threads, MakeLocal&& make_local, F&& body) {
+  atmosh::parallel_for_ranges_local(
+      static_cast<std::size_t>(count), 1, count < 8 ? 1 : threads, make_local,
+      [&](auto& local, std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) body(local, static_cast<int>(i));
+      });
 }
+struct NoScratch {};
 
 constexpr int B = 8;  // lanes (ring pairs) per block
 
@@ -377,6 +377,15 @@ struct AnaWork {
         ids(ngroups), live(2 * ngroups), nact(bands + 4) {}
 };
 
+// One worker's scratch of the analysis columns (parallel_for_m).
+template <int W>
+struct AnaScratch {
+  AnaWork<W> work;
+  std::unique_ptr<V4[]> sums;
+  AnaCoef cf;
+  AnaScratch(int padded, int bands) : work(padded, bands), sums(new V4[bands + 4]) {}
+};
+
 // sums[k] (k <= kmax + 1) of column m: f = the ring sums of m in blocks of W lanes
 // (E cos, E sin, xO cos, xO sin: 4 W values per block), mant/ex the sectoral values.
 template <int W>
@@ -621,8 +630,9 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
   // planes stream.
   constexpr int MB = 8;
   std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(bands) * padded * 4]);
-  parallel_for_m((bands + MB - 1) / MB, threads, [&](int t0, int step) {
-    for (int mb = t0 * MB; mb < bands; mb += step * MB) {
+  parallel_for_m((bands + MB - 1) / MB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
+    {
+      const int mb = block * MB;
       const int m1 = std::min(bands, mb + MB);
       for (int q = np; q < padded; ++q)
         for (int m = mb; m < m1; ++m)
@@ -660,44 +670,37 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
   // per-m results: column m at col_offset(m), 2 (bands - m) values
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
   std::unique_ptr<double[]> col(new double[col_offset(bands)]);
-  parallel_for_m(bands, threads, [&](int t0, int step) {
-    std::unique_ptr<V4[]> sums(new V4[bands + 4]);
-    AnaCoef cf;
-    auto columns = [&](auto& work) {
-      for (int m = t0; m < bands; m += step) {
-        const int kmax = (bands - 1 - m) / 2;
-        ana_coefficients(bands, m, cf);
-        for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
-        const std::size_t off = static_cast<std::size_t>(m) * padded;
-        ana_column(kmax, pr.x.data(), smant.data() + off, sexp.data() + off, fm + off * 4, cf, work,
-                   sums.get());
-        // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
-        // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
-        double* out = col.get() + col_offset(m);
-        double pc = 0.0, ps = 0.0;  // A_l-1 of the odd parity
-        for (int k = 0; k <= kmax; ++k) {
-          const int i = 2 * k;
-          const V4 sk = sums[k];
-          const double al = cf.alpha[k];
-          out[2 * i] = al * sk[0];
-          out[2 * i + 1] = al * sk[1];
-          if (m + i + 1 < bands) {
-            pc = cf.rb[k] * sk[2] - cf.qa[k] * pc;
-            ps = cf.rb[k] * sk[3] - cf.qa[k] * ps;
-            out[2 * i + 2] = pc;
-            out[2 * i + 3] = ps;
-          }
-        }
+  auto columns = [&](auto& scratch, int m) {
+    auto& work = scratch.work;
+    AnaCoef& cf = scratch.cf;
+    V4* const sums = scratch.sums.get();
+    const int kmax = (bands - 1 - m) / 2;
+    ana_coefficients(bands, m, cf);
+    for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
+    const std::size_t off = static_cast<std::size_t>(m) * padded;
+    ana_column(kmax, pr.x.data(), smant.data() + off, sexp.data() + off, fm + off * 4, cf, work, sums);
+    // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
+    // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
+    double* out = col.get() + col_offset(m);
+    double pc = 0.0, ps = 0.0;  // A_l-1 of the odd parity
+    for (int k = 0; k <= kmax; ++k) {
+      const int i = 2 * k;
+      const V4 sk = sums[k];
+      const double al = cf.alpha[k];
+      out[2 * i] = al * sk[0];
+      out[2 * i + 1] = al * sk[1];
+      if (m + i + 1 < bands) {
+        pc = cf.rb[k] * sk[2] - cf.qa[k] * pc;
+        ps = cf.rb[k] * sk[3] - cf.qa[k] * ps;
+        out[2 * i + 2] = pc;
+        out[2 * i + 3] = ps;
       }
-    };
-    if (wide) {
-      AnaWork<8> work(padded, bands);
-      columns(work);
-    } else {
-      AnaWork<4> work(padded, bands);
-      columns(work);
     }
-  });
+  };
+  if (wide)
+    parallel_for_m(bands, threads, [&] { return AnaScratch<8>(padded, bands); }, columns);
+  else
+    parallel_for_m(bands, threads, [&] { return AnaScratch<4>(padded, bands); }, columns);
   // columns into the coefficient vector, in blocks of m (contiguous in m for each l)
   for (int mb = 0; mb < bands; mb += 8) {
     const int m1 = std::min(bands, mb + 8);
@@ -725,53 +728,62 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
   sectorals(bands, pr, *table, smant, sexp);
   const int W = analysis_lanes();
 
-  parallel_for_m(bands, threads, [&](int t0, int step) {
+  struct Scratch {
     AnaCoef cf;
-    std::vector<double> sc(4 * (static_cast<std::size_t>(bands) + 4)), y(bands + 4);
-    std::vector<double> sums(4 * static_cast<std::size_t>(padded));
-    for (int m = t0; m < bands; m += step) {
-      const int kmax = (bands - 1 - m) / 2;
-      ana_coefficients(bands, m, cf);
-      // step coefficients: e_k (cos, sin) and d_k (cos, sin), zero past the last degree
-      std::fill(sc.begin(), sc.begin() + 4 * (kmax + 2), 0.0);
-      for (int k = 0; k <= kmax; ++k) {
-        const int l = m + 2 * k, i = l * (l + 1);
-        sc[4 * k] = cf.alpha[k] * coeffs[i + m];
-        sc[4 * k + 1] = m > 0 ? cf.alpha[k] * coeffs[i - m] : 0.0;
-      }
-      const int kodd = (bands - 2 - m) / 2;  // odd degrees m + 2k + 1 < bands: k <= kodd
-      if (bands - 2 - m >= 0) {
-        double yc = 0.0, ys = 0.0;
-        for (int k = kodd; k >= 0; --k) {
-          const int l = m + 2 * k + 1, i = l * (l + 1);
-          const double q = k + 1 <= kodd ? cf.qa[k + 1] : 0.0;
-          yc = coeffs[i + m] - q * yc;
-          ys = (m > 0 ? coeffs[i - m] : 0.0) - q * ys;
-          sc[4 * k + 2] = cf.rb[k] * yc;
-          sc[4 * k + 3] = cf.rb[k] * ys;
-        }
-      }
-      const std::size_t off = static_cast<std::size_t>(m) * padded;
-      if (W == 8)
-        syn_column8(kmax, padded / 8, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
-                    sc.data(), sums.data());
-      else
-        syn_column4(kmax, padded / 4, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
-                    sc.data(), sums.data());
-      const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
-      for (int q = 0; q < np; ++q) {
-        const double* v = sums.data() + 4 * static_cast<std::size_t>(q);
-        double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
-        fn[0] = scale * (v[0] + v[2]);
-        fn[1] = m > 0 ? scale * (v[1] + v[3]) : 0.0;
-        if (pr.south[q] >= 0) {
-          double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
-          fs[0] = scale * (v[0] - v[2]);
-          fs[1] = m > 0 ? scale * (v[1] - v[3]) : 0.0;
-        }
+    std::vector<double> sc, sums;
+  };
+  auto column = [&](Scratch& scratch, int m) {
+    AnaCoef& cf = scratch.cf;
+    std::vector<double>& sc = scratch.sc;
+    std::vector<double>& sums = scratch.sums;
+    const int kmax = (bands - 1 - m) / 2;
+    ana_coefficients(bands, m, cf);
+    // step coefficients: e_k (cos, sin) and d_k (cos, sin), zero past the last degree
+    std::fill(sc.begin(), sc.begin() + 4 * (kmax + 2), 0.0);
+    for (int k = 0; k <= kmax; ++k) {
+      const int l = m + 2 * k, i = l * (l + 1);
+      sc[4 * k] = cf.alpha[k] * coeffs[i + m];
+      sc[4 * k + 1] = m > 0 ? cf.alpha[k] * coeffs[i - m] : 0.0;
+    }
+    const int kodd = (bands - 2 - m) / 2;  // odd degrees m + 2k + 1 < bands: k <= kodd
+    if (bands - 2 - m >= 0) {
+      double yc = 0.0, ys = 0.0;
+      for (int k = kodd; k >= 0; --k) {
+        const int l = m + 2 * k + 1, i = l * (l + 1);
+        const double q = k + 1 <= kodd ? cf.qa[k + 1] : 0.0;
+        yc = coeffs[i + m] - q * yc;
+        ys = (m > 0 ? coeffs[i - m] : 0.0) - q * ys;
+        sc[4 * k + 2] = cf.rb[k] * yc;
+        sc[4 * k + 3] = cf.rb[k] * ys;
       }
     }
-  });
+    const std::size_t off = static_cast<std::size_t>(m) * padded;
+    if (W == 8)
+      syn_column8(kmax, padded / 8, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
+                  sc.data(), sums.data());
+    else
+      syn_column4(kmax, padded / 4, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
+                  sc.data(), sums.data());
+    const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
+    for (int q = 0; q < np; ++q) {
+      const double* v = sums.data() + 4 * static_cast<std::size_t>(q);
+      double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
+      fn[0] = scale * (v[0] + v[2]);
+      fn[1] = m > 0 ? scale * (v[1] + v[3]) : 0.0;
+      if (pr.south[q] >= 0) {
+        double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
+        fs[0] = scale * (v[0] - v[2]);
+        fs[1] = m > 0 ? scale * (v[1] - v[3]) : 0.0;
+      }
+    }
+  };
+  parallel_for_m(
+      bands, threads,
+      [&] {
+        return Scratch{{}, std::vector<double>(4 * (static_cast<std::size_t>(bands) + 4)),
+                       std::vector<double>(4 * static_cast<std::size_t>(padded))};
+      },
+      column);
 }
 
 // Radix-2 butterflies of one stage (half = len / 2 >= 4) with the stage's twiddles
@@ -1040,41 +1052,48 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
   const int W = detail::analysis_lanes();
   std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(L) * padded * 4]);
   const double dphi = 2.0 * std::numbers::pi / n;
-  auto work = [&](int t0, int step) {
-    detail::RealFft fft(n);
-    std::vector<double> fn(2 * static_cast<std::size_t>(L)), fs(2 * static_cast<std::size_t>(L));
-    std::vector<double> lanes(static_cast<std::size_t>(W) * 4 * L);  // [lane][field][m]
-    for (int blk = t0; blk < padded / W; blk += step) {
-      for (int k = 0; k < W; ++k) {
-        const int q = blk * W + k;
-        double* out = lanes.data() + static_cast<std::size_t>(k) * 4 * L;
-        if (q >= np) {
-          std::fill(out, out + 4 * L, 0.0);
-          continue;
-        }
-        const int r = pr.north[q], s = pr.south[q];
-        fft.forward(values + static_cast<std::size_t>(r) * n, L, fn.data());
-        if (s >= 0) fft.forward(values + static_cast<std::size_t>(s) * n, L, fs.data());
-        // weights of the Gauss rule in latitude and of the uniform rule in longitude
-        pair_sums(L, fn.data(), s >= 0 ? fs.data() : nullptr, g.weights[r] * dphi, s >= 0 ? g.weights[s] * dphi : 0.0,
-                  pr.x[q], out);
+  // One block of W ring pairs at a time from the shared counter; each worker keeps its
+  // FFT plan and lane buffers.
+  struct Scratch {
+    detail::RealFft fft;
+    std::vector<double> fn, fs, lanes;  // lanes: [lane][field][m]
+  };
+  auto block = [&](Scratch& scratch, int blk) {
+    detail::RealFft& fft = scratch.fft;
+    std::vector<double>& fn = scratch.fn;
+    std::vector<double>& fs = scratch.fs;
+    std::vector<double>& lanes = scratch.lanes;
+    for (int k = 0; k < W; ++k) {
+      const int q = blk * W + k;
+      double* out = lanes.data() + static_cast<std::size_t>(k) * 4 * L;
+      if (q >= np) {
+        std::fill(out, out + 4 * L, 0.0);
+        continue;
       }
-      // one contiguous run of 4 W values per m
-      for (int m = 0; m < L; ++m) {
-        double* o = fm.get() + detail::ring_sum_index(padded, W, m, blk * W, 0);
-        for (int f = 0; f < 4; ++f)
-          for (int k = 0; k < W; ++k) o[f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * L + m];
-      }
+      const int r = pr.north[q], s = pr.south[q];
+      fft.forward(values + static_cast<std::size_t>(r) * n, L, fn.data());
+      if (s >= 0) fft.forward(values + static_cast<std::size_t>(s) * n, L, fs.data());
+      // weights of the Gauss rule in latitude and of the uniform rule in longitude
+      pair_sums(L, fn.data(), s >= 0 ? fs.data() : nullptr, g.weights[r] * dphi, s >= 0 ? g.weights[s] * dphi : 0.0,
+                pr.x[q], out);
+    }
+    // one contiguous run of 4 W values per m
+    for (int m = 0; m < L; ++m) {
+      double* o = fm.get() + detail::ring_sum_index(padded, W, m, blk * W, 0);
+      for (int f = 0; f < 4; ++f)
+        for (int k = 0; k < W; ++k) o[f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * L + m];
     }
   };
-  if (threads <= 1) {
-    work(0, 1);
-  } else {
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(work, t, threads);
-    work(0, threads);
-    for (auto& th : pool) th.join();
-  }
+  atmosh::parallel_for_ranges_local(
+      static_cast<std::size_t>(padded / W), 1, threads,
+      [&] {
+        return Scratch{detail::RealFft(n), std::vector<double>(2 * static_cast<std::size_t>(L)),
+                       std::vector<double>(2 * static_cast<std::size_t>(L)),
+                       std::vector<double>(static_cast<std::size_t>(W) * 4 * L)};
+      },
+      [&](Scratch& scratch, std::size_t b, std::size_t e) {
+        for (std::size_t blk = b; blk < e; ++blk) block(scratch, static_cast<int>(blk));
+      });
   std::vector<double> c(sh_count(L), 0.0);
   detail::analysis_from_ring_sums(L, pr, W, fm.get(), c.data(), threads);
   return c;
@@ -1088,19 +1107,13 @@ std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int thr
   std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
   detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four.data(), threads);
   std::vector<double> out(static_cast<std::size_t>(g.nlat) * n, 0.0);
-  auto work = [&](int t0, int step) {
-    detail::RealFft fft(n);
-    for (int r = t0; r < g.nlat; r += step)
-      fft.inverse(four.data() + static_cast<std::size_t>(r) * L * 2, L, out.data() + static_cast<std::size_t>(r) * n);
-  };
-  if (threads <= 1) {
-    work(0, 1);
-  } else {
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(work, t, threads);
-    work(0, threads);
-    for (auto& th : pool) th.join();
-  }
+  // One ring at a time from the shared counter; each worker keeps its FFT plan.
+  atmosh::parallel_for_ranges_local(
+      static_cast<std::size_t>(g.nlat), 1, threads, [&] { return detail::RealFft(n); },
+      [&](detail::RealFft& fft, std::size_t b, std::size_t e) {
+        for (std::size_t r = b; r < e; ++r)
+          fft.inverse(four.data() + r * L * 2, L, out.data() + r * n);
+      });
   return out;
 }
 

@@ -155,7 +155,7 @@ Transfer bake(const Mesh& mesh_in, const BakeOptions& opt) {
   if (opt.strata < 1 || opt.strata > 2000)
     throw InputError("prt bake: strata per side must be in 1..2000, got " + std::to_string(opt.strata));
   if (opt.bounces < 0 || opt.bounces > 100) throw InputError("prt bake: bounces must be in 0..100, got " + std::to_string(opt.bounces));
-  if (opt.threads < 0 || opt.threads > 1024) throw InputError("prt bake: threads must be in 0..1024, got " + std::to_string(opt.threads));
+  resolve_threads(opt.threads);  // the toolkit's policy: 0..1024, 0 = the CPUs this process may use
   if (!(opt.default_albedo >= 0 && opt.default_albedo <= 1))
     throw InputError("prt bake: albedo must be in [0, 1], got " + std::to_string(opt.default_albedo));
   validate(mesh_in);
@@ -269,7 +269,7 @@ PixelTransfer bake_pixels(const Mesh& mesh_in, const BakeOptions& opt, int width
   if (opt.bands < 1 || opt.bands > 16) throw InputError("prt bake: bands must be in 1..16, got " + std::to_string(opt.bands));
   if (opt.strata < 1 || opt.strata > 2000)
     throw InputError("prt bake: strata per side must be in 1..2000, got " + std::to_string(opt.strata));
-  if (opt.threads < 0 || opt.threads > 1024) throw InputError("prt bake: threads must be in 0..1024, got " + std::to_string(opt.threads));
+  resolve_threads(opt.threads);  // the toolkit's policy: 0..1024, 0 = the CPUs this process may use
   if (!(opt.default_albedo >= 0 && opt.default_albedo <= 1))
     throw InputError("prt bake: albedo must be in [0, 1], got " + std::to_string(opt.default_albedo));
   validate(mesh_in);

@@ -5,7 +5,6 @@
 
 #include <toml++/toml.h>
 
-#include <atomic>
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
@@ -16,9 +15,9 @@
 #include <mutex>
 #include <set>
 #include <sstream>
-#include <thread>
 
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/io/csv.hpp"
 #include "atmosh/io/hash.hpp"
@@ -362,61 +361,47 @@ SweepResult run_sweep(const SweepSpec& spec, const SweepEvaluator& eval, const S
   res.points_resumed = static_cast<int>(mine.size() - todo.size());
 
   bool journal_started = false;  // under mu
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr failure;
-  auto worker = [&] {
-    for (;;) {
-      const std::size_t t = next.fetch_add(1);
-      if (t >= todo.size()) return;
-      {
-        std::lock_guard<std::mutex> lk(mu);
-        if (failure) return;
-      }
-      const std::size_t j = todo[t];
-      const int idx = mine[j];
-      try {
-        const auto t0 = std::chrono::steady_clock::now();
-        const SweepOutputs out = eval(scenes[j]);
-        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::vector<std::string> cells = {std::to_string(idx)};
-        for (const auto& o : spec.points[static_cast<std::size_t>(idx)]) {
-          std::string c = value_cell(o.value);
-          if (c.find_first_of(",\"\n") != std::string::npos) c = "\"" + c + "\"";
-          cells.push_back(c);
-        }
-        for (const auto& [name, v] : out) cells.push_back(io::format_double(v));
-        cells.push_back(io::format_double(secs));
-        const std::string hdr = join(columns_for(spec, out));
-        std::lock_guard<std::mutex> lk(mu);
-        if (!journal_started) {
-          if (!header.empty() && header != hdr)
-            throw InputError(journal.string() + ": its columns differ from this sweep's; remove it or run without --resume");
-          header = hdr;
-          if (!journal_has_header) {
-            append("# sweep_id: " + id);
-            append(header);
-          }
-          journal_started = true;
-        } else if (header != hdr) {
-          throw InputError("sweep point " + std::to_string(idx) + ": its outputs differ from the other points'");
-        }
-        append(join(cells));
-        done[idx] = join(cells);
-        if (opt.progress) opt.progress(static_cast<double>(done.size()) / static_cast<double>(mine.size()));
-      } catch (...) {
-        std::lock_guard<std::mutex> lk(mu);
-        if (!failure) failure = std::current_exception();
-        return;
-      }
+  // One point at a time from the toolkit's parallel loop; the first failure stops the
+  // others from taking new points and is rethrown here (the journal keeps what finished).
+  auto point = [&](std::size_t t) {
+    const std::size_t j = todo[t];
+    const int idx = mine[j];
+    const auto t0 = std::chrono::steady_clock::now();
+    const SweepOutputs out = eval(scenes[j]);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::vector<std::string> cells = {std::to_string(idx)};
+    for (const auto& o : spec.points[static_cast<std::size_t>(idx)]) {
+      std::string c = value_cell(o.value);
+      if (c.find_first_of(",\"\n") != std::string::npos) c = "\"" + c + "\"";
+      cells.push_back(c);
     }
+    for (const auto& [name, v] : out) cells.push_back(io::format_double(v));
+    cells.push_back(io::format_double(secs));
+    const std::string hdr = join(columns_for(spec, out));
+    std::lock_guard<std::mutex> lk(mu);
+    if (!journal_started) {
+      if (!header.empty() && header != hdr)
+        throw InputError(journal.string() + ": its columns differ from this sweep's; remove it or run without --resume");
+      header = hdr;
+      if (!journal_has_header) {
+        append("# sweep_id: " + id);
+        append(header);
+      }
+      journal_started = true;
+    } else if (header != hdr) {
+      throw InputError("sweep point " + std::to_string(idx) + ": its outputs differ from the other points'");
+    }
+    append(join(cells));
+    done[idx] = join(cells);
+    if (opt.progress) opt.progress(static_cast<double>(done.size()) / static_cast<double>(mine.size()));
   };
-  const int nthreads = std::max(1, std::min<int>(opt.threads, static_cast<int>(todo.size())));
-  std::vector<std::thread> pool;
-  for (int i = 1; i < nthreads; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
+  try {
+    parallel_for(todo.size(), opt.threads, point);
+  } catch (...) {
+    if (fd >= 0) ::close(fd);
+    throw;
+  }
   if (fd >= 0) ::close(fd);
-  if (failure) std::rethrow_exception(failure);
   res.points_computed = static_cast<int>(todo.size());
 
   // Final CSV (atomic), rows sorted by point.

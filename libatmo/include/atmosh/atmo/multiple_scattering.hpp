@@ -78,7 +78,7 @@ struct MultipleScatteringOptions {
   int orders_sphere_zenith = 12;    // scattering density: zenith directions of its sphere rule, >= 4
   int orders_sphere_azimuth = 12;   // and azimuths over [0, 2 pi), >= 4
   int orders_ray_steps = 32;        // steps per ray of the in-scattered radiance, >= 4
-  int threads = 0;                  // table builds (0 = every core)
+  int threads = 0;                  // table builds (0..1024; 0 = the CPUs this process may use)
 };
 // InputError naming the option (as "scattering.<name>") for values out of range.
 void validate(const MultipleScatteringOptions& o);

@@ -106,7 +106,7 @@ struct RtOptions {
   std::int64_t paths = 100000;  // per quantity (>= 1)
   std::uint64_t seed = 1;
   int max_orders = 0;           // 0: every order (paths end by escape or roulette)
-  int threads = 0;              // 0: all cores
+  int threads = 0;              // 0: the CPUs this process may use (atmosh::resolve_threads)
   int batches = 64;             // fixed work units (determinism); >= 1
   double roulette_weight = 0.1; // (0, 1]
 };

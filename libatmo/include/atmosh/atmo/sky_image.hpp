@@ -64,7 +64,7 @@ std::size_t sky_image_bytes(int width, int height, std::size_t wavelengths, bool
 void store_sky_pixel(SkyImage& img, std::size_t p, const SpectralToXyz& cmf, std::span<const double> L,
                      bool add = false);
 
-// Renders with `threads` worker threads (0 = hardware concurrency).
+// Renders with `threads` worker threads (0 = the CPUs this process may use, atmosh::resolve_threads).
 SkyImage render_sky(const SkyIntegrator& sky, SkyProjection projection, int width, int height, double altitude_m,
                     const glm::dvec3& sun, bool keep_spectral, int threads = 0);
 

@@ -93,7 +93,7 @@ struct BounceReport {
 /// transfer (bounce 0); adds `bounces` bounces using the hit records. weight = the
 /// sample weight 4 pi / N. Returns the total transfer; fills report if given. Each
 /// bounce is a linear map with norm <= max albedo < 1 for closed scenes, so the sum
-/// converges geometrically. threads >= 1.
+/// converges geometrically. threads: workers, 0 = the CPUs this process may use (atmosh::resolve_threads).
 std::vector<double> interreflect(const std::vector<double>& direct, int bands, const std::vector<double>& albedo,
                                  const HitList& hits, double weight, int bounces, int threads = 1,
                                  BounceReport* report = nullptr);

@@ -13,7 +13,7 @@
 // band-0 value at 2025 samples; `atmosh prt converge` measures it per mesh) plus the
 // tessellation of the mesh. The sample set is jittered strata x strata (default 45 -> 2025), seeded:
 // the same inputs and seed give the same transfer on any thread count.
-// Threads: `threads` workers (0 = hardware concurrency) take vertex blocks from a
+// Threads: `threads` workers (0 = the CPUs this process may use: atmosh::resolve_threads) take vertex blocks from a
 // shared counter; progress(fraction) is called from the calling thread about every
 // 1% (the library never prints).
 //
@@ -53,7 +53,7 @@ struct BakeOptions {
   sh::prt::TransferMode mode = sh::prt::TransferMode::shadowed;
   int bounces = 2;                     ///< interreflected only
   double default_albedo = 0.8;         ///< used where the mesh has none
-  int threads = 0;                     ///< 0 = std::thread::hardware_concurrency()
+  int threads = 0;                     ///< 0..1024; 0 = the CPUs this process may use (atmosh::resolve_threads)
   Device device = Device::cpu;
   int depth_resolution = 1024;         ///< GPU per-pixel method: depth-map texels per side (16..16384)
   std::function<void(double)> progress;  ///< optional, called with 0..1

@@ -85,7 +85,7 @@ struct SweepOptions {
   ProgressCallback progress;
   bool resume = false;
   int shard = 1, shards = 1;   // shard k of n, 1-based
-  int threads = 1;
+  int threads = 1;             // workers; 0 = the CPUs this process may use (atmosh::resolve_threads)
 };
 
 struct SweepResult {

@@ -54,6 +54,23 @@ TEST(Threads, NegativeCountRefused) {
   EXPECT_EQ(atmosh::resolve_threads(0), atmosh::available_cpus());
 }
 
+// One policy everywhere: 0..1024, the message names what the caller calls the count
+// (an option such as --threads, a scene key) and the value, on one line.
+TEST(Threads, OutOfRangeNamesTheCountAndTheValue) {
+  EXPECT_EQ(atmosh::resolve_threads(atmosh::kMaxThreads), 1024);
+  for (int bad : {-1, 1025, -2147483647 - 1}) {
+    try {
+      atmosh::resolve_threads(bad, "--threads");
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const atmosh::InputError& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind("--threads " + std::to_string(bad) + ": must be in 0..1024 (0 = the ", 0), 0u) << m;
+      EXPECT_NE(m.find(std::to_string(atmosh::available_cpus()) + " CPUs this process may use"), std::string::npos) << m;
+      EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+  }
+}
+
 // Under an affinity mask of one CPU (what `taskset -c 0` or a one-CPU Slurm job
 // gives), 0 threads means one worker, not the machine's core count.
 TEST(Threads, ZeroMeansTheCpusThisProcessMayUse) {

@@ -59,8 +59,10 @@ int available_cpus() {
   return std::max(1, n);
 }
 
-int resolve_threads(int requested) {
-  if (requested < 0) throw InputError("threads " + std::to_string(requested) + " must be >= 0 (0 = the CPUs available)");
+int resolve_threads(int requested, const std::string& what) {
+  if (requested < 0 || requested > kMaxThreads)
+    throw InputError(what + " " + std::to_string(requested) + ": must be in 0.." + std::to_string(kMaxThreads) +
+                     " (0 = the " + std::to_string(available_cpus()) + " CPUs this process may use)");
   return requested > 0 ? requested : available_cpus();
 }
 
