@@ -15,6 +15,8 @@ PKGS=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libtinyobjloader-dev libassimp-dev
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas python3-pytest
+  slurm-wlm munge  # the slurm_sweep test starts a one-node cluster (docs/sweeps.md)
+  libnetcdf-dev libnetcdf-c++4-dev python3-xarray python3-netcdf4
 )
 missing=()
 for p in "${PKGS[@]}"; do
