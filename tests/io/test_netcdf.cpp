@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "atmosh/error.hpp"
+#include "atmosh/io/csv.hpp"
 #include "atmosh/io/netcdf.hpp"
 
 namespace fs = std::filesystem;
@@ -331,6 +332,71 @@ assert list(tr['zenith_deg'].values) == [70.0, 95.5]
 assert tr['zenith_deg'].attrs['standard_name'] == 'solar_zenith_angle'
 assert [str(s) for s in tr['time_utc'].values] == ['2000-01-01T12:00:00Z', '2000-01-01T18:00:00Z']
 print('xarray check passed')
+)";
+  EXPECT_EQ(run_python(dir, script), 0);
+  fs::remove_all(dir);
+}
+
+// The CSV outputs of real runs (a sweep, a sun range) converted with
+// write_csv_as_netcdf; xarray reads the netCDF and pandas the CSV of the same run.
+TEST(Netcdf, CliTablesConvertAndMatchTheirCsv) {
+  const fs::path dir = fresh_dir("cli");
+  std::ofstream(dir / "sweep.toml") << "version = 1\n[[parameter]]\nkey = \"sun.elevation_deg\"\nvalues = [5.0, 40.0]\n"
+                                       "[[parameter]]\nkey = \"mie.scattering_per_m\"\nvalues = [2e-6, 8e-6]\n"
+                                       "[[parameter]]\nkey = \"spectrum.count\"\nvalues = [8]\n";
+  const std::string bin = ATMOSH_BIN;
+  ASSERT_EQ(std::system((bin + " sweep " + (dir / "sweep.toml").string() + " -o " + (dir / "sw").string() +
+                         " --scattering single --threads 1 > /dev/null 2>&1")
+                            .c_str()),
+            0);
+  ASSERT_EQ(std::system((bin + " sun --lat 48 --lon 11.5 --from 2026-06-21T00:00:00Z --to 2026-06-22T00:00:00Z "
+                               "--step 1h -o " +
+                         (dir / "track.csv").string() + " > /dev/null 2>&1")
+                            .c_str()),
+            0);
+  write_csv_as_netcdf(dir / "sw" / "sweep.csv", dir / "sweep.nc");
+  auto o = sun_track_netcdf_options();
+  write_csv_as_netcdf(dir / "track.csv", dir / "track.nc", o);
+
+  // C API: every numeric cell of the sweep equals the CSV's number bit for bit.
+  const CsvData csv = read_csv(dir / "sw" / "sweep.csv");
+  ASSERT_EQ(csv.rows.size(), 4u);
+  {
+    Reader r(dir / "sweep.nc");
+    EXPECT_EQ(r.dim("row"), 4u);
+    EXPECT_EQ(r.text(NC_GLOBAL, "atmosh_sweep_id"), csv.provenance.at("sweep_id"));
+    EXPECT_NE(r.text(NC_GLOBAL, "history").find("sweep"), std::string::npos);
+    for (const char* col : {"zenith_luminance_cd_m2", "sun.elevation_deg", "sun_transmittance_550nm", "zenith_x"}) {
+      const auto v = r.doubles(netcdf_variable_name(col), 4);
+      for (std::size_t i = 0; i < 4; ++i) {
+        const double want = csv.number(i, csv.column(col));
+        if (std::isnan(want)) EXPECT_TRUE(std::isnan(v[i])) << col;
+        else EXPECT_EQ(v[i], want) << col << " row " << i;
+      }
+    }
+    EXPECT_EQ(r.text(r.var("sun_elevation_deg"), "standard_name"), "solar_elevation_angle");
+  }
+  if (!have_xarray()) GTEST_SKIP() << "Debian python3-xarray not installed";
+  const std::string script = R"(
+import sys, numpy as np, pandas as pd, xarray as xr
+d = sys.argv[0].rsplit('/', 1)[0]
+csv = pd.read_csv(d + '/sw/sweep.csv', comment='#', float_precision='round_trip')
+ds = xr.open_dataset(d + '/sweep.nc')
+for col in csv.columns:
+    v = ds[col.replace('.', '__')]
+    assert v.attrs['atmosh_column'] == col
+    a, b = v.values, csv[col].values
+    assert np.array_equal(a, b, equal_nan=True), (col, a, b)
+assert ds['zenith_luminance_cd_m2'].attrs['units'] == 'cd m-2'
+tr = xr.open_dataset(d + '/track.nc')
+t = pd.read_csv(d + '/track.csv', comment='#', float_precision='round_trip')
+assert tr.sizes['time'] == len(t) == 25
+want = pd.to_datetime(t['time_utc']).dt.tz_localize(None).values
+err_ms = np.abs((tr['time'].values - want) / np.timedelta64(1, 'ms'))
+assert err_ms.max() < 1, err_ms.max()
+assert np.array_equal(tr['zenith_deg'].values, t['zenith_deg'].values)
+assert tr['zenith_deg'].attrs['standard_name'] == 'solar_zenith_angle'
+print('xarray: sweep and sun track match their CSV')
 )";
   EXPECT_EQ(run_python(dir, script), 0);
   fs::remove_all(dir);

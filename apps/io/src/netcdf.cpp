@@ -4,6 +4,7 @@
 
 #include <cctype>
 #include <cstdint>
+#include <cstdlib>
 #include <set>
 #include <stdexcept>
 
@@ -310,6 +311,55 @@ void write_table_netcdf(const std::filesystem::path& file, const CsvTable& table
       f.check(nc_put_var_double(f.id(), scalar_vars[k++], &s.value), "put_var scalar");
     f.close();
   });
+}
+
+CsvTable table_from_csv(const CsvData& csv, Provenance& provenance) {
+  for (const auto& [k, v] : csv.provenance) provenance.add(k, v);
+  const std::size_t nc = csv.columns.size();
+  enum class Kind { Int, Double, String };
+  std::vector<Kind> kinds(nc, Kind::Int);
+  auto is_int = [](const std::string& s) {
+    if (s.empty() || s.size() > 18) return false;
+    std::size_t i = (s[0] == '-' || s[0] == '+') ? 1 : 0;
+    if (i == s.size()) return false;
+    for (; i < s.size(); ++i)
+      if (!std::isdigit(static_cast<unsigned char>(s[i]))) return false;
+    return true;
+  };
+  auto parse = [](const std::string& s, double& v) {
+    if (s.empty()) return false;
+    char* end = nullptr;
+    v = std::strtod(s.c_str(), &end);
+    return end == s.c_str() + s.size();
+  };
+  for (std::size_t c = 0; c < nc; ++c)
+    for (const auto& r : csv.rows) {
+      double v = 0;
+      if (kinds[c] == Kind::Int && !is_int(r[c])) kinds[c] = Kind::Double;
+      if (kinds[c] == Kind::Double && !parse(r[c], v)) {
+        kinds[c] = Kind::String;
+        break;
+      }
+    }
+  CsvTable t(csv.columns);
+  for (const auto& r : csv.rows) {
+    std::vector<CsvCell> row(nc);
+    for (std::size_t c = 0; c < nc; ++c) {
+      double v = 0;
+      if (kinds[c] == Kind::Int) row[c] = static_cast<std::int64_t>(std::stoll(r[c]));
+      else if (kinds[c] == Kind::Double && parse(r[c], v)) row[c] = v;
+      else row[c] = r[c];
+    }
+    t.add_row(std::move(row));
+  }
+  return t;
+}
+
+void write_csv_as_netcdf(const std::filesystem::path& csv_file, const std::filesystem::path& netcdf_file,
+                         const NetcdfTableOptions& options) {
+  Provenance p;
+  const CsvTable t = table_from_csv(read_csv(csv_file), p);
+  write_table_netcdf(netcdf_file, t, p, options);
 }
 
 }  // namespace atmosh::io

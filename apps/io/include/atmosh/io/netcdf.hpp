@@ -97,4 +97,13 @@ std::string netcdf_variable_name(const std::string& column);
 void write_table_netcdf(const std::filesystem::path& file, const CsvTable& table, const Provenance& provenance,
                         const NetcdfTableOptions& options = {});
 
+// A CSV the toolkit wrote (CsvTable: provenance lines, header, rows), converted: its
+// provenance lines become the global attributes, a column whose every cell is an
+// integer literal becomes int64, one whose every cell is a number (nan, inf included)
+// double, any other string. This is what `--format netcdf` of a table output calls
+// after (or instead of keeping) the CSV. Throws InputError as read_csv does.
+CsvTable table_from_csv(const CsvData& csv, Provenance& provenance);
+void write_csv_as_netcdf(const std::filesystem::path& csv_file, const std::filesystem::path& netcdf_file,
+                         const NetcdfTableOptions& options = {});
+
 }  // namespace atmosh::io
