@@ -5,17 +5,20 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "atmosh/error.hpp"
 #include "atmosh/io/csv.hpp"
+#include "atmosh/io/exr.hpp"
 #include "atmosh/io/netcdf.hpp"
 
 namespace fs = std::filesystem;
@@ -399,5 +402,45 @@ assert tr['zenith_deg'].attrs['standard_name'] == 'solar_zenith_angle'
 print('xarray: sweep and sun track match their CSV')
 )";
   EXPECT_EQ(run_python(dir, script), 0);
+  fs::remove_all(dir);
+}
+
+// `atmosh sky --spectral` of a real run: the netCDF converted from its EXR holds the
+// EXR's values on the netCDF axes (cube value at (wavelength i, row y, column x) =
+// channel L_<i>nm at pixel (x, y)); a fisheye EXR is refused.
+TEST(Netcdf, CliSkyExrConvertsValueForValue) {
+  const fs::path dir = fresh_dir("clisky");
+  const std::string bin = ATMOSH_BIN;
+  const std::string common = " --size 12x6 --spectral --scattering single --threads 1 ";
+  ASSERT_EQ(std::system((bin + " sky" + common + "-o " + (dir / "sky.exr").string() + " > /dev/null 2>&1").c_str()), 0);
+  ASSERT_EQ(std::system((bin + " sky" + common + "--projection fisheye -o " + (dir / "fish.exr").string() +
+                         " > /dev/null 2>&1")
+                            .c_str()),
+            0);
+  write_exr_sky_as_netcdf(dir / "sky.exr", dir / "sky.nc");
+  EXPECT_THROW(write_exr_sky_as_netcdf(dir / "fish.exr", dir / "fish.nc"), atmosh::InputError);
+  const ExrImage e = read_exr(dir / "sky.exr");
+  Reader r(dir / "sky.nc");
+  const std::size_t nw = r.dim("wavelength");
+  ASSERT_GE(nw, 2u);
+  EXPECT_EQ(r.dim("elevation"), 6u);
+  EXPECT_EQ(r.dim("azimuth"), 12u);
+  const auto wl = r.doubles("wavelength", nw);
+  std::vector<float> cube(nw * 6 * 12);
+  ASSERT_EQ(nc_get_var_float(r.id, r.var("spectral_radiance"), cube.data()), NC_NOERR);
+  for (std::size_t i = 0; i < nw; ++i) {
+    if (i > 0) EXPECT_GT(wl[i], wl[i - 1]);
+    std::ostringstream name;
+    name << "L_" << wl[i] << "nm";
+    const auto& ch = e.channel(name.str());
+    for (std::size_t p = 0; p < 72; ++p) ASSERT_EQ(cube[i * 72 + p], ch[p]) << name.str() << " pixel " << p;
+  }
+  std::vector<float> y(72);
+  ASSERT_EQ(nc_get_var_float(r.id, r.var("Y"), y.data()), NC_NOERR);
+  EXPECT_EQ(y, e.channel("Y"));
+  EXPECT_GT(*std::max_element(y.begin(), y.begin() + 36), 0.0f);  // the upper half is lit
+  EXPECT_NEAR(r.doubles("solar_zenith_angle", 1)[0], 90.0 - e.float_attributes.at("sun_elevation_deg"), 1e-9);
+  EXPECT_EQ(r.text(NC_GLOBAL, "atmosh_git_commit"), e.string_attributes.at("atmosh:git_commit"));
+  EXPECT_NE(r.text(NC_GLOBAL, "history").find(" sky "), std::string::npos);
   fs::remove_all(dir);
 }

@@ -2,6 +2,7 @@
 
 #include <netcdf.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cstdlib>
@@ -10,6 +11,7 @@
 
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
+#include "atmosh/io/exr.hpp"
 
 namespace atmosh::io {
 namespace {
@@ -311,6 +313,52 @@ void write_table_netcdf(const std::filesystem::path& file, const CsvTable& table
       f.check(nc_put_var_double(f.id(), scalar_vars[k++], &s.value), "put_var scalar");
     f.close();
   });
+}
+
+void write_exr_sky_as_netcdf(const std::filesystem::path& exr_file, const std::filesystem::path& netcdf_file) {
+  const ExrImage e = read_exr(exr_file);
+  const auto proj = e.string_attributes.find("projection");
+  if (proj != e.string_attributes.end() && proj->second.rfind("equirect", 0) != 0)
+    throw InputError(exr_file.string() + ": projection '" + proj->second.substr(0, proj->second.find(':')) +
+                     "' is not equirect; netCDF sky files hold equirect images");
+  for (const char* c : {"X", "Y", "Z"})
+    if (e.find_channel(c) < 0) throw InputError(exr_file.string() + ": no channel " + c);
+  std::vector<std::pair<double, std::size_t>> spectral_channels;
+  for (std::size_t c = 0; c < e.channels.size(); ++c) {
+    const std::string& n = e.channels[c];
+    if (n.size() > 4 && n.rfind("L_", 0) == 0 && ends_with(n, "nm")) {
+      const std::string num = n.substr(2, n.size() - 4);
+      char* end = nullptr;
+      const double w = std::strtod(num.c_str(), &end);
+      if (end == num.c_str() + num.size()) spectral_channels.emplace_back(w, c);
+    }
+  }
+  std::sort(spectral_channels.begin(), spectral_channels.end());
+  const std::size_t n = static_cast<std::size_t>(e.width) * static_cast<std::size_t>(e.height);
+  const std::size_t nw = spectral_channels.size();
+  std::vector<double> wl(nw);
+  std::vector<float> spectral(n * nw);
+  for (std::size_t i = 0; i < nw; ++i) {
+    wl[i] = spectral_channels[i].first;
+    const auto& plane = e.data[spectral_channels[i].second];
+    for (std::size_t p = 0; p < n; ++p) spectral[p * nw + i] = plane[p];
+  }
+  NetcdfSkyImage sky;
+  sky.width = e.width;
+  sky.height = e.height;
+  sky.wavelengths_nm = wl;
+  sky.spectral = spectral;
+  sky.X = e.channel("X");
+  sky.Y = e.channel("Y");
+  sky.Z = e.channel("Z");
+  if (auto it = e.float_attributes.find("sun_elevation_deg"); it != e.float_attributes.end())
+    sky.sun_zenith_deg = 90.0 - static_cast<double>(it->second);
+  if (auto it = e.float_attributes.find("sun_azimuth_deg"); it != e.float_attributes.end())
+    sky.sun_azimuth_deg = static_cast<double>(it->second);
+  Provenance p;
+  for (const auto& [k, v] : e.string_attributes)
+    if (k.rfind("atmosh:", 0) == 0) p.add(k.substr(7), v);
+  write_sky_netcdf(netcdf_file, sky, p);
 }
 
 CsvTable table_from_csv(const CsvData& csv, Provenance& provenance) {

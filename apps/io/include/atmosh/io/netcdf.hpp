@@ -97,6 +97,14 @@ std::string netcdf_variable_name(const std::string& column);
 void write_table_netcdf(const std::filesystem::path& file, const CsvTable& table, const Provenance& provenance,
                         const NetcdfTableOptions& options = {});
 
+// An equirect sky EXR of `atmosh sky` (R,G,B,X,Y,Z and, with --spectral, L_<nm>nm
+// channels; atmosh/io/exr.hpp) converted: X, Y, Z, the spectral cube (wavelengths from
+// the channel names, which round them to 0.1 nm, in increasing order), the sun from the
+// sun_elevation_deg / sun_azimuth_deg attributes (float32) and the provenance from the
+// "atmosh:<key>" attributes. Throws InputError for a fisheye image (its pixels lie on
+// no elevation x azimuth grid) or one without X, Y, Z.
+void write_exr_sky_as_netcdf(const std::filesystem::path& exr_file, const std::filesystem::path& netcdf_file);
+
 // A CSV the toolkit wrote (CsvTable: provenance lines, header, rows), converted: its
 // provenance lines become the global attributes, a column whose every cell is an
 // integer literal becomes int64, one whose every cell is a number (nan, inf included)
