@@ -21,7 +21,12 @@ chmod 700 "$t"
 pids=()
 cleanup() {
   set +e
-  # Daemons started here, each by its own process id.
+  # Jobs still queued or running on this test's cluster (a failed run), then the
+  # daemons started here, each by its own process id.
+  if [ ${#pids[@]} -ge 2 ] && [ -n "$(timeout 5 squeue -h -o %i 2>/dev/null)" ]; then
+    timeout 5 scancel --full -u "$(id -un)" 2>/dev/null
+    for _ in $(seq 50); do [ -z "$(timeout 5 squeue -h -o %i 2>/dev/null)" ] && break; sleep 0.1; done
+  fi
   for ((i = ${#pids[@]} - 1; i >= 0; i--)); do kill "${pids[$i]}" 2>/dev/null; done
   for p in "${pids[@]}"; do
     for _ in $(seq 50); do kill -0 "$p" 2>/dev/null || break; sleep 0.1; done
