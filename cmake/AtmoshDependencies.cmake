@@ -38,6 +38,15 @@ if(NOT ATMOSH_DEPENDENCIES_LIBS_ONLY)
         INTERFACE_INCLUDE_DIRECTORIES "${ATMOSH_OPENCV_INCLUDE_DIR}")
     endif()
   endforeach()
+  # netCDF-4 output (apps/io): the C library, located directly (Debian's netCDFConfig.cmake
+  # names the static libraries and development files of every library netCDF uses).
+  find_path(ATMOSH_NETCDF_INCLUDE_DIR netcdf.h REQUIRED)
+  find_library(ATMOSH_NETCDF_LIBRARY netcdf REQUIRED)
+  if(NOT TARGET atmosh_netcdf::netcdf)
+    add_library(atmosh_netcdf::netcdf UNKNOWN IMPORTED)
+    set_target_properties(atmosh_netcdf::netcdf PROPERTIES
+      IMPORTED_LOCATION "${ATMOSH_NETCDF_LIBRARY}" INTERFACE_INCLUDE_DIRECTORIES "${ATMOSH_NETCDF_INCLUDE_DIR}")
+  endif()
   if(ATMOSH_WITH_GPU)
     find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)
   endif()

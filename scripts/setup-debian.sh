@@ -18,6 +18,8 @@ PKGS=(
   # the figure notebooks (notebooks_export/), executed headless by the test suite and the main job
   jupyter-nbconvert python3-nbconvert python3-ipykernel python3-nbformat python3-nbclient
   python3-matplotlib python3-openimageio
+  slurm-wlm munge  # the slurm_sweep test starts a one-node cluster (docs/sweeps.md)
+  libnetcdf-dev libnetcdf-c++4-dev python3-xarray python3-netcdf4
 )
 missing=()
 for p in "${PKGS[@]}"; do
