@@ -61,7 +61,7 @@ AtmosphereSpec preset_on_bins(const char* name, double from_nm, double to_nm, in
   return s;
 }
 
-glm::dvec3 dir(double elevation_deg, double azimuth_deg) { return sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
+glm::dvec3 dir(double elevation_deg, double azimuth_deg) { return enu_direction_from_zenith(90.0 - elevation_deg, azimuth_deg); }
 
 double rel(double a, double b) { return std::fabs(a - b) / std::fabs(b); }
 
