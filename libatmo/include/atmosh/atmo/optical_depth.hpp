@@ -77,7 +77,7 @@ struct ReferenceOptions {
 // profile's local length scale rho / |d rho/dh| (~1e-13 for the 10-25-40 km
 // ozone tent); for a ray whose tangent point lies delta above a node or the
 // ground the problem itself has condition number ~R / delta.
-// Cost: ~10 ns plus ~15 ns per piece of nonzero density (no allocation).
+// No allocation (its cost per lookup: docs/atmosphere.md).
 // The ray runs from radius r (r > 0, |mu| <= 1) over s in [0, length]; it is the
 // caller's job to stop it at the ground.
 class PiecewiseLinearColumn {
@@ -298,8 +298,7 @@ class OpticalDepthLut {
   // directions for the three presets and the default scene's atmosphere, 0.89-1.00 at
   // the default 40 x 64; on independent rays 0.92-1.19 (test
   // CliConvergeLut.ErrorEstimateTracksTheMeasuredError): it can be ~10 % below the
-  // true maximum. Cost at 40 x 64 on two threads: 13-16 ms (smooth atmospheres), 34 ms
-  // (earth-physical: its closed-form entries, 32 probed nodes x 14 rays). InputError
+  // true maximum. Its cost (a fraction of the build's): docs/atmosphere.md. InputError
   // for a negative or non-finite wavelength.
   double estimate_max_rel_error(double wavelength_nm = 0.0) const;
 
