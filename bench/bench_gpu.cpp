@@ -89,7 +89,7 @@ static void BM_SkyCpu(benchmark::State& st) {
   Scene& s = scene();
   const int w = static_cast<int>(st.range(0)), h = w / 2;
   for (auto _ : st) {
-    auto img = render_sky(s.sky, SkyProjection::Equirect, w, h, 0.0, sun_direction_enu(70.0, 180.0), false, 0);
+    auto img = render_sky(s.sky, SkyProjection::Equirect, w, h, 0.0, enu_direction_from_zenith(70.0, 180.0), false, 0);
     benchmark::DoNotOptimize(img.Y.data());
   }
   st.SetItemsProcessed(st.iterations() * w * h);
@@ -119,7 +119,7 @@ static void BM_SkyGpu(benchmark::State& st) {
   const int w = static_cast<int>(st.range(0)), h = w / 2;
   for (auto _ : st) {
     auto img = atmosh::gpu::render_sky(*ctx, s.sky, SkyProjection::Equirect, w, h, 0.0,
-                                       sun_direction_enu(70.0, 180.0), false);
+                                       enu_direction_from_zenith(70.0, 180.0), false);
     benchmark::DoNotOptimize(img.Y.data());
   }
   st.SetItemsProcessed(st.iterations() * w * h);

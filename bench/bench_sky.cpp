@@ -26,11 +26,11 @@ static void BM_SkyRay(benchmark::State& st) {
   const AtmosphereSpec spec = spec_with(static_cast<int>(st.range(0)));
   const Atmosphere atm(spec);
   const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
-  const glm::dvec3 sun = sun_direction_enu(70.0, 180.0);
+  const glm::dvec3 sun = enu_direction_from_zenith(70.0, 180.0);
   std::vector<double> L(atm.wavelengths_nm().size());
   int i = 0;
   for (auto _ : st) {
-    const glm::dvec3 v = sun_direction_enu((i % 89) + 0.5, (i * 37) % 360);
+    const glm::dvec3 v = enu_direction_from_zenith((i % 89) + 0.5, (i * 37) % 360);
     sky.radiance(0.0, v, sun, L.data());
     benchmark::DoNotOptimize(L.data());
     ++i;
@@ -47,10 +47,10 @@ static void BM_SkyRow(benchmark::State& st) {
   const AtmosphereSpec spec = spec_with(40);
   const Atmosphere atm(spec);
   const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
-  const glm::dvec3 sun = sun_direction_enu(70.0, 180.0);
+  const glm::dvec3 sun = enu_direction_from_zenith(70.0, 180.0);
   const int n = 1024;
   std::vector<glm::dvec3> views;
-  for (int x = 0; x < n; ++x) views.push_back(sun_direction_enu(90.0 - static_cast<double>(st.range(0)), (x + 0.5) * 360.0 / n));
+  for (int x = 0; x < n; ++x) views.push_back(enu_direction_from_zenith(90.0 - static_cast<double>(st.range(0)), (x + 0.5) * 360.0 / n));
   std::vector<double> L(views.size() * atm.wavelengths_nm().size());
   for (auto _ : st) {
     sky.radiance_same_zenith(0.0, views.data(), views.size(), sun, L.data());
@@ -78,7 +78,7 @@ static void BM_SkyImage(benchmark::State& st) {
   const Atmosphere atm(spec);
   const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
   for (auto _ : st) {
-    auto img = render_sky(sky, SkyProjection::Equirect, 256, 128, 0.0, sun_direction_enu(70.0, 180.0), false,
+    auto img = render_sky(sky, SkyProjection::Equirect, 256, 128, 0.0, enu_direction_from_zenith(70.0, 180.0), false,
                           static_cast<int>(st.range(0)));
     benchmark::DoNotOptimize(img.R.data());
   }
@@ -91,7 +91,7 @@ static void BM_SkyReferenceRay(benchmark::State& st) {
   const Atmosphere atm(spec);
   const SkyReference ref(atm, solar_spectrum_for_bins(spec.spectrum));
   for (auto _ : st) {
-    auto r = ref.radiance(0.0, sun_direction_enu(80.0, 30.0), sun_direction_enu(70.0, 180.0));
+    auto r = ref.radiance(0.0, enu_direction_from_zenith(80.0, 30.0), enu_direction_from_zenith(70.0, 180.0));
     benchmark::DoNotOptimize(r.radiance.data());
   }
 }
@@ -158,11 +158,11 @@ static void BM_SkyRayMethod(benchmark::State& st) {
                              : st.range(0) == 1 ? ScatteringMethod::Approximate
                                                 : ScatteringMethod::Orders;
   const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum), method(m));
-  const glm::dvec3 sun = sun_direction_enu(70.0, 180.0);
+  const glm::dvec3 sun = enu_direction_from_zenith(70.0, 180.0);
   std::vector<double> L(atm.wavelengths_nm().size());
   int i = 0;
   for (auto _ : st) {
-    const glm::dvec3 v = sun_direction_enu((i % 89) + 0.5, (i * 37) % 360);
+    const glm::dvec3 v = enu_direction_from_zenith((i % 89) + 0.5, (i * 37) % 360);
     sky.radiance(0.0, v, sun, L.data());
     benchmark::DoNotOptimize(L.data());
     ++i;

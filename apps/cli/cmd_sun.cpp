@@ -100,7 +100,7 @@ void run_sun(const SunOptions& o) {
   q.jd_utc = t.jd_utc;
   q.day_offset_minutes = t.offset_minutes;
   const SunPosition s = sun_position(q);
-  const glm::dvec3 d = sun_direction_enu(s.zenith_deg, s.azimuth_deg);
+  const glm::dvec3 d = enu_direction_from_zenith(s.zenith_deg, s.azimuth_deg);
   if (o.json) {
     nlohmann::json j;
     j["zenith_deg"] = s.zenith_deg;

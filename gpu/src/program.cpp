@@ -1,4 +1,5 @@
 #include "atmosh/gpu/program.hpp"
+#include "embedded_sources.hpp"
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "atmosh/atmo/integrate.hpp"
+#include "integrate.hpp"
 #include "atmosh/error.hpp"
 
 namespace atmosh::atmo {

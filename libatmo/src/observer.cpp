@@ -23,8 +23,9 @@ void validate_observer(const Observer& o) {
     throw InputError("latitude " + num(o.latitude_deg) + " deg is outside -90..90");
   if (!std::isfinite(o.longitude_deg) || o.longitude_deg < -180.0 || o.longitude_deg > 180.0)
     throw InputError("longitude " + num(o.longitude_deg) + " deg is outside -180..180");
-  if (!std::isfinite(o.height_m) || o.height_m < -12000.0 || o.height_m > 1.0e8)
-    throw InputError("height " + num(o.height_m) + " m is outside -12000..1e8");
+  if (!std::isfinite(o.height_m) || o.height_m < kObserverMinHeightM || o.height_m > kObserverMaxHeightM)
+    throw InputError("height " + num(o.height_m) + " m is outside " + num(kObserverMinHeightM) + ".." +
+                     num(kObserverMaxHeightM));
 }
 
 glm::dvec3 observer_ecef_m(const Observer& o) {
@@ -58,7 +59,14 @@ void enu_axes_ecef(const Observer& o, glm::dvec3& east, glm::dvec3& north, glm::
   up = {M[2], M[5], M[8]};
 }
 
-glm::dvec3 sun_direction_enu(double zenith_deg, double azimuth_deg) {
+glm::dvec3 enu_direction(double elevation_deg, double azimuth_deg) {
+  if (!std::isfinite(elevation_deg) || !std::isfinite(azimuth_deg)) throw InputError("direction angles must be finite");
+  constexpr double kPi = 3.14159265358979323846;
+  const double e = elevation_deg * kPi / 180.0, a = azimuth_deg * kPi / 180.0;  // not kDeg: the same bits as before
+  return {std::cos(e) * std::sin(a), std::cos(e) * std::cos(a), std::sin(e)};
+}
+
+glm::dvec3 enu_direction_from_zenith(double zenith_deg, double azimuth_deg) {
   const double z = zenith_deg * kDeg, a = azimuth_deg * kDeg;
   return {std::sin(z) * std::sin(a), std::sin(z) * std::cos(a), std::cos(z)};
 }

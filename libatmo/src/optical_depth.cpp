@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "atmosh/atmo/fast_exp.hpp"
-#include "atmosh/atmo/integrate.hpp"
+#include "fast_exp.hpp"
+#include "integrate.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/dispatch.hpp"

@@ -829,12 +829,6 @@ RtSkyResult MonteCarloSky::radiance(double altitude_m, const glm::dvec3& view_in
   return out;
 }
 
-glm::dvec3 enu_direction(double elevation_deg, double azimuth_deg) {
-  if (!std::isfinite(elevation_deg) || !std::isfinite(azimuth_deg)) throw InputError("direction angles must be finite");
-  const double e = elevation_deg * kPi / 180.0, a = azimuth_deg * kPi / 180.0;
-  return {std::cos(e) * std::sin(a), std::cos(e) * std::cos(a), std::sin(e)};
-}
-
 RtConvergence rt_time_to_rel_stderr(const MonteCarloSky& sky, double sun_elevation_deg, double target_rel_stderr,
                                     double max_seconds, std::int64_t first_paths, const RtOptions& run) {
   if (!(target_rel_stderr > 0)) throw InputError("target relative standard error must be > 0");

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "atmosh/atmo/atmosphere.hpp"
-#include "atmosh/atmo/fast_exp.hpp"
+#include "fast_exp.hpp"
 #include "atmosh/atmo/optical_depth.hpp"
 #include "atmosh/atmo/phase.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"

@@ -7,8 +7,9 @@
 #include <string>
 #include <unordered_map>
 
-#include "atmosh/atmo/integrate.hpp"
-#include "atmosh/atmo/fast_exp.hpp"
+#include "integrate.hpp"
+#include "fast_exp.hpp"
+#include "sky_impl.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/atmo/shared/scatter.glsl.hpp"
@@ -199,7 +200,8 @@ std::vector<double> sky_part_column_weights(int n) {
 }
 
 SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, SkyOptions options)
-    : atm_(atmosphere), solar_(std::move(solar)), opt_(options) {
+    : own_atm_(std::make_shared<const Atmosphere>(atmosphere)), atm_(*own_atm_), solar_(std::move(solar)),
+      opt_(options) {
   check_solar(atm_, solar_);
   if (opt_.samples_per_segment < 1 || opt_.samples_per_segment > 8)
     throw InputError("samples per segment " + std::to_string(opt_.samples_per_segment) + " is outside [1, 8]");
@@ -253,7 +255,7 @@ SkyIntegrator::SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, 
     orders_ = std::make_unique<ScatteringOrders>(atm_, opt_.scattering);
 }
 
-template <class Visit>
+template <class Ray, class Visit>  // Ray = detail::SkyRay (the header names no private type)
 glm::dvec3 SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, Visit&& visit) const {
   // The walk along the ray: shared/view_ray.glsl.hpp (the GPU's sky.comp runs it too).
   return sg::sky_trace(
@@ -265,7 +267,7 @@ glm::dvec3 SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, Visi
       });
 }
 
-template <class ForEachNode, class SunColumn>
+template <class Ray, class ForEachNode, class SunColumn>  // Ray = detail::SkyRay
 void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn&& sun, double* out) const {
   const std::size_t nw = solar_.size();
   const double p_ray = atm_.has(kRayleigh) ? phase_[0].value(ray.nu) : 0.0;
@@ -358,8 +360,8 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
   }
 }
 
-void SkyIntegrator::add_ms_node(std::size_t nw, const detail::SkyViewNode& nd, double mu_s, double* psi,
-                                double* acc) const {
+template <class ViewNode>  // detail::SkyViewNode
+void SkyIntegrator::add_ms_node(std::size_t nw, const ViewNode& nd, double mu_s, double* psi, double* acc) const {
   ms_lut_->psi(nd.r, mu_s, psi);
   const double* er = ext_.data();
   const double* em = er + nw;
@@ -489,7 +491,8 @@ std::vector<double> SkyIntegrator::sun_transmittance(double altitude_m, const gl
 // ---------------------------------------------------------------- reference
 
 SkyReference::SkyReference(const Atmosphere& atmosphere, SolarSpectrum solar, SkyReferenceOptions options)
-    : atm_(atmosphere), solar_(std::move(solar)), opt_(options), od_(atmosphere), phase_(make_phases(atmosphere)) {
+    : own_atm_(std::make_shared<const Atmosphere>(atmosphere)), atm_(*own_atm_), solar_(std::move(solar)),
+      opt_(options), od_(atm_), phase_(make_phases(atm_)) {
   check_solar(atm_, solar_);
   if (!(opt_.rel_tol > 0) || opt_.rel_tol >= 1) throw InputError("reference tolerance must be in (0, 1)");
 }

@@ -31,7 +31,7 @@ bool sky_pixel_direction(SkyProjection p, int w, int h, int x, int y, glm::dvec3
   if (p == SkyProjection::Equirect) {
     const double az = (x + 0.5) / w * 360.0;
     const double el = 90.0 - (y + 0.5) / h * 180.0;
-    dir = sun_direction_enu(90.0 - el, az);
+    dir = enu_direction_from_zenith(90.0 - el, az);
     return true;
   }
   // Fisheye: u to the right, v up, in [-1, 1] over the inscribed disc.
@@ -42,7 +42,7 @@ bool sky_pixel_direction(SkyProjection p, int w, int h, int x, int y, glm::dvec3
   const double zenith = rr * 90.0;
   // North up, east to the left (looking up from below).
   const double az = std::atan2(-u, v) * 180.0 / kPi;
-  dir = sun_direction_enu(zenith, az < 0 ? az + 360.0 : az);
+  dir = enu_direction_from_zenith(zenith, az < 0 ? az + 360.0 : az);
   return true;
 }
 
@@ -159,8 +159,8 @@ SkySummary summarize_sky(const SkyIntegrator& sky, double altitude_m, const glm:
   const double sun_az = std::atan2(sun.x, sun.y) * 180.0 / kPi;
   s.zenith = sky_colour(sky, cmf, altitude_m, glm::dvec3(0, 0, 1), sun);
   s.horizon_toward_sun =
-      sky_colour(sky, cmf, altitude_m, sun_direction_enu(90.0 - horizon_elevation_deg, sun_az), sun);
-  s.horizon_away = sky_colour(sky, cmf, altitude_m, sun_direction_enu(90.0 - horizon_elevation_deg, sun_az + 180.0), sun);
+      sky_colour(sky, cmf, altitude_m, enu_direction_from_zenith(90.0 - horizon_elevation_deg, sun_az), sun);
+  s.horizon_away = sky_colour(sky, cmf, altitude_m, enu_direction_from_zenith(90.0 - horizon_elevation_deg, sun_az + 180.0), sun);
   // The direct beam of the sky's sun model: averaged over the disc, or the centre's.
   const auto t = direct_sun_transmittance(sky, altitude_m, sun);
   std::vector<double> e(t.size());

@@ -4,7 +4,7 @@
 #include <functional>
 
 #include "atmosh/atmo/chapman.hpp"
-#include "atmosh/atmo/integrate.hpp"
+#include "integrate.hpp"
 #include "atmosh/atmo/optical_depth.hpp"
 #include "atmosh/atmo/phase.hpp"
 #include "atmosh/atmo/ozone.hpp"

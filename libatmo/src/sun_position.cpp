@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/sun_fast.hpp"
 #include "atmosh/atmo/sun_refraction.hpp"
 #include "atmosh/atmo/sun_spa.hpp"
@@ -33,12 +34,7 @@ void validate(const SunQuery& q) {
   finite(q.pressure_hpa, "pressure");
   finite(q.temperature_c, "temperature");
   finite(q.delta_ut1_s, "UT1-UTC");
-  if (q.latitude_deg < -90.0 || q.latitude_deg > 90.0)
-    throw InputError("latitude " + num(q.latitude_deg) + " deg is outside -90..90");
-  if (q.longitude_deg < -180.0 || q.longitude_deg > 180.0)
-    throw InputError("longitude " + num(q.longitude_deg) + " deg is outside -180..180");
-  if (q.height_m < -12000.0 || q.height_m > 1.0e8)
-    throw InputError("height " + num(q.height_m) + " m is outside -12000..1e8");
+  validate_observer(Observer{q.latitude_deg, q.longitude_deg, q.height_m});  // the one rule for a place
   if (q.pressure_hpa < 0.0 || q.pressure_hpa > 5000.0)
     throw InputError("pressure " + num(q.pressure_hpa) + " hPa is outside 0..5000");
   if (q.temperature_c <= -273.0 || q.temperature_c > 6000.0)

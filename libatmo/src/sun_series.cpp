@@ -46,7 +46,7 @@ std::vector<SunSample> sun_series(const SunQuery& base, double jd_from, double j
       s.jd_utc = jd_to;  // the endpoint exactly, not 40 microseconds off
     q.jd_utc = s.jd_utc;
     s.position = sun_position(q);
-    const glm::dvec3 d = sun_direction_enu(s.position.zenith_deg, s.position.azimuth_deg);
+    const glm::dvec3 d = enu_direction_from_zenith(s.position.zenith_deg, s.position.azimuth_deg);
     s.east = d.x;
     s.north = d.y;
     s.up = d.z;
@@ -57,7 +57,7 @@ std::vector<SunSample> sun_series(const SunQuery& base, double jd_from, double j
 
 namespace {
 double separation_deg(double z1, double a1, double z2, double a2) {
-  const glm::dvec3 u = sun_direction_enu(z1, a1), v = sun_direction_enu(z2, a2);
+  const glm::dvec3 u = enu_direction_from_zenith(z1, a1), v = enu_direction_from_zenith(z2, a2);
   const glm::dvec3 c{u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x};
   const double s = std::sqrt(c.x * c.x + c.y * c.y + c.z * c.z);
   const double d = u.x * v.x + u.y * v.y + u.z * v.z;

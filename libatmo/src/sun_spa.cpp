@@ -9,6 +9,7 @@
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
+#include "sun_spa_impl.hpp"
 #include "sun_spa_tables.hpp"
 
 // The loops over the periodic terms are built twice, for the x86-64 baseline

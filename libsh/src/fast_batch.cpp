@@ -138,14 +138,22 @@ void batch_on_this_cpu(int bands, std::size_t n, const T* xs, const T* ys, const
 
 }  // namespace
 
-void fast_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
-                std::size_t stride) {
-  batch_on_this_cpu(bands, n, xs, ys, zs, out, stride);
-}
-
-void fast_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out,
-                std::size_t stride) {
-  batch_on_this_cpu(bands, n, xs, ys, zs, out, stride);
-}
-
 }  // namespace atmosh::sh::detail
+
+namespace atmosh::sh {
+
+bool evaluate_fast_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
+                         std::size_t stride) {
+  if (bands < 1 || bands > kFastMaxBands) return false;
+  detail::batch_on_this_cpu(bands, n, xs, ys, zs, out, stride);
+  return true;
+}
+
+bool evaluate_fast_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs,
+                         double* out, std::size_t stride) {
+  if (bands < 1 || bands > kFastMaxBands) return false;
+  detail::batch_on_this_cpu(bands, n, xs, ys, zs, out, stride);
+  return true;
+}
+
+}  // namespace atmosh::sh

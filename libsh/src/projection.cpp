@@ -13,6 +13,7 @@
 #include "atmosh/sh/fast.hpp"
 #include "atmosh/sh/quadrature.hpp"
 #include "atmosh/sh/transform.hpp"
+#include "transform_impl.hpp"
 
 namespace atmosh::sh {
 

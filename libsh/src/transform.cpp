@@ -23,6 +23,7 @@
 #include "atmosh/sh/basis.hpp"
 #include "atmosh/sh/quadrature.hpp"
 #include "legendre_impl.hpp"
+#include "transform_impl.hpp"
 
 namespace atmosh::sh {
 

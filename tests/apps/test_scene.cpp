@@ -86,6 +86,20 @@ TEST(Scene, PlanWithoutSkyOutputsSkipsTables) {
   EXPECT_NE(find(pss, "sh-projection").reason.find("25 coefficients"), std::string::npos);
 }
 
+// [observer] is an atmo::Observer plus a time, validated with its range (observer.hpp):
+// the Dead Sea shore (about -430 m) is accepted, below -500 m is refused naming the key.
+TEST(Scene, ObserverIsTheLibrarysObserver) {
+  const Scene s = parse_scene("version = 1\n[observer]\nlatitude_deg = 31.5\nlongitude_deg = 35.5\nheight_m = -430\n"
+                              "time_utc = \"2026-01-01T00:00:00Z\"\n",
+                              "t.toml");
+  ASSERT_TRUE(s.observer);
+  const atmosh::atmo::Observer& place = *s.observer;
+  EXPECT_NO_THROW(atmosh::atmo::validate_observer(place));
+  EXPECT_EQ(place.height_m, -430.0);
+  expect_bad("version = 1\n[observer]\nheight_m = -501\ntime_utc = \"2026-01-01T00:00:00Z\"", "observer.height_m");
+  expect_bad("version = 1\n[observer]\nheight_m = 2e8\ntime_utc = \"2026-01-01T00:00:00Z\"", "observer.height_m");
+}
+
 TEST(Scene, ValidationNamesTheKey) {
   expect_bad("", "version");
   expect_bad("version = 2", "version");

@@ -19,7 +19,7 @@ using namespace atmosh::atmo;
 
 namespace {
 
-glm::dvec3 dir(double elevation_deg, double azimuth_deg) { return sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
+glm::dvec3 dir(double elevation_deg, double azimuth_deg) { return enu_direction_from_zenith(90.0 - elevation_deg, azimuth_deg); }
 
 // An optically thin atmosphere of one constituent: Rayleigh (coefficients, its own
 // phase) or an isotropic aerosol (HG g = 0, single-scattering albedo 1).

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "atmosh/atmo/observer.hpp"
@@ -13,6 +14,7 @@
 #include "atmosh/atmo/sky.hpp"
 #include "atmosh/atmo/sky_image.hpp"
 #include "atmosh/error.hpp"
+#include "sky_impl.hpp"  // private (libatmo/src): the spectral loop
 
 using namespace atmosh::atmo;
 
@@ -61,11 +63,37 @@ AtmosphereSpec preset_on_bins(const char* name, double from_nm, double to_nm, in
   return s;
 }
 
-glm::dvec3 dir(double elevation_deg, double azimuth_deg) { return sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
+glm::dvec3 dir(double elevation_deg, double azimuth_deg) { return enu_direction_from_zenith(90.0 - elevation_deg, azimuth_deg); }
 
 double rel(double a, double b) { return std::fabs(a - b) / std::fabs(b); }
 
 }  // namespace
+
+// SkyIntegrator and SkyReference keep their own copy of the atmosphere (sky.hpp): built
+// from an Atmosphere destroyed right after construction, and then moved, they give the
+// same bits as ones built from a live atmosphere (a dangling reference would read freed
+// memory: reported under ASan, garbage otherwise).
+TEST(Sky, KeepsItsOwnAtmosphere) {
+  const AtmosphereSpec spec = simple_spec(true);
+  const Atmosphere live(spec);
+  const SolarSpectrum sun(4, 1.5);
+  const SkyReferenceOptions ro{.rel_tol = 1e-4};
+  auto gone = std::make_unique<Atmosphere>(spec);
+  SkyIntegrator built(*gone, sun);
+  const SkyReference ref_built(*gone, sun, ro);
+  EXPECT_NE(&built.atmosphere(), gone.get());
+  gone.reset();
+  const SkyIntegrator moved(std::move(built));
+  const glm::dvec3 view = dir(20.0, 90.0), s = dir(35.0, 180.0);
+  const std::vector<double> got = moved.radiance(100.0, view, s), want = SkyIntegrator(live, sun).radiance(100.0, view, s);
+  ASSERT_EQ(got.size(), 4u);
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    EXPECT_GT(want[i], 0.0);
+    EXPECT_EQ(got[i], want[i]) << i;
+  }
+  EXPECT_EQ(moved.atmosphere().wavelengths_nm(), live.wavelengths_nm());
+  EXPECT_EQ(ref_built.radiance(100.0, view, s).radiance, SkyReference(live, sun, ro).radiance(100.0, view, s).radiance);
+}
 
 // Sun overhead, looking up: every scattering point sees the whole vertical column
 // (view part + sun part), so L = E p(1) tau_s exp(-tau) exactly, with tau_s the

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "atmosh/atmo/integrate.hpp"
+#include "integrate.hpp"  // private (libatmo/src)
 #include "atmosh/atmo/phase.hpp"
 #include "atmosh/error.hpp"
 

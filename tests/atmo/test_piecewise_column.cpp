@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "atmosh/atmo/integrate.hpp"
+#include "integrate.hpp"  // private (libatmo/src)
 #include "atmosh/atmo/optical_depth.hpp"
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"

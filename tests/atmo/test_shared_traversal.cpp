@@ -11,8 +11,8 @@
 #include <random>
 #include <vector>
 
-#include "atmosh/atmo/fast_exp.hpp"
-#include "atmosh/atmo/integrate.hpp"
+#include "fast_exp.hpp"  // private (libatmo/src)
+#include "integrate.hpp"  // private (libatmo/src)
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/atmo/shared/scatter.glsl.hpp"

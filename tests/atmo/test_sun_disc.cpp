@@ -35,7 +35,7 @@ constexpr double kPi = 3.14159265358979323846;
 // IAU 2015 Resolution B3 nominal solar radius, IAU 2012 Resolution B2 au [km].
 constexpr double kRsunKm = 695700.0, kAuKm = 149597870.7;
 
-glm::dvec3 dir(double elevation_deg, double azimuth_deg) { return sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
+glm::dvec3 dir(double elevation_deg, double azimuth_deg) { return enu_direction_from_zenith(90.0 - elevation_deg, azimuth_deg); }
 
 // test-planet, 5 wavelengths; `thin`: Rayleigh only, 1e-20 /m (transmittance 1 - 1e-15).
 AtmosphereSpec spec_for(bool thin, const char* name = "test-planet") {

@@ -24,7 +24,7 @@ int try_without_device() {
   const Atmosphere atm(spec);
   const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum));
   try {
-    (void)atmosh::gpu::render_sky(sky, SkyProjection::Equirect, 8, 4, 0.0, sun_direction_enu(45.0, 0.0), false);
+    (void)atmosh::gpu::render_sky(sky, SkyProjection::Equirect, 8, 4, 0.0, enu_direction_from_zenith(45.0, 0.0), false);
     return 4;
   } catch (const atmosh::gpu::Unavailable&) {
     return 0;

@@ -75,7 +75,7 @@ TEST(GpuSky, MatchesTheCpuImage) {
                                          std::tuple{SkyProjection::Equirect, 64, 32, 2.0, 0.0},
                                          std::tuple{SkyProjection::Equirect, 48, 24, -4.0, 0.0},
                                          std::tuple{SkyProjection::Fisheye, 32, 32, 10.0, 1500.0}}) {
-    const glm::dvec3 sun = sun_direction_enu(90.0 - sun_el, 135.0);
+    const glm::dvec3 sun = enu_direction_from_zenith(90.0 - sun_el, 135.0);
     const SkyImage c = render_sky(sky, proj, w, h, alt, sun, true, 2);
     const SkyImage g = gpu::render_sky(*ctx, sky, proj, w, h, alt, sun, true);
     ASSERT_EQ(g.spectral.size(), c.spectral.size());
@@ -115,12 +115,12 @@ TEST(GpuSky, StiffCasesAreFinite) {
   for (double sun_el : {-18.0, -0.5})
     for (double alt : {0.0, 1e-6, 100e3, 1000e3})
       EXPECT_TRUE(finite(gpu::render_sky(*ctx, sky, SkyProjection::Equirect, 16, 8, alt,
-                                         sun_direction_enu(90.0 - sun_el, 0.0), true)))
+                                         enu_direction_from_zenith(90.0 - sun_el, 0.0), true)))
           << sun_el << " " << alt;
   // Observer in space looking past the planet: black, as on the CPU.
   {
     const SkyImage g = gpu::render_sky(*ctx, sky, SkyProjection::Equirect, 32, 16, 1000e3,
-                                       sun_direction_enu(90.0, 0.0), true);
+                                       enu_direction_from_zenith(90.0, 0.0), true);
     EXPECT_EQ(g.spectral[0], 0.0f);  // zenith row: the ray never enters the atmosphere
   }
   // Huge optical depth and forward-peaked phase functions.
@@ -128,13 +128,13 @@ TEST(GpuSky, StiffCasesAreFinite) {
   thick.mie->scattering_per_m *= 1e5;
   const Atmosphere a2(thick);
   const SkyIntegrator s2(a2, solar_spectrum_for_bins(thick.spectrum));
-  EXPECT_TRUE(finite(gpu::render_sky(*ctx, s2, SkyProjection::Equirect, 16, 8, 0.0, sun_direction_enu(89.5, 0.0), true)));
+  EXPECT_TRUE(finite(gpu::render_sky(*ctx, s2, SkyProjection::Equirect, 16, 8, 0.0, enu_direction_from_zenith(89.5, 0.0), true)));
   for (double g : {0.999, -0.999}) {
     AtmosphereSpec pk = spec;
     pk.mie->phase = PhaseSpec::of(PhaseSpec::Model::HenyeyGreenstein, g);
     const Atmosphere a3(pk);
     const SkyIntegrator s3(a3, solar_spectrum_for_bins(pk.spectrum));
-    EXPECT_TRUE(finite(gpu::render_sky(*ctx, s3, SkyProjection::Equirect, 16, 8, 0.0, sun_direction_enu(70.0, 0.0), true)));
+    EXPECT_TRUE(finite(gpu::render_sky(*ctx, s3, SkyProjection::Equirect, 16, 8, 0.0, enu_direction_from_zenith(70.0, 0.0), true)));
   }
 }
 

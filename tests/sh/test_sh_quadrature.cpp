@@ -16,6 +16,7 @@
 #include "atmosh/sh/projection.hpp"
 #include "atmosh/sh/quadrature.hpp"
 #include "atmosh/sh/transform.hpp"
+#include "transform_impl.hpp"  // private (libsh/src): detail::RealFft
 
 using namespace atmosh::sh;
 

@@ -16,6 +16,7 @@
 
 #include "atmosh/atmo/sun_spa.hpp"
 #include "atmosh/atmo/time_utc.hpp"
+#include "sun_spa_impl.hpp"  // private (libatmo/src): detail::spa_cos
 
 using namespace atmosh::atmo;
 

@@ -323,12 +323,50 @@ TEST(Observer, Wgs84Geometry) {
   EXPECT_NEAR(above.y, 0.0, 1e-6);
   EXPECT_NEAR(above.z, 100.0, 1e-6);
   // Directions: zenith is +z, azimuth 90° on the horizon is east.
-  const glm::dvec3 z = sun_direction_enu(0.0, 123.0), east = sun_direction_enu(90.0, 90.0);
+  const glm::dvec3 z = enu_direction_from_zenith(0.0, 123.0), east = enu_direction_from_zenith(90.0, 90.0);
   EXPECT_NEAR(z.z, 1.0, 1e-15);
   EXPECT_NEAR(east.x, 1.0, 1e-15);
   EXPECT_NEAR(east.y, 0.0, 1e-15);
   EXPECT_DOUBLE_EQ(observer_radius_in_atmosphere_m(o, 6360e3), 6360e3 + 35.0);
   EXPECT_THROW(observer_ecef_m({95.0, 0.0, 0.0}), atmosh::InputError);
+}
+
+// One place type, one validation (observer.hpp): the Dead Sea shore, about 430 m below
+// sea level (the lowest dry land), is a valid place; -12 km (below the deepest ocean
+// floor, formerly accepted by the library) is not, for the observer and for the sun's
+// query alike; the ends of the range are inclusive.
+TEST(Observer, OneHeightRangeForEveryEntryPoint) {
+  EXPECT_NO_THROW(validate_observer({31.5, 35.5, -430.0}));
+  EXPECT_NO_THROW(validate_observer({0.0, 0.0, kObserverMinHeightM}));
+  EXPECT_NO_THROW(validate_observer({0.0, 0.0, kObserverMaxHeightM}));
+  EXPECT_EQ(kObserverMinHeightM, -500.0);
+  for (double h : {-500.5, -12000.0, 1.0e8 * 1.0001}) {
+    try {
+      validate_observer({0.0, 0.0, h});
+      ADD_FAILURE() << "accepted height " << h;
+    } catch (const atmosh::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("height"), std::string::npos) << e.what();
+    }
+    SunQuery q = at("2020-06-21T12:00:00Z", 0.0, 0.0);
+    q.height_m = h;
+    EXPECT_THROW(sun_position(q), atmosh::InputError) << h;
+  }
+  SunQuery dead_sea = at("2020-06-21T12:00:00Z", 31.5, 35.5);
+  dead_sea.height_m = -430.0;
+  EXPECT_NO_THROW(sun_position(dead_sea));
+}
+
+// enu_direction (elevation) and enu_direction_from_zenith (zenith) are the same vector.
+TEST(Observer, EnuDirectionFromElevationOrZenith) {
+  for (double el : {-90.0, -12.5, 0.0, 7.0, 45.0, 89.0, 90.0})
+    for (double az : {0.0, 33.0, 180.0, 271.5}) {
+      const glm::dvec3 a = enu_direction(el, az), b = enu_direction_from_zenith(90.0 - el, az);
+      EXPECT_NEAR(a.x, b.x, 1e-15);
+      EXPECT_NEAR(a.y, b.y, 1e-15);
+      EXPECT_NEAR(a.z, b.z, 1e-15);
+      EXPECT_NEAR(glm::length(a), 1.0, 1e-15);
+    }
+  EXPECT_THROW(enu_direction(std::nan(""), 0.0), atmosh::InputError);
 }
 
 TEST(Observer, SunDirectionMatchesEquatorialRotation) {
@@ -347,7 +385,7 @@ TEST(Observer, SunDirectionMatchesEquatorialRotation) {
   glm::dvec3 e, n, u;
   enu_axes_ecef({in.latitude_deg, in.longitude_deg, in.elevation_m}, e, n, u);
   const glm::dvec3 enu{glm::dot(d, e), glm::dot(d, n), glm::dot(d, u)};
-  const glm::dvec3 spa = sun_direction_enu(90.0 - r.e0_deg, r.azimuth_deg);
+  const glm::dvec3 spa = enu_direction_from_zenith(90.0 - r.e0_deg, r.azimuth_deg);
   EXPECT_NEAR(enu.x, spa.x, 1e-12);
   EXPECT_NEAR(enu.y, spa.y, 1e-12);
   EXPECT_NEAR(enu.z, spa.z, 1e-12);

@@ -262,9 +262,10 @@ Scene parse_table(const toml::table& root, const std::string& src) {
   if (const auto* t = r.table("observer")) {
     Reader p(*t, "observer", src);
     Observer o;
+    // atmo::validate_observer's ranges, checked here to name the key in the message.
     o.latitude_deg = p.number_in("latitude_deg", 0.0, -90.0, 90.0);
     o.longitude_deg = p.number_in("longitude_deg", 0.0, -180.0, 180.0);
-    o.height_m = p.number_in("height_m", 0.0, -500.0, 1e8);
+    o.height_m = p.number_in("height_m", 0.0, atmo::kObserverMinHeightM, atmo::kObserverMaxHeightM);
     auto time = p.string("time_utc");
     if (!time) p.fail("time_utc", "missing (ISO 8601, e.g. 2026-06-21T18:30:00Z)");
     o.time_utc = *time;

@@ -91,7 +91,7 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
   return img;
 }
 
-glm::dvec3 SunPlacement::direction() const { return atmo::sun_direction_enu(90.0 - elevation_deg, azimuth_deg); }
+glm::dvec3 SunPlacement::direction() const { return atmo::enu_direction_from_zenith(90.0 - elevation_deg, azimuth_deg); }
 
 std::string SunPlacement::describe() const {
   std::string s = "elevation " + io::format_double(elevation_deg) + " deg, azimuth " + io::format_double(azimuth_deg) + " deg";

@@ -115,14 +115,4 @@ void check_gl(const char* what);
 // GPU work, whose dispatches return before they run.
 void finish();
 
-namespace detail {
-struct EmbeddedSource {
-  const char* path;
-  int first_line;
-  const char* text;
-};
-extern const EmbeddedSource kEmbeddedSources[];
-extern const int kEmbeddedSourceCount;
-}  // namespace detail
-
 }  // namespace atmosh::gpu

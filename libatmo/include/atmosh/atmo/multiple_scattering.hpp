@@ -4,7 +4,7 @@
 // ScatteringMethod (SkyOptions::scattering, scene [scattering] method):
 //   single       single scattering only (the sky integrator of sky.hpp as it always was);
 //   approximate  single scattering + Hillaire's (2020) all-orders approximation
-//                (MultipleScatteringLut below): small table, rebuilt in ~0.1 s;
+//                (MultipleScatteringLut below): a small table, quick to rebuild;
 //   orders       single scattering + orders 2..N of successive orders of scattering
 //                (ScatteringOrders, scattering_orders.hpp; Bruneton 2017 scheme).
 //

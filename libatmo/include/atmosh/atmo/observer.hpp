@@ -20,14 +20,28 @@
 
 namespace atmosh::atmo {
 
+// Where an observer stands: the one place type of atmosh (scene files hold it plus a
+// time, scene::Observer; the sun's queries take its fields).
 struct Observer {
   double latitude_deg = 0.0;   // geodetic, -90..90
   double longitude_deg = 0.0;  // east positive, -180..180
-  double height_m = 0.0;       // above the WGS84 ellipsoid
+  double height_m = 0.0;       // above the WGS84 ellipsoid, kObserverMinHeightM..kObserverMaxHeightM
 };
 
+// The valid heights [m] of an observer, for every entry point (scene files, the sun's
+// queries, the sky). Lower end: an observer stands under the open sky, and the lowest
+// dry land is the Dead Sea shore, about 430 m below sea level (the geoid there lies
+// within a few tens of metres of the ellipsoid); -500 m leaves a margin for that and
+// for open-pit mines (the deepest reach about 300 m below sea level), while rejecting
+// sign and unit slips (-5 km, -12 km). Underground or undersea points see no sky, and
+// the atmosphere model's ground is at height 0 anyway: the sky takes max(height, 0).
+// Upper end: 1e8 m, far beyond the top of any atmosphere (the sky handles observers in
+// space) and beyond geostationary orbit.
+inline constexpr double kObserverMinHeightM = -500.0;
+inline constexpr double kObserverMaxHeightM = 1.0e8;
+
 // Throws InputError naming the bad value (non-finite, |lat| > 90, |lon| > 180,
-// height below -12 km or above 1e8 m).
+// height outside kObserverMinHeightM..kObserverMaxHeightM, i.e. -500..1e8 m).
 void validate_observer(const Observer& o);
 
 // Geodetic -> ECEF (m).
@@ -39,9 +53,21 @@ glm::dvec3 ecef_to_enu_m(const Observer& origin, const glm::dvec3& ecef_m);
 // Unit vectors of the local East, North and Up axes expressed in ECEF.
 void enu_axes_ecef(const Observer& o, glm::dvec3& east, glm::dvec3& north, glm::dvec3& up);
 
-// Unit direction towards a body at (zenith, azimuth) in the ENU frame:
-// (sin z sin A, sin z cos A, cos z). Finite for every finite input.
-glm::dvec3 sun_direction_enu(double zenith_deg, double azimuth_deg);
+// Unit vectors of the ENU frame from angles in degrees, azimuth A from north towards
+// east: any direction (the sun's, a view ray's, a pixel's). Two parameterisations, each
+// kept with its own arithmetic so that results stay bit for bit what they were:
+//   enu_direction(elevation e, A) = (cos e sin A, cos e cos A, sin e);
+//     InputError for non-finite angles.
+//   enu_direction_from_zenith(zenith z, A) = (sin z sin A, sin z cos A, cos z);
+//     finite for every finite input (no check: inner loops).
+glm::dvec3 enu_direction(double elevation_deg, double azimuth_deg);
+glm::dvec3 enu_direction_from_zenith(double zenith_deg, double azimuth_deg);
+// The former name of enu_direction_from_zenith, kept for one release: it was never
+// specific to the sun.
+[[deprecated("use enu_direction_from_zenith")]] inline glm::dvec3 sun_direction_enu(double zenith_deg,
+                                                                                   double azimuth_deg) {
+  return enu_direction_from_zenith(zenith_deg, azimuth_deg);
+}
 
 // Distance of the observer from the Earth's centre (m), WGS84.
 double geocentric_radius_m(const Observer& o);

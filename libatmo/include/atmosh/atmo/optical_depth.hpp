@@ -13,100 +13,30 @@
 // `length` metres if that is shorter. An origin above the top is moved along the
 // ray to where it enters the atmosphere (a ray that misses has zero column).
 //
-// OpticalDepthReference — exact: globally adaptive G7-K15 quadrature in double
-// over the ray, split at the tangent point, at every crossing of a profile kink
-// and at crossings of the altitudes h0 + H 2^k of each exponential profile.
-// Tolerance (default) 1e-12 relative per constituent (absolute floor 1e-15 of
-// its vertical column), or eps R / H for the smallest exponential scale height H if
-// larger (the rounding of a point's altitude, ~eps R, limits any quadrature of
-// exp(-h/H) to that: 1.2e-12 for a 1.2 km aerosol on Earth, 1.4e-10 for H = 10 m);
-// the error estimate |K15 - G7| summed over pieces is
-// returned and is an upper bound in practice (tests: agreement with the exact
-// Chapman function to < 1e-10 where the estimate says < 1e-12).
-// Cost: ~10-200 microseconds per ray (more for tabulated profiles with many
-// nodes).
+// OpticalDepthReference — exact: globally adaptive G7-K15 quadrature in double,
+// split at the tangent point, at profile kinks and at the altitudes h0 + H 2^k of
+// each exponential profile. Bound: relative error 1e-12 per constituent (absolute
+// floor 1e-15 of its vertical column), or eps R / H_min if larger (the rounding of a
+// point's altitude); the returned estimate |K15 - G7| is an upper bound of the actual
+// error in practice (tests: the exact Chapman function, an independent quadrature).
 //
-// OpticalDepthLut — Nishita et al. (1993) multi-shell tables. Shells are spheres
-// at radii r_0 = R < r_1 < ... < r_{S-1} = T placed at equal increments of a
-// blended optical-mass coordinate: the mean over present constituents of the
-// fraction of the vertical column below r (for tabulated profiles positive up to
-// the top: of the e-folds of density below r, sum |d ln rho|, which keeps shells
-// where the scale height shrinks upward and the column no longer grows), blended
-// with a share `uniform_share` of rho(r)/rho(T), rho = sqrt(r^2 - R^2), and a
-// share `altitude_share` of (r - R)/(T - R) (so the thin upper atmosphere still
-// gets shells: the column fractions of exponentials saturate a few scale heights
-// up, while their logged mean densities, which the tables interpolate, keep
-// changing at the same rate per metre; without the altitude share the 100 km
-// default scene had 2.0e-4 at 32 x 64 on the fixed rays of the study, with it
-// 6.7e-5). For every shell there are two
-// tables of column against direction:
-//   * view table: rays toward the top (mu above the horizon) and, separately,
-//     rays that hit the ground, each with `view_directions` samples;
-//   * sun table: rays toward the top only, `sun_directions` samples (a sun ray
-//     that hits the ground is blocked: transmittance 0). Its rays are those of the
-//     view table's sky branch: with as many directions (the default) it is a copy.
-// (LutOptions::view_tables = false leaves the view tables out: sun() only.)
-// Direction parametrisation (Bruneton 2017): x = (d - d_min)/(d_max - d_min)
-// with d the distance to the top (d_min = T - r, d_max = rho + sqrt(T^2-R^2)) or
-// to the ground (d_min = r - R, d_max = rho): uniform in x, it resolves grazing
-// and tangent rays. Stored value: the mean relative density X_c / d, as its
-// logarithm for profiles positive everywhere, linear otherwise. Lookup:
-// cubic Lagrange in x (4 samples) and in rho across 4 neighbouring shells (for
-// tabulated profiles with kinks and zeros, shells are snapped onto the kinks
-// and the rho interpolation uses only shells of the same kink-free region,
-// degree <= 3).
-// Piecewise-linear profiles with at most `analytic_max_nodes` nodes (the ozone
-// tent: 3; short tables) are not interpolated: their column is computed at
-// lookup in closed form (PiecewiseLinearColumn, exact to rounding, ~30-70 ns
-// per lookup), because interpolating across the kinks of their column in
-// direction rings (errors up to 0.2 of the total optical depth on limb rays).
-// Such constituents take no part in shell placement. Long tables (the U.S.
-// Standard Atmosphere 1976 Rayleigh profile, 206 nodes) stay interpolated, less
-// their kinks that stand out (LutOptions::subtracted_kinks: for U.S. 1976 the seven
-// layer boundaries, where d ln rho / dh jumps with the lapse rate): with J_k the
-// excess slope jump at h_k (DensityProfile::strongest_kink_jumps), the piecewise-
-// linear p(h) = sum_k J_k (h_k - h)_+ (nodes at 0 and the h_k, 0 above the highest)
-// has exactly those jumps; with D_k the jump of the second derivative there
-// (Kink::curvature_jump), q(h) = sum_k -D_k / 2 (h_k - h)_+^2 removes those too
-// (LutOptions::subtract_curvature). The tables hold rho - p - q (C2 at the kinks)
-// and a lookup adds the columns of p (PiecewiseLinearColumn; ~150 ns for 8 nodes) and
-// q (QuadraticRampsColumn; ~350 ns for 7 ramps). Kept only while p + q stays within
-// 1/2 of rho. Across a kink the column as a function of direction has a
-// (h_t - h_k)^1.5 term (h_t the tangent altitude) that no cubic follows, and across
-// a curvature jump an O(h^2) term of the interpolation across shells: earth-physical
-// at 40 x 64, 3.0e-3 without, 7.3e-4 with p alone, 5.8e-4 with p and q.
-// Table entries: tent and tabulated profiles in closed form
-// (PiecewiseLinearColumn, exact to rounding); exponential profiles by fixed
-// Gauss-Legendre rules on the pieces between shell and tangent crossings, each
-// piece spanning at most 1.5 times the smallest exponential scale height in
-// altitude and short enough for the curvature of the altitude near the tangent
-// point (shared lut_piece_count), ~1e-8 relative (also far above a constituent's
-// scale height, where its mean density is tiny: the tables store its logarithm).
-// Error: see `atmosh converge lut` and docs/atmosphere.md (max relative error of
-// the total optical depth, measured over grazing/tangent rays, rays beside the
-// strongest profile kinks and 1000 seeded random rays): at the default 40 x 64,
-// 1.6e-5 for earth-graphics with the ozone tent, 6.2e-5 for the default scene's
-// atmosphere (the same with the top at 100 km; 1.03e-4 at 32 x 64), 3.0e-5 for
-// test-planet; 5.9e-4 for earth-physical (interpolated 206-node tabulated Rayleigh).
-// There two terms of about equal size remain at 40 x 64: the tables' resolution of
-// U.S. 1976's smaller scale heights (horizontal rays near 86 km, rays tangent just
-// under the tropopause; a 25 m table gives 5.0e-4), and the ripple of the preset's
-// 500 m linear pieces, up to (dz/H)^2/8 ~ 1e-3 of rho between nodes, which the
-// smooth interpolation does not follow on rays that sample few nodes; at 80 x 128
-// the ripple alone is left, 4.7e-4. The U.S. 1976 table every 100 m gives 5.8e-5 at
-// 80 x 128 (docs/atmosphere.md, "Current results").
-// Build of the default 40 x 64 tables on a 2-core machine: 17-30 ms with both cores
-// (LutOptions::threads), 29-47 ms on one (earth-physical the longest).
-// Regime: the relative error holds while the atmosphere spans at most ~15 scale
-// heights of every interpolated exponential (top / H <~ 15: the logged mean densities
-// fall by top / H e-folds across S shells). Beyond, rays high in the atmosphere, whose
-// column is ~e^{-top/H} of the vertical one, lose relative accuracy: one exponential
-// alone with the top at 100 km, 32 x 64, max relative error 4.6e-5 (H = 8 km), 4.2e-3
-// (2 km), 6.1e-2 (1 km), ~1 (<= 300 m); estimate_max_rel_error grows with it. Within
-// a realistic mixture the dense constituent dominates those rays (earth-graphics' 1.2 km
-// aerosol under an 8 km Rayleigh profile: 2.9e-5).
-// Cost (measured on a 2-core machine): ~100-200 ns per lookup (~690 ns with
-// earth-physical's subtracted kinks: ~330 ns with p alone).
+// OpticalDepthLut — Nishita et al. (1993) multi-shell tables: per shell a view table
+// (rays to the top and rays to the ground) and a sun table (rays to the top; a sun
+// ray into the ground is blocked), direction parametrised as in Bruneton (2017),
+// cubic Lagrange interpolation in direction and across shells. Piecewise-linear
+// profiles with at most `analytic_max_nodes` nodes (the ozone tent) are computed in
+// closed form at lookup (PiecewiseLinearColumn); long tabulated profiles stay
+// interpolated less the kinks that stand out (subtracted_kinks).
+// Bound (max relative error of the total optical depth over the study's grazing,
+// tangent, kink and random rays) at the default 40 x 64: <= 1e-4 for the presets
+// with exponential or tent profiles (earth-graphics, the default scene, test-planet),
+// <= 1e-3 for earth-physical (206-node U.S. 1976 table); it holds while the
+// atmosphere spans at most ~15 scale heights of every interpolated exponential (top
+// / H <~ 15), beyond which high rays lose relative accuracy
+// (estimate_max_rel_error grows with it).
+// Method, parameters, measured errors, build and lookup times and their history:
+// docs/atmosphere.md ("Optical depth", "The tables in detail", "Current results");
+// the checks behind the bounds: docs/validation.md ("Atmosphere and optical depth").
 #pragma once
 
 #include <array>
@@ -147,7 +77,7 @@ struct ReferenceOptions {
 // profile's local length scale rho / |d rho/dh| (~1e-13 for the 10-25-40 km
 // ozone tent); for a ray whose tangent point lies delta above a node or the
 // ground the problem itself has condition number ~R / delta.
-// Cost: ~10 ns plus ~15 ns per piece of nonzero density (no allocation).
+// No allocation (its cost per lookup: docs/atmosphere.md).
 // The ray runs from radius r (r > 0, |mu| <= 1) over s in [0, length]; it is the
 // caller's job to stop it at the ground.
 class PiecewiseLinearColumn {
@@ -198,6 +128,8 @@ class QuadraticRampsColumn {
 
 class OpticalDepthReference {
  public:
+  // Refers to `atmosphere` (no copy): it must outlive this object. (SkyIntegrator and
+  // SkyReference own a copy and build their tables from it.)
   explicit OpticalDepthReference(const Atmosphere& atmosphere, ReferenceOptions options = {});
   // Column to the top or to the ground; length < 0 means "to the end".
   // InputError for non-finite input, r <= 0, |mu| > 1, or r below the ground
@@ -274,7 +206,8 @@ struct LutColumn {
 
 class OpticalDepthLut {
  public:
-  // InputError for options out of range.
+  // InputError for options out of range. Refers to `atmosphere` (no copy): it must
+  // outlive the tables.
   OpticalDepthLut(const Atmosphere& atmosphere, LutOptions options = {});
 
   // Column along a view ray (to the top, or to the ground when it hits it).
@@ -372,8 +305,7 @@ class OpticalDepthLut {
   // directions for the three presets and the default scene's atmosphere, 0.89-1.00 at
   // the default 40 x 64; on independent rays 0.92-1.19 (test
   // CliConvergeLut.ErrorEstimateTracksTheMeasuredError): it can be ~10 % below the
-  // true maximum. Cost at 40 x 64 on two threads: 13-16 ms (smooth atmospheres), 34 ms
-  // (earth-physical: its closed-form entries, 32 probed nodes x 14 rays). InputError
+  // true maximum. Its cost (a fraction of the build's): docs/atmosphere.md. InputError
   // for a negative or non-finite wavelength.
   double estimate_max_rel_error(double wavelength_nm = 0.0) const;
 

@@ -45,15 +45,15 @@
 // The sun disc (unscattered sunlight) is not part of the radiance, as in sky.hpp.
 //
 // Sun transmittance. RtSunDepth::Exact uses OpticalDepthReference per vertex
-// (relative error 1e-12; 10-200 us per vertex). RtSunDepth::Table (default) uses
-// the multi-shell sun table (OpticalDepthLut, view tables left out) at
-// RtSkyOptions::table_shells x table_directions; its estimated maximum relative
-// error of the optical depth (OpticalDepthLut::estimate_max_rel_error at the middle
-// wavelength, reported in RtSkyResult::sun_depth_rel_error; for the default scene's
-// atmosphere 1.3e-5 at the default 64 x 256, built in 0.35 s plus 0.4 s for the
-// estimate; 2.9e-6 at 96 x 512, 40 x 64: 5.6e-5) bounds the relative bias of a sun
-// transmittance by that times the sun's slant optical depth at the vertex (1.3e-4 at
-// a slant depth of 10), below the statistical error of any feasible run.
+// (relative error 1e-12). RtSunDepth::Table (default) uses the multi-shell sun table
+// (OpticalDepthLut, view tables left out) at RtSkyOptions::table_shells x
+// table_directions; its estimated maximum relative error of the optical depth
+// (OpticalDepthLut::estimate_max_rel_error at the middle wavelength, reported in
+// RtSkyResult::sun_depth_rel_error) bounds the relative bias of a sun transmittance
+// by that times the sun's slant optical depth at the vertex, below the statistical
+// error of any feasible run (values and build times per table size:
+// docs/radiative-transfer.md; the checks: docs/validation.md, "Monte-Carlo radiative
+// transfer").
 //
 // Statistics. Paths are split evenly over the wavelengths (stratified); each
 // wavelength's paths run in `batches` fixed batches, each with its own
@@ -76,6 +76,7 @@
 
 #include "atmosh/atmo/atmosphere.hpp"
 #include "atmosh/atmo/colour.hpp"
+#include "atmosh/atmo/observer.hpp"  // enu_direction
 #include "atmosh/atmo/sky.hpp"
 
 namespace atmosh::atmo {
@@ -140,9 +141,8 @@ SlabFluxResult slab_fluxes(const SlabSpec& slab, double mu0, const RtOptions& op
 
 enum class RtSunDepth { Table, Exact };
 // Line estimate of the next vertex's sunlight (see the header comment): always, never,
-// or in deep twilight, sun below -7 deg at the observer, where it pays (measured,
-// earth-graphics: 5-8x the efficiency at -9 deg, 0.08x at -6 deg, 0.05x by day;
-// docs/radiative-transfer.md).
+// or in deep twilight, sun below -7 deg at the observer, where it pays (its measured
+// efficiency by sun elevation: docs/radiative-transfer.md).
 enum class RtLineEstimate { Off, On, DeepTwilight };
 inline constexpr double kRtDeepTwilightDeg = -7.0;
 
@@ -178,7 +178,8 @@ class MonteCarloSky {
  public:
   // `solar`: E(lambda) at 1 AU per wavelength of the atmosphere [W m^-2 nm^-1] (as
   // SkyIntegrator). Builds the sun table for RtSunDepth::Table. InputError for bad
-  // options or a spectrum of the wrong size.
+  // options or a spectrum of the wrong size. Refers to `atmosphere` (no copy): it
+  // must outlive this object.
   MonteCarloSky(const Atmosphere& atmosphere, SolarSpectrum solar, RtSkyOptions options = {});
   ~MonteCarloSky();
   MonteCarloSky(const MonteCarloSky&) = delete;
@@ -203,10 +204,6 @@ class MonteCarloSky {
   double sun_depth_rel_error_ = 0;
   std::unique_ptr<Impl> impl_;
 };
-
-// Unit direction in ENU from elevation and azimuth (degrees; azimuth from north
-// toward east).
-glm::dvec3 enu_direction(double elevation_deg, double azimuth_deg);
 
 // Time to reach a relative standard error of the zenith luminance: runs of doubling
 // path counts (from `first_paths`) until luminance_stderr / luminance <= target or

@@ -26,14 +26,15 @@
 // piece gets an n-point Gauss-Legendre rule (n = samples_per_segment). The view
 // depth from the observer to a node is accumulated along the ray from the
 // densities at the nodes and part ends (sky_part_column_weights; as in Nishita et
-// al. 1993, no table), the sun depth is one lookup in the sun table. Error against the reference: `atmosh converge sky` and
-// docs/sky.md (<= 1 % above the horizon for sun elevations >= 0 with the default
-// settings, measured).
+// al. 1993, no table), the sun depth is one lookup in the sun table. Bound: relative
+// error <= 1 % against SkyReference above the horizon for sun elevations >= 0 with the
+// default settings (`atmosh converge sky`; measured errors and times per ray in
+// docs/sky.md, the checks in docs/validation.md, "Sky").
 //
 // SkyReference (exact, slow): globally adaptive Gauss-Kronrod over the view ray,
 // split at the tangent point and at profile kinks, with exact optical depths
 // (OpticalDepthReference) at every node; relative tolerance 1e-6 by default, with
-// an error estimate. ~0.05-0.5 s per ray.
+// an error estimate (its cost per ray: docs/sky.md).
 #pragma once
 
 #include <cstddef>
@@ -84,51 +85,13 @@ std::vector<double> sky_part_column_weights(int n);
 // atmosphere [W m^-2 nm^-1].
 using SolarSpectrum = std::vector<double>;
 
-namespace detail {
-// A view ray reduced to the planet-centred 2-D geometry, clipped to the atmosphere
-// (sky.cpp; lengths in m).
-struct SkyRay {
-  bool empty = false;    // misses the atmosphere (observer in space)
-  double r = 0, mu = 0;  // origin radius and view zenith cosine (at the entry point)
-  double mu_s = 0;       // sun zenith cosine at the origin
-  double nu = 0;         // cos(view, sun): constant along the ray
-  double s_end = 0;      // length inside the atmosphere
-  bool ground = false;   // ends on the ground
-};
-// A quadrature node of a view ray: what does not depend on the sun.
-struct SkyViewNode {
-  double s = 0, r = 0;       // distance from the origin, radius [m]
-  double w = 0;              // quadrature weight [m]
-  glm::dvec3 rho{0.0};       // relative densities
-  glm::dvec3 column{0.0};    // view column from the origin to the node [m]
-};
-// What the spectral loop needs of one quadrature node, in single precision: the
-// column from the sun through the node to the observer per constituent (Rayleigh,
-// Mie, ozone) [m], and the node's scattering weights sr = rho_R p_R w, sm = rho_M p_M w
-// (relative density x phase function [1/sr] x quadrature weight [m]).
-struct SkyNodeTerms {
-  float x[3];
-  float sr, sm;
-};
-// The spectral loop of a view ray over `count` nodes, in order: for every wavelength
-// i < n, acc[i] += sum over the nodes of exp(-tau_i) (cr[i] sr + cm[i] sm) with
-// tau_i = er[i] x0 + em[i] x1 + eo[i] x2, where ext = [er | em | eo] and sca = [cr | cm]
-// hold n values each [1/m]. The terms are formed in single precision (exp_neg_f:
-// relative error ~1e-6 for tau <= 10, far below the quadrature's) and summed into the
-// double accumulators node by node, so the result does not depend on how a ray's
-// nodes are split into calls. Runs on AVX-512 (16 wavelengths per instruction) where
-// atmosh::cpu_has_avx512(), else on AVX2/FMA or the baseline (atmosh/dispatch.hpp);
-// the paths differ by float rounding only. n a multiple of sky_spectral_lanes() (16 on
-// AVX-512, else 8) wastes no lane: the integrator pads its wavelengths with zero
-// coefficients to it.
-std::size_t sky_spectral_lanes();
-void accumulate_sky_nodes(std::size_t n, const float* ext, const float* sca, const SkyNodeTerms* nodes,
-                          std::size_t count, double* acc);
-}  // namespace detail
-
 class SkyIntegrator {
  public:
   // Builds the optical-depth tables the atmosphere needs (only its constituents).
+  // Lifetime: the integrator keeps its own copy of `atmosphere` (the spec and the
+  // per-wavelength coefficients: small next to the tables), so the argument may go
+  // away right after construction; atmosphere() and the tables refer to that copy,
+  // which lives on the heap and so stays put when the integrator is moved.
   SkyIntegrator(const Atmosphere& atmosphere, SolarSpectrum solar, SkyOptions options = {});
 
   // Spectral radiance along `view` into out[0..n_wavelengths). InputError for
@@ -153,6 +116,7 @@ class SkyIntegrator {
   // (0 when the ground blocks it).
   std::vector<double> sun_transmittance(double altitude_m, const glm::dvec3& sun) const;
 
+  // The integrator's copy of the atmosphere: valid while the integrator lives.
   const Atmosphere& atmosphere() const { return atm_; }
   const OpticalDepthLut& lut() const { return *lut_; }
   const SkyOptions& options() const { return opt_; }
@@ -169,16 +133,21 @@ class SkyIntegrator {
  private:
   // Calls visit(node) for the nodes of a view ray cut at cuts[0..n_cuts), in order;
   // returns the ray's whole view column.
-  template <class Visit>
-  glm::dvec3 trace(const detail::SkyRay& ray, const double* cuts, int n_cuts, Visit&& visit) const;
+  // The view-ray helpers work on sky.cpp's private ray and node types (libatmo/src/
+  // sky_impl.hpp); they are templates on them so that this header names none of them,
+  // defined and instantiated in sky.cpp only.
+  template <class Ray, class Visit>
+  glm::dvec3 trace(const Ray& ray, const double* cuts, int n_cuts, Visit&& visit) const;
   // Radiance from the nodes that for_each_node(visit) visits (it returns the whole view
   // column); sun(node, mu_s) is the sun-table column of a node.
   // The approximation's term of one node into acc[0..nw) (psi: scratch of nw values).
-  void add_ms_node(std::size_t nw, const detail::SkyViewNode& nd, double mu_s, double* psi, double* acc) const;
-  template <class ForEachNode, class SunColumn>
-  void shade(const detail::SkyRay& ray, ForEachNode&& for_each_node, SunColumn&& sun, double* out) const;
+  template <class ViewNode>
+  void add_ms_node(std::size_t nw, const ViewNode& nd, double mu_s, double* psi, double* acc) const;
+  template <class Ray, class ForEachNode, class SunColumn>
+  void shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn&& sun, double* out) const;
 
-  const Atmosphere& atm_;
+  std::shared_ptr<const Atmosphere> own_atm_;  // the copy this integrator owns
+  const Atmosphere& atm_;                       // *own_atm_ (the tables refer to it too)
   SolarSpectrum solar_;
   SkyOptions opt_;
   std::vector<double> solar_scaled_;  // solar_ / sun_distance_au^2
@@ -189,7 +158,7 @@ class SkyIntegrator {
   std::vector<double> ext_, sca_;     // [constituent][wavelength]
   std::vector<float> ext_f_, sca_f_;  // the same in single precision, each row padded with
                                       // zeros to n_pad_ wavelengths (spectral loop)
-  std::size_t n_pad_ = 0;             // wavelengths rounded up to detail::sky_spectral_lanes()
+  std::size_t n_pad_ = 0;             // wavelengths rounded up to the spectral loop's lanes
   std::vector<double> cut_radii_;     // shells that cut the view ray
   glm::dvec3 ext_max_{0.0};           // largest extinction per constituent over wavelengths
   std::unique_ptr<MultipleScatteringLut> ms_lut_;  // method approximate
@@ -211,12 +180,14 @@ struct SkyReferenceResult {
 
 class SkyReference {
  public:
+  // Keeps its own copy of `atmosphere`, as SkyIntegrator does.
   SkyReference(const Atmosphere& atmosphere, SolarSpectrum solar, SkyReferenceOptions options = {});
   SkyReferenceResult radiance(double altitude_m, const glm::dvec3& view, const glm::dvec3& sun) const;
   std::vector<double> sun_transmittance(double altitude_m, const glm::dvec3& sun) const;
 
  private:
-  const Atmosphere& atm_;
+  std::shared_ptr<const Atmosphere> own_atm_;  // the copy this reference owns
+  const Atmosphere& atm_;                       // *own_atm_
   SolarSpectrum solar_;
   SkyReferenceOptions opt_;
   OpticalDepthReference od_;

@@ -9,8 +9,8 @@
 // `atmosh sun accuracy`.
 //
 // Evaluation: algorithm 5 runs without libm calls (inlined sines and arctangents,
-// within 5e-9 degrees of a libm evaluation of the printed formulas, tested); about
-// 0.15 us per call on a 2.0 GHz AVX2 core, 10-15x faster than SPA (docs/sun.md).
+// within 5e-9 degrees of a libm evaluation of the printed formulas, tested); an order
+// of magnitude faster than SPA (run times: docs/sun.md).
 // Algorithms 1 and 3 use libm as printed.
 //
 // Units: degrees, with azimuth from north towards east; the geocentric

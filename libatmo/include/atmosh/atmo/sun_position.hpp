@@ -46,6 +46,7 @@ std::string polar_name(Polar p);
 
 struct SunQuery {
   double jd_utc = 2451545.0;
+  // The place: validated as an atmo::Observer (observer.hpp: validate_observer).
   double latitude_deg = 0.0;
   double longitude_deg = 0.0;
   double height_m = 0.0;

@@ -10,10 +10,9 @@
 // error is dominated by the ΔT error: 1 s of ΔT or of UT1−UTC moves the sun by up
 // to 15 arcsec = 0.0042° in hour angle. UT1 − UTC is below 0.9 s by definition.
 //
-// Run time: about 1.5–2 µs per spa_compute on an x86-64 CPU with AVX2, about 3 µs
-// on the x86-64 baseline (docs/sun.md). The periodic-term sums have a version for
-// each, chosen at load time; both round alike, so results are bit-identical on
-// every x86-64 CPU.
+// The periodic-term sums have an AVX2 and a baseline x86-64 version, chosen at load
+// time; both round alike, so results are bit-identical on every x86-64 CPU (run
+// times: docs/sun.md; checks: docs/validation.md, "Sun position").
 //
 // Units: degrees for angles, metres for heights, hPa (= mbar) for pressure, °C
 // for temperature, seconds for ΔT and UT1−UTC, AU for distances, Julian days for
@@ -83,11 +82,5 @@ struct SpaRiseTransitSet {
 // year/month/day: the local calendar date; offset_hours: its zone offset from UTC.
 SpaRiseTransitSet spa_rise_transit_set(int year, int month, int day, double offset_hours, double latitude_deg,
                                        double longitude_deg, double delta_t_s, double delta_ut1_s = 0.0);
-
-namespace detail {
-// Range-reduced polynomial cosine used for the periodic-term sums; absolute error
-// below 2e-15 for |x| < 1e6 (tested against std::cos).
-double spa_cos(double x);
-}  // namespace detail
 
 }  // namespace atmosh::atmo

@@ -24,14 +24,6 @@
 
 namespace atmosh::sh {
 
-namespace detail {
-// Compiled batch kernels (src/fast_batch.cpp); 1 <= bands <= 8.
-void fast_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
-                std::size_t stride);
-void fast_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs, double* out,
-                std::size_t stride);
-}  // namespace detail
-
 constexpr int kFastMaxBands = 8;
 
 /// Y_0..Y_{bands^2-1} at a unit direction; 1 <= bands <= 8 (returns false otherwise).
@@ -52,13 +44,19 @@ inline bool evaluate_fast(int bands, T x, T y, T z, T* out) {
 
 /// n unit directions (xs, ys, zs); out[i * stride + k] for coefficient i of direction k
 /// (stride >= n). 1 <= bands <= 8 (returns false otherwise).
+/// float and double: the compiled SIMD kernels (src/fast_batch.cpp).
+bool evaluate_fast_batch(int bands, std::size_t n, const float* xs, const float* ys, const float* zs, float* out,
+                         std::size_t stride);
+bool evaluate_fast_batch(int bands, std::size_t n, const double* xs, const double* ys, const double* zs,
+                         double* out, std::size_t stride);
+/// Other types (e.g. long double): the generated straight-line code, one direction at a time.
 template <class T>
 inline bool evaluate_fast_batch(int bands, std::size_t n, const T* xs, const T* ys, const T* zs, T* out,
                                 std::size_t stride) {
   if constexpr (std::is_same_v<T, float> || std::is_same_v<T, double>) {
-    if (bands < 1 || bands > kFastMaxBands) return false;
-    detail::fast_batch(bands, n, xs, ys, zs, out, stride);
-    return true;
+    // Explicit evaluate_fast_batch<float>(...): the non-template overload above (it wins
+    // overload resolution against this template).
+    return evaluate_fast_batch(bands, n, xs, ys, zs, out, stride);
   }
   switch (bands) {
     case 1: generated::eval_batch_1(n, xs, ys, zs, out, stride); return true;

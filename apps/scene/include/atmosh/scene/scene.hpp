@@ -21,14 +21,14 @@
 #include <vector>
 
 #include "atmosh/atmo/multiple_scattering.hpp"
+#include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/spec.hpp"
 
 namespace atmosh::scene {
 
-struct Observer {
-  double latitude_deg = 0.0;    // geodetic, WGS84, [-90, 90]
-  double longitude_deg = 0.0;   // east positive, [-180, 180]
-  double height_m = 0.0;        // above the WGS84 ellipsoid
+// [observer]: a place (atmo::Observer: latitude_deg, longitude_deg, height_m, with
+// its one validation, atmo::validate_observer) and a time.
+struct Observer : atmo::Observer {
   std::string time_utc;         // ISO 8601 (offsets accepted)
 };
 

@@ -1,4 +1,4 @@
-// atmosh/atmo/fast_exp.hpp — exp(-x) without a libm call, for loops that
+// fast_exp.hpp (private to libatmo) — exp(-x) without a libm call, for loops that
 // the compiler should vectorise (the sky integral's loop over wavelengths). For a
 // single scalar call libm's exp is faster (its table-driven kernel has a shorter
 // dependency chain than this degree-12 polynomial).

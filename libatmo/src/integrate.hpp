@@ -1,4 +1,4 @@
-// atmosh/atmo/integrate.hpp — globally adaptive Gauss-Kronrod (G7-K15)
+// integrate.hpp (private to libatmo) — globally adaptive Gauss-Kronrod (G7-K15)
 // quadrature in double, for scalar or glm::dvec3 integrands.
 //
 // The interval [a, b] is first split at the given breakpoints (kinks, tangent

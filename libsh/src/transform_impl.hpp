@@ -1,0 +1,47 @@
+// transform_impl.hpp (private to libsh) — the ring-wise Legendre sums and the FFTs
+// behind transform.cpp and projection.cpp; tests of the FFT include it from libsh/src.
+#pragma once
+
+namespace atmosh::sh {
+
+namespace detail {
+/// Ring-wise Legendre analysis shared by grids and equirect images.
+/// Rings: cos_t[r], sin_t[r]; fourier[(r * bands + m) * 2 + {0,1}] holds the already
+/// weighted ring sums for Y_lm (cos part) and Y_l-m (sin part); coefficients accumulate
+/// into coeffs (bands^2). Rings r and nrings-1-r must be mirror images when
+/// `symmetric` (cos_t[r] = -cos_t[nrings-1-r]).
+void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
+                       const double* fourier, bool symmetric, double* coeffs, int threads);
+/// Inverse: fourier[(r * bands + m) * 2 + {0,1}] = sum_l c_l,+-m Pbar_lm(x_r) (times sqrt2 for m>0).
+void legendre_synthesis(int bands, int nrings, const double* cos_t, const double* sin_t,
+                        const double* coeffs, bool symmetric, double* fourier, int threads);
+/// In-place complex FFT of size n (power of two), sign -1 forward, +1 inverse (unscaled).
+void fft(double* re, double* im, int n, int sign);
+/// Real FFT of any size n >= 1 through FFTW3. The plans are made once per size (FFTW's
+/// planner is not thread safe: under a process-wide lock) with FFTW_ESTIMATE, so the same
+/// input gives the same bits from run to run; executing them is thread safe. Each object
+/// owns aligned work arrays: one per thread.
+class RealFft {
+ public:
+  explicit RealFft(int n);
+  ~RealFft();
+  RealFft(const RealFft&) = delete;
+  RealFft& operator=(const RealFft&) = delete;
+  int size() const { return n_; }
+  /// a_m = sum_j f_j cos(2 pi j m / n), b_m = sum_j f_j sin(2 pi j m / n) into out[2m],
+  /// out[2m+1] for m < count (any count: orders above n/2 are the aliases).
+  template <class T>
+  void forward(const T* f, int count, double* out);
+  /// v_j = sum_{m < count} (C_m cos(2 pi j m / n) + S_m sin(2 pi j m / n)) from cs[2m], cs[2m+1];
+  /// needs 2 count - 1 <= n.
+  void inverse(const double* cs, int count, double* v);
+
+ private:
+  int n_;
+  const void* plans_;  // the shared plans of size n
+  double* real_;       // n values (FFTW-aligned)
+  double* spec_;       // n/2 + 1 complex values
+};
+}  // namespace detail
+
+}  // namespace atmosh::sh
