@@ -221,7 +221,7 @@ void bind_sky(py::module_& m) {
         for (std::size_t i = 0; i < n; ++i) {
           if (!std::isfinite(elevation.data()[i]) || !std::isfinite(azimuth.data()[i]))
             throw InputError("directions[" + std::to_string(i) + "]: non-finite angle");
-          const glm::dvec3 d = atmo::sun_direction_enu(90.0 - elevation.data()[i], azimuth.data()[i]);
+          const glm::dvec3 d = atmo::enu_direction_from_zenith(90.0 - elevation.data()[i], azimuth.data()[i]);
           for (int k = 0; k < 3; ++k) out.mutable_data()[3 * i + k] = d[k];
         }
         return out;

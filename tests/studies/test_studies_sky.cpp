@@ -70,7 +70,7 @@ TEST(Studies, SunElevationStudyRowsAreTheSkySummaryAtEachElevation) {
   ASSERT_EQ(st.rows.size(), 5u);
   const Direct d(s, o.sky);
   for (std::size_t i = 0; i < st.rows.size(); ++i) {
-    const auto ref = atmo::summarize_sky(d.sky, 0.0, atmo::sun_direction_enu(90.0 - st.elevations_deg[i], 150.0));
+    const auto ref = atmo::summarize_sky(d.sky, 0.0, atmo::enu_direction_from_zenith(90.0 - st.elevations_deg[i], 150.0));
     EXPECT_EQ(st.rows[i].zenith.xyz.Y, ref.zenith.xyz.Y) << i;
     EXPECT_EQ(st.rows[i].horizon_toward_sun.xyz.Y, ref.horizon_toward_sun.xyz.Y) << i;
     EXPECT_EQ(st.rows[i].sun_transmitted.Y, ref.sun_transmitted.Y) << i;
@@ -157,7 +157,7 @@ TEST(Studies, DayStudyFollowsTheSunFromSpa) {
     EXPECT_NEAR(r.sun.azimuth_deg, spa.azimuth_deg, 1e-6) << r.time_utc;
     EXPECT_EQ(atmo::parse_iso8601(r.time_utc).jd_utc, atmo::parse_iso8601(frames[i].time_utc).jd_utc);
     // The summary is the sky at the day's Earth-Sun distance (tables for 1 AU, scaled).
-    const auto ref = atmo::summarize_sky(d.sky, 35.0, atmo::sun_direction_enu(90.0 - spa.elevation_deg, spa.azimuth_deg),
+    const auto ref = atmo::summarize_sky(d.sky, 35.0, atmo::enu_direction_from_zenith(90.0 - spa.elevation_deg, spa.azimuth_deg),
                                          1.0, spa.earth_sun_distance_au);
     EXPECT_NEAR(r.summary.zenith.xyz.Y, ref.zenith.xyz.Y, 1e-9 * ref.zenith.xyz.Y + 1e-300) << r.time_utc;
     if (r.sun.elevation_deg > st.rows[noon].sun.elevation_deg) noon = i;
@@ -218,7 +218,7 @@ TEST(Studies, SweepPointIsTheSkySummaryOfTheScenesSun) {
   EXPECT_NEAR(value("sun_elevation_deg"), spa.elevation_deg, 1e-9);
   EXPECT_NEAR(value("sun_azimuth_deg"), spa.azimuth_deg, 1e-9);
   const Direct d(s, k, spa.earth_sun_distance_au);
-  const auto ref = atmo::summarize_sky(d.sky, 35.0, atmo::sun_direction_enu(90.0 - spa.elevation_deg, spa.azimuth_deg));
+  const auto ref = atmo::summarize_sky(d.sky, 35.0, atmo::enu_direction_from_zenith(90.0 - spa.elevation_deg, spa.azimuth_deg));
   EXPECT_EQ(value("zenith_luminance_cd_m2"), ref.zenith.xyz.Y);
   EXPECT_EQ(value("horizon_away_luminance_cd_m2"), ref.horizon_away.xyz.Y);
   EXPECT_EQ(value("sun_direct_normal_illuminance_lux"), ref.sun_transmitted.Y);

@@ -114,7 +114,7 @@ ElevationStudy sun_elevation_study(const scene::Scene& s, const ElevationStudyOp
   st.rows.resize(elev.size());
   auto body = [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i)
-      st.rows[i] = summarize_sky(*model->sky, h, sun_direction_enu(90.0 - elev[i], o.azimuth_deg));
+      st.rows[i] = summarize_sky(*model->sky, h, enu_direction_from_zenith(90.0 - elev[i], o.azimuth_deg));
   };
   if (progress) parallel_for_ranges(elev.size(), 1, o.sky.threads, body, progress);
   else parallel_for_ranges(elev.size(), 1, o.sky.threads, body);
@@ -269,8 +269,8 @@ ConvergeSky converge_sky(const scene::Scene& s, const ConvergeSkyOptions& o) {
   // Reference, in parallel.
   const auto t0 = std::chrono::steady_clock::now();
   parallel_for(rays.size(), o.threads, [&](std::size_t i) {
-    rays[i].L = ref.radiance(0.0, sun_direction_enu(90 - rays[i].view_el, rays[i].rel_az),
-                             sun_direction_enu(90 - rays[i].sun_el, 0.0)).radiance;
+    rays[i].L = ref.radiance(0.0, enu_direction_from_zenith(90 - rays[i].view_el, rays[i].rel_az),
+                             enu_direction_from_zenith(90 - rays[i].sun_el, 0.0)).radiance;
   });
   const double ref_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -308,7 +308,7 @@ ConvergeSky converge_sky(const scene::Scene& s, const ConvergeSkyOptions& o) {
     const auto r0 = std::chrono::steady_clock::now();
     for (int rep = 0; rep < reps; ++rep)
       for (const auto& r : rays) {
-        sky.radiance(0.0, sun_direction_enu(90 - r.view_el, r.rel_az), sun_direction_enu(90 - r.sun_el, 0.0), L.data());
+        sky.radiance(0.0, enu_direction_from_zenith(90 - r.view_el, r.rel_az), enu_direction_from_zenith(90 - r.sun_el, 0.0), L.data());
         if (rep > 0) continue;
         const double peak = *std::max_element(r.L.begin(), r.L.end());
         const int k = r.sun_el < 0 ? 1 : 0;

@@ -62,12 +62,6 @@ void enu_axes_ecef(const Observer& o, glm::dvec3& east, glm::dvec3& north, glm::
 //     finite for every finite input (no check: inner loops).
 glm::dvec3 enu_direction(double elevation_deg, double azimuth_deg);
 glm::dvec3 enu_direction_from_zenith(double zenith_deg, double azimuth_deg);
-// The former name of enu_direction_from_zenith, kept for one release: it was never
-// specific to the sun.
-[[deprecated("use enu_direction_from_zenith")]] inline glm::dvec3 sun_direction_enu(double zenith_deg,
-                                                                                   double azimuth_deg) {
-  return enu_direction_from_zenith(zenith_deg, azimuth_deg);
-}
 
 // Distance of the observer from the Earth's centre (m), WGS84.
 double geocentric_radius_m(const Observer& o);
