@@ -134,10 +134,8 @@ TEST(Studies, DayStudyFollowsTheSunFromSpa) {
   o.sky = test::coarse_settings();
   std::vector<studies::DayFrame> frames;
   const auto st = studies::day_study(s, o, [&](studies::DayFrame&& f) { frames.push_back(std::move(f)); });
-  // 00:00, 04:00, ..., 20:00 UTC (and 24:00: the series' end, jd0 + 1 - 1e-9 d, lies
-  // within the Julian day's rounding of 24:00 -- as `atmosh study day` has written it).
-  ASSERT_GE(st.rows.size(), 6u);
-  ASSERT_LE(st.rows.size(), 7u);
+  // 00:00, 04:00, ..., 20:00 UTC: the times of [00:00, 24:00) of the date.
+  ASSERT_EQ(st.rows.size(), 6u);
   ASSERT_EQ(frames.size(), st.rows.size());
   const double jd0 = atmo::parse_iso8601("2026-06-21T00:00:00Z").jd_utc;
   const Direct d(s, o.sky);
@@ -174,6 +172,28 @@ TEST(Studies, DayStudyFollowsTheSunFromSpa) {
   EXPECT_GT(frames[noon].sun.distance_au, 1.01);
 }
 
+// A step that divides the day gives 24 h / step rows, the last one step before the
+// next midnight; never the next day's 00:00, whose frame would carry the same file
+// name (sky_0000Z.exr) as this day's first.
+TEST(Studies, DayStudyStopsBeforeTheNextMidnight) {
+  const auto s = test::small_scene();
+  for (double step_h : {3.0, 1.0, 0.25}) {
+    studies::DayStudyOptions o;
+    o.latitude_deg = 48.8566;
+    o.longitude_deg = 2.3522;
+    o.date = "2026-03-20";
+    o.step_s = step_h * 3600.0;
+    o.frames = false;
+    o.sky = test::coarse_settings();
+    const auto st = studies::day_study(s, o, {});
+    const std::size_t n = static_cast<std::size_t>(std::lround(24.0 / step_h));
+    ASSERT_EQ(st.rows.size(), n) << "step " << step_h << " h";
+    EXPECT_EQ(st.rows.front().time_utc.substr(0, 10), "2026-03-20");
+    EXPECT_EQ(st.rows.back().time_utc.substr(0, 10), "2026-03-20") << st.rows.back().time_utc;
+    EXPECT_NEAR(st.rows.back().hours, 24.0 - step_h, 1e-6);
+  }
+}
+
 TEST(Studies, DayStudyWritesCsvAndFrames) {
   const auto s = test::small_scene();
   studies::DayStudyOptions o;
@@ -188,7 +208,7 @@ TEST(Studies, DayStudyWritesCsvAndFrames) {
   std::vector<fs::path> frames;
   const auto st = studies::day_study(s, o, [&](studies::DayFrame&& f) { frames.push_back(studies::write_day_frame(f, d)); });
   const auto files = studies::write_day_study(st, d);
-  ASSERT_GE(frames.size(), 3u);  // 00:00, 08:00, 16:00 (and 24:00, see above)
+  ASSERT_EQ(frames.size(), 3u);  // 00:00, 08:00, 16:00
   EXPECT_EQ(frames[1], d / "frames" / "sky_0800Z.exr");
   for (const auto& f : frames) EXPECT_TRUE(fs::exists(f)) << f;
   const auto csv = io::read_csv(files.at(0));

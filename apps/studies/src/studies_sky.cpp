@@ -1,6 +1,8 @@
 // A sky from a scene (see atmosh/studies/sky.hpp).
 #include "atmosh/studies/sky.hpp"
 
+#include "atmosh/device.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -54,20 +56,22 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
                              int width, int height, double altitude_m, const glm::dvec3& sun, bool spectral, int threads,
                              std::string& used, const Notice& notice) {
   using namespace atmosh::atmo;
-  check_device_name(device);
-  auto tell = [&](const std::string& m) {
-    if (notice) notice(m);
+  const DeviceRequest request = parse_device_request(device);
+  auto tell = [&](const DeviceDecision& d) {
+    if (notice && !d.notice.empty()) notice(d.notice);
   };
-  // gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line notice.
+  // gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line
+  // notice (atmosh::resolve_device, the toolkit's one device policy).
   used = "cpu";
-  if (device != "cpu" && sky.method() != ScatteringMethod::Single) {
+  if (request != DeviceRequest::cpu && sky.method() != ScatteringMethod::Single) {
     // The GPU pass computes single scattering only.
     const std::string what = std::string("scattering method '") + scattering_method_name(sky.method()) + "'";
-    if (device == "gpu") throw std::runtime_error("--device gpu: " + what + " is not supported on the GPU (use --scattering single or --device cpu)");
-    tell(what + " is not supported on the GPU; rendering on the CPU");
+    tell(resolve_device(request, GpuUnusable{GpuUnusable::Why::unsupported, what, "use --scattering single or --device cpu"},
+                        "rendering on the CPU"));
     return render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
   }
-  if (device != "cpu") {
+  if (request != DeviceRequest::cpu) {
+    std::optional<GpuUnusable> unusable;
 #ifdef ATMOSH_HAVE_GPU
     try {
       SkyImage img = gpu::render_sky(sky, proj, width, height, altitude_m, sun, spectral);
@@ -75,16 +79,14 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
       add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (CPU; a few pixels)
       return img;
     } catch (const gpu::Unavailable& e) {
-      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-      tell(std::string("no GPU (") + e.what() + "); rendering on the CPU");
+      unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), {}};
     } catch (const gpu::Unsupported& e) {
-      if (device == "gpu") throw std::runtime_error(std::string("--device gpu: ") + e.what());
-      tell(std::string(e.what()) + " is not supported on the GPU; rendering on the CPU");
+      unusable = GpuUnusable{GpuUnusable::Why::unsupported, e.what(), {}};
     }
 #else
-    if (device == "gpu") throw std::runtime_error("--device gpu: atmosh was built without ATMOSH_WITH_GPU");
-    tell("built without GPU support; rendering on the CPU");
+    unusable = GpuUnusable{GpuUnusable::Why::not_built, {}, {}};
 #endif
+    tell(resolve_device(request, unusable, "rendering on the CPU"));
   }
   SkyImage img = render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
   add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (SkyOptions::sun_model)

@@ -158,7 +158,12 @@ DayStudy day_study(const scene::Scene& s, const DayStudyOptions& o, const std::f
   base.latitude_deg = o.latitude_deg;
   base.longitude_deg = o.longitude_deg;
   base.height_m = o.height_m;
-  const auto series = sun_series(base, jd0, jd0 + 1.0 - 1e-9, o.step_s, 100000);
+  // Times in [00:00, 24:00) of the date: the end is half a step (at most 0.5 s) before
+  // the next midnight, far above the Julian day's rounding (~40 us at JD 2.46e6), so a
+  // step that divides the day never yields the next day's 00:00 (whose frame would
+  // overwrite this day's sky_0000Z.exr).
+  const double margin_d = std::min(0.5 * o.step_s, 0.5) / 86400.0;
+  const auto series = sun_series(base, jd0, jd0 + 1.0 - margin_d, o.step_s, 100000);
   const auto model = make_sky_model(o.sky.scene_for(s), o.sky.sky(s), 1.0);
   const double h = std::max(o.height_m, 0.0);
   DayStudy st;
