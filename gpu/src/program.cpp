@@ -68,39 +68,8 @@ void check_gl(const char* what) {
 }
 
 namespace {
-// Every shader's square root goes through atmosh_sqrt. The double overload
-// refines the driver's result y with one Newton step written as a correction,
-// y + (x - y^2) (0.5 / y): NVIDIA's GLSL sqrt(double) has only single-precision
-// accuracy (measured on an H200, driver 580.159: a cut distance of 365 087.549 m
-// came back as 365 087.5625, 3.6e-8 relative, and the altitudes r(s) - R of the
-// sky's nodes moved by ~0.2 m, 2e-4 of the Mie density). The residual is exact to
-// ~1 ulp of x, so the step leaves ~1e-16 whatever the accuracy of the division.
-// `precise` stops the compiler from simplifying the step away (y * y = x, and
-// x / sqrt(x) = sqrt(x), are legal rewrites without it). On a correctly rounded
-// sqrt (Mesa llvmpipe) the step moves the result by at most an ulp. 0, +inf and
-// NaN pass through unchanged. Float keeps the built-in.
-const char* const kSqrtPrelude =
-    "float atmosh_sqrt(float x) { return sqrt(x); }\n"
-    "vec2 atmosh_sqrt(vec2 x) { return sqrt(x); }\n"
-    "vec3 atmosh_sqrt(vec3 x) { return sqrt(x); }\n"
-    "vec4 atmosh_sqrt(vec4 x) { return sqrt(x); }\n"
-    "double atmosh_sqrt(double x) {\n"
-    "  precise double y = sqrt(x);\n"
-    "  if (!(y > 0.0LF && y < 1.0e300LF)) return y;\n"
-    "  precise double e = x - y * y;\n"
-    "  precise double r = y + e * (0.5LF / y);\n"
-    "  return r;\n"
-    "}\n"
-    "dvec2 atmosh_sqrt(dvec2 x) { return dvec2(atmosh_sqrt(x.x), atmosh_sqrt(x.y)); }\n"
-    "dvec3 atmosh_sqrt(dvec3 x) { return dvec3(atmosh_sqrt(x.x), atmosh_sqrt(x.y), atmosh_sqrt(x.z)); }\n"
-    "dvec4 atmosh_sqrt(dvec4 x) {\n"
-    "  return dvec4(atmosh_sqrt(x.x), atmosh_sqrt(x.y), atmosh_sqrt(x.z), atmosh_sqrt(x.w));\n"
-    "}\n"
-    "#define sqrt atmosh_sqrt\n";
-
 std::string assemble(const std::vector<ShaderPart>& parts, const std::string& defines) {
   std::string src = "#version 430 core\n#define real float\n#define real3 vec3\n#define ATMOSH_FN\n#define ATMOSH_GLSL 1\n";
-  src += kSqrtPrelude;
   src += defines;
   if (!src.empty() && src.back() != '\n') src += '\n';
   for (std::size_t i = 0; i < parts.size(); ++i) {

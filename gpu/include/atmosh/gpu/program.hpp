@@ -12,9 +12,6 @@
 //     #define real3 vec3
 //     #define ATMOSH_FN
 //     #define ATMOSH_GLSL 1
-//     atmosh_sqrt overloads, then #define sqrt atmosh_sqrt (the double one is
-//       refined to full double precision: NVIDIA's GLSL sqrt(double) is
-//       single-precision accurate; program.cpp)
 //     <extra defines>
 // and every part is preceded by "#line <its first line> <its index + 1>", so the
 // driver's messages name source-string numbers that map back to files.
