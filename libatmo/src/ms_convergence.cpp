@@ -57,7 +57,8 @@ std::vector<MsStudySetting> ms_study_default_settings(bool quick) {
                    o});
   };
   for (int n : {2, 3, 4, 6}) orders(n, d.orders_radii, d.orders_view_directions, d.orders_sun_directions, d.orders_azimuths);
-  orders(d.orders, 8, 32, 16, 4);  // half the default in every dimension
+  orders(d.orders, d.orders_radii / 2, d.orders_view_directions / 2, d.orders_sun_directions / 2,
+         d.orders_azimuths / 2);  // half the default in every dimension
   return out;
 }
 

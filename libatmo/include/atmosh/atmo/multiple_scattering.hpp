@@ -73,7 +73,7 @@ struct MultipleScatteringOptions {
   // orders: table sizes (scattering_orders.hpp).
   int orders_radii = 16;         // >= 4
   int orders_view_directions = 64;  // view zenith cosines (half up, half down), even, >= 8
-  int orders_sun_directions = 32;   // >= 4
+  int orders_sun_directions = 48;   // >= 4
   int orders_azimuths = 8;          // cos(view, sun) samples, >= 4
   int orders_sphere_zenith = 12;    // scattering density: zenith directions of its sphere rule, >= 4
   int orders_sphere_azimuth = 12;   // and azimuths over [0, 2 pi), >= 4

@@ -32,7 +32,10 @@
 //             horizon than uniform (the terminator; ScatteringOrders::Impl::mus_of_u);
 //   azimuth:  phi in [0, pi] between the view's and the sun's vertical planes, uniform
 //             (nu = mu mu_s + sqrt((1 - mu^2)(1 - mu_s^2)) cos phi: every sample valid);
-// multilinear interpolation. J uses a sphere rule of `orders_sphere_zenith` cosines
+// multilinear interpolation of the logarithms with a second-order correction toward the
+// arithmetic mean where the corners are close (the plain geometric mean of log
+// interpolation is biased low and the bias compounds through the orders; see
+// spread_correction in scattering_orders.cpp). J uses a sphere rule of `orders_sphere_zenith` cosines
 // (Gauss-Legendre on each side of the local horizon, gathered toward it) x
 // `orders_sphere_azimuth` uniform azimuths, the phase functions normalised to 1 over
 // the rule (energy kept where the rule cannot resolve a forward peak); the
