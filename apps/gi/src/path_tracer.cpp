@@ -371,4 +371,46 @@ Irradiance irradiance(const Scene& scene, const std::vector<glm::dvec3>& points,
   return out;
 }
 
+Irradiance radiance_along(const Scene& scene, const std::vector<glm::dvec3>& origins, const std::vector<glm::dvec3>& dirs,
+                          const TraceOptions& opt) {
+  check_options(opt);
+  validate(scene);
+  if (origins.size() != dirs.size())
+    throw InputError("gi radiance: " + std::to_string(origins.size()) + " origins but " + std::to_string(dirs.size()) +
+                     " directions");
+  std::vector<glm::dvec3> d(dirs.size());
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    const double ln = glm::length(dirs[i]);
+    if (!std::isfinite(glm::length(origins[i])) || !(ln > 0) || !std::isfinite(ln))
+      throw InputError("gi radiance: ray " + std::to_string(i) + " has a non-finite origin or a zero direction");
+    d[i] = dirs[i] / ln;
+  }
+  const auto t_setup = Clock::now();
+  const Tracer tracer(scene, opt);
+  const auto t0 = Clock::now();
+  Irradiance out;
+  out.stats.setup_seconds = std::chrono::duration<double>(t0 - t_setup).count();
+  out.mean.assign(d.size(), glm::dvec3(0.0));
+  out.stderr_.assign(d.size(), glm::dvec3(0.0));
+  AtomicStats total;
+  parallel_for_ranges(
+      d.size(), 16, opt.threads,
+      [&](std::size_t b, std::size_t e) {
+        Stats st;
+        for (std::size_t i = b; i < e; ++i) {
+          Rng rng(opt.seed, i);
+          Acc acc;
+          for (int s = 0; s < opt.samples; ++s) acc.add(tracer.camera_path(rng, origins[i], d[i], st));
+          out.mean[i] = acc.mean;
+          out.stderr_[i] = acc.stderr_();
+        }
+        total.add(st);
+      },
+      opt.progress);
+  out.stats.rays = total.rays.load();
+  out.stats.shadow_rays = total.shadow.load();
+  out.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return out;
+}
+
 }  // namespace atmosh::gi

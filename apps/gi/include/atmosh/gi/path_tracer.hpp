@@ -76,4 +76,11 @@ RadianceImage render(const Scene& scene, const Camera& camera, int width, int he
 Irradiance irradiance(const Scene& scene, const std::vector<glm::dvec3>& points, const std::vector<glm::dvec3>& normals,
                       const TraceOptions& opt);
 
+/// Radiance along rays: the path tracer's estimate of the radiance arriving at origins[i]
+/// from direction dirs[i] (the radiance a camera ray (origins[i], dirs[i]) sees: emission of
+/// the first surface hit, its reflected light, or the environment), opt.samples paths per
+/// ray, ray i with its own random stream seeded from (opt.seed, i). dirs need not be unit.
+Irradiance radiance_along(const Scene& scene, const std::vector<glm::dvec3>& origins, const std::vector<glm::dvec3>& dirs,
+                          const TraceOptions& opt);
+
 }  // namespace atmosh::gi
