@@ -36,6 +36,7 @@ struct GiRenderOptions {
   int bounces = -1, samples = 16, threads = 0, resolution = 32;
   // probes
   int bands = 3, grid = 4, cube_size = 8, pixel_samples = 4;
+  bool probe_visibility = false;
   std::string window = "none";
   std::uint64_t seed = 1;
   bool json = false;
@@ -157,6 +158,7 @@ void run_render(const GiRenderOptions& o) {
     ro.samples = o.pixel_samples;
     ro.seed = o.seed;
     ro.threads = opt.threads;
+    ro.visibility = o.probe_visibility;
     img = gi::render_probes(s, s.camera, w, h, g, false, ro);
     img.stats.rays += g.stats.rays;
     img.stats.shadow_rays += g.stats.shadow_rays;
@@ -182,7 +184,8 @@ void run_render(const GiRenderOptions& o) {
   if (o.method == "probes")
     prov.add("bands", std::to_string(o.bands)).add("grid", std::to_string(o.grid))
         .add("cube_size", std::to_string(o.cube_size)).add("window", o.window)
-        .add("pixel_samples", std::to_string(o.pixel_samples)).add("probe_seconds", probe_seconds);
+        .add("pixel_samples", std::to_string(o.pixel_samples)).add("probe_seconds", probe_seconds)
+        .add("visibility", o.probe_visibility ? "on" : "off");
   if (s.sun)
     prov.add("sun_direction", io::format_double(s.sun->direction.x) + "," + io::format_double(s.sun->direction.y) + "," +
                                   io::format_double(s.sun->direction.z));
@@ -212,6 +215,7 @@ void run_render(const GiRenderOptions& o) {
       j["cube_size"] = o.cube_size;
       j["window"] = o.window;
       j["probe_seconds"] = probe_seconds;
+      j["visibility"] = o.probe_visibility;
       j["shade_seconds"] = img.stats.seconds;
     }
     print_json(j);
@@ -319,25 +323,28 @@ void run_converge(const GiConvergeOptions& co) {
     p.seed = o.seed + 7;
     p.threads = threads;
     const gi::ProbeGrid full = gi::build_probe_grid(s, g, p);
-    for (int b : bands) {
-      const auto t0 = std::chrono::steady_clock::now();
-      const gi::ProbeGrid gb = gi::truncate_grid(full, b, probe_window(o.window));
-      gi::ProbeRenderOptions ro;
-      ro.samples = o.pixel_samples;
-      ro.seed = o.seed;
-      ro.threads = threads;
-      const gi::RadianceImage img = gi::render_probes(s, s.camera, w, h, gb, false, ro);
-      const double shade = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const gi::ImageError e = gi::image_error(img, ref);
-      const std::string setting = "bands=" + std::to_string(b) + " grid=" + std::to_string(g);
-      rows.push_back({"probes", setting, e.max_rel, e.rms_rel, full.seconds + shade, {e.leak_rel, full.seconds, shade}});
-      auto pp = prov;
-      pp.add("method", "probes").add("bands", std::to_string(b)).add("grid", std::to_string(g))
-          .add("cube_size", std::to_string(o.cube_size)).add("texel_samples", std::to_string(o.samples))
-          .add("window", o.window);
-      write_radiance(dir / ("probes_b" + std::to_string(b) + "_g" + std::to_string(g) + ".exr"), img, &ref,
-                     "radiance (R, G, B), radiance probes", pp);
-    }
+    for (int b : bands)
+      for (bool vis : {false, true}) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const gi::ProbeGrid gb = gi::truncate_grid(full, b, probe_window(o.window));
+        gi::ProbeRenderOptions ro;
+        ro.samples = o.pixel_samples;
+        ro.seed = o.seed;
+        ro.threads = threads;
+        ro.visibility = vis;
+        const gi::RadianceImage img = gi::render_probes(s, s.camera, w, h, gb, false, ro);
+        const double shade = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const gi::ImageError e = gi::image_error(img, ref);
+        const std::string method = vis ? "probes-visibility" : "probes";
+        const std::string setting = "bands=" + std::to_string(b) + " grid=" + std::to_string(g);
+        rows.push_back({method, setting, e.max_rel, e.rms_rel, full.seconds + shade, {e.leak_rel, full.seconds, shade}});
+        auto pp = prov;
+        pp.add("method", method).add("bands", std::to_string(b)).add("grid", std::to_string(g))
+            .add("cube_size", std::to_string(o.cube_size)).add("texel_samples", std::to_string(o.samples))
+            .add("window", o.window);
+        write_radiance(dir / (method + "_b" + std::to_string(b) + "_g" + std::to_string(g) + ".exr"), img, &ref,
+                       "radiance (R, G, B), radiance probes" + std::string(vis ? " with visibility" : ""), pp);
+      }
   }
   auto sp = prov;
   sp.add("cube_size", std::to_string(o.cube_size)).add("texel_samples", std::to_string(o.samples))
@@ -352,6 +359,8 @@ void add_probe_options(CLI::App* c, GiRenderOptions& o) {
   c->add_option("--cube-size", o.cube_size, "probes: cube-map texels per face edge (default 8)");
   c->add_option("--pixel-samples", o.pixel_samples, "probes: camera rays per pixel (default 4)");
   c->add_option("--window", o.window, "probes: window against ringing: none | hanning | lanczos | nonnegative");
+  c->add_flag("--probe-visibility", o.probe_visibility,
+              "probes: drop probes the receiver cannot see (behind its surface or occluded) from the interpolation");
 }
 
 void add_scene_options(CLI::App* c, GiRenderOptions& o) {
@@ -405,7 +414,7 @@ void register_gi_commands(CLI::App& app) {
   co->scene.size = "64x64";
   co->scene.samples = 4;
   CLI::App* v = gic->add_subcommand(
-      "converge", "Error against run time of radiance probes (bands x grid) and of the path tracer at fewer samples, "
+      "converge", "Error against run time of radiance probes (bands x grid, plain and visibility-weighted) and of the path tracer at fewer samples, "
                   "against a path-traced reference at matched lighting: gi_converge.csv/.png and images");
   add_scene_options(v, co->scene);
   v->add_option("--samples", co->scene.samples, "paths per probe cube-map texel (default 4)");

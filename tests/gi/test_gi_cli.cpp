@@ -72,10 +72,10 @@ TEST(GiCli, ProbesRenderAndConvergeWriteTheirFiles) {
   bool header = false;
   while (std::getline(csv, line)) {
     if (line.rfind("method,setting,error_max_rel,error_rms_rel,time_s", 0) == 0) header = true;
-    if (line.rfind("probes,", 0) == 0 || line.rfind("path,", 0) == 0) ++rows;
+    if (line.rfind("probes,", 0) == 0 || line.rfind("probes-visibility,", 0) == 0 || line.rfind("path,", 0) == 0) ++rows;
   }
   EXPECT_TRUE(header);
-  EXPECT_EQ(rows, 5);  // path spp=2, probes 2 bands x 2 grids
+  EXPECT_EQ(rows, 9);  // path spp=2, probes 2 bands x 2 grids x plain / visibility
 }
 
 TEST(GiCli, RenderWritesRadianceAndStandardError) {

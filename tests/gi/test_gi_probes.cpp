@@ -205,6 +205,33 @@ TEST(GiProbes, SphereOnPlaneAgainstThePathTracerWithinMeasuredBounds) {
               e.rms_rel, e.max_rel, e.leak_rel, e1.rms_rel, e1.max_rel);
 }
 
+TEST(GiProbes, VisibilityRemovesProbesInsideTheSphere) {
+  // grid 3: the middle probes lie inside the sphere and see its black inside; plain trilinear
+  // darkens the sphere, visibility-weighted interpolation drops them.
+  const gi::Scene s = sphere_on_plane();
+  gi::TraceOptions t;
+  t.samples = 128;
+  t.seed = 5;
+  const int w = 24, h = 24;
+  const gi::RadianceImage ref = gi::render(s, s.camera, w, h, t);
+  gi::ProbeOptions o;
+  o.bands = 3;
+  o.cube_size = 8;
+  o.samples = 4;
+  o.seed = 9;
+  const gi::ProbeGrid g = gi::build_probe_grid(s, 3, o);
+  gi::ProbeRenderOptions ro;
+  ro.samples = 16;
+  ro.seed = 5;
+  const gi::ImageError plain = gi::image_error(gi::render_probes(s, s.camera, w, h, g, false, ro), ref);
+  ro.visibility = true;
+  const gi::ImageError vis = gi::image_error(gi::render_probes(s, s.camera, w, h, g, false, ro), ref);
+  std::printf("[ measured ] sphere-on-plane grid 3 bands 3: plain rms %.4f max %.4f; visibility rms %.4f max %.4f\n",
+              plain.rms_rel, plain.max_rel, vis.rms_rel, vis.max_rel);
+  EXPECT_LT(vis.rms_rel, 0.025);
+  EXPECT_GT(plain.rms_rel, 2 * vis.rms_rel);
+}
+
 TEST(GiProbes, DeterministicAcrossThreadCounts) {
   const gi::Scene s = sphere_on_plane();
   gi::ProbeOptions o;

@@ -166,8 +166,9 @@ ProbeGrid truncate_grid(const ProbeGrid& grid, int bands, sh::Window w) {
   return g;
 }
 
-ShRgb interpolate(const ProbeGrid& g, const glm::dvec3& p) {
-  const std::size_t nc = static_cast<std::size_t>(g.bands) * g.bands;
+namespace {
+// The 8 probes around p and their trilinear weights (p clamped to the centres' span).
+void corners(const ProbeGrid& g, const glm::dvec3& p, std::size_t idx[8], double w[8]) {
   if (g.n < 1 || g.probes.size() != static_cast<std::size_t>(g.n) * g.n * g.n)
     throw InputError("gi probes: grid of " + std::to_string(g.n) + " per axis holds " + std::to_string(g.probes.size()) +
                      " probes");
@@ -183,17 +184,32 @@ ShRgb interpolate(const ProbeGrid& g, const glm::dvec3& p) {
     i1[a] = std::min(i0[a] + 1, g.n - 1);
     f[a] = x - i0[a];
   }
+  for (int corner = 0; corner < 8; ++corner) {
+    const int ii = corner & 1 ? i1[0] : i0[0], jj = corner & 2 ? i1[1] : i0[1], kk = corner & 4 ? i1[2] : i0[2];
+    w[corner] = (corner & 1 ? f[0] : 1 - f[0]) * (corner & 2 ? f[1] : 1 - f[1]) * (corner & 4 ? f[2] : 1 - f[2]);
+    idx[corner] = (static_cast<std::size_t>(kk) * g.n + jj) * g.n + ii;
+  }
+}
+
+ShRgb blend(const ProbeGrid& g, const std::size_t idx[8], const double w[8]) {
+  const std::size_t nc = static_cast<std::size_t>(g.bands) * g.bands;
   ShRgb out;
   for (auto& c : out) c.assign(nc, 0.0);
   for (int corner = 0; corner < 8; ++corner) {
-    const int ii = corner & 1 ? i1[0] : i0[0], jj = corner & 2 ? i1[1] : i0[1], kk = corner & 4 ? i1[2] : i0[2];
-    const double w = (corner & 1 ? f[0] : 1 - f[0]) * (corner & 2 ? f[1] : 1 - f[1]) * (corner & 4 ? f[2] : 1 - f[2]);
-    if (w == 0) continue;
-    const ShRgb& q = g.probes[(static_cast<std::size_t>(kk) * g.n + jj) * g.n + ii];
+    if (w[corner] == 0) continue;
+    const ShRgb& q = g.probes[idx[corner]];
     for (int c = 0; c < 3; ++c)
-      for (std::size_t i = 0; i < nc; ++i) out[c][i] += w * q[c][i];
+      for (std::size_t i = 0; i < nc; ++i) out[c][i] += w[corner] * q[c][i];
   }
   return out;
+}
+}  // namespace
+
+ShRgb interpolate(const ProbeGrid& g, const glm::dvec3& p) {
+  std::size_t idx[8];
+  double w[8];
+  corners(g, p, idx, w);
+  return blend(g, idx, w);
 }
 
 namespace {
@@ -288,7 +304,26 @@ RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, in
           const glm::dvec3 n = glm::dot(normal[prim], d) < 0 ? normal[prim] : -normal[prim];
           const Material& mat = scene.materials[scene.material[prim]];
           if (!mat.one_sided || glm::dot(normal[prim], -d) > 0) L += mat.emission;
-          glm::dvec3 E = glm::max(probe_irradiance(interpolate(grid, p), grid.bands, n), glm::dvec3(0.0));
+          std::size_t idx[8];
+          double wt[8];
+          corners(grid, p, idx, wt);
+          if (opt.visibility) {  // drop the probes p cannot see; renormalise (all hidden: plain trilinear)
+            double sum = 0, keep[8];
+            for (int q = 0; q < 8; ++q) {
+              keep[q] = 0;
+              if (wt[q] == 0) continue;
+              const int ii = static_cast<int>(idx[q] % grid.n), jj = static_cast<int>(idx[q] / grid.n % grid.n),
+                        kk = static_cast<int>(idx[q] / grid.n / grid.n);
+              glm::dvec3 to = grid.position(ii, jj, kk) - p;
+              const double dist = glm::length(to);
+              if (dist > 2 * off && glm::dot(to, n) <= 0) continue;  // behind the receiver's surface
+              ++r, ++sr;
+              if (dist <= 2 * off || rays.unoccluded(p, to / dist, off, dist - off)) keep[q] = wt[q], sum += wt[q];
+            }
+            if (sum > 0)
+              for (int q = 0; q < 8; ++q) wt[q] = keep[q] / sum;
+          }
+          glm::dvec3 E = glm::max(probe_irradiance(blend(grid, idx, wt), grid.bands, n), glm::dvec3(0.0));
           if (sun_direct) {
             glm::dvec3 wl = sun_dir;
             if (sun_cos_max < 1) {

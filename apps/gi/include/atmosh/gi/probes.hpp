@@ -98,11 +98,18 @@ ShRgb interpolate(const ProbeGrid& grid, const glm::dvec3& p);
 struct ProbeRenderOptions {
   int samples = 4;  ///< camera rays per pixel (uniform jitter in the pixel), 1..1e6
   std::uint64_t seed = 1;
+  /// Visibility-weighted interpolation: each of the 8 probes keeps its trilinear weight only
+  /// if it lies on the front side of the receiver's surface (n . (x - p) > 0) and a ray from the
+  /// receiver point reaches the probe's position unoccluded; the kept
+  /// weights are renormalised (none kept: plain trilinear). Removes probes inside objects and
+  /// behind walls (8 shadow rays per camera ray). Off: plain trilinear.
+  bool visibility = false;
   int threads = 0;
 };
 
 /// Pinhole image lit by a probe grid. Per camera ray: miss -> the environment radiance;
-/// hit at p with albedo a, normal n (flat, towards the camera) ->
+/// hit at p with albedo a, normal n (flat, towards the camera), E_probe the irradiance of the
+/// interpolated probe coefficients (interpolate(), or visibility-weighted) ->
 ///   L = emission seen directly (as the path tracer)
 ///     + a / pi * ( max(0, E_probe(p, n))               [area emitters, environment and
 ///                                                       all interreflected light]
