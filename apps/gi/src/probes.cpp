@@ -361,13 +361,17 @@ RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, in
   return img;
 }
 
-ImageError image_error(const RadianceImage& a, const RadianceImage& r) {
+ImageError image_error(const RadianceImage& a, const RadianceImage& r, const std::vector<unsigned char>* skip) {
   if (a.width != r.width || a.height != r.height || a.mean[0].size() != r.mean[0].size())
     throw InputError("gi image error: images of different sizes");
+  if (skip != nullptr && skip->size() != r.mean[0].size())
+    throw InputError("gi image error: the pixel mask has " + std::to_string(skip->size()) + " entries for " +
+                     std::to_string(r.mean[0].size()) + " pixels");
   double sum_r = 0, max_d = 0, sum_d2 = 0, leak = 0;
   std::size_t n = 0;
   for (int c = 0; c < 3; ++c)
     for (std::size_t i = 0; i < r.mean[c].size(); ++i) {
+      if (skip != nullptr && (*skip)[i] != 0) continue;
       const double rv = r.mean[c][i], av = a.mean[c][i], se = r.stderr_[c].empty() ? 0.0 : r.stderr_[c][i];
       const double d = av - rv;
       sum_r += rv;
@@ -378,11 +382,25 @@ ImageError image_error(const RadianceImage& a, const RadianceImage& r) {
     }
   ImageError e;
   const double mean_r = n > 0 ? sum_r / n : 0;
-  if (!(mean_r > 0)) throw InputError("gi image error: the reference image is black");
+  if (!(mean_r > 0)) throw InputError("gi image error: the reference image is black (where compared)");
   e.max_rel = max_d / mean_r;
   e.rms_rel = std::sqrt(sum_d2 / n) / mean_r;
   e.leak_rel = leak / sum_r;
   return e;
+}
+
+std::vector<unsigned char> emitter_mask(const RadianceImage& d, int border) {
+  const int w = d.width, h = d.height;
+  std::vector<unsigned char> m(static_cast<std::size_t>(w) * h, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      if (!(d.mean[0][i] > 0 || d.mean[1][i] > 0 || d.mean[2][i] > 0)) continue;
+      for (int yy = std::max(0, y - border); yy <= std::min(h - 1, y + border); ++yy)
+        for (int xx = std::max(0, x - border); xx <= std::min(w - 1, x + border); ++xx)
+          m[static_cast<std::size_t>(yy) * w + xx] = 1;
+    }
+  return m;
 }
 
 }  // namespace atmosh::gi

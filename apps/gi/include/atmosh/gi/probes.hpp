@@ -131,6 +131,12 @@ RadianceImage render_probes(const Scene& scene, const Camera& camera, int width,
 struct ImageError {
   double max_rel = 0, rms_rel = 0, leak_rel = 0;
 };
-ImageError image_error(const RadianceImage& approx, const RadianceImage& reference);
+/// `skip` (optional, one entry per pixel): pixels where it is nonzero are left out of all
+/// three (e.g. directly seen emitters, whose edge pixels depend on the camera-ray jitter).
+ImageError image_error(const RadianceImage& approx, const RadianceImage& reference,
+                       const std::vector<unsigned char>* skip = nullptr);
+/// Pixels to leave out of image_error: those where `direct` (e.g. a render with bounces = 0,
+/// emission seen directly only) is nonzero in any channel, grown by `border` pixels.
+std::vector<unsigned char> emitter_mask(const RadianceImage& direct, int border = 1);
 
 }  // namespace atmosh::gi
