@@ -39,14 +39,37 @@ TraceOptions trace_options(const ProbeOptions& o) {
 
 std::size_t texels(int n) { return static_cast<std::size_t>(6) * n * n; }
 
-// Texel-centre directions of a cube map, in face / row / col order.
-std::vector<glm::dvec3> cube_directions(int n) {
-  std::vector<glm::dvec3> d;
-  d.reserve(texels(n));
-  for (int f = 0; f < 6; ++f)
-    for (int r = 0; r < n; ++r)
-      for (int c = 0; c < n; ++c) d.push_back(sh::cube_texel_direction(f, c, r, n));
-  return d;
+// Direction of cube-map face f at (u, v) in [-1, 1]^2 (libsh's orientation, projection.hpp).
+glm::dvec3 face_direction(int f, double u, double v) {
+  switch (f) {
+    case 0: return {1, -v, -u};
+    case 1: return {-1, -v, u};
+    case 2: return {u, 1, v};
+    case 3: return {u, -1, -v};
+    case 4: return {u, -v, 1};
+    default: return {-u, -v, -1};
+  }
+}
+
+// Rays of probe p = ray / texels(n), texel t = ray % texels(n) (face, row, col order): the
+// texel-centre direction, or (jitter) a uniform point of the texel's (u, v) square with
+// weight J(u, v) A_uv / Omega_texel, J = (1 + u^2 + v^2)^(-3/2) the solid angle per unit
+// (u, v) area — so E[weight L] = (1 / Omega) integral over the texel of L dOmega.
+RayDirection texel_rays(int n, bool jitter) {
+  const std::size_t nt = texels(n);
+  std::vector<double> omega(static_cast<std::size_t>(n) * n);
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) omega[static_cast<std::size_t>(r) * n + c] = sh::cube_texel_solid_angle(c, r, n);
+  return [n, nt, jitter, omega](std::size_t ray, double u1, double u2, double& w) {
+    const std::size_t t = ray % nt;
+    const int f = static_cast<int>(t / (static_cast<std::size_t>(n) * n));
+    const int r = static_cast<int>(t / n % n), c = static_cast<int>(t % n);
+    const double ju = jitter ? u1 : 0.5, jv = jitter ? u2 : 0.5;
+    const double u = 2 * (c + ju) / n - 1, v = 2 * (r + jv) / n - 1;
+    const double q = 1 + u * u + v * v;
+    w = jitter ? (4.0 / (static_cast<double>(n) * n)) / (q * std::sqrt(q)) / omega[static_cast<std::size_t>(r) * n + c] : 1.0;
+    return face_direction(f, u, v);
+  };
 }
 
 sh::CubeMap to_cube(const std::vector<glm::dvec3>& L, std::size_t first, int n) {
@@ -93,9 +116,8 @@ void bounds(const Scene& s, glm::dvec3& lo, glm::dvec3& hi) {
 sh::CubeMap render_probe_cube(const Scene& scene, const glm::dvec3& position, const ProbeOptions& opt, Stats* stats) {
   check(opt);
   if (!std::isfinite(glm::length(position))) throw InputError("gi probes: non-finite probe position");
-  const std::vector<glm::dvec3> dirs = cube_directions(opt.cube_size);
-  const std::vector<glm::dvec3> org(dirs.size(), position);
-  const Irradiance L = radiance_along(scene, org, dirs, trace_options(opt));
+  const std::vector<glm::dvec3> org(texels(opt.cube_size), position);
+  const Irradiance L = radiance_along(scene, org, texel_rays(opt.cube_size, opt.jitter), trace_options(opt));
   if (stats != nullptr) *stats = L.stats;
   return to_cube(L.mean, 0, opt.cube_size);
 }
@@ -129,18 +151,13 @@ ProbeGrid build_probe_grid(const Scene& scene, int n, const ProbeOptions& opt) {
   bounds(scene, g.lo, g.hi);
   g.n = n;
   g.bands = opt.bands;
-  const std::vector<glm::dvec3> dirs = cube_directions(opt.cube_size);
-  const std::size_t np = static_cast<std::size_t>(n) * n * n, nt = dirs.size();
-  std::vector<glm::dvec3> org, d;
+  const std::size_t np = static_cast<std::size_t>(n) * n * n, nt = texels(opt.cube_size);
+  std::vector<glm::dvec3> org;
   org.reserve(np * nt);
-  d.reserve(np * nt);
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const glm::dvec3 x = g.position(i, j, k);
-        for (const auto& dir : dirs) org.push_back(x), d.push_back(dir);
-      }
-  const Irradiance L = radiance_along(scene, org, d, trace_options(opt));
+      for (int i = 0; i < n; ++i) org.insert(org.end(), nt, g.position(i, j, k));
+  const Irradiance L = radiance_along(scene, org, texel_rays(opt.cube_size, opt.jitter), trace_options(opt));
   g.stats = L.stats;
   g.probes.resize(np);
   parallel_for_ranges(np, 1, opt.threads, [&](std::size_t b, std::size_t e) {

@@ -6,10 +6,10 @@
 // A probe at position x:
 //   * cube map (sh::CubeMap, faces +X -X +Y -Y +Z -Z, OpenGL orientation, see
 //     atmosh/sh/projection.hpp) of size N: texel value = the path tracer's estimate of the
-//     radiance arriving at x from the texel-centre direction (radiance_along(): emission seen
-//     directly, the surface's reflected light with all bounces, or the environment),
-//     `samples` paths per texel, seeded — each texel is an unbiased estimate of the radiance
-//     along its centre ray;
+//     radiance arriving at x (radiance_along(): emission seen directly, the surface's
+//     reflected light with all bounces, or the environment), `samples` paths per texel,
+//     seeded — each texel an unbiased estimate of the mean radiance over the texel's solid
+//     angle (ProbeOptions::jitter, the default) or of the radiance along its centre ray;
 //   * projected to SH up to `bands` bands with libsh's exact texel solid angles
 //     (sh::project_cube: texel-centre basis value x exact solid angle; second-order accurate
 //     in N for smooth radiance, exact for a constant one);
@@ -54,6 +54,12 @@ struct ProbeOptions {
   std::uint64_t seed = 1;
   sh::Window window = sh::Window::none;
   bool include_sun = false;  ///< add the sun's exact (unshadowed) SH projection to the probe
+  /// true: each path leaves along a uniform random point of its texel's (u, v) square,
+  /// weighted by the solid-angle Jacobian over its mean on the texel, so a texel is an
+  /// unbiased estimate of its mean radiance over the texel's solid angle (small bright
+  /// emitters between texel centres are not missed); false: every path along the
+  /// texel-centre ray (a point sample; exact for a constant environment).
+  bool jitter = true;
   int threads = 0;           ///< 0 = atmosh::resolve_threads(0)
 };
 
