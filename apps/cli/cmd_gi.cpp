@@ -406,7 +406,7 @@ void register_gi_commands(CLI::App& app) {
                                            "(render, converge)");
   gic->require_subcommand(1);
   auto o = std::make_shared<GiRenderOptions>();
-  CLI::App* c = gic->add_subcommand("render", "Radiance image of a scene with standard errors (EXR), by path tracing");
+  CLI::App* c = gic->add_subcommand("render", "Radiance image of a scene (EXR): path tracing with standard errors, or radiance probes");
   c->add_option("--scene-builtin", o->builtin, "built-in scene: cornell-box | sphere-on-plane | box-occluder");
   c->add_option("--mesh", o->mesh, "mesh file (.obj, .ply), grey Lambertian");
   c->add_option("--method", o->method, "path | probes (radiosity, lpv: not implemented yet)");
