@@ -319,8 +319,7 @@ void run_converge(const GiConvergeOptions& co) {
   prov.add("error_mask_pixels", std::to_string(masked));
 
   io::StudySpec spec;
-  spec.title = "gi converge: " + s.name + " — probes and path tracing against the path tracer (" +
-               std::to_string(co.reference_samples) + " paths/pixel)";
+  spec.title = "gi converge: " + s.name + " (reference: " + std::to_string(co.reference_samples) + " paths/pixel)";
   spec.extra_columns = {"leak_rel", "build_s", "shade_s"};
   std::vector<io::StudyRow> rows;
   for (int spp : pspp) {  // the path tracer itself at fewer samples, independent seed
