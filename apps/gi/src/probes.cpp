@@ -299,8 +299,19 @@ RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, in
   const std::size_t np = static_cast<std::size_t>(width) * height;
   for (int c = 0; c < 3; ++c) img.mean[c].assign(np, 0.0f), img.stderr_[c].assign(np, 0.0f);
   std::atomic<std::uint64_t> nrays{0}, nshadow{0};
+  const std::size_t nc = static_cast<std::size_t>(grid.bands) * grid.bands;
+  std::vector<double> a_of(nc);  // A_l of each coefficient
+  {
+    const std::vector<double> A = sh::irradiance_factors(grid.bands);
+    for (int l = 0; l < grid.bands; ++l)
+      for (int m = -l; m <= l; ++m) a_of[sh::sh_index(l, m)] = A[l];
+  }
+  for (const auto& q : grid.probes)
+    for (const auto& c : q)
+      if (c.size() != nc) throw InputError("gi probes: a probe's coefficients do not match the grid's bands");
   parallel_for_ranges(np, 16, opt.threads, [&](std::size_t b, std::size_t e) {
     std::uint64_t r = 0, sr = 0;
+    std::vector<double> ay(nc);
     for (std::size_t i = b; i < e; ++i) {
       const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
       Rng rng(opt.seed, i);
@@ -340,7 +351,20 @@ RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, in
             if (sum > 0)
               for (int q = 0; q < 8; ++q) wt[q] = keep[q] / sum;
           }
-          glm::dvec3 E = glm::max(probe_irradiance(blend(grid, idx, wt), grid.bands, n), glm::dvec3(0.0));
+          // E_c = sum_q w_q sum_i A_l(i) Y_i(n) c_q,c,i (the same as probe_irradiance of the blend)
+          sh::evaluate(grid.bands, n, ay.data());
+          for (std::size_t i = 0; i < nc; ++i) ay[i] *= a_of[i];
+          glm::dvec3 E(0.0);
+          for (int q = 0; q < 8; ++q) {
+            if (wt[q] == 0) continue;
+            const ShRgb& cq = grid.probes[idx[q]];
+            for (int ch = 0; ch < 3; ++ch) {
+              double e = 0;
+              for (std::size_t i = 0; i < nc; ++i) e += ay[i] * cq[ch][i];
+              E[ch] += wt[q] * e;
+            }
+          }
+          E = glm::max(E, glm::dvec3(0.0));
           if (sun_direct) {
             glm::dvec3 wl = sun_dir;
             if (sun_cos_max < 1) {
