@@ -146,7 +146,7 @@ void run_render(const GiRenderOptions& o) {
     po.seed = o.seed;
     po.window = probe_window(o.window);
     po.threads = opt.threads;
-    check_memory(mul_bytes(static_cast<std::size_t>(o.grid) * o.grid * o.grid, 6ull * o.cube_size * o.cube_size, 64),
+    check_memory(mul_bytes(static_cast<std::size_t>(o.grid) * o.grid * o.grid, 6ull * o.cube_size * o.cube_size, 128),
                  "the probe grid");
     gi::ProbeGrid g;
     {
@@ -281,6 +281,10 @@ void run_converge(const GiConvergeOptions& co) {
   io::set_threads(threads);
   const fs::path dir(co.out_dir);
   const int max_bands = *std::max_element(bands.begin(), bands.end());
+  const int max_grid = *std::max_element(grids.begin(), grids.end());
+  check_memory(mul_bytes(static_cast<std::size_t>(max_grid) * max_grid * max_grid,
+                         6ull * o.cube_size * o.cube_size, 128),
+               "the probe grid");
 
   gi::TraceOptions to;
   to.samples = co.reference_samples;
