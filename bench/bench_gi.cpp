@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "atmosh/gi/path_tracer.hpp"
+#include "atmosh/gi/probes.hpp"
 #include "atmosh/gi/scene.hpp"
 
 using namespace atmosh;
@@ -98,4 +99,28 @@ void BM_CornellBoxImage(benchmark::State& state) {
   state.counters["rays_per_s"] = rays / secs;
 }
 BENCHMARK(BM_CornellBoxImage)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Radiance probes on the CPU (docs/gi.md): building an n^3 grid on the Cornell box (cube 8,
+// 4 paths per texel, bands 3) and shading one 512 x 512 frame from a 4^3 grid (one camera ray
+// per pixel, plain trilinear and visibility-weighted), one thread.
+void BM_ProbeGridBuild(benchmark::State& state) {
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::ProbeOptions o;
+  o.threads = 1;
+  for (auto _ : state) benchmark::DoNotOptimize(gi::build_probe_grid(s, static_cast<int>(state.range(0)), o));
+  state.counters["probes"] = static_cast<double>(state.range(0) * state.range(0) * state.range(0));
+}
+BENCHMARK(BM_ProbeGridBuild)->Arg(2)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ProbeShade512(benchmark::State& state) {
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::ProbeOptions o;
+  const gi::ProbeGrid g = gi::build_probe_grid(s, 4, o);
+  gi::ProbeRenderOptions ro;
+  ro.samples = 1;
+  ro.threads = 1;
+  ro.visibility = state.range(0) != 0;
+  for (auto _ : state) benchmark::DoNotOptimize(gi::render_probes(s, s.camera, 512, 512, g, false, ro));
+}
+BENCHMARK(BM_ProbeShade512)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 }  // namespace

@@ -25,7 +25,18 @@ TEST(GiCli, BadInputExitsTwoNamingTheValue) {
   const auto dir = atmosh::test::scratch_dir("atmosh_gi_cli", "bad");
   const std::string out = " -o '" + (dir / "x.exr").string() + "'";
   expect_bad("gi render --scene-builtin no-such-box" + out, "no-such-box");
-  expect_bad("gi render --scene-builtin cornell-box --method probes" + out, "not implemented yet");
+  expect_bad("gi render --scene-builtin cornell-box --method radiosity" + out, "not implemented yet");
+  expect_bad("gi render --scene-builtin cornell-box --method probes --bands 0" + out, "--bands");
+  expect_bad("gi render --scene-builtin cornell-box --method probes --grid 65" + out, "--grid");
+  expect_bad("gi render --scene-builtin cornell-box --method probes --cube-size 0" + out, "--cube-size");
+  expect_bad("gi render --scene-builtin cornell-box --method probes --window boxcar" + out, "boxcar");
+  expect_bad("gi render --scene-builtin cornell-box --method probes --pixel-samples 0" + out, "--pixel-samples");
+  const std::string od = " -o '" + (dir / "conv").string() + "'";
+  expect_bad("gi converge --scene-builtin sphere-on-plane --grids 2,0" + od, "2,0");
+  expect_bad("gi converge --scene-builtin sphere-on-plane --bands-list 1,x" + od, "1,x");
+  expect_bad("gi converge --scene-builtin sphere-on-plane --reference-samples 1" + od, "--reference-samples");
+  expect_bad("gi converge --scene-builtin no-such-box" + od, "no-such-box");
+  expect_bad("gi converge --scene-builtin sphere-on-plane --window boxcar" + od, "boxcar");
   expect_bad("gi render --scene-builtin cornell-box --method lpv" + out, "lpv");
   expect_bad("gi render --scene-builtin cornell-box --method magic" + out, "magic");
   expect_bad("gi render --scene-builtin cornell-box --samples 1" + out, "--samples");
@@ -38,6 +49,33 @@ TEST(GiCli, BadInputExitsTwoNamingTheValue) {
   expect_bad("gi render --scene-builtin cornell-box -o '" + (dir / "x.png").string() + "'", "x.png");
   expect_bad("gi render" + out, "--scene-builtin");
   EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "conv" / "reference.exr"));
+}
+
+TEST(GiCli, ProbesRenderAndConvergeWriteTheirFiles) {
+  const auto dir = atmosh::test::scratch_dir("atmosh_gi_cli", "probes");
+  const auto exr = dir / "p.exr";
+  auto r = run_cli("gi render --scene-builtin sphere-on-plane --resolution 8 --light sun:30,40 --method probes "
+                   "--bands 2 --grid 2 --cube-size 4 --samples 2 --size 12x8 -o '" + exr.string() + "' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"probe_seconds\""), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(exr));
+  r = run_cli("gi converge --scene-builtin sphere-on-plane --resolution 8 --light sun:30,40 --bands-list 1,2 "
+              "--grids 1,2 --cube-size 4 --samples 2 --path-samples 2 --reference-samples 8 --size 12x8 -o '" +
+              (dir / "conv").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "conv" / "reference.exr"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "conv" / "probes_b2_g2.exr"));
+  std::ifstream csv(dir / "conv" / "gi_converge.csv");
+  std::string line;
+  int rows = 0;
+  bool header = false;
+  while (std::getline(csv, line)) {
+    if (line.rfind("method,setting,error_max_rel,error_rms_rel,time_s", 0) == 0) header = true;
+    if (line.rfind("probes,", 0) == 0 || line.rfind("probes-visibility,", 0) == 0 || line.rfind("path,", 0) == 0) ++rows;
+  }
+  EXPECT_TRUE(header);
+  EXPECT_EQ(rows, 9);  // path spp=2, probes 2 bands x 2 grids x plain / visibility
 }
 
 TEST(GiCli, RenderWritesRadianceAndStandardError) {

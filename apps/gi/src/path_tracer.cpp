@@ -371,4 +371,61 @@ Irradiance irradiance(const Scene& scene, const std::vector<glm::dvec3>& points,
   return out;
 }
 
+Irradiance radiance_along(const Scene& scene, const std::vector<glm::dvec3>& origins, const std::vector<glm::dvec3>& dirs,
+                          const TraceOptions& opt) {
+  if (origins.size() != dirs.size())
+    throw InputError("gi radiance: " + std::to_string(origins.size()) + " origins but " + std::to_string(dirs.size()) +
+                     " directions");
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    const double ln = glm::length(dirs[i]);
+    if (!(ln > 0) || !std::isfinite(ln)) throw InputError("gi radiance: ray " + std::to_string(i) + " has a zero direction");
+  }
+  return radiance_along(
+      scene, origins, [&dirs](std::size_t i, double, double, double& w) { w = 1; return dirs[i]; }, opt);
+}
+
+Irradiance radiance_along(const Scene& scene, const std::vector<glm::dvec3>& origins, const RayDirection& direction,
+                          const TraceOptions& opt) {
+  check_options(opt);
+  validate(scene);
+  if (!direction) throw InputError("gi radiance: no direction function");
+  for (std::size_t i = 0; i < origins.size(); ++i)
+    if (!std::isfinite(glm::length(origins[i])))
+      throw InputError("gi radiance: ray " + std::to_string(i) + " has a non-finite origin");
+  const auto t_setup = Clock::now();
+  const Tracer tracer(scene, opt);
+  const auto t0 = Clock::now();
+  Irradiance out;
+  out.stats.setup_seconds = std::chrono::duration<double>(t0 - t_setup).count();
+  out.mean.assign(origins.size(), glm::dvec3(0.0));
+  out.stderr_.assign(origins.size(), glm::dvec3(0.0));
+  AtomicStats total;
+  parallel_for_ranges(
+      origins.size(), 16, opt.threads,
+      [&](std::size_t b, std::size_t e) {
+        Stats st;
+        for (std::size_t i = b; i < e; ++i) {
+          Rng rng(opt.seed, i);
+          Acc acc;
+          for (int s = 0; s < opt.samples; ++s) {
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            double w = 1;
+            glm::dvec3 d = direction(i, u1, u2, w);
+            const double ln = glm::length(d);
+            if (!(ln > 0) || !std::isfinite(ln) || !std::isfinite(w))
+              throw InputError("gi radiance: ray " + std::to_string(i) + " got a zero or non-finite direction or weight");
+            acc.add(w * tracer.camera_path(rng, origins[i], d / ln, st));
+          }
+          out.mean[i] = acc.mean;
+          out.stderr_[i] = acc.stderr_();
+        }
+        total.add(st);
+      },
+      opt.progress);
+  out.stats.rays = total.rays.load();
+  out.stats.shadow_rays = total.shadow.load();
+  out.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return out;
+}
+
 }  // namespace atmosh::gi

@@ -76,4 +76,18 @@ RadianceImage render(const Scene& scene, const Camera& camera, int width, int he
 Irradiance irradiance(const Scene& scene, const std::vector<glm::dvec3>& points, const std::vector<glm::dvec3>& normals,
                       const TraceOptions& opt);
 
+/// Radiance along rays: the path tracer's estimate of the radiance arriving at origins[i]
+/// from direction dirs[i] (the radiance a camera ray (origins[i], dirs[i]) sees: emission of
+/// the first surface hit, its reflected light, or the environment), opt.samples paths per
+/// ray, ray i with its own random stream seeded from (opt.seed, i). dirs need not be unit.
+Irradiance radiance_along(const Scene& scene, const std::vector<glm::dvec3>& origins, const std::vector<glm::dvec3>& dirs,
+                          const TraceOptions& opt);
+/// The same with a direction per sample: sample s of ray i leaves origins[i] along
+/// direction(i, u1, u2, weight) (non-zero, finite; need not be unit), u1, u2 uniform in [0, 1)
+/// drawn first from ray i's stream; the sample's radiance is multiplied by the weight the
+/// function sets (e.g. a pdf ratio, for unbiased averages over a cone or texel).
+using RayDirection = std::function<glm::dvec3(std::size_t ray, double u1, double u2, double& weight)>;
+Irradiance radiance_along(const Scene& scene, const std::vector<glm::dvec3>& origins, const RayDirection& direction,
+                          const TraceOptions& opt);
+
 }  // namespace atmosh::gi

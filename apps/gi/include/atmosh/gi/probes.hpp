@@ -1,0 +1,148 @@
+// atmosh/gi/probes.hpp — radiance probes (CPU, by ray casting): cube maps of the lit scene's
+// radiance at probe positions, projected to SH; receivers shaded by the probe's SH irradiance
+// at their normal (Ramamoorthi & Hanrahan 2001); probe volumes on a regular 3D grid with
+// trilinear interpolation of the coefficients. The GPU (rasterised) probes are not built.
+//
+// A probe at position x:
+//   * cube map (sh::CubeMap, faces +X -X +Y -Y +Z -Z, OpenGL orientation, see
+//     atmosh/sh/projection.hpp) of size N: texel value = the path tracer's estimate of the
+//     radiance arriving at x (radiance_along(): emission seen directly, the surface's
+//     reflected light with all bounces, or the environment), `samples` paths per texel,
+//     seeded — each texel an unbiased estimate of the mean radiance over the texel's solid
+//     angle (ProbeOptions::jitter, the default) or of the radiance along its centre ray;
+//   * projected to SH up to `bands` bands with libsh's exact texel solid angles
+//     (sh::project_cube: texel-centre basis value x exact solid angle; second-order accurate
+//     in N for smooth radiance, exact for a constant one);
+//   * the distant sun is a delta direction that a cube map cannot hold: it is left out of
+//     the probe (the renderer adds the sun's direct light with a shadow ray), unless
+//     ProbeOptions::include_sun, which adds its exact SH projection E Y_lm(s) (unshadowed).
+//   * optional window (sh::window_weights: hanning, lanczos, nonnegative) multiplies band l
+//     of the radiance coefficients.
+// Irradiance at normal n: E(n) = sum_lm A_l c_lm Y_lm(n), A_l the clamped-cosine factors
+// (sh::irradiance_at); not clamped here (ringing may make it negative; the renderer clamps
+// at 0).
+//
+// Probe grid over the scene's bounding box [lo, hi] with n probes per axis: probe (i, j, k)
+// at the cell centre lo + ((i + 1/2)/n) (hi - lo) (cell-centred, so no probe lies on the box's
+// faces, e.g. on a ground plane); trilinear interpolation of the coefficients between the 8
+// surrounding probes, positions outside the span of the centres clamped to it. Probes inside
+// solid objects see their insides (black back faces) and probes beyond a thin wall see the
+// other side: both show as error (light leaking / darkening) against the path tracer.
+//
+// Units: radiance in the lights' units (scene.hpp), irradiance that times sr. Deterministic:
+// the texel rays use the path tracer's per-ray streams seeded from (seed, ray index).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "atmosh/gi/path_tracer.hpp"
+#include "atmosh/gi/scene.hpp"
+#include "atmosh/sh/convolution.hpp"
+#include "atmosh/sh/projection.hpp"
+
+namespace atmosh::gi {
+
+struct ProbeOptions {
+  int bands = 3;             ///< SH bands of the probes, 1..16
+  int cube_size = 8;         ///< cube-map texels per face edge, 1..512
+  int samples = 4;           ///< paths per texel, 2..1e6
+  int bounces = -1;          ///< as TraceOptions::bounces
+  std::uint64_t seed = 1;
+  sh::Window window = sh::Window::none;
+  bool include_sun = false;  ///< add the sun's exact (unshadowed) SH projection to the probe
+  /// true: each path leaves along a uniform random point of its texel's (u, v) square,
+  /// weighted by the solid-angle Jacobian over its mean on the texel, so a texel is an
+  /// unbiased estimate of its mean radiance over the texel's solid angle (small bright
+  /// emitters between texel centres are not missed); false: every path along the
+  /// texel-centre ray (a point sample; exact for a constant environment).
+  bool jitter = true;
+  int threads = 0;           ///< 0 = atmosh::resolve_threads(0)
+};
+
+/// SH coefficients of the incoming radiance, per channel, bands^2 each (world frame of the
+/// mesh: SH +z = the mesh's +z axis).
+using ShRgb = std::array<std::vector<double>, 3>;
+
+struct Probe {
+  glm::dvec3 position{0.0};
+  int bands = 0;
+  ShRgb radiance;
+  Stats stats;  ///< of the cube-map rays
+};
+
+/// The radiance cube map seen at `position` (3 channels, size opt.cube_size). InputError for
+/// bad options or an invalid scene.
+sh::CubeMap render_probe_cube(const Scene& scene, const glm::dvec3& position, const ProbeOptions& opt,
+                              Stats* stats = nullptr);
+/// A probe: render_probe_cube, projection, sun (include_sun), window.
+Probe render_probe(const Scene& scene, const glm::dvec3& position, const ProbeOptions& opt);
+/// Irradiance at normal n (any length > 0) from radiance coefficients of `bands` bands.
+glm::dvec3 probe_irradiance(const ShRgb& radiance, int bands, const glm::dvec3& n);
+
+struct ProbeGrid {
+  glm::dvec3 lo{0.0}, hi{1.0};  ///< box the probes' cells cover
+  int n = 1;                    ///< probes per axis
+  int bands = 0;
+  std::vector<ShRgb> probes;    ///< index (k n + j) n + i, i along x
+  Stats stats;                  ///< of all cube-map rays
+  double seconds = 0;           ///< wall time of building the grid (rays and projections)
+  glm::dvec3 position(int i, int j, int k) const;
+};
+
+/// n^3 probes over the scene's bounding box (n in 1..64). The sun is left out of the probes
+/// unless opt.include_sun. Window applied as in render_probe.
+ProbeGrid build_probe_grid(const Scene& scene, int n, const ProbeOptions& opt);
+/// The grid's coefficients truncated to `bands` (<= grid.bands) with window `w` applied.
+ProbeGrid truncate_grid(const ProbeGrid& grid, int bands, sh::Window w);
+/// Trilinear interpolation of the coefficients at p (clamped to the span of the centres).
+ShRgb interpolate(const ProbeGrid& grid, const glm::dvec3& p);
+
+struct ProbeRenderOptions {
+  int samples = 4;  ///< camera rays per pixel (uniform jitter in the pixel), 1..1e6
+  std::uint64_t seed = 1;
+  /// Visibility-weighted interpolation: each of the 8 probes keeps its trilinear weight only
+  /// if it lies on the front side of the receiver's surface (n . (x - p) > 0) and a ray from the
+  /// receiver point reaches the probe's position unoccluded; the kept
+  /// weights are renormalised (none kept: plain trilinear). Removes probes inside objects and
+  /// behind walls (8 shadow rays per camera ray). Off: plain trilinear.
+  bool visibility = false;
+  int threads = 0;
+};
+
+/// Pinhole image lit by a probe grid. Per camera ray: miss -> the environment radiance;
+/// hit at p with albedo a, normal n (flat, towards the camera), E_probe the irradiance of the
+/// interpolated probe coefficients (interpolate(), or visibility-weighted) ->
+///   L = emission seen directly (as the path tracer)
+///     + a / pi * ( max(0, E_probe(p, n))               [area emitters, environment and
+///                                                       all interreflected light]
+///                 + E_sun cos * visible(p, sun) )      [direct sun, one shadow ray; a disc
+///                                                       sun sampled as in the path tracer]
+/// i.e. the probe term replaces the path tracer's whole incident-light integral at the first
+/// hit except the sun's direct light (which the probes do not hold unless include_sun: then
+/// the sun term is not added here). stderr_ is the standard error over the pixel's rays
+/// (pixel jitter only; the probes' own noise is not in it). stats.seconds: shading time only.
+RadianceImage render_probes(const Scene& scene, const Camera& camera, int width, int height, const ProbeGrid& grid,
+                            bool grid_includes_sun, const ProbeRenderOptions& opt);
+
+/// Error of an image against a reference of the same size, relative to the reference's mean
+/// radiance over pixels and channels (so dark pixels do not blow it up):
+///   max_rel = max |a - r| / mean(r), rms_rel = sqrt(mean (a - r)^2) / mean(r),
+///   leak_rel = sum max(0, a - r - 3 stderr_r) / sum r (light where the reference has less:
+///   light leaking through walls, probes seeing past occluders; noise of the reference removed
+///   at 3 standard errors).
+struct ImageError {
+  double max_rel = 0, rms_rel = 0, leak_rel = 0;
+};
+/// `skip` (optional, one entry per pixel): pixels where it is nonzero are left out of all
+/// three (e.g. directly seen emitters, whose edge pixels depend on the camera-ray jitter).
+ImageError image_error(const RadianceImage& approx, const RadianceImage& reference,
+                       const std::vector<unsigned char>* skip = nullptr);
+/// Pixels to leave out of image_error: those where `direct` (e.g. a render with bounces = 0,
+/// emission seen directly only) is nonzero in any channel, grown by `border` pixels.
+std::vector<unsigned char> emitter_mask(const RadianceImage& direct, int border = 1);
+
+}  // namespace atmosh::gi

@@ -1,0 +1,447 @@
+// Radiance probes on the CPU (see probes.hpp).
+#include "atmosh/gi/probes.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+
+#include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
+#include "atmosh/prt/bake.hpp"
+#include "atmosh/sh/basis.hpp"
+
+namespace atmosh::gi {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+using Clock = std::chrono::steady_clock;
+
+void check(const ProbeOptions& o) {
+  if (o.bands < 1 || o.bands > 16) throw InputError("gi probes: bands must be in 1..16, got " + std::to_string(o.bands));
+  if (o.cube_size < 1 || o.cube_size > 512)
+    throw InputError("gi probes: cube size must be in 1..512, got " + std::to_string(o.cube_size));
+  if (o.samples < 2 || o.samples > 1000000)
+    throw InputError("gi probes: samples per texel must be in 2..1000000, got " + std::to_string(o.samples));
+}
+
+TraceOptions trace_options(const ProbeOptions& o) {
+  TraceOptions t;
+  t.samples = o.samples;
+  t.bounces = o.bounces;
+  t.seed = o.seed;
+  t.threads = o.threads;
+  return t;
+}
+
+std::size_t texels(int n) { return static_cast<std::size_t>(6) * n * n; }
+
+// Direction of cube-map face f at (u, v) in [-1, 1]^2 (libsh's orientation, projection.hpp).
+glm::dvec3 face_direction(int f, double u, double v) {
+  switch (f) {
+    case 0: return {1, -v, -u};
+    case 1: return {-1, -v, u};
+    case 2: return {u, 1, v};
+    case 3: return {u, -1, -v};
+    case 4: return {u, -v, 1};
+    default: return {-u, -v, -1};
+  }
+}
+
+// Rays of probe p = ray / texels(n), texel t = ray % texels(n) (face, row, col order): the
+// texel-centre direction, or (jitter) a uniform point of the texel's (u, v) square with
+// weight J(u, v) A_uv / Omega_texel, J = (1 + u^2 + v^2)^(-3/2) the solid angle per unit
+// (u, v) area — so E[weight L] = (1 / Omega) integral over the texel of L dOmega.
+RayDirection texel_rays(int n, bool jitter) {
+  const std::size_t nt = texels(n);
+  std::vector<double> omega(static_cast<std::size_t>(n) * n);
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) omega[static_cast<std::size_t>(r) * n + c] = sh::cube_texel_solid_angle(c, r, n);
+  return [n, nt, jitter, omega](std::size_t ray, double u1, double u2, double& w) {
+    const std::size_t t = ray % nt;
+    const int f = static_cast<int>(t / (static_cast<std::size_t>(n) * n));
+    const int r = static_cast<int>(t / n % n), c = static_cast<int>(t % n);
+    const double ju = jitter ? u1 : 0.5, jv = jitter ? u2 : 0.5;
+    const double u = 2 * (c + ju) / n - 1, v = 2 * (r + jv) / n - 1;
+    const double q = 1 + u * u + v * v;
+    w = jitter ? (4.0 / (static_cast<double>(n) * n)) / (q * std::sqrt(q)) / omega[static_cast<std::size_t>(r) * n + c] : 1.0;
+    return face_direction(f, u, v);
+  };
+}
+
+sh::CubeMap to_cube(const std::vector<glm::dvec3>& L, std::size_t first, int n) {
+  sh::CubeMap cube;
+  cube.size = n;
+  cube.channels = 3;
+  const std::size_t nn = static_cast<std::size_t>(n) * n;
+  for (int f = 0; f < 6; ++f) {
+    cube.faces[f].assign(3 * nn, 0.0f);
+    for (std::size_t t = 0; t < nn; ++t)
+      for (int c = 0; c < 3; ++c) cube.faces[f][c * nn + t] = static_cast<float>(L[first + f * nn + t][c]);
+  }
+  return cube;
+}
+
+// Projection, sun, window: the probe's coefficients.
+ShRgb project(const sh::CubeMap& cube, const Scene& scene, const ProbeOptions& o) {
+  const sh::Channels ch = sh::project_cube(cube, o.bands, 1);
+  ShRgb out;
+  for (int c = 0; c < 3; ++c) out[c] = ch[c];
+  if (o.include_sun && scene.sun) {
+    if (scene.sun->angular_radius > 0)
+      throw InputError("gi probes: include_sun needs a point sun (angular radius 0)");
+    const std::vector<double> y = sh::evaluate(o.bands, glm::normalize(scene.sun->direction));
+    for (int c = 0; c < 3; ++c)
+      for (std::size_t i = 0; i < y.size(); ++i) out[c][i] += scene.sun->irradiance[c] * y[i];
+  }
+  if (o.window != sh::Window::none) {
+    const std::vector<double> w = sh::window_weights(o.window, o.bands);
+    for (int c = 0; c < 3; ++c)
+      for (int l = 0; l < o.bands; ++l)
+        for (int m = -l; m <= l; ++m) out[c][sh::sh_index(l, m)] *= w[l];
+  }
+  return out;
+}
+
+void bounds(const Scene& s, glm::dvec3& lo, glm::dvec3& hi) {
+  lo = glm::dvec3(1e300);
+  hi = glm::dvec3(-1e300);
+  for (const auto& p : s.mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+}
+}  // namespace
+
+sh::CubeMap render_probe_cube(const Scene& scene, const glm::dvec3& position, const ProbeOptions& opt, Stats* stats) {
+  check(opt);
+  if (!std::isfinite(glm::length(position))) throw InputError("gi probes: non-finite probe position");
+  const std::vector<glm::dvec3> org(texels(opt.cube_size), position);
+  const Irradiance L = radiance_along(scene, org, texel_rays(opt.cube_size, opt.jitter), trace_options(opt));
+  if (stats != nullptr) *stats = L.stats;
+  return to_cube(L.mean, 0, opt.cube_size);
+}
+
+Probe render_probe(const Scene& scene, const glm::dvec3& position, const ProbeOptions& opt) {
+  Probe p;
+  p.position = position;
+  p.bands = opt.bands;
+  const sh::CubeMap cube = render_probe_cube(scene, position, opt, &p.stats);
+  p.radiance = project(cube, scene, opt);
+  return p;
+}
+
+glm::dvec3 probe_irradiance(const ShRgb& radiance, int bands, const glm::dvec3& n) {
+  const glm::dvec3 u = glm::normalize(n);
+  return {sh::irradiance_at(radiance[0], bands, u), sh::irradiance_at(radiance[1], bands, u),
+          sh::irradiance_at(radiance[2], bands, u)};
+}
+
+glm::dvec3 ProbeGrid::position(int i, int j, int k) const {
+  const glm::dvec3 f((i + 0.5) / n, (j + 0.5) / n, (k + 0.5) / n);
+  return lo + f * (hi - lo);
+}
+
+ProbeGrid build_probe_grid(const Scene& scene, int n, const ProbeOptions& opt) {
+  check(opt);
+  if (n < 1 || n > 64) throw InputError("gi probes: grid must have 1..64 probes per axis, got " + std::to_string(n));
+  validate(scene);
+  const auto t0 = Clock::now();
+  ProbeGrid g;
+  bounds(scene, g.lo, g.hi);
+  g.n = n;
+  g.bands = opt.bands;
+  const std::size_t np = static_cast<std::size_t>(n) * n * n, nt = texels(opt.cube_size);
+  std::vector<glm::dvec3> org;
+  org.reserve(np * nt);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) org.insert(org.end(), nt, g.position(i, j, k));
+  const Irradiance L = radiance_along(scene, org, texel_rays(opt.cube_size, opt.jitter), trace_options(opt));
+  g.stats = L.stats;
+  g.probes.resize(np);
+  parallel_for_ranges(np, 1, opt.threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) g.probes[p] = project(to_cube(L.mean, p * nt, opt.cube_size), scene, opt);
+  });
+  g.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return g;
+}
+
+ProbeGrid truncate_grid(const ProbeGrid& grid, int bands, sh::Window w) {
+  if (bands < 1 || bands > grid.bands)
+    throw InputError("gi probes: cannot truncate a grid of " + std::to_string(grid.bands) + " bands to " +
+                     std::to_string(bands));
+  ProbeGrid g = grid;
+  g.bands = bands;
+  const std::vector<double> wl = w == sh::Window::none ? std::vector<double>(bands, 1.0) : sh::window_weights(w, bands);
+  for (auto& p : g.probes)
+    for (auto& c : p) {
+      c.resize(static_cast<std::size_t>(bands) * bands);
+      for (int l = 0; l < bands; ++l)
+        for (int m = -l; m <= l; ++m) c[sh::sh_index(l, m)] *= wl[l];
+    }
+  return g;
+}
+
+namespace {
+// The 8 probes around p and their trilinear weights (p clamped to the centres' span).
+void corners(const ProbeGrid& g, const glm::dvec3& p, std::size_t idx[8], double w[8]) {
+  if (g.n < 1 || g.probes.size() != static_cast<std::size_t>(g.n) * g.n * g.n)
+    throw InputError("gi probes: grid of " + std::to_string(g.n) + " per axis holds " + std::to_string(g.probes.size()) +
+                     " probes");
+  int i0[3], i1[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a) {
+    const double ext = g.hi[a] - g.lo[a];
+    // continuous index of p: probe i sits at (i + 1/2) / n of the extent
+    double x = ext > 0 ? (p[a] - g.lo[a]) / ext * g.n - 0.5 : 0.0;
+    if (!std::isfinite(x)) x = 0;
+    x = std::clamp(x, 0.0, static_cast<double>(g.n - 1));
+    i0[a] = std::min(static_cast<int>(std::floor(x)), g.n - 1);
+    i1[a] = std::min(i0[a] + 1, g.n - 1);
+    f[a] = x - i0[a];
+  }
+  for (int corner = 0; corner < 8; ++corner) {
+    const int ii = corner & 1 ? i1[0] : i0[0], jj = corner & 2 ? i1[1] : i0[1], kk = corner & 4 ? i1[2] : i0[2];
+    w[corner] = (corner & 1 ? f[0] : 1 - f[0]) * (corner & 2 ? f[1] : 1 - f[1]) * (corner & 4 ? f[2] : 1 - f[2]);
+    idx[corner] = (static_cast<std::size_t>(kk) * g.n + jj) * g.n + ii;
+  }
+}
+
+ShRgb blend(const ProbeGrid& g, const std::size_t idx[8], const double w[8]) {
+  const std::size_t nc = static_cast<std::size_t>(g.bands) * g.bands;
+  ShRgb out;
+  for (auto& c : out) c.assign(nc, 0.0);
+  for (int corner = 0; corner < 8; ++corner) {
+    if (w[corner] == 0) continue;
+    const ShRgb& q = g.probes[idx[corner]];
+    for (int c = 0; c < 3; ++c)
+      for (std::size_t i = 0; i < nc; ++i) out[c][i] += w[corner] * q[c][i];
+  }
+  return out;
+}
+}  // namespace
+
+ShRgb interpolate(const ProbeGrid& g, const glm::dvec3& p) {
+  std::size_t idx[8];
+  double w[8];
+  corners(g, p, idx, w);
+  return blend(g, idx, w);
+}
+
+namespace {
+std::uint64_t mix64(std::uint64_t z) {  // SplitMix64 finaliser (Steele, Lea & Flood 2014)
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+struct Rng {
+  std::uint64_t state;
+  Rng(std::uint64_t seed, std::uint64_t index) : state(mix64(seed ^ mix64(index + 0x2545f4914f6cdd1dULL))) {}
+  double uniform() {
+    state += 0x9e3779b97f4a7c15ULL;
+    return static_cast<double>(mix64(state) >> 11) * 0x1.0p-53;
+  }
+};
+void onb(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {  // Duff et al. 2017, JCGT 6(1)
+  const double sign = std::copysign(1.0, n.z);
+  const double a = -1.0 / (sign + n.z);
+  const double bb = n.x * n.y * a;
+  t = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * bb, -sign * n.x);
+  b = glm::dvec3(bb, sign + n.y * n.y * a, -n.y);
+}
+}  // namespace
+
+RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, int height, const ProbeGrid& grid,
+                            bool grid_includes_sun, const ProbeRenderOptions& opt) {
+  validate(scene);
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw InputError("gi probes: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  if (opt.samples < 1 || opt.samples > 1000000)
+    throw InputError("gi probes: camera rays per pixel must be in 1..1000000, got " + std::to_string(opt.samples));
+  const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
+  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
+      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
+    throw InputError("gi probes: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
+  const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(rx), up = glm::cross(right, f);
+  const double th = std::tan(0.5 * cam.vertical_fov_deg * kPi / 180), aspect = static_cast<double>(width) / height;
+
+  const auto ts = Clock::now();
+  const prt::RayScene rays(scene.mesh);
+  const double off = rays.offset();
+  const auto& m = scene.mesh;
+  std::vector<glm::dvec3> normal(m.triangles.size());
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+    const auto& t = m.triangles[i];
+    const glm::dvec3 c = glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+    const double l = glm::length(c);
+    normal[i] = l > 0 ? c / l : glm::dvec3(0, 0, 1);
+  }
+  const bool has_env = scene.env_bands > 0 || scene.env_map.has_value();
+  const bool sun_direct = scene.sun.has_value() && !grid_includes_sun;
+  glm::dvec3 sun_dir(0, 0, 1), sun_e(0.0);
+  double sun_cos_max = 1;
+  if (scene.sun) {
+    sun_dir = glm::normalize(scene.sun->direction);
+    sun_e = scene.sun->irradiance;
+    const double a = scene.sun->angular_radius;
+    if (a > 0) {
+      sun_cos_max = std::cos(a);
+      sun_e = scene.sun->irradiance / (kPi * std::sin(a) * std::sin(a)) * (2 * kPi * (1 - sun_cos_max));
+    }
+  }
+  const auto t0 = Clock::now();
+  RadianceImage img;
+  img.stats.setup_seconds = std::chrono::duration<double>(t0 - ts).count();
+  img.width = width;
+  img.height = height;
+  img.samples = opt.samples;
+  const std::size_t np = static_cast<std::size_t>(width) * height;
+  for (int c = 0; c < 3; ++c) img.mean[c].assign(np, 0.0f), img.stderr_[c].assign(np, 0.0f);
+  std::atomic<std::uint64_t> nrays{0}, nshadow{0};
+  const std::size_t nc = static_cast<std::size_t>(grid.bands) * grid.bands;
+  std::vector<double> a_of(nc);  // A_l of each coefficient
+  {
+    const std::vector<double> A = sh::irradiance_factors(grid.bands);
+    for (int l = 0; l < grid.bands; ++l)
+      for (int m = -l; m <= l; ++m) a_of[sh::sh_index(l, m)] = A[l];
+  }
+  for (const auto& q : grid.probes)
+    for (const auto& c : q)
+      if (c.size() != nc) throw InputError("gi probes: a probe's coefficients do not match the grid's bands");
+  parallel_for_ranges(np, 16, opt.threads, [&](std::size_t b, std::size_t e) {
+    std::uint64_t r = 0, sr = 0;
+    std::vector<double> ay(nc);
+    for (std::size_t i = b; i < e; ++i) {
+      const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
+      Rng rng(opt.seed, i);
+      glm::dvec3 sum(0.0), sum2(0.0);
+      for (int s = 0; s < opt.samples; ++s) {
+        const double jx = rng.uniform(), jy = rng.uniform();
+        const double x = (2.0 * (col + jx) / width - 1.0) * th * aspect, y = (1.0 - 2.0 * (row + jy) / height) * th;
+        const glm::dvec3 d = glm::normalize(f + x * right + y * up);
+        glm::dvec3 L(0.0);
+        std::uint32_t prim;
+        float u, v;
+        double t;
+        ++r;
+        if (!rays.intersect(cam.eye, d, off, prim, u, v, t)) {
+          if (has_env) L = environment_radiance(scene, d);
+        } else {
+          const glm::dvec3 p = cam.eye + t * d;
+          const glm::dvec3 n = glm::dot(normal[prim], d) < 0 ? normal[prim] : -normal[prim];
+          const Material& mat = scene.materials[scene.material[prim]];
+          if (!mat.one_sided || glm::dot(normal[prim], -d) > 0) L += mat.emission;
+          std::size_t idx[8];
+          double wt[8];
+          corners(grid, p, idx, wt);
+          if (opt.visibility) {  // drop the probes p cannot see; renormalise (all hidden: plain trilinear)
+            double sum = 0, keep[8];
+            for (int q = 0; q < 8; ++q) {
+              keep[q] = 0;
+              if (wt[q] == 0) continue;
+              const int ii = static_cast<int>(idx[q] % grid.n), jj = static_cast<int>(idx[q] / grid.n % grid.n),
+                        kk = static_cast<int>(idx[q] / grid.n / grid.n);
+              glm::dvec3 to = grid.position(ii, jj, kk) - p;
+              const double dist = glm::length(to);
+              if (dist > 2 * off && glm::dot(to, n) <= 0) continue;  // behind the receiver's surface
+              ++r, ++sr;
+              if (dist <= 2 * off || rays.unoccluded(p, to / dist, off, dist - off)) keep[q] = wt[q], sum += wt[q];
+            }
+            if (sum > 0)
+              for (int q = 0; q < 8; ++q) wt[q] = keep[q] / sum;
+          }
+          // E_c = sum_q w_q sum_i A_l(i) Y_i(n) c_q,c,i (the same as probe_irradiance of the blend)
+          sh::evaluate(grid.bands, n, ay.data());
+          for (std::size_t i = 0; i < nc; ++i) ay[i] *= a_of[i];
+          glm::dvec3 E(0.0);
+          for (int q = 0; q < 8; ++q) {
+            if (wt[q] == 0) continue;
+            const ShRgb& cq = grid.probes[idx[q]];
+            for (int ch = 0; ch < 3; ++ch) {
+              double e = 0;
+              for (std::size_t i = 0; i < nc; ++i) e += ay[i] * cq[ch][i];
+              E[ch] += wt[q] * e;
+            }
+          }
+          E = glm::max(E, glm::dvec3(0.0));
+          if (sun_direct) {
+            glm::dvec3 wl = sun_dir;
+            if (sun_cos_max < 1) {
+              const double u1 = rng.uniform(), u2 = rng.uniform();
+              const double ct = 1 - u1 * (1 - sun_cos_max), st = std::sqrt(std::max(0.0, 1 - ct * ct));
+              glm::dvec3 tt, bb;
+              onb(sun_dir, tt, bb);
+              wl = glm::normalize(st * std::cos(2 * kPi * u2) * tt + st * std::sin(2 * kPi * u2) * bb + ct * sun_dir);
+            }
+            const double c = glm::dot(n, wl);
+            if (c > 0) {
+              ++r, ++sr;
+              if (rays.unoccluded(p, wl, off)) E += sun_e * c;
+            }
+          }
+          L += mat.albedo / kPi * E;
+        }
+        sum += L;
+        sum2 += L * L;
+      }
+      const double ns = opt.samples;
+      const glm::dvec3 mean = sum / ns;
+      const glm::dvec3 var = ns > 1 ? glm::max((sum2 - ns * mean * mean) / (ns - 1), 0.0) : glm::dvec3(0.0);
+      for (int c = 0; c < 3; ++c) {
+        img.mean[c][i] = static_cast<float>(mean[c]);
+        img.stderr_[c][i] = static_cast<float>(std::sqrt(var[c] / ns));
+      }
+    }
+    nrays.fetch_add(r, std::memory_order_relaxed);
+    nshadow.fetch_add(sr, std::memory_order_relaxed);
+  });
+  img.stats.rays = nrays.load();
+  img.stats.shadow_rays = nshadow.load();
+  img.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return img;
+}
+
+ImageError image_error(const RadianceImage& a, const RadianceImage& r, const std::vector<unsigned char>* skip) {
+  if (a.width != r.width || a.height != r.height || a.mean[0].size() != r.mean[0].size())
+    throw InputError("gi image error: images of different sizes");
+  if (skip != nullptr && skip->size() != r.mean[0].size())
+    throw InputError("gi image error: the pixel mask has " + std::to_string(skip->size()) + " entries for " +
+                     std::to_string(r.mean[0].size()) + " pixels");
+  double sum_r = 0, max_d = 0, sum_d2 = 0, leak = 0;
+  std::size_t n = 0;
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t i = 0; i < r.mean[c].size(); ++i) {
+      if (skip != nullptr && (*skip)[i] != 0) continue;
+      const double rv = r.mean[c][i], av = a.mean[c][i], se = r.stderr_[c].empty() ? 0.0 : r.stderr_[c][i];
+      const double d = av - rv;
+      sum_r += rv;
+      max_d = std::max(max_d, std::abs(d));
+      sum_d2 += d * d;
+      leak += std::max(0.0, d - 3 * se);
+      ++n;
+    }
+  ImageError e;
+  const double mean_r = n > 0 ? sum_r / n : 0;
+  if (!(mean_r > 0)) throw InputError("gi image error: the reference image is black (where compared)");
+  e.max_rel = max_d / mean_r;
+  e.rms_rel = std::sqrt(sum_d2 / n) / mean_r;
+  e.leak_rel = leak / sum_r;
+  return e;
+}
+
+std::vector<unsigned char> emitter_mask(const RadianceImage& d, int border) {
+  const int w = d.width, h = d.height;
+  std::vector<unsigned char> m(static_cast<std::size_t>(w) * h, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      if (!(d.mean[0][i] > 0 || d.mean[1][i] > 0 || d.mean[2][i] > 0)) continue;
+      for (int yy = std::max(0, y - border); yy <= std::min(h - 1, y + border); ++yy)
+        for (int xx = std::max(0, x - border); xx <= std::min(w - 1, x + border); ++xx)
+          m[static_cast<std::size_t>(yy) * w + xx] = 1;
+    }
+  return m;
+}
+
+}  // namespace atmosh::gi
