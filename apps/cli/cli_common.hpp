@@ -19,6 +19,8 @@
 
 #include "atmosh/atmo/spec.hpp"
 #include "atmosh/device.hpp"
+#include "atmosh/io/output_check.hpp"
+#include "atmosh/memory.hpp"
 #include "atmosh/scene/scene.hpp"
 
 namespace atmosh::cli {
@@ -46,30 +48,20 @@ double require_range(double v, double lo, double hi, const std::string& what);
 
 // ---- limits checked before work ---------------------------------------------------
 // The memory budget of one command: --max-memory when given, else the memory this
-// process may still take: the smaller of /proc/meminfo MemAvailable and the cgroup's
-// memory.max less memory.current (cgroup v2; v1: memory.limit_in_bytes less usage).
+// process may still take (atmosh::available_memory, atmosh/memory.hpp, which also has
+// parse_memory_size, format_bytes and the saturating mul_bytes).
 // Every command that sizes its work from the user's numbers estimates its memory from
 // those sizes (the estimators live next to what they estimate and return bytes) and
 // calls check_memory before it starts.
 std::size_t memory_budget();
-// "2G", "512M", "1.5GiB", "800000000" -> bytes; InputError naming --max-memory otherwise.
-std::size_t parse_memory_size(const std::string& text);
 void set_memory_budget(std::size_t bytes);  // --max-memory
 // InputError "<what> needs about 12.3 GiB (estimate), more than the memory budget of
 // 7.6 GiB (MemAvailable; set with --max-memory)" when bytes exceed the budget.
 void check_memory(std::size_t bytes, const std::string& what);
-std::string format_bytes(double bytes);
-// Saturating a * b for estimates (no wrap-around on hostile sizes).
-std::size_t mul_bytes(std::size_t a, std::size_t b);
-std::size_t mul_bytes(std::size_t a, std::size_t b, std::size_t c);
 
-// Output files checked before any work: the folder exists or can be made and is
-// writable, the path is not a folder, and its extension is one of `extensions`
-// (e.g. {".exr"}); InputError naming `what` (the option) otherwise.
-void check_output_file(const std::filesystem::path& file, const std::vector<std::string>& extensions,
-                       const std::string& what);
-// An output folder: a folder (or creatable) and writable; InputError naming `what`.
-void check_output_dir(const std::filesystem::path& dir, const std::string& what);
+// Output paths checked before any work (atmosh/io/output_check.hpp).
+using io::check_output_dir;
+using io::check_output_file;
 
 // What the main job (atmosh demo) passes to each part of the toolkit.
 struct DemoContext {
@@ -89,18 +81,6 @@ void register_prt_commands(CLI::App& app);     // prt bake|relight|converge
 void register_rt_commands(CLI::App& app);      // rt slab|sky (Monte-Carlo radiative transfer)
 void register_converge_ms_command(CLI::App& app);  // converge ms (scattering methods against the MC reference)
 
-// Writes <stem>.csv and <stem>.png: the sun (NREL SPA) over the UTC day that
-// contains time_utc, at a place, every step_s seconds.
-std::vector<std::filesystem::path> write_sun_track(double latitude_deg, double longitude_deg, double height_m,
-                                                   const std::string& time_utc, double step_s,
-                                                   const std::filesystem::path& stem);
-
-// Scene outputs computed by the atmosphere area (cmd_atmo.cpp): the LUT
-// convergence study (<stem>.csv/.png) and optical depth against zenith angle.
-std::vector<std::filesystem::path> write_lut_convergence(const atmo::AtmosphereSpec& spec,
-                                                         const std::filesystem::path& stem, bool quick);
-std::vector<std::filesystem::path> write_optical_depth_table(const atmo::AtmosphereSpec& spec,
-                                                             const std::filesystem::path& stem);
 // Computes exactly the outputs a scene lists (and the tables they need) into dir;
 // sky images on `device` (cpu | gpu | auto, as render_sky_on).
 void run_scene(const scene::Scene& scene, const std::filesystem::path& dir, bool quick,

@@ -51,12 +51,8 @@ std::vector<fs::path> run_converge_lut(const AtmosphereSpec& spec, const std::ve
   o.quick = quick;
   o.device = device;
   o.notice = [](const std::string& m) { std::cerr << "atmosh: " << m << "\n"; };
-  try {
-    const studies::StudyTable t = studies::lut_convergence(spec, o);
-    return io::write_study(stem, t.spec, t.rows, t.provenance);
-  } catch (const studies::DeviceUnavailable& e) {
-    throw std::runtime_error(std::string("--device gpu: ") + e.what());
-  }
+  const studies::StudyTable t = studies::lut_convergence(spec, o);  // "--device gpu: <why>" without a GPU
+  return io::write_study(stem, t.spec, t.rows, t.provenance);
 }
 
 std::vector<int> parse_int_list(const std::string& text, const std::string& what) {
@@ -264,14 +260,6 @@ void register_atmo_commands(CLI::App& app) {
         std::printf("%s\n", p.c_str());
     });
   }
-}
-
-std::vector<fs::path> write_lut_convergence(const AtmosphereSpec& spec, const fs::path& stem, bool quick) {
-  return run_converge_lut(spec, {16, 32, 40, 48, 64}, {32, 64, 128}, quick, stem);
-}
-
-std::vector<fs::path> write_optical_depth_table(const AtmosphereSpec& spec, const fs::path& stem) {
-  return write_zenith_sweep(spec, 1000.0, stem);
 }
 
 void demo_atmo(DemoContext& ctx) {

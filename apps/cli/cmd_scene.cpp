@@ -30,28 +30,6 @@ void run_scene(const scene::Scene& s, const std::filesystem::path& dir, bool qui
     ProgressStep step(name);
     work();
   };
-  // The kinds computed by the sun and atmosphere commands (cmd_sun.cpp, cmd_atmo.cpp).
-  o.runners["sun-track"] = [](studies::SceneRunContext& ctx, const scene::Output&, const std::filesystem::path&,
-                              const std::filesystem::path& stem) {
-    const auto& ob = *ctx.scene.observer;  // check_outputs: a sun-track has an [observer]
-    return write_sun_track(ob.latitude_deg, ob.longitude_deg, ob.height_m, ob.time_utc,
-                           ctx.options.quick ? 1800.0 : 600.0, stem);
-  };
-  o.runners["lut-convergence"] = [](studies::SceneRunContext& ctx, const scene::Output&, const std::filesystem::path&,
-                                    const std::filesystem::path& stem) {
-    return write_lut_convergence(ctx.scene.atmosphere, stem, ctx.options.quick);
-  };
-  o.runners["optical-depth"] = [](studies::SceneRunContext& ctx, const scene::Output&, const std::filesystem::path&,
-                                  const std::filesystem::path& stem) {
-    return write_optical_depth_table(ctx.scene.atmosphere, stem);
-  };
-  // The study resolves its worker threads as `study sun-elevation` does, which records
-  // them in the provenance of every file written after it (io::set_threads).
-  o.runners["sun-elevation-study"] = [](studies::SceneRunContext& ctx, const scene::Output& out,
-                                        const std::filesystem::path& file, const std::filesystem::path& stem) {
-    threads_option(0);
-    return studies::scene_output_runners().at("sun-elevation-study")(ctx, out, file, stem);
-  };
   // Before any work: a runner for every output, and the memory the largest one holds.
   studies::check_scene_runnable(s, o);
   if (const auto m = studies::scene_peak_memory(s, o); m.bytes > 0) check_memory(m.bytes, m.what);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <thread>
@@ -135,7 +136,7 @@ nlohmann::json xy_json(const Xyz& c) {
 
 // ---------------------------------------------------------------- atmosh sky
 struct SkyCmd {
-  std::string scene_file, time, projection = "equirect", size = "512x256", output, png, device = "cpu";
+  std::string scene_file, time, projection = "equirect", size = "512x256", output, png, device = "cpu", format = "exr";
   std::optional<double> lat, lon, sun_elevation;
   double height = 0.0, sun_azimuth = 180.0;
   bool spectral = false, json = false;
@@ -175,7 +176,12 @@ void run_sky(const SkyCmd& cmd) {
   SkyCmd c = cmd;
   c.q = cmd.q.checked();
   if (c.output.empty()) throw InputError("-o is required (the EXR file to write)");
-  check_output_file(c.output, {".exr"}, "-o");
+  if (c.format != "exr" && c.format != "netcdf") throw InputError("--format: '" + c.format + "' is not exr or netcdf");
+  const bool netcdf = c.format == "netcdf" || fs::path(c.output).extension() == ".nc";
+  check_output_file(c.output, {netcdf ? ".nc" : ".exr"}, "-o");
+  if (netcdf && c.projection != "equirect")
+    throw InputError("--projection " + c.projection + ": netCDF sky images are equirect (elevation x azimuth)");
+  if (netcdf && !c.png.empty()) throw InputError("--png: only with an EXR output");
   if (!c.png.empty()) check_output_file(c.png, {".png"}, "--png");
   const auto s = c.q.scene_for(load_or_default(c.scene_file));
   const SunPlacement sun = resolve_sun(c, s);
@@ -190,10 +196,14 @@ void run_sky(const SkyCmd& cmd) {
                                      c.q.threads, used);
   auto prov = sky_provenance(*model, sun);
   prov.add("device", used);
-  const double exposure = write_sky_image(img, c.output, c.png, prov, c.projection, sun);
+  double exposure = std::numeric_limits<double>::quiet_NaN();  // JSON null: no tone mapping in netCDF
+  if (netcdf)
+    studies::write_sky_netcdf_image(img, c.output, prov, c.projection, sun);
+  else
+    exposure = write_sky_image(img, c.output, c.png, prov, c.projection, sun);
   const SkySummary sm = summarize_sky(*model->sky, h, sun.direction());
   if (c.json) {
-    nlohmann::json j = {{"exr", c.output},
+    nlohmann::json j = {{"exr", netcdf ? nlohmann::json(nullptr) : nlohmann::json(c.output)},
                         {"png", c.png.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.png)},
                         {"sun_elevation_deg", sun.elevation_deg},
                         {"sun_azimuth_deg", sun.azimuth_deg},
@@ -221,6 +231,7 @@ void run_sky(const SkyCmd& cmd) {
     j["irradiance_diffuse_w_m2_nm"] = irr.diffuse;
     j["wavelengths_nm"] = model->atmosphere->wavelengths_nm();
     if (sun.spa) j["apparent_sun_elevation_deg"] = sun.spa->apparent_elevation_deg;
+    if (netcdf) j["netcdf"] = c.output;
     print_json(j);
   } else {
     std::cout << "sky: " << c.output << (c.png.empty() ? "" : " and " + c.png) << " (" << img.rays << " rays in "
@@ -329,7 +340,10 @@ void register_sky_commands(CLI::App& app) {
     s->add_option("--sun-azimuth", c.sun_azimuth, "Sun azimuth [deg from north towards east]")->capture_default_str();
     s->add_option("--projection", c.projection, "equirect or fisheye")->capture_default_str();
     s->add_option("--size", c.size, "Image size WxH")->capture_default_str();
-    s->add_option("-o,--output", c.output, "EXR file to write")->required();
+    s->add_option("-o,--output", c.output, "EXR file to write (a name ending in .nc: netCDF-CF)")->required();
+    s->add_option("--format", c.format, "exr | netcdf (netCDF-CF: X, Y, Z and the spectral cube on elevation x "
+                                        "azimuth; equirect only)")
+        ->capture_default_str();
     s->add_option("--png", c.png, "Tone-mapped PNG to write");
     s->add_flag("--spectral", c.spectral, "Add one channel per wavelength (L_<nm>nm)");
     s->add_flag("--json", c.json, "Print a JSON summary");

@@ -16,6 +16,7 @@
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/csv.hpp"
+#include "atmosh/io/netcdf.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/io/study.hpp"
@@ -36,6 +37,7 @@ struct SunOptions {
   std::optional<double> delta_t;
   double delta_ut1 = 0.0;
   std::string algorithm = "spa";
+  std::string format = "csv";
   bool json = false;
 };
 
@@ -50,7 +52,10 @@ nlohmann::json jd_or_null(const std::optional<double>& jd) {
   return jd ? nlohmann::json(format_iso8601_utc(*jd)) : nlohmann::json(nullptr);
 }
 
+std::string fs_ext(const std::string& file) { return std::filesystem::path(file).extension().string(); }
+
 SunQuery base_query(const SunOptions& o) {
+  if (o.format != "csv" && o.format != "netcdf") throw InputError("--format: '" + o.format + "' is not csv or netcdf");
   if (!o.lat) throw InputError("--lat is required");
   if (!o.lon) throw InputError("--lon is required");
   SunQuery q;
@@ -87,7 +92,14 @@ void run_sun(const SunOptions& o) {
     prov.add("from_utc", format_iso8601_utc(from, decimals)).add("to_utc", format_iso8601_utc(to, decimals)).add("step_s", step);
     const io::CsvTable table = studies::sun_series_table(samples, decimals);
     if (o.output.empty() || o.output == "-") {
+      if (o.format == "netcdf") throw InputError("--format netcdf: needs -o FILE.nc");
       std::cout << table.to_string(prov);
+    } else if (o.format == "netcdf" || fs_ext(o.output) == ".nc") {  // CF time coordinate from jd_utc
+      auto nc = io::sun_track_netcdf_options();
+      nc.scalars["latitude"] = {base.latitude_deg, "degrees_north", "latitude"};
+      nc.scalars["longitude"] = {base.longitude_deg, "degrees_east", "longitude"};
+      io::write_table_netcdf(o.output, table, prov, nc);
+      std::cerr << "wrote " << o.output << " (" << samples.size() << " rows)\n";
     } else {
       table.write(o.output, prov);
       std::cerr << "wrote " << o.output << " (" << samples.size() << " rows)\n";
@@ -169,7 +181,10 @@ void register_sun_commands(CLI::App& app) {
   sun->add_option("--from", opt->from, "start of a time range (ISO 8601)");
   sun->add_option("--to", opt->to, "end of a time range (ISO 8601, inclusive)");
   sun->add_option("--step", opt->step, "step of the range: 90s, 10min, 1h, 1d (default 10min)");
-  sun->add_option("-o,--output", opt->output, "CSV file for a range (default: standard output)");
+  sun->add_option("-o,--output", opt->output, "CSV file for a range (default: standard output); a name ending in .nc "
+                                              "writes netCDF-CF");
+  sun->add_option("--format", opt->format, "csv (default) | netcdf: the range's file format (netCDF-CF, time "
+                                           "coordinate from jd_utc)");
 
   CLI::App* accuracy = sun->add_subcommand(
       "accuracy", "Error of the fast algorithms against SPA over a year at several latitudes, against run time "
@@ -192,13 +207,6 @@ void register_sun_commands(CLI::App& app) {
     if (sun->got_subcommand("accuracy")) return;
     run_sun(*opt);
   });
-}
-
-std::vector<std::filesystem::path> write_sun_track(double latitude_deg, double longitude_deg, double height_m,
-                                                   const std::string& time_utc, double step_s,
-                                                   const std::filesystem::path& stem) {
-  return studies::write_sun_day_track(studies::sun_day_track(latitude_deg, longitude_deg, height_m, time_utc, step_s),
-                                      latitude_deg, longitude_deg, stem);
 }
 
 void demo_sun(DemoContext& ctx) {

@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   app.fallthrough();  // global options (--max-memory) also after the subcommand; inherited by subcommands
   app.add_option_function<std::string>(
          "--max-memory",
-         [](const std::string& v) { atmosh::cli::set_memory_budget(atmosh::cli::parse_memory_size(v)); },
+         [](const std::string& v) { atmosh::cli::set_memory_budget(atmosh::parse_memory_size(v)); },
          "Memory budget of the command, e.g. 2G or 512M (default: the memory still available, from "
          "/proc/meminfo MemAvailable and the cgroup's limit). Requests estimated above it are refused "
          "(exit 2) before any work")

@@ -2,6 +2,7 @@
 // library and, where Debian's python3-xarray is installed, with xarray. The inputs are
 // closed-form functions of their indices, so a transposed or flipped axis shows up.
 #include <netcdf.h>
+#include <sys/wait.h>
 
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -442,5 +444,90 @@ TEST(Netcdf, CliSkyExrConvertsValueForValue) {
   EXPECT_NEAR(r.doubles("solar_zenith_angle", 1)[0], 90.0 - e.float_attributes.at("sun_elevation_deg"), 1e-9);
   EXPECT_EQ(r.text(NC_GLOBAL, "atmosh_git_commit"), e.string_attributes.at("atmosh:git_commit"));
   EXPECT_NE(r.text(NC_GLOBAL, "history").find(" sky "), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// `atmosh sun --from --to -o FILE.nc` (or --format netcdf) writes the range as netCDF-CF
+// directly: read back with the netCDF C API, every zenith angle equals the CSV's value
+// of the same command bit for bit, the time coordinate is the rows' UTC instants, and
+// the site is in the latitude / longitude scalars.
+TEST(Netcdf, CliSunRangeWritesNetcdf) {
+  const fs::path dir = fresh_dir("cli_sun");
+  const std::string bin = ATMOSH_BIN;
+  const std::string range = " sun --lat 48 --lon 11.5 --from 2026-06-21T00:00:00Z --to 2026-06-21T06:00:00Z --step 1h ";
+  ASSERT_EQ(std::system((bin + range + "-o " + (dir / "track.csv").string() + " 2>/dev/null").c_str()), 0);
+  ASSERT_EQ(std::system((bin + range + "-o " + (dir / "track.nc").string() + " 2>/dev/null").c_str()), 0);
+  ASSERT_EQ(std::system((bin + range + "--format netcdf -o " + (dir / "track_fmt").string() + " 2>/dev/null").c_str()), 0);
+  // Bad format: exit 2 before any work.
+  EXPECT_EQ(WEXITSTATUS(std::system((bin + range + "--format xml -o " + (dir / "x.nc").string() + " 2>/dev/null").c_str())), 2);
+  EXPECT_FALSE(fs::exists(dir / "x.nc"));
+  const CsvData csv = read_csv(dir / "track.csv");
+  ASSERT_EQ(csv.rows.size(), 7u);
+  for (const fs::path& f : {dir / "track.nc", dir / "track_fmt"}) {
+    Reader r(f);
+    EXPECT_EQ(r.dim("time"), 7u);
+    const auto t = r.doubles("time", 7);
+    for (std::size_t i = 0; i < 7; ++i) EXPECT_NEAR(t[i], 1782000000.0 + 3600.0 * i, 1e-3) << i;  // 2026-06-21T00:00Z
+    const auto z = r.doubles("zenith_deg", 7);
+    for (std::size_t i = 0; i < 7; ++i) EXPECT_EQ(z[i], csv.number(i, csv.column("zenith_deg"))) << i;
+    EXPECT_EQ(r.text(r.var("zenith_deg"), "standard_name"), "solar_zenith_angle");
+    EXPECT_EQ(r.doubles("latitude", 1)[0], 48.0);
+    EXPECT_EQ(r.doubles("longitude", 1)[0], 11.5);
+    EXPECT_EQ(r.text(NC_GLOBAL, "Conventions"), "CF-1.8");
+  }
+  fs::remove_all(dir);
+}
+
+// `atmosh sky -o FILE.nc` (or --format netcdf) writes netCDF-CF directly: the same
+// pixels as the EXR of the same command (Y, and the spectral cube channel by channel,
+// bit for bit: both are the render's float32 values), the sun's zenith angle exactly 90
+// minus the elevation asked for; fisheye, a .exr name with --format netcdf and --png are
+// bad input (exit 2, nothing written).
+TEST(Netcdf, CliSkyWritesNetcdf) {
+  const fs::path dir = fresh_dir("clisky_nc");
+  const std::string bin = ATMOSH_BIN;
+  const std::string common = " sky --sun-elevation 12 --size 12x6 --spectral --scattering single --threads 1 ";
+  ASSERT_EQ(std::system((bin + common + "-o " + (dir / "sky.exr").string() + " > /dev/null 2>&1").c_str()), 0);
+  ASSERT_EQ(std::system((bin + common + "-o " + (dir / "sky.nc").string() + " > /dev/null 2>&1").c_str()), 0);
+  ASSERT_EQ(std::system((bin + common + "--format netcdf -o " + (dir / "fmt.nc").string() + " --json > " +
+                         (dir / "fmt.json").string() + " 2>/dev/null")
+                            .c_str()),
+            0);
+  for (const std::string bad : {"--projection fisheye -o " + (dir / "f.nc").string(),
+                                "--format netcdf -o " + (dir / "b.exr").string(),
+                                "-o " + (dir / "p.nc").string() + " --png " + (dir / "p.png").string()}) {
+    EXPECT_EQ(WEXITSTATUS(std::system((bin + common + bad + " > /dev/null 2>&1").c_str())), 2) << bad;
+  }
+  for (const char* f : {"f.nc", "b.exr", "p.nc", "p.png"}) EXPECT_FALSE(fs::exists(dir / f)) << f;
+  {  // the JSON summary names the netCDF file, and no EXR
+    std::ifstream in(dir / "fmt.json");
+    const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(json.find("\"netcdf\": \"" + (dir / "fmt.nc").string() + "\""), std::string::npos) << json;
+    EXPECT_NE(json.find("\"exr\": null"), std::string::npos) << json;
+  }
+  const ExrImage e = read_exr(dir / "sky.exr");
+  for (const fs::path& f : {dir / "sky.nc", dir / "fmt.nc"}) {
+    Reader r(f);
+    const std::size_t nw = r.dim("wavelength");
+    ASSERT_GE(nw, 2u);
+    EXPECT_EQ(r.dim("elevation"), 6u);
+    EXPECT_EQ(r.dim("azimuth"), 12u);
+    std::vector<float> y(72);
+    ASSERT_EQ(nc_get_var_float(r.id, r.var("Y"), y.data()), NC_NOERR);
+    EXPECT_EQ(y, e.channel("Y"));
+    std::vector<float> cube(nw * 72);
+    ASSERT_EQ(nc_get_var_float(r.id, r.var("spectral_radiance"), cube.data()), NC_NOERR);
+    std::size_t matched = 0;  // each cube plane equals one L_<nm>nm channel of the EXR
+    for (std::size_t i = 0; i < nw; ++i)
+      for (std::size_t c = 0; c < e.channels.size(); ++c)
+        if (e.channels[c].rfind("L_", 0) == 0 &&
+            std::equal(e.data[c].begin(), e.data[c].end(), cube.begin() + static_cast<long>(i * 72))) {
+          ++matched;
+          break;
+        }
+    EXPECT_EQ(matched, nw);
+    EXPECT_EQ(r.doubles("solar_zenith_angle", 1)[0], 90.0 - 12.0);
+    EXPECT_EQ(r.text(NC_GLOBAL, "Conventions"), "CF-1.8");
+  }
   fs::remove_all(dir);
 }

@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <set>
 
+#include "atmosh/atmo/optical_depth.hpp"
+#include "atmosh/atmo/sun_position.hpp"
+#include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/csv.hpp"
 #include "atmosh/scene/outputs.hpp"
@@ -46,17 +50,9 @@ bool plan_needs(const scene::Scene& s, const std::string& pass) {
   return false;
 }
 
-// The kinds whose runners live with the sun and atmosphere commands (not this library
-// yet): the runner takes them from SceneRunOptions::runners.
-const std::set<std::string> kElsewhere = {"sun-track", "lut-convergence", "optical-depth"};
-
 studies::SceneRunOptions quick_options() {
   studies::SceneRunOptions o;
   o.quick = true;
-  for (const auto& k : kElsewhere)  // stand-ins: these kinds' own tests are the CLI's
-    o.runners[k] = [](studies::SceneRunContext&, const scene::Output&, const fs::path&, const fs::path&) {
-      return std::vector<fs::path>{};
-    };
   return o;
 }
 
@@ -71,8 +67,7 @@ TEST(Studies, EveryOutputKindHasOneRunner) {
     EXPECT_TRUE(static_cast<bool>(run)) << name;
     here.insert(std::string(name));
   }
-  for (const auto& k : kinds) EXPECT_NE(here.count(k) + kElsewhere.count(k), 0u) << k << " has no runner";
-  for (const auto& k : kElsewhere) EXPECT_EQ(here.count(k), 0u) << k << " has two runners";
+  for (const auto& k : kinds) EXPECT_EQ(here.count(k), 1u) << k << " has no runner in this library";
 }
 
 TEST(Studies, RunSceneWritesTheFilesOfTheTableAndSharesOneSky) {
@@ -113,11 +108,15 @@ TEST(Studies, PlanAndRunAgreeOnEveryKind) {
     s.outputs = {output(std::string(kind.name), "x/out.csv")};
     s.outputs[0].file = kind.image ? "x/out.exr" : "x/out.csv";
     const fs::path d = scratch("agree_" + std::string(kind.name));
-    const auto r = studies::run_scene(s, d, quick_options());
+    auto o = quick_options();
+    // The LUT study builds no sky and places no sun (SunAndAtmosphereKindsRunHere runs
+    // it); a stand-in keeps this test short.
+    o.runners["lut-convergence"] = [](studies::SceneRunContext&, const scene::Output&, const fs::path&,
+                                      const fs::path&) { return std::vector<fs::path>{}; };
+    const auto r = studies::run_scene(s, d, o);
     EXPECT_EQ(plan_needs(s, "sky-radiance:single-scattering"), r.skies_built > 0) << kind.name;
     EXPECT_EQ(plan_needs(s, "optical-depth-lut:sun"), r.skies_built > 0) << kind.name;
-    if (!kElsewhere.count(std::string(kind.name)))
-      EXPECT_EQ(plan_needs(s, "sun-position:spa"), r.spa_computed) << kind.name;
+    EXPECT_EQ(plan_needs(s, "sun-position:spa"), r.spa_computed) << kind.name;
     EXPECT_EQ(plan_needs(s, "sh-projection"), kind.bands) << kind.name;
   }
 }
@@ -130,13 +129,16 @@ TEST(Studies, RunSceneRefusesBeforeAnyWork) {
   EXPECT_THROW(studies::run_scene(s, d, quick_options()), InputError);
   s = test::small_scene(test::kParisObserver);
   s.outputs = {output("sky-image", "a.exr"), output("sun-track", "t.csv")};
-  // No runner for sun-track given: refused, naming the kind, before the sky image.
+  // A kind without a runner: refused, naming the kind, before the sky image.
+  s.outputs[1].kind = "sun-trail";
   try {
     studies::run_scene(s, d, studies::SceneRunOptions{});
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("'sun-track' has no runner"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("sun-trail"), std::string::npos) << e.what();
   }
+  EXPECT_FALSE(fs::exists(d / "a.exr"));
+  s.outputs[1].kind = "sun-track";
   auto o = quick_options();
   o.device = "tpu";
   EXPECT_THROW(studies::run_scene(s, d, o), InputError);
@@ -168,4 +170,61 @@ TEST(Studies, PlanCsvAndManifestHoldThePlanAndTheFiles) {
   std::ifstream in(m);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(text, "# files\nplan.csv\na/b.csv\n");
+}
+
+// The sun and atmosphere kinds (sun-track, lut-convergence, optical-depth) run in this
+// library like the others: their rows against the libatmo calls they are made of,
+// called here independently (NREL SPA at a row's time; the exact optical-depth reference
+// at a row's zenith angle, 1 km above the ground).
+TEST(Studies, SunAndAtmosphereKindsRunHere) {
+  auto s = test::small_scene(test::kParisObserver);
+  s.outputs = {output("sun-track", "track.csv"), output("optical-depth", "od.csv"),
+               output("lut-convergence", "lut.csv")};
+  const fs::path d = scratch("sun_atmo");
+  const auto r = studies::run_scene(s, d, quick_options());
+  for (const auto& f : r.written) EXPECT_TRUE(fs::is_regular_file(f)) << f;
+  EXPECT_TRUE(r.spa_computed);  // the track's suns are SPA's
+  EXPECT_EQ(r.skies_built, 0);  // none of the three needs a sky
+  // sun-track: the UTC day of the observer's time every 30 min (quick).
+  const auto track = io::read_csv(d / "track.csv");
+  ASSERT_EQ(track.rows.size(), 49u);  // 00:00 .. 24:00
+  for (std::size_t i : {std::size_t{0}, std::size_t{37}}) {
+    atmo::SunQuery q;
+    q.latitude_deg = 48.8566;
+    q.longitude_deg = 2.3522;
+    q.height_m = 35.0;
+    q.rise_transit_set = false;
+    q.jd_utc = atmo::parse_iso8601("2026-06-21T00:00:00Z").jd_utc + static_cast<double>(i) * 1800.0 / 86400.0;
+    const auto p = atmo::sun_position(q);
+    EXPECT_NEAR(track.number(i, track.column("zenith_deg")), p.zenith_deg, 1e-6) << i;  // deg; the row time rounds to ~1e-10 d
+    EXPECT_NEAR(track.number(i, track.column("azimuth_deg")), p.azimuth_deg, 1e-6) << i;
+  }
+  // optical-depth: 0..180 deg in 0.5 deg steps, the reference column against the
+  // reference integrated here.
+  const auto od = io::read_csv(d / "od.csv");
+  ASSERT_EQ(od.rows.size(), 361u);
+  const atmo::Atmosphere atm(s.atmosphere);
+  const atmo::OpticalDepthReference ref(atm);
+  const auto k = atm.coefficients_at(550.0);
+  for (std::size_t i : {std::size_t{0}, std::size_t{120}, std::size_t{178}, std::size_t{200}}) {
+    const double z = od.number(i, od.column("zenith_deg"));
+    EXPECT_EQ(z, 0.5 * static_cast<double>(i));
+    const auto c = ref.column(atm.ground_radius() + 1000.0, std::cos(z * 3.14159265358979323846 / 180.0));
+    EXPECT_NEAR(od.number(i, od.column("tau_reference")), atmo::optical_depth(k, c.column),
+                1e-12 * atmo::optical_depth(k, c.column))
+        << z;
+  }
+  // lut-convergence: the reference row, then the quick pair of settings on the CPU.
+  const auto lut = io::read_csv(d / "lut.csv");
+  ASSERT_GE(lut.rows.size(), 3u);
+  EXPECT_EQ(lut.rows[0][lut.column("method")], "reference");
+  EXPECT_EQ(lut.rows[1][lut.column("method")], "lut");
+  EXPECT_EQ(lut.provenance.at("device"), "cpu");
+  // The finer table has the smaller error, both well under 1 %.
+  std::vector<double> errors;
+  for (std::size_t i = 0; i < lut.rows.size(); ++i)
+    if (lut.rows[i][lut.column("method")] == "lut") errors.push_back(lut.number(i, lut.column("error_max_rel")));
+  ASSERT_EQ(errors.size(), 2u);
+  EXPECT_LT(errors[1], errors[0]);
+  EXPECT_LT(errors[0], 1e-2);
 }

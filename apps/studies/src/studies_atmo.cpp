@@ -12,6 +12,7 @@
 
 #include "atmosh/atmo/optical_depth.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/device.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/csv.hpp"
 #include "atmosh/parallel.hpp"
@@ -74,28 +75,29 @@ std::vector<LutRay> lut_study_rays(const Atmosphere& atm) {
 }
 
 StudyTable lut_convergence(const AtmosphereSpec& spec, const LutConvergenceOptions& options) {
-  const std::string& device = options.device;
-  if (device != "cpu" && device != "gpu" && device != "auto")
-    throw InputError("device '" + device + "' is not cpu, gpu or auto");
-  const auto notice = [&](const std::string& m) {
-    if (options.notice) options.notice(m);
+  // The one device policy (atmosh::resolve_device): "gpu" runs the GPU table pass or
+  // fails; "auto" falls back to the CPU rows with a notice. Only "no device"
+  // (gpu::Unavailable) and "input not supported" (gpu::Unsupported) fall back.
+  const DeviceRequest request = parse_device_request(options.device, "device");
+  static const std::string kFallback = "building the tables on the CPU only";
+  const auto tell = [&](const DeviceDecision& d) {
+    if (options.notice && !d.notice.empty()) options.notice(d.notice);
   };
   Atmosphere atm(spec);
 #ifdef ATMOSH_HAVE_GPU
   // With a GPU, every setting gets a second row: the same tables built by the
   // GPU table pass (gpu::build_lut_tables), looked up by the same CPU code.
   std::unique_ptr<gpu::Context> ctx;
-  if (device != "cpu") {
+  if (request != DeviceRequest::cpu) {
     try {
       ctx = std::make_unique<gpu::Context>();
     } catch (const gpu::Unavailable& e) {
-      if (device == "gpu") throw DeviceUnavailable(e.what());
-      notice(std::string("no GPU (") + e.what() + "); building the tables on the CPU only");
+      tell(resolve_device(request, GpuUnusable{GpuUnusable::Why::no_device, e.what(), {}}, kFallback));
     }
   }
 #else
-  if (device == "gpu") throw DeviceUnavailable("atmosh was built without ATMOSH_WITH_GPU");
-  if (device == "auto") notice("built without GPU support; building the tables on the CPU only");
+  if (request != DeviceRequest::cpu)
+    tell(resolve_device(request, GpuUnusable{GpuUnusable::Why::not_built, {}, {}}, kFallback));
 #endif
   OpticalDepthReference ref(atm);
   auto rays = lut_study_rays(atm);
@@ -207,8 +209,7 @@ StudyTable lut_convergence(const AtmosphereSpec& spec, const LutConvergenceOptio
         evaluate(from_gpu, "lut_gpu", s, d, gpu_s);
         used = "gpu";
       } catch (const gpu::Unsupported& e) {
-        if (device == "gpu") throw DeviceUnavailable(e.what());
-        notice(std::string(e.what()) + " is not supported on the GPU; building the tables on the CPU only");
+        tell(resolve_device(request, GpuUnusable{GpuUnusable::Why::unsupported, e.what(), {}}, kFallback));
         ctx.reset();
       }
     }

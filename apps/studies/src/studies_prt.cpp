@@ -6,13 +6,20 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 #include <tuple>
 
 #include <glm/geometric.hpp>
 
+#include "atmosh/device.hpp"
 #include "atmosh/error.hpp"
+#ifdef ATMOSH_HAVE_GPU
+#include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/sky.hpp"  // gpu::Unsupported
+#endif
 #include "atmosh/io/exr.hpp"
 #include "atmosh/io/plot.hpp"
+#include "atmosh/io/study.hpp"
 
 namespace atmosh::studies {
 
@@ -191,8 +198,7 @@ StudyTable prt_convergence(const prt::Mesh& mesh, const PrtConvergenceOptions& p
   const int bands = px.bands, ref_strata = px.reference_strata;
   const sh::prt::TransferMode mode = px.mode;
   const std::vector<int>& strata = px.strata;
-  if (px.device != "cpu" && px.device != "gpu" && px.device != "auto")
-    throw InputError("device '" + px.device + "' is not cpu, gpu or auto");
+  const DeviceRequest request = parse_device_request(px.device, "device");
   prt::BakeOptions bo;
   bo.bands = bands;
   bo.mode = mode;
@@ -225,18 +231,34 @@ StudyTable prt_convergence(const prt::Mesh& mesh, const PrtConvergenceOptions& p
     bo.seed = 12345;
     bo.device = prt::Device::cpu;
     const prt::PixelTransfer pref = prt::bake_pixels(mesh, bo, px.width, px.height, px.view);
-    bool gpu = px.device != "cpu";
+    // The one device policy (atmosh::resolve_device): "gpu" runs the depth-map rows or
+    // fails; "auto" drops them with a notice. Only "no device" (gpu::Unavailable) and
+    // "input not supported" (gpu::Unsupported) fall back: a shader or input error of
+    // the warm-up is reported, not hidden behind the CPU rows.
+    bool gpu = request != DeviceRequest::cpu;
     if (gpu) {
+      std::optional<GpuUnusable> unusable;
+#ifdef ATMOSH_HAVE_GPU
       bo.device = prt::Device::gpu;
       bo.strata = 1;
       bo.depth_resolution = px.depth_maps.front();
       try {
         prt::bake_pixels(mesh, bo, px.width, px.height, px.view);  // warm-up (driver start-up, shader compile)
         gpu_note = "depth-map method, per pixel";
-      } catch (const std::exception& e) {
-        if (px.device == "gpu") throw PrtDeviceUnavailable(e.what());
-        if (px.notice) px.notice(std::string("no GPU (") + e.what() + "); the study has no GPU rows");
+      } catch (const gpu::Unavailable& e) {
+        unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), {}};
         gpu_note = std::string("not run (") + e.what() + ")";
+      } catch (const gpu::Unsupported& e) {
+        unusable = GpuUnusable{GpuUnusable::Why::unsupported, e.what(), {}};
+        gpu_note = std::string("not run (") + e.what() + " is not supported on the GPU)";
+      }
+#else
+      unusable = GpuUnusable{GpuUnusable::Why::not_built, {}, {}};
+      gpu_note = "not run (built without GPU support)";
+#endif
+      if (unusable) {
+        const DeviceDecision d = resolve_device(request, unusable, "the study has no GPU rows");
+        if (px.notice && !d.notice.empty()) px.notice(d.notice);
         gpu = false;
       }
     }
@@ -281,6 +303,39 @@ StudyTable prt_convergence(const prt::Mesh& mesh, const PrtConvergenceOptions& p
   prov.add("error_definition", "per-vertex rows: per-vertex |T - T_ref|_2 / max_v |T_ref|_2");
   prov.add("gpu_method", gpu_note);
   return out;
+}
+
+std::vector<fs::path> demo_prt(const fs::path& dir, bool quick, const std::function<void(const std::string&)>& notice) {
+  std::vector<fs::path> written;
+  prt::BakeOptions bo;
+  bo.bands = quick ? 3 : 4;
+  bo.strata = quick ? 12 : 45;
+  bo.mode = sh::prt::TransferMode::interreflected;
+  bo.bounces = 2;
+  const prt::Mesh mesh = prt::builtin_scene("sphere-on-plane", quick ? 12 : 40);
+  const prt::Transfer t = prt::bake(mesh, bo);
+  auto prov = io::Provenance::current();
+  prov.add("mesh", mesh.name);
+  const fs::path tf = dir / "sphere_on_plane_transfer.ply";
+  prt::write_transfer(tf, t, prov);
+  written.push_back(tf);
+  RelightImageOptions image;
+  image.width = image.height = quick ? 96 : 384;
+  const auto lights = turning_lights({glm::dvec3(1.0, 0.3, 1.2)}, quick ? 2 : 12, t.bands);
+  for (const auto& f : relight_vertices_to(t, lights, image, dir / "relight")) written.push_back(f);
+  PrtConvergenceOptions c;  // GPU rows where an EGL device exists (llvmpipe included)
+  c.bands = 3;
+  c.mode = sh::prt::TransferMode::shadowed;
+  c.reference_strata = quick ? 24 : 128;
+  c.strata = quick ? std::vector<int>{3, 6} : std::vector<int>{4, 8, 16, 32, 45};
+  c.threads = 0;
+  c.width = c.height = quick ? 32 : 96;
+  c.device = "auto";
+  c.depth_maps = quick ? std::vector<int>{64, 256} : std::vector<int>{256, 1024};
+  c.notice = notice;
+  const StudyTable st = prt_convergence(prt::builtin_scene("sphere-on-plane", quick ? 6 : 16), c);
+  for (const auto& f : io::write_study(dir / "converge", st.spec, st.rows, st.provenance)) written.push_back(f);
+  return written;
 }
 
 }  // namespace atmosh::studies

@@ -6,8 +6,12 @@
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/io/csv.hpp"
+#include "atmosh/io/study.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/scene/outputs.hpp"
 #include "atmosh/studies/sky_studies.hpp"
+#include "atmosh/studies/studies_atmo.hpp"
+#include "atmosh/studies/studies_sun.hpp"
 
 namespace atmosh::studies {
 
@@ -62,8 +66,32 @@ const std::map<std::string_view, OutputRunner>& scene_output_runners() {
          const auto* k = scene::find_output_kind(out.kind);
          return write_sky_sh(project_sky_sh(m, ctx.sun(), out.bands > 0 ? out.bands : k->default_bands), file);
        }},
+      {"sun-track",
+       [](SceneRunContext& ctx, const scene::Output&, const fs::path&, const fs::path& stem) {
+         const auto& ob = *ctx.scene.observer;  // check_outputs: a sun-track has an [observer]
+         ctx.spa_computed = true;                // its suns are NREL SPA's
+         return write_sun_day_track(
+             sun_day_track(ob.latitude_deg, ob.longitude_deg, ob.height_m, ob.time_utc, ctx.options.quick ? 1800.0 : 600.0),
+             ob.latitude_deg, ob.longitude_deg, stem);
+       }},
+      {"lut-convergence",
+       [](SceneRunContext& ctx, const scene::Output&, const fs::path&, const fs::path& stem) {
+         LutConvergenceOptions o;  // the default settings (CPU), or the quick pair
+         o.quick = ctx.options.quick;
+         const StudyTable t = lut_convergence(ctx.scene.atmosphere, o);
+         return io::write_study(stem, t.spec, t.rows, t.provenance);
+       }},
+      {"optical-depth",
+       [](SceneRunContext& ctx, const scene::Output&, const fs::path&, const fs::path& stem) {
+         constexpr double kAltitude = 1000.0;  // m above the ground
+         return write_zenith_sweep(zenith_sweep(ctx.scene.atmosphere, kAltitude), ctx.scene.atmosphere.name, kAltitude,
+                                   stem);
+       }},
       {"sun-elevation-study",
        [](SceneRunContext& ctx, const scene::Output&, const fs::path&, const fs::path& stem) {
+         // The study runs on all the CPUs this process may use, as `study sun-elevation`
+         // does; that count goes into the provenance of every file written after it.
+         io::set_threads(resolve_threads(0));
          ElevationStudyOptions e;
          e.step_deg = ctx.options.quick ? 12 : 1;
          const ElevationStudy st = sun_elevation_study(ctx.scene, e);  // its own suns and sky

@@ -18,6 +18,7 @@
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/io/exr.hpp"
+#include "atmosh/io/netcdf.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/scene/outputs.hpp"
 #ifdef ATMOSH_HAVE_GPU
@@ -26,9 +27,21 @@
 
 namespace atmosh::studies {
 
-std::size_t mul_bytes(std::size_t a, std::size_t b) {
-  if (a != 0 && b > std::numeric_limits<std::size_t>::max() / a) return std::numeric_limits<std::size_t>::max();
-  return a * b;
+void write_sky_netcdf_image(const atmo::SkyImage& img, const std::filesystem::path& file, const io::Provenance& prov,
+                            const std::string& projection, const SunPlacement& sun) {
+  if (projection != "equirect")
+    throw InputError("projection '" + projection + "': netCDF sky images are equirect (elevation x azimuth)");
+  io::NetcdfSkyImage nc;
+  nc.width = img.width;
+  nc.height = img.height;
+  nc.wavelengths_nm = img.wavelengths_nm;
+  nc.spectral = img.spectral;
+  nc.X = img.X;
+  nc.Y = img.Y;
+  nc.Z = img.Z;
+  nc.sun_zenith_deg = 90.0 - sun.elevation_deg;
+  nc.sun_azimuth_deg = sun.azimuth_deg;
+  io::write_sky_netcdf(file, nc, prov);
 }
 
 scene::Scene SkySettings::scene_for(scene::Scene s) const {

@@ -14,6 +14,7 @@
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/csv.hpp"
+#include "atmosh/io/sh_coefficients.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/parallel.hpp"
 #include "atmosh/sh/convolution.hpp"
@@ -395,14 +396,10 @@ SkySh project_sky_sh(const SkyModel& model, const SunPlacement& sun, int bands) 
 std::vector<fs::path> write_sky_sh(const SkySh& sh, const fs::path& csv) {
   const int bands = sh.bands;
   const auto& coeffs = sh.coeffs;
-  io::CsvTable t({"l", "m", "index", "r", "g", "b"});
-  for (int l = 0; l < bands; ++l)
-    for (int m = -l; m <= l; ++m) {
-      const int i = l * (l + 1) + m;
-      t.add_row({std::int64_t{l}, std::int64_t{m}, std::int64_t{i}, coeffs[0][static_cast<std::size_t>(i)],
-                 coeffs[1][static_cast<std::size_t>(i)], coeffs[2][static_cast<std::size_t>(i)]});
-    }
-  t.write(csv, sh.provenance);
+  // The one SH coefficient CSV writer (columns l, m, index, r, g, b); the convention
+  // is already in the projection's provenance.
+  io::write_sh_coefficients(csv, io::ShCoefficients{bands, {"r", "g", "b"}, {coeffs[0], coeffs[1], coeffs[2]}, {}},
+                            sh.provenance, false);
   // Band energy (rotation-invariant power per band) of the luminance-like green channel and all three.
   fs::path stem = csv;
   stem.replace_extension();

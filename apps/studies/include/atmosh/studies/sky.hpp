@@ -17,6 +17,7 @@
 
 #include <glm/glm.hpp>
 
+#include "atmosh/memory.hpp"
 #include "atmosh/atmo/sky.hpp"
 #include "atmosh/atmo/multiple_scattering.hpp"
 #include "atmosh/atmo/sky_image.hpp"
@@ -89,8 +90,15 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
 double write_sky_image(const atmo::SkyImage& img, const std::filesystem::path& exr, const std::filesystem::path& png,
                        const io::Provenance& prov, const std::string& projection, const SunPlacement& sun);
 
-// Saturating products for memory estimates (no wrap-around on hostile sizes).
-std::size_t mul_bytes(std::size_t a, std::size_t b);
+// The sky image as netCDF-CF (io::write_sky_netcdf, atmosh/io/netcdf.hpp): X, Y, Z and,
+// where the image keeps it, the spectral radiance cube on elevation x azimuth axes, and
+// the sun's zenith and azimuth angles. InputError for a projection other than equirect
+// (a fisheye's pixels lie on no elevation x azimuth grid).
+void write_sky_netcdf_image(const atmo::SkyImage& img, const std::filesystem::path& file, const io::Provenance& prov,
+                            const std::string& projection, const SunPlacement& sun);
+
+// Saturating products for memory estimates: atmosh::mul_bytes (atmosh/memory.hpp).
+using atmosh::mul_bytes;
 // Memory (bytes) of one sky image of width x height with nw wavelengths, from the
 // render to the EXR and PNG written (atmo::sky_image_bytes + io::exr_image_bytes +
 // io::tonemapped_png_bytes + the exposure's luminance list).

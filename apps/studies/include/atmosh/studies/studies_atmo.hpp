@@ -10,7 +10,6 @@
 
 #include <filesystem>
 #include <functional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -37,21 +36,17 @@ struct LutRay {
 // on every platform). Every ray has R <= r <= R + top and -1 <= mu <= 1.
 std::vector<LutRay> lut_study_rays(const atmo::Atmosphere& atm);
 
-// The GPU was asked for (device "gpu") and cannot build the tables: no EGL device,
-// a build without GPU support, or an atmosphere the GPU pass does not support. The
-// message is the reason only; callers add how the device was chosen.
-struct DeviceUnavailable : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
 struct LutConvergenceOptions {
   // The settings swept: every shells x directions pair (directions per table branch,
   // view and sun alike). quick: {16 x 32, 40 x 64} only, a coarse table and the default.
   std::vector<int> shells = {16, 32, 40, 48, 64};
   std::vector<int> directions = {32, 64, 128};
   bool quick = false;
-  // "cpu" (never touches EGL), "gpu" (DeviceUnavailable without one) or "auto" (the
-  // GPU where one is, else the CPU with a notice). With a GPU every setting gets a
+  // "cpu" (never touches EGL), "gpu" or "auto", decided by the toolkit's one device
+  // policy (atmosh::resolve_device, atmosh/device.hpp): "gpu" without a usable GPU
+  // throws std::runtime_error "--device gpu: <why>"; "auto" falls back to the CPU rows
+  // with a notice. Only gpu::Unavailable (no device) and gpu::Unsupported (an
+  // atmosphere the table pass does not take) fall back; other errors propagate. With a GPU every setting gets a
   // second row, lut_gpu: the tables built by the GPU table pass, looked up on the CPU.
   std::string device = "cpu";
   // One-line notices (the GPU fallback of "auto"); empty: none.

@@ -67,12 +67,6 @@ std::pair<double, double> transfer_error(const prt::Transfer& t, const prt::Tran
 // Per pixel seen by both (mask), |T - T_ref|_2 relative to max_p |T_ref,p|_2; {max, rms}.
 std::pair<double, double> pixel_error(const prt::PixelTransfer& t, const prt::PixelTransfer& ref);
 
-// The GPU was asked for ("gpu") and the depth-map method cannot run; the message is
-// the reason only.
-struct PrtDeviceUnavailable : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
 struct PrtConvergenceOptions {
   int bands = 3;
   sh::prt::TransferMode mode = sh::prt::TransferMode::shadowed;  // shadowed or interreflected
@@ -80,8 +74,9 @@ struct PrtConvergenceOptions {
   std::vector<int> strata = {4, 8, 16, 32, 45};  // the rows: n x n samples, seed 1
   int threads = 0;                  // resolved by the caller's policy (0 = the CPUs available)
   // Per-pixel rows (shadowed only): camera image, view, device ("cpu": CPU ray
-  // casting only; "gpu": also the depth-map method or PrtDeviceUnavailable; "auto":
-  // the depth-map method where it runs, else a notice) and the depth-map sizes.
+  // casting only; "gpu": also the depth-map method, or std::runtime_error "--device
+  // gpu: <why>"; "auto": the depth-map method where it runs, else a notice: the
+  // toolkit's one device policy, atmosh::resolve_device) and the depth-map sizes.
   int width = 96, height = 96;
   glm::dvec3 view{1, -1.6, 1.1};
   std::string device = "auto";
@@ -93,5 +88,14 @@ struct PrtConvergenceOptions {
 // Rows cpu-<mode>-jittered (per vertex), cpu-pixel-<mode>-jittered and
 // gpu-depthmap<N>-<mode>-jittered (per pixel), extra columns samples, rays, depth_map.
 StudyTable prt_convergence(const prt::Mesh& mesh, const PrtConvergenceOptions& options);
+
+// The PRT step of the main job (`atmosh demo`) into `dir`: an interreflected bake of
+// the built-in sphere-on-plane (resolution 40, 4 bands, 45 x 45 samples, 2 bounces;
+// quick: 12, 3 bands, 12 x 12) written as sphere_on_plane_transfer.ply, relit by a
+// light turning about +z (12 frames of 384 x 384; quick: 2 of 96 x 96) into relight/,
+// and prt_convergence of the shadowed transfer (device "auto": depth-map rows where an
+// EGL device exists, else `notice`) as converge.csv/.png. Returns the files in order.
+std::vector<std::filesystem::path> demo_prt(const std::filesystem::path& dir, bool quick,
+                                            const std::function<void(const std::string&)>& notice = {});
 
 }  // namespace atmosh::studies
