@@ -10,7 +10,9 @@ day(...)                 atmosh study day -o DIR --no-frames    (DIR/day.csv)
 sweep_point(...)         one row of atmosh sweep (the sky summary of a scene)
 sweep(scenes)            one row per scene file
 converge_sky(...)        atmosh converge sky -o STEM            (STEM.csv)
-converge_lut(...)        atmosh converge lut --stem STEM        (STEM.csv)
+converge_lut(...)        atmosh converge lut -o STEM            (STEM.csv)
+converge_ms(...)         atmosh converge ms -o DIR              (DIR/ms_convergence.csv)
+converge_sh(exr, bands)  atmosh converge sh EXR --bands L -o STEM (STEM.csv)
 sun_accuracy(...)        atmosh sun accuracy -o STEM            (STEM.csv)
 
 Bad input raises atmosh.InputError with the library's one-line message.
@@ -22,8 +24,8 @@ from . import _atmosh
 
 _st = _atmosh.studies
 
-__all__ = ["sun_elevation", "day", "sweep_point", "sweep", "converge_sky", "converge_lut", "sun_accuracy",
-           "sky_dataset"]
+__all__ = ["sun_elevation", "day", "sweep_point", "sweep", "converge_sky", "converge_lut", "converge_ms",
+           "converge_sh", "sun_accuracy", "sky_dataset"]
 
 
 def _frame(t):
@@ -99,6 +101,20 @@ def converge_lut(scene=None, preset=None, quick=False, shells=(), directions=())
     """The optical-depth tables against the exact reference at 550 nm (columns as
     lut_convergence.csv). scene or preset (default earth-graphics), as the CLI."""
     return _frame(_st.converge_lut(_scene(scene), preset, bool(quick), list(shells), list(directions)))
+
+
+def converge_ms(scene=None, quick=False, paths=0, seed=1):
+    """The sky's scattering methods (single, orders, approximate) against a Monte-Carlo
+    reference of all orders, by band (day, civil, ...): columns as ms_convergence.csv.
+    paths: Monte-Carlo paths per reference row (0: 16000 quick, 128000 full); seed: the
+    reference's RNG seed."""
+    return _frame(_st.converge_ms(_scene(scene), bool(quick), int(paths), int(seed)))
+
+
+def converge_sh(exr, bands, quick=False, seed=1, layout="auto"):
+    """SH projection methods and sample counts of an EXR image (equirect 2:1 or cube
+    cross) against its exact quadrature: columns as `atmosh converge sh`'s CSV."""
+    return _frame(_st.converge_sh(str(exr), int(bands), bool(quick), int(seed), str(layout)))
 
 
 def sun_accuracy(year=2024, latitudes_deg=(-75, -45, 0, 30, 60, 85), samples=20000):

@@ -10,7 +10,9 @@
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/scene/scene.hpp"
 #include "atmosh/studies/sky_studies.hpp"
+#include "atmosh/studies/ms.hpp"
 #include "atmosh/studies/studies_atmo.hpp"
+#include "atmosh/studies/studies_sh.hpp"
 #include "atmosh/studies/studies_sun.hpp"
 #include "common.hpp"
 
@@ -191,6 +193,44 @@ void bind_studies(py::module_& m) {
       },
       py::arg("year") = 2024, py::arg("latitudes_deg") = std::vector<double>{-75, -45, 0, 30, 60, 85},
       py::arg("samples") = 20000);
+  m.def(
+      "converge_ms",
+      [](const std::optional<std::string>& scene, bool quick, long long paths, unsigned long long seed) {
+        const auto s = scene_or_default(scene);
+        studies::ConvergeMsOptions o;
+        o.quick = quick, o.paths = paths, o.seed = seed;
+        studies::ConvergeMs c;
+        {
+          py::gil_scoped_release release;
+          c = studies::converge_ms(s, o);
+        }
+        // The columns of ms_convergence.csv (studies::write_converge_ms).
+        io::CsvTable t({"method", "setting", "band", "error_max_rel", "error_rms_rel", "time_s",
+                        "reference_rel_stderr_max", "error_max_sigma", "error_max_rel_minus_3sigma", "build_time_s",
+                        "eval_time_s", "rows", "rows_skipped"});
+        for (const auto& row : c.result.rows)
+          t.add_row({row.method, row.setting, row.band, row.error_max_rel, row.error_rms_rel, row.time_s,
+                     row.reference_rel_stderr_max, row.error_max_sigma, row.error_max_rel_minus_3sigma,
+                     row.build_time_s, row.eval_time_s, std::int64_t{row.rows}, std::int64_t{row.rows_skipped}});
+        return table_dict(t, c.provenance);
+      },
+      py::arg("scene") = py::none(), py::arg("quick") = false, py::arg("paths") = 0, py::arg("seed") = 1);
+
+  m.def(
+      "converge_sh",
+      [](const std::string& exr, int bands, bool quick, unsigned long long seed, const std::string& layout) {
+        if (bands < 1) throw InputError("bands " + std::to_string(bands) + " must be >= 1");
+        if (layout != "auto" && layout != "equirect" && layout != "cross")
+          throw InputError("layout: '" + layout + "' is not auto, equirect or cross");
+        const studies::ShImage image = studies::load_sh_image(exr, layout, std::size_t{4} << 30);
+        studies::StudyTable t;
+        {
+          py::gil_scoped_release release;
+          t = studies::converge_sh(image, bands, quick, seed, exr);
+        }
+        return study_dict(t.spec, t.rows, t.provenance);
+      },
+      py::arg("exr"), py::arg("bands"), py::arg("quick") = false, py::arg("seed") = 1, py::arg("layout") = "auto");
 }
 
 }  // namespace atmosh::python
