@@ -90,7 +90,7 @@ class Sky:
         return out.reshape(v.shape[:-1] + (out.shape[-1],))
 
     def image(self, sun, width=256, height=128, projection="equirect", altitude_m=0.0, spectral=False,
-              sun_disc=True, threads=0):
+              sun_disc=True, threads=0, as_xarray=False):
         """A sky image as the CPU render gives it (`atmosh sky --device cpu`).
 
         projection  "equirect" (azimuth (x + 0.5)/W * 360 deg from north towards east,
@@ -101,8 +101,17 @@ class Sky:
         Returns a dict: xyz (H, W, 3) with Y in cd/m^2, srgb (H, W, 3) linear sRGB,
         valid (H, W) bool, wavelengths_nm, spectral (H, W, wavelengths) with spectral=True
         [W m^-2 sr^-1 nm^-1], seconds, rays. Values are float32-rounded as in the EXR.
+        as_xarray   return an xarray.Dataset instead (equirect only): coordinates
+                    elevation_deg, azimuth_deg (and wavelength_nm), variables X, Y, Z
+                    (Y = luminance, cd/m^2), srgb_r/g/b, valid and with spectral=True
+                    spectral_radiance, each with a units attribute.
         """
-        return self._native.image(_sun_vector(sun), width, height, projection, altitude_m, spectral, sun_disc, threads)
+        img = self._native.image(_sun_vector(sun), width, height, projection, altitude_m, spectral, sun_disc, threads)
+        if not as_xarray:
+            return img
+        if projection != "equirect":
+            raise _atmosh.InputError(f"as_xarray: projection '{projection}' is not equirect")
+        return _image_dataset(img, width, height, self)
 
     def sun_transmittance(self, sun, altitude_m=0.0):
         """Direct-beam transmittance towards the sun per wavelength (0 when the ground blocks it)."""
@@ -113,6 +122,36 @@ class Sky:
         [W m^-2 nm^-1] per wavelength and direct_lux, diffuse_lux [lx] (the numbers of
         `atmosh sky --json`: irradiance_*)."""
         return self._native.irradiance(_sun_vector(sun), altitude_m, zenith, azimuth)
+
+
+def _image_dataset(img, width, height, sky):
+    import xarray as xr
+    el = 90.0 - (np.arange(height) + 0.5) / height * 180.0
+    az = (np.arange(width) + 0.5) / width * 360.0
+    dims = ("elevation_deg", "azimuth_deg")
+    xyz, rgb = img["xyz"], img["srgb"]
+    ds = xr.Dataset(
+        {
+            "X": (dims, xyz[..., 0], {"units": "cd m-2", "long_name": "CIE X (Y scale)"}),
+            "Y": (dims, xyz[..., 1], {"units": "cd m-2", "long_name": "luminance (CIE Y)"}),
+            "Z": (dims, xyz[..., 2], {"units": "cd m-2", "long_name": "CIE Z (Y scale)"}),
+            "srgb_r": (dims, rgb[..., 0], {"units": "cd m-2", "long_name": "linear sRGB red (D65)"}),
+            "srgb_g": (dims, rgb[..., 1], {"units": "cd m-2", "long_name": "linear sRGB green (D65)"}),
+            "srgb_b": (dims, rgb[..., 2], {"units": "cd m-2", "long_name": "linear sRGB blue (D65)"}),
+            "valid": (dims, np.asarray(img["valid"], bool)),
+        },
+        coords={
+            "elevation_deg": ("elevation_deg", el, {"units": "degree", "long_name": "elevation above the horizon"}),
+            "azimuth_deg": ("azimuth_deg", az, {"units": "degree", "long_name": "azimuth from north towards east"}),
+        },
+        attrs={"projection": "equirect", "scattering_method": sky.scattering_method, "sun_model": sky.sun_model,
+               "seconds": float(img["seconds"])},
+    )
+    if "spectral" in img:
+        ds = ds.assign_coords(wavelength_nm=("wavelength_nm", np.asarray(img["wavelengths_nm"], np.float64),
+                                             {"units": "nm"}))
+        ds["spectral_radiance"] = (dims + ("wavelength_nm",), img["spectral"], {"units": "W m-2 sr-1 nm-1"})
+    return ds
 
 
 def radiance(views, sun, atmosphere=None, altitude_m=0.0, scattering=None, **quality):

@@ -54,5 +54,6 @@ void bind_sky(py::module_& m);
 void bind_sh(py::module_& m);
 void bind_prt(py::module_& m);
 void bind_io(py::module_& m);
+void bind_studies(py::module_& m);
 
 }  // namespace atmosh::python

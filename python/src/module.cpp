@@ -1,5 +1,5 @@
 // module.cpp — the extension module atmosh._atmosh: one submodule per library area
-// (sun, atmo, sky, sh, prt, io); the pure-Python package atmosh wraps them with the
+// (sun, atmo, sky, sh, prt, io, studies); the pure-Python package atmosh wraps them with the
 // numpy conveniences and docstrings (python/atmosh/).
 #include "common.hpp"
 
@@ -14,10 +14,12 @@ PYBIND11_MODULE(_atmosh, m) {
   auto sh = m.def_submodule("sh", "Real spherical harmonics");
   auto prt = m.def_submodule("prt", "Precomputed radiance transfer");
   auto io = m.def_submodule("io", "Files atmosh writes");
+  auto studies = m.def_submodule("studies", "The studies as tables (atmosh::studies)");
   atmosh::python::bind_sun(sun);
   atmosh::python::bind_atmo(atmo);
   atmosh::python::bind_sky(sky);
   atmosh::python::bind_sh(sh);
   atmosh::python::bind_prt(prt);
   atmosh::python::bind_io(io);
+  atmosh::python::bind_studies(studies);
 }

@@ -3,9 +3,14 @@
 #   sh_only   find_package(atmosh COMPONENTS sh), with every lookup of GeographicLib,
 #             EGL and OpenGL poisoned (see below);
 #   prt       find_package(atmosh COMPONENTS prt): a bake through the installed library;
-#   pkgconfig sh_only/main.cpp compiled with `pkg-config --cflags --libs atmosh`.
+#   pkgconfig sh_only/main.cpp compiled with `pkg-config --cflags --libs atmosh`;
+#   python    python/consumer.py: the installed Python package (component `python`,
+#             PREFIX/<PYTHON_DIR>/atmosh) imported with PYTHONPATH set to that folder
+#             computes a sun position (skipped when the module is not built).
 # Arguments: BUILD_DIR, SOURCE_DIR (tests/consumer), WORK_DIR, GENERATOR, CXX, SHARED,
-# LAUNCHER (the build's compiler launcher, e.g. ccache: repeated runs compile nothing).
+# LAUNCHER (the build's compiler launcher, e.g. ccache: repeated runs compile nothing),
+# PYTHON (the interpreter; empty: no Python module), PYTHON_DIR (where the package goes,
+# relative to the prefix).
 #
 # The poison: a folder put first on CMAKE_PREFIX_PATH and CMAKE_MODULE_PATH whose
 # GeographicLib, OpenGL and EGL package files and find-modules stop the configuration
@@ -115,3 +120,17 @@ run("compiling sh_only/main.cpp with pkg-config's flags"
     ${LAUNCHER} ${CXX} -std=c++20 "${SOURCE_DIR}/sh_only/main.cpp" ${flags} -o "${WORK_DIR}/consumer_pkgconfig")
 run("running consumer_pkgconfig" ${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${libdir} "${WORK_DIR}/consumer_pkgconfig")
 message(STATUS "pkgconfig: ${last_output}")
+
+# Python
+if(PYTHON)
+  set(pydir "${prefix}/${PYTHON_DIR}")
+  if(NOT EXISTS "${pydir}/atmosh/__init__.py")
+    message(FATAL_ERROR "the Python module is built but not installed into ${pydir}/atmosh")
+  endif()
+  run("running python/consumer.py with PYTHONPATH=${pydir}"
+      ${CMAKE_COMMAND} -E env PYTHONPATH=${pydir} LD_LIBRARY_PATH=${libdir} PYTHONDONTWRITEBYTECODE=1
+      ${PYTHON} "${SOURCE_DIR}/python/consumer.py" "${prefix}")
+  message(STATUS "python: ${last_output}")
+else()
+  message(STATUS "python: skipped (the Python module is not built)")
+endif()

@@ -1,0 +1,187 @@
+"""atmosh.studies against the command line: each study's DataFrame has the columns (names
+and order) and the values of the CSV `atmosh` writes for the same input (run times
+aside: they are measured per run), provenance in attrs; the sky image as an
+xarray.Dataset agrees with the numpy image; bad input raises atmosh.InputError."""
+
+import os
+import subprocess
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import atmosh
+from atmosh import studies
+
+from conftest import _cli_path
+
+QUALITY = dict(shells=8, segments=4)  # quick sky tables, the same on both sides
+QUALITY_ARGS = ["--shells", "8", "--segments", "4"]
+
+
+@pytest.fixture(scope="module")
+def run_cli():
+    path = _cli_path()
+    if path is None:
+        pytest.skip("the atmosh command line is not built")
+
+    def run(*args):
+        subprocess.run([path, *map(str, args)], capture_output=True, text=True, check=True)
+
+    return run
+
+
+def read_csv(path):
+    return pd.read_csv(path, comment="#", float_precision="round_trip")
+
+
+def provenance(path):
+    out = {}
+    with open(path) as f:
+        for line in f:
+            if not line.startswith("# "):
+                break
+            k, _, v = line[2:].rstrip("\n").partition(": ")
+            out[k] = v
+    return out
+
+
+def assert_same_table(df, csv_path, skip=()):
+    """Same columns in the same order, same row count, every cell equal (numbers exactly:
+    the CSV holds round-trip doubles; NaN where the CSV has NaN)."""
+    ref = read_csv(csv_path)
+    assert list(df.columns) == list(ref.columns)
+    assert df.shape == ref.shape
+    for c in ref.columns:
+        if c in skip:
+            continue
+        if ref[c].dtype == object:
+            assert list(df[c]) == list(ref[c]), c
+        else:
+            np.testing.assert_array_equal(df[c].to_numpy(np.float64), ref[c].to_numpy(np.float64), err_msg=c)
+    # The provenance of the CSV, but for the entries that name this run (and the commit:
+    # the module and the command line may be built at different states of the tree).
+    prov = provenance(csv_path)
+    for k in set(prov) - {"command_line", "run_utc", "threads", "git_commit"}:
+        if "time" in k:  # measured run times (reference_time_s, ...)
+            continue
+        assert df.attrs.get(k) == prov[k], k
+
+
+def test_sun_elevation_matches_cli(run_cli, tmp_path):
+    run_cli("study", "sun-elevation", "--from", -5, "--to", 30, "--step", 5, *QUALITY_ARGS, "-o", tmp_path)
+    df = studies.sun_elevation(from_deg=-5, to_deg=30, step_deg=5, **QUALITY)
+    assert df.shape[0] == 8  # -5, 0, ..., 30
+    np.testing.assert_array_equal(df["sun_elevation_deg"], np.arange(-5.0, 31.0, 5.0))
+    assert_same_table(df, tmp_path / "sun_elevation.csv")
+
+
+def test_day_matches_cli(run_cli, tmp_path):
+    run_cli("study", "day", "--lat", 48, "--lon", 11, "--date", "2024-06-21", "--step", "6h", "--no-frames",
+            *QUALITY_ARGS, "-o", tmp_path)
+    df = studies.day(48, 11, "2024-06-21", step_s=6 * 3600, step_text="6h", **QUALITY)
+    assert list(df["time_utc"])[:2] == ["2024-06-21T00:00:00Z", "2024-06-21T06:00:00Z"]
+    assert df.shape[0] == 4
+    assert_same_table(df, tmp_path / "day.csv")
+
+
+def test_sun_accuracy_matches_cli(run_cli, tmp_path):
+    run_cli("sun", "accuracy", "--year", 2024, "--latitudes", "0,45", "--samples", 200, "-o", tmp_path / "acc")
+    df = studies.sun_accuracy(2024, [0, 45], 200)
+    assert_same_table(df, tmp_path / "acc.csv", skip=("time_s",))
+    assert (df["error_max_deg"] >= df["error_rms_deg"]).all()
+
+
+def test_converge_lut_matches_cli(run_cli, tmp_path):
+    run_cli("converge", "lut", "--shells", 16, "--directions", 32, "-o", tmp_path / "lut")
+    df = studies.converge_lut(shells=[16], directions=[32])
+    skip = [c for c in df.columns if "time" in c]
+    assert_same_table(df, tmp_path / "lut.csv", skip=skip)
+
+
+def test_converge_sky_matches_cli(run_cli, tmp_path):
+    run_cli("converge", "sky", "--quick", "-o", tmp_path / "sky")
+    df = studies.converge_sky(quick=True)
+    skip = [c for c in df.columns if "time" in c]
+    assert_same_table(df, tmp_path / "sky.csv", skip=skip)
+
+
+def test_converge_ms_matches_cli(run_cli, tmp_path):
+    run_cli("converge", "ms", "--quick", "-o", tmp_path)
+    df = studies.converge_ms(quick=True)
+    skip = [c for c in df.columns if "time" in c]
+    assert_same_table(df, tmp_path / "ms_convergence.csv", skip=skip)
+
+
+def test_converge_sh_matches_cli(run_cli, tmp_path):
+    run_cli("sky", "--sun-elevation", 20, "--size", "32x16", "--shells", 16, "--segments", 8, "-o",
+            tmp_path / "sky.exr")
+    run_cli("converge", "sh", tmp_path / "sky.exr", "--bands", 3, "--quick", "-o", tmp_path / "sh")
+    df = studies.converge_sh(tmp_path / "sky.exr", 3, quick=True)
+    assert_same_table(df, tmp_path / "sh.csv", skip=("time_s",))
+    assert df["error_max_rel"].iloc[0] == 0  # the reference row
+
+
+def test_sweep_point_is_the_sun_elevation_row():
+    # The built-in scene's sun, then the sun-elevation study at that elevation and
+    # azimuth: the same sky but for the Earth-Sun distance d (the sweep point takes the
+    # scene date's, the study 1 au), so every luminance and colour scales by one factor
+    # 1/d^2 with d in [0.983, 1.017] au (perihelion, aphelion); the chromaticities and the
+    # transmittance agree.
+    p = studies.sweep_point(**QUALITY)
+    assert p.shape[0] == 1 and "table_build_time_s" in p.columns
+    el, az = float(p["sun_elevation_deg"][0]), float(p["sun_azimuth_deg"][0])
+    row = studies.sun_elevation(from_deg=el, to_deg=el, step_deg=1, azimuth_deg=az, **QUALITY)
+    ratios = []
+    for c in row.columns[1:]:
+        if c.endswith(("_x", "_y", "_transmittance_550nm")):  # not scaled by 1/d^2
+            np.testing.assert_allclose(p[c][0], row[c][0], rtol=1e-5, err_msg=c)
+        elif row[c][0] != 0:
+            ratios.append(p[c][0] / row[c][0])
+    assert ratios
+    np.testing.assert_allclose(ratios, ratios[0], rtol=1e-5)
+    assert 1 / 1.017**2 <= ratios[0] <= 1 / 0.983**2
+
+
+def test_sky_dataset_matches_image():
+    ds = studies.sky_dataset((20.0, 180.0), width=16, height=8, **QUALITY)
+    img = atmosh.sky.image((20.0, 180.0), width=16, height=8, spectral=True, **QUALITY)
+    assert ds["Y"].shape == (8, 16) and ds["spectral_radiance"].dims == ("elevation_deg", "azimuth_deg",
+                                                                         "wavelength_nm")
+    np.testing.assert_array_equal(ds["Y"].values, img["xyz"][..., 1])
+    np.testing.assert_array_equal(ds["spectral_radiance"].values, img["spectral"])
+    np.testing.assert_allclose(ds["elevation_deg"].values, 90 - (np.arange(8) + 0.5) * 180 / 8)
+    np.testing.assert_allclose(ds["azimuth_deg"].values, (np.arange(16) + 0.5) * 360 / 16)
+    assert ds["Y"].attrs["units"] == "cd m-2" and ds["spectral_radiance"].attrs["units"] == "W m-2 sr-1 nm-1"
+    # The zenith row is brighter than nothing and the image is finite.
+    assert np.isfinite(ds["Y"].values).all() and (ds["Y"].values[0] > 0).all()
+
+
+@pytest.mark.parametrize("call", [
+    lambda: studies.sun_elevation(from_deg=-100),
+    lambda: studies.sun_elevation(from_deg=0, to_deg=10, step_deg=0),
+    lambda: studies.sun_elevation(from_deg=10, to_deg=0),
+    lambda: studies.day(95, 0, "2024-06-21"),
+    lambda: studies.day(0, 0, "2024-6-21"),
+    lambda: studies.sun_accuracy(2024, [0], 0),
+    lambda: studies.converge_lut(preset="no-such-preset"),
+    lambda: studies.converge_sky(scene="/nonexistent/scene.toml"),
+    lambda: studies.sweep([]),
+    lambda: studies.converge_ms(quick=True, paths=-1),
+    lambda: studies.converge_sh("/nonexistent.exr", 3),
+    lambda: studies.sky_dataset((20.0, 180.0), width=4, height=2, projection="fisheye"),
+])
+def test_bad_input_raises(call):
+    with pytest.raises(atmosh.InputError):
+        call()
+
+
+def test_bad_input_names_the_value_as_the_cli_does(run_cli):
+    # The CLI checks --from itself (naming the option); the library names the value too.
+    path = _cli_path()
+    r = subprocess.run([path, "study", "sun-elevation", "--from", "-100", "-o", os.devnull], capture_output=True,
+                       text=True)
+    assert r.returncode == 2
+    with pytest.raises(atmosh.InputError) as e:
+        studies.sun_elevation(from_deg=-100)
+    assert "-100" in str(e.value) and "-100" in r.stderr
