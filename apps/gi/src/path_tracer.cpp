@@ -12,6 +12,7 @@
 #include "atmosh/error.hpp"
 #include "atmosh/parallel.hpp"
 #include "atmosh/prt/bake.hpp"
+#include "sampling.hpp"
 
 namespace atmosh::gi {
 
@@ -19,34 +20,15 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 using Clock = std::chrono::steady_clock;
 
-std::uint64_t mix64(std::uint64_t z) {  // SplitMix64 finaliser (Steele, Lea & Flood 2014)
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
-// SplitMix64 stream: one per pixel or query point.
-struct Rng {
-  std::uint64_t state;
-  Rng(std::uint64_t seed, std::uint64_t index) : state(mix64(seed ^ mix64(index + 0x632be59bd9b4e019ULL))) {}
-  double uniform() {  // [0, 1)
-    state += 0x9e3779b97f4a7c15ULL;
-    return static_cast<double>(mix64(state) >> 11) * 0x1.0p-53;
-  }
+using detail::onb;
+// One stream per pixel or query point.
+struct Rng : detail::Rng {
+  Rng(std::uint64_t seed, std::uint64_t index) : detail::Rng(seed, index, detail::kPathSalt) {}
 };
-
-// Orthonormal basis around unit n (Duff et al. 2017, JCGT 6(1)).
-void basis(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
-  const double sign = std::copysign(1.0, n.z);
-  const double a = -1.0 / (sign + n.z);
-  const double bb = n.x * n.y * a;
-  t = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * bb, -sign * n.x);
-  b = glm::dvec3(bb, sign + n.y * n.y * a, -n.y);
-}
 
 glm::dvec3 cosine_sample(const glm::dvec3& n, double u1, double u2) {
   glm::dvec3 t, b;
-  basis(n, t, b);
+  onb(n, t, b);
   const double r = std::sqrt(u1), phi = 2 * kPi * u2;
   return r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - u1)) * n;  // unit: t, b, n orthonormal
 }
@@ -141,7 +123,7 @@ class Tracer {
         const double u1 = rng.uniform(), u2 = rng.uniform();
         const double ct = 1 - u1 * (1 - sun_cos_max_), stt = std::sqrt(std::max(0.0, 1 - ct * ct));
         glm::dvec3 t, b;
-        basis(sun_dir_, t, b);
+        onb(sun_dir_, t, b);
         wl = glm::normalize(stt * std::cos(2 * kPi * u2) * t + stt * std::sin(2 * kPi * u2) * b + ct * sun_dir_);
         e = sun_radiance_times_omega_;
       }

@@ -13,6 +13,7 @@
 #include "atmosh/parallel.hpp"
 #include "atmosh/prt/bake.hpp"
 #include "atmosh/sh/basis.hpp"
+#include "sampling.hpp"
 
 namespace atmosh::gi {
 
@@ -230,26 +231,10 @@ ShRgb interpolate(const ProbeGrid& g, const glm::dvec3& p) {
 }
 
 namespace {
-std::uint64_t mix64(std::uint64_t z) {  // SplitMix64 finaliser (Steele, Lea & Flood 2014)
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-struct Rng {
-  std::uint64_t state;
-  Rng(std::uint64_t seed, std::uint64_t index) : state(mix64(seed ^ mix64(index + 0x2545f4914f6cdd1dULL))) {}
-  double uniform() {
-    state += 0x9e3779b97f4a7c15ULL;
-    return static_cast<double>(mix64(state) >> 11) * 0x1.0p-53;
-  }
+using detail::onb;
+struct Rng : detail::Rng {
+  Rng(std::uint64_t seed, std::uint64_t index) : detail::Rng(seed, index, detail::kProbeSalt) {}
 };
-void onb(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {  // Duff et al. 2017, JCGT 6(1)
-  const double sign = std::copysign(1.0, n.z);
-  const double a = -1.0 / (sign + n.z);
-  const double bb = n.x * n.y * a;
-  t = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * bb, -sign * n.x);
-  b = glm::dvec3(bb, sign + n.y * n.y * a, -n.y);
-}
 }  // namespace
 
 RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, int height, const ProbeGrid& grid,
