@@ -3,9 +3,11 @@
 #   1. Release build with the default compiler: unit tests, CLI and end-to-end tests,
 #      install + consumer project, the figure notebook executed on the quick main job
 #      (figures_notebooks);
-#   2. clang + AddressSanitizer + UndefinedBehaviorSanitizer build running the suite;
+#   2. clang + AddressSanitizer + UndefinedBehaviorSanitizer build running the suite (the
+#      examples of the docs, which only repeat code paths other tests cover, run in stage 1);
 #   3. libFuzzer on every reader of user files (scene and sweep TOML, OBJ, PLY, EXR, SH
-#      coefficient CSV), each for a bounded time (ATMOSH_FUZZ_SECONDS, 25 s each).
+#      coefficient CSV), built in the sanitizer build of stage 2, each for a bounded time
+#      (ATMOSH_FUZZ_SECONDS, 25 s each), as many at once as there are cores.
 set -euo pipefail  # pipefail: a failing ctest fails the script even through tee
 cd "$(dirname "$0")/.."
 JOBS=${JOBS:-$(nproc)}
@@ -28,39 +30,51 @@ cmake --build build -j "$JOBS"
 ctest --test-dir build -j "$JOBS" --output-on-failure --timeout 900 | tee "$LOGS/release.log"
 count_passed "$LOGS/release.log"
 
-echo "== [2/3] clang AddressSanitizer + UndefinedBehaviorSanitizer"
+echo "== [2/3] clang AddressSanitizer + UndefinedBehaviorSanitizer (and the fuzzers)"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DATMOSH_SANITIZE=address,undefined -DATMOSH_BUILD_BENCH=OFF -DATMOSH_WITH_PYTHON=OFF
+  -DATMOSH_SANITIZE=address,undefined -DATMOSH_BUILD_BENCH=OFF -DATMOSH_WITH_PYTHON=OFF \
+  -DATMOSH_BUILD_FUZZ=ON
 cmake --build build-asan -j "$JOBS"
-ctest --test-dir build-asan -j "$JOBS" --output-on-failure --timeout 1800 | tee "$LOGS/asan.log"
+# The docs' example runs spawn the command line ~20 times each (100 s under the
+# sanitizers); every path they take is also run by the CLI tests, here as in stage 1.
+ASAN_SKIP='^Docs\.(CliExamplesRun|SweepExampleRuns)$'
+ctest --test-dir build-asan -j "$JOBS" --output-on-failure --timeout 1800 -E "$ASAN_SKIP" | tee "$LOGS/asan.log"
 count_passed "$LOGS/asan.log"
 
-echo "== [3/3] libFuzzer: 6 readers of user files, ${FUZZ_SECONDS} s each"
-FUZZERS="fuzz_scene fuzz_sweep fuzz_mesh_obj fuzz_mesh_ply fuzz_exr fuzz_sh_csv"
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DATMOSH_SANITIZE=address,undefined -DATMOSH_BUILD_FUZZ=ON -DATMOSH_BUILD_BENCH=OFF -DATMOSH_WITH_GPU=OFF \
-  -DATMOSH_WITH_PYTHON=OFF \
-  -DATMOSH_BUILD_TESTS=OFF
-# shellcheck disable=SC2086
-cmake --build build-fuzz -j "$JOBS" --target $FUZZERS
-for f in $FUZZERS; do
-  name=${f#fuzz_}
-  max_len=16384
+echo "== [3/3] libFuzzer: 6 readers of user files, ${FUZZ_SECONDS} s each, ${JOBS} at once"
+FUZZERS=(fuzz_scene fuzz_sweep fuzz_mesh_obj fuzz_mesh_ply fuzz_exr fuzz_sh_csv)
+fuzz() {  # runs one fuzzer for FUZZ_SECONDS; its log goes to $LOGS/<fuzzer>.log
+  local f=$1 name=${1#fuzz_} max_len=16384
   case $name in scene | sweep) max_len=131072 ;; esac  # a 40 000-part key path is 80 KB
-  mkdir -p "build-fuzz/corpus_$name"
+  mkdir -p "build-asan/corpus_$name"
   # Any crash, leak, timeout or out-of-memory exits non-zero; the input is left in
-  # build-fuzz/ as crash-*, leak-*, timeout-* or oom-* and the whole log is printed.
-  if ! (cd build-fuzz && "bin/$f" -max_total_time="$FUZZ_SECONDS" -max_len="$max_len" -len_control=0 -timeout=10 \
-    -rss_limit_mb=2048 -print_final_stats=1 "corpus_$name" "../tests/fuzz/corpus_$name" >"$LOGS/$f.log" 2>&1); then
-    cat "$LOGS/$f.log"
-    echo "fuzzing $f: FAULT FOUND (input in build-fuzz/)"
-    exit 1
-  fi
-  grep -E "^stat::number_of_executed_units|^Done " "$LOGS/$f.log" || true
-  echo "fuzzing $f: no findings in ${FUZZ_SECONDS} s"
+  # build-asan/ as crash-*, leak-*, timeout-* or oom-*.
+  (cd build-asan && "bin/$f" -max_total_time="$FUZZ_SECONDS" -max_len="$max_len" -len_control=0 -timeout=10 \
+    -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$f-" "corpus_$name" "../tests/fuzz/corpus_$name" \
+    >"$LOGS/$f.log" 2>&1)
+}
+set -- "${FUZZERS[@]}"
+while [ $# -gt 0 ]; do
+  batch=()
+  for _ in $(seq "$JOBS"); do
+    [ $# -gt 0 ] || break
+    batch+=("$1"); shift
+  done
+  pids=()
+  for f in "${batch[@]}"; do fuzz "$f" & pids+=($!); done
+  for i in "${!batch[@]}"; do
+    f=${batch[$i]}
+    if ! wait "${pids[$i]}"; then
+      cat "$LOGS/$f.log"
+      echo "fuzzing $f: FAULT FOUND (input in build-asan/ as $f-*)"
+      exit 1
+    fi
+    grep -E "^stat::number_of_executed_units|^Done " "$LOGS/$f.log" || true
+    echo "fuzzing $f: no findings in ${FUZZ_SECONDS} s"
+  done
 done
 passed=$((passed + 1))
 echo "all stages green: Release suite, sanitizer suite, fuzzing"
