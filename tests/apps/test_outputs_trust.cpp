@@ -90,18 +90,19 @@ TEST(CsvInput, ShEvalNormalisesHugeDirections) {
 // chromaticity. `sky --json` says null where the study CSV says nan.
 TEST(BlackSky, ChromaticityIsNullInJsonAndNanInCsv) {
   const fs::path d = scratch_dir("atmosh_trust", "black");
-  const auto r = run_cli("sky --sun-elevation -40 --size 8x4 -o '" + (d / "s.exr").string() + "' --json");
+  // Single scattering, as the rule says (and no multiple-scattering table to build).
+  const auto r = run_cli("sky --sun-elevation -40 --size 8x4 --scattering single -o '" + (d / "s.exr").string() + "' --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_EQ(j["zenith_luminance_cd_m2"].get<double>(), 0.0);
   EXPECT_TRUE(j["zenith_xy"].is_null()) << j["zenith_xy"];
   EXPECT_EQ(j["sun_model"], "disc");  // the default
   EXPECT_NEAR(j["sun_angular_radius_deg"].get<double>(), std::asin(695700.0 / 149597870.7) * 180.0 / M_PI, 1e-12);
-  const auto p = run_cli("sky --sun-elevation -40 --size 8x4 --sun-model point -o '" + (d / "p.exr").string() + "' --json");
+  const auto p = run_cli("sky --sun-elevation -40 --size 8x4 --scattering single --sun-model point -o '" + (d / "p.exr").string() + "' --json");
   ASSERT_EQ(p.exit_code, 0) << p.err;
   EXPECT_EQ(nlohmann::json::parse(p.out)["sun_model"], "point");
   expect_bad_input("sky --sun-elevation 5 --size 8x4 --sun-model square -o '" + (d / "q.exr").string() + "'", "square");
-  const auto s = run_cli("study sun-elevation --from -40 --to -40 --step 1 -o '" + (d / "study").string() + "'");
+  const auto s = run_cli("study sun-elevation --from -40 --to -40 --step 1 --scattering single -o '" + (d / "study").string() + "'");
   ASSERT_EQ(s.exit_code, 0) << s.err;
   const CsvData c = read_csv(d / "study" / "sun_elevation.csv");
   ASSERT_EQ(c.rows.size(), 1u);
