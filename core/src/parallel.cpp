@@ -3,39 +3,137 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "atmosh/error.hpp"
 
 namespace atmosh {
 
-int detail::cgroup_cpu_limit(const std::string& proc_self_cgroup, const std::string& cgroup_root) {
-  std::ifstream cg(proc_self_cgroup);
-  std::string line, path;
-  while (std::getline(cg, line))
-    if (line.rfind("0::", 0) == 0) path = line.substr(3);
-  if (path.empty()) path = "/";
-  int best = 0;
+namespace {
+
+// The folders from cgroup_root + path up to cgroup_root itself, innermost first.
+std::vector<std::string> cgroup_dirs(const std::string& cgroup_root, std::string path) {
+  std::vector<std::string> dirs;
+  if (path.empty() || path[0] != '/') path = "/" + path;
   for (;;) {
-    std::ifstream f(cgroup_root + (path == "/" ? std::string() : path) + "/cpu.max");
-    std::string quota;
-    double period = 0;
-    if (f >> quota >> period && quota != "max" && period > 0) {
-      try {
-        const double q = std::stod(quota);
-        if (q > 0) {
-          const int n = std::max(1, static_cast<int>(std::ceil(q / period)));
-          if (best == 0 || n < best) best = n;
-        }
-      } catch (const std::exception&) {
-      }
-    }
-    if (path == "/" || path.empty()) break;
+    dirs.push_back(cgroup_root + (path == "/" ? std::string() : path));
+    if (path == "/") break;
     const auto slash = path.rfind('/');
     path = slash == 0 || slash == std::string::npos ? "/" : path.substr(0, slash);
+  }
+  return dirs;
+}
+
+// ceil(quota / period) >= 1 for a positive quota and period, else 0 (no limit).
+int quota_cpus(double quota, double period) {
+  if (!(quota > 0) || !(period > 0) || !std::isfinite(quota / period)) return 0;
+  const double n = std::ceil(quota / period);
+  return n >= kMaxThreads ? kMaxThreads : std::max(1, static_cast<int>(n));
+}
+
+void keep_smaller(int& best, int n) {
+  if (n > 0 && (best == 0 || n < best)) best = n;
+}
+
+// One number from a file, or nullopt (missing, empty, not a number).
+std::optional<double> read_number(const std::string& file) {
+  std::ifstream f(file);
+  std::string s;
+  if (!(f >> s)) return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end == s.c_str() || *end != '\0') return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+int detail::count_cpu_list(const std::string& list) {
+  int count = 0;
+  std::stringstream ss(list);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    while (!item.empty() && std::isspace(static_cast<unsigned char>(item.back()))) item.pop_back();
+    if (item.empty()) continue;
+    char* end = nullptr;
+    const long a = std::strtol(item.c_str(), &end, 10);
+    long b = a;
+    if (end == item.c_str() || a < 0) return 0;
+    if (*end == '-') {
+      const char* s = end + 1;
+      b = std::strtol(s, &end, 10);
+      if (end == s) return 0;
+    }
+    if (*end != '\0' || b < a || b - a > 1 << 20) return 0;
+    count += static_cast<int>(b - a + 1);
+    if (count > 1 << 20) return 0;
+  }
+  return count;
+}
+
+int detail::cgroup_cpu_limit(const std::string& proc_self_cgroup, const std::string& cgroup_root) {
+  std::ifstream cg(proc_self_cgroup);
+  std::string line, v2_path;
+  std::vector<std::pair<std::string, std::string>> v1;  // (controllers, path): "4:cpu,cpuacct:/a" -> ("cpu,cpuacct", "/a")
+  while (std::getline(cg, line)) {
+    const auto c1 = line.find(':');
+    const auto c2 = c1 == std::string::npos ? std::string::npos : line.find(':', c1 + 1);
+    if (c2 == std::string::npos) continue;
+    const std::string id = line.substr(0, c1), controllers = line.substr(c1 + 1, c2 - c1 - 1), path = line.substr(c2 + 1);
+    if (id == "0" && controllers.empty()) v2_path = path;
+    else v1.emplace_back(controllers, path);
+  }
+  int best = 0;
+  // cgroup v2 (Documentation/admin-guide/cgroup-v2.rst): "cpu.max" is "$MAX $PERIOD", MAX "max" for no limit.
+  for (const auto& dir : cgroup_dirs(cgroup_root, v2_path.empty() ? "/" : v2_path)) {
+    std::ifstream f(dir + "/cpu.max");
+    std::string quota;
+    double period = 0;
+    if (f >> quota >> period && quota != "max") {
+      char* end = nullptr;
+      const double q = std::strtod(quota.c_str(), &end);
+      if (end != quota.c_str() && *end == '\0') keep_smaller(best, quota_cpus(q, period));
+    }
+  }
+  // cgroup v1: each controller's hierarchy is mounted at cgroup_root/<controllers> (often
+  // also as cgroup_root/cpu, a link). CFS bandwidth (Documentation/scheduler/sched-bwc.rst):
+  // cpu.cfs_quota_us in microseconds, -1 for no limit, per cpu.cfs_period_us; cpusets
+  // (Documentation/admin-guide/cgroup-v1/cpusets.rst): cpuset.cpus, a list such as "0-3,8".
+  for (const auto& [controllers, path] : v1) {
+    std::vector<std::string> names;
+    std::stringstream ss(controllers);
+    for (std::string c; std::getline(ss, c, ',');) names.push_back(c);
+    const bool cpu = std::find(names.begin(), names.end(), "cpu") != names.end();
+    const bool cpuset = std::find(names.begin(), names.end(), "cpuset") != names.end();
+    if (!cpu && !cpuset) continue;
+    std::vector<std::string> mounts{cgroup_root + "/" + controllers};
+    if (cpu && controllers != "cpu") mounts.push_back(cgroup_root + "/cpu");
+    if (cpuset && controllers != "cpuset") mounts.push_back(cgroup_root + "/cpuset");
+    for (const auto& mount : mounts) {
+      std::error_code ec;
+      if (!std::filesystem::is_directory(mount, ec)) continue;
+      for (const auto& dir : cgroup_dirs(mount, path)) {
+        if (cpu) {
+          const auto quota = read_number(dir + "/cpu.cfs_quota_us"), period = read_number(dir + "/cpu.cfs_period_us");
+          if (quota && period) keep_smaller(best, quota_cpus(*quota, *period));
+        }
+        if (cpuset) {
+          std::ifstream f(dir + "/cpuset.cpus");
+          std::string list;
+          if (std::getline(f, list)) keep_smaller(best, count_cpu_list(list));
+        }
+      }
+      break;  // the first mount found holds the hierarchy
+    }
   }
   return best;
 }

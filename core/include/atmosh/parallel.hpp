@@ -38,16 +38,27 @@
 namespace atmosh {
 
 /// The CPUs this process may run on (>= 1): the CPUs in its affinity mask
-/// (sched_getaffinity: `taskset -c 0`, a Slurm allocation, numactl) and, where a cgroup v2
-/// `cpu.max` quota applies (containers, systemd slices), at most ceil(quota / period).
-/// std::thread::hardware_concurrency() when neither can be read.
+/// (sched_getaffinity: `taskset -c 0`, a Slurm allocation, numactl) and, where a cgroup
+/// limits them (containers, systemd slices, batch schedulers), at most that many: the v2
+/// `cpu.max` quota, the v1 `cpu.cfs_quota_us / cpu.cfs_period_us` quota (ceil) and the v1
+/// `cpuset.cpus` list. std::thread::hardware_concurrency() when none can be read.
 int available_cpus();
 
 namespace detail {
-/// ceil(quota / period) of the smallest cgroup v2 `cpu.max` on the way from this
-/// process's cgroup (the "0::PATH" line of proc_self_cgroup) up to cgroup_root; 0 when
-/// none limits the CPUs ("max"). available_cpus() reads /proc/self/cgroup, /sys/fs/cgroup.
+/// The smallest CPU limit of this process's cgroups, read from the files under
+/// cgroup_root (available_cpus() passes "/proc/self/cgroup" and "/sys/fs/cgroup"; tests
+/// a folder of fixture files), every cgroup on the way from the process's own up to the
+/// hierarchy's root counting; 0 when none limits the CPUs.
+///  * v2, the "0::PATH" line of proc_self_cgroup: ceil(quota / period) of
+///    cgroup_root/PATH/cpu.max ("$MAX $PERIOD", "max" = no limit).
+///  * v1, lines "N:CONTROLLERS:PATH" naming cpu: ceil(cpu.cfs_quota_us / cpu.cfs_period_us)
+///    (a quota of -1 = no limit); naming cpuset: the count of CPUs in cpuset.cpus
+///    ("0-3,8" = 5). The hierarchy is cgroup_root/CONTROLLERS (e.g. "cpu,cpuacct"), else
+///    cgroup_root/cpu or cgroup_root/cpuset.
+/// Malformed files are ignored (no limit from them).
 int cgroup_cpu_limit(const std::string& proc_self_cgroup, const std::string& cgroup_root);
+/// CPUs in a cpuset list such as "0-3,8,10-11" (= 7); 0 for an empty or malformed list.
+int count_cpu_list(const std::string& list);
 }  // namespace detail
 
 /// Most workers anyone may ask for (a guard against typos such as 100000).
