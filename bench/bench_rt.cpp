@@ -71,6 +71,28 @@ static void BM_RtTimeToThreeTenthsPercent(benchmark::State& st) {
 }
 BENCHMARK(BM_RtTimeToThreeTenthsPercent)->Arg(30)->Arg(-9)->Iterations(1)->Unit(benchmark::kSecond);
 
+// Time to 1 % standard error of the zenith luminance in twilight (all cores; the
+// guided scattering is on by default below -5 deg, its pilot included in the time),
+// sun at the arg; the same with the guide off for comparison (arg + 1000 = off).
+static void BM_RtTimeToOnePercentTwilight(benchmark::State& st) {
+  const bool off = st.range(0) > 500;
+  const double sun = static_cast<double>(off ? st.range(0) - 1000 : st.range(0));
+  Fixture& f = fixture();
+  RtSkyOptions so;
+  if (off) so.guide = RtLineEstimate::Off;
+  const MonteCarloSky mc(f.atm, solar_spectrum_for_bins(f.spec.spectrum), so);
+  RtConvergence c;
+  for (auto _ : st) c = rt_time_to_rel_stderr(mc, sun, 0.01, 120.0, 32000);
+  st.counters["time_s"] = c.time_s;
+  st.counters["extrapolated_s"] = c.extrapolated_time_s;
+  st.counters["paths"] = static_cast<double>(c.paths);
+  st.counters["rel_stderr"] = c.reached_rel_stderr;
+  st.counters["reached"] = c.reached ? 1 : 0;
+  st.counters["luminance_cd_m2"] = c.luminance;
+  st.SetLabel("sun " + std::to_string(static_cast<int>(sun)) + " deg, guide " + (off ? "off" : "default"));
+}
+BENCHMARK(BM_RtTimeToOnePercentTwilight)->Arg(-6)->Arg(-9)->Arg(-12)->Arg(994)->Arg(991)->Arg(988)->Iterations(1)->Unit(benchmark::kSecond);
+
 // Slab paths per second (one thread): tau = 1, omega = 0.9, HG g = 0.75, R and T.
 static void BM_RtSlabPathsPerCore(benchmark::State& st) {
   RtOptions o;

@@ -402,6 +402,49 @@ ViewRay make_view_ray(const SphereModel& m, const glm::dvec3& origin, const glm:
   return vr;
 }
 
+// The pilot's map of where a first vertex on the view ray sends light toward the
+// observer (RtSkyOptions::guide), one wavelength: g_piece[j] the value at view-ray
+// piece j (next-event estimate + the integral over directions of the phase function
+// times the line estimate, per unit weight), and per pilot point (at s[k]) the cell
+// distribution of outgoing directions in the local frame (z = d . up in nz cells with
+// edges sign(u) u^2, u uniform: fine near the horizon; azimuth about up from the sun's
+// vertical plane in nphi uniform cells).
+struct FirstGuide {
+  bool active = false;
+  std::vector<double> s;
+  int nz = 0, nphi = 0;
+  std::vector<double> z_edges;
+  std::vector<double> cell_p;    // [point][cell], each point's cells sum to 1
+  std::vector<double> cell_cdf;  // [point][cell + 1]
+  std::vector<double> g_piece;
+  std::vector<double> h;  // altitude of each pilot point
+  std::size_t nearest_altitude(double hv) const {
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < h.size(); ++k)
+      if (std::abs(h[k] - hv) < std::abs(h[best] - hv)) best = k;
+    return best;
+  }
+  std::size_t nearest(double sv) const {
+    const auto it = std::lower_bound(s.begin(), s.end(), sv);
+    if (it == s.begin()) return 0;
+    if (it == s.end()) return s.size() - 1;
+    const std::size_t k = static_cast<std::size_t>(it - s.begin());
+    return (sv - s[k - 1] <= s[k] - sv) ? k - 1 : k;
+  }
+};
+
+// Local frame at p for the guide: up and the horizontal axes toward the sun's azimuth.
+void guide_frame(const glm::dvec3& p, const glm::dvec3& sun, glm::dvec3& up, glm::dvec3& e1, glm::dvec3& e2) {
+  up = glm::normalize(p);
+  glm::dvec3 h = sun - glm::dot(sun, up) * up;
+  if (glm::length(h) < 1e-12) {
+    glm::dvec3 b2;
+    basis(up, h, b2);
+  }
+  e1 = glm::normalize(h);
+  e2 = glm::cross(up, e1);
+}
+
 class SphereMedium {
  public:
   struct Ray {
@@ -409,9 +452,11 @@ class SphereMedium {
     glm::dvec3 d{0, 0, 1};
   };
   SphereMedium(const SphereModel& m, const Coefficients& k, double irradiance, const glm::dvec3& sun, double albedo,
-               const ViewRay& view, double cone_share, double cone_half_angle_deg, bool line)
+               const ViewRay& view, double cone_share, double cone_half_angle_deg, bool line,
+               const FirstGuide* guide = nullptr, double guide_share = 0.0, double guide_defensive = 1.0)
       : m_(m), ext_(k.extinction), sca_(k.scattering), e_(irradiance), sun_(sun), albedo_(albedo), view_(view),
-        cone_share_(cone_share), cone_cos_(std::cos(cone_half_angle_deg * kPi / 180.0)), line_(line) {
+        cone_share_(cone_share), cone_cos_(std::cos(cone_half_angle_deg * kPi / 180.0)), line_(line),
+        guide_(guide && guide->active ? guide : nullptr), guide_share_(guide_ ? guide_share : 0.0) {
     for (int c = 0; c < 3; ++c)
       if (!m.atm->has(c)) ext_[c] = sca_[c] = 0.0;
     sca_[kOzone] = 0.0;
@@ -425,6 +470,22 @@ class SphereMedium {
         for (std::size_t j = 0; j < n; ++j) cdf_[j] = -std::expm1(-tau_[j]) / p_all;
         cdf_.back() = 1.0;
         p_ground_ = view.ground ? std::exp(-tau_.back()) : 0.0;
+        if (guide_ && guide_->g_piece.size() + 1 == n) {
+          // Pieces with probability P_j (a + (1 - a) G_j / sum_i P_i G_i): the collision
+          // density times the pilot's value, mixed with the plain density (share a).
+          double tot = 0.0;
+          for (std::size_t j = 0; j + 1 < n; ++j) tot += (cdf_[j + 1] - cdf_[j]) * guide_->g_piece[j];
+          if (tot > 0 && std::isfinite(tot)) {
+            const double a = guide_defensive;
+            std::vector<double> c(n, 0.0);
+            for (std::size_t j = 0; j + 1 < n; ++j) {
+              const double P = cdf_[j + 1] - cdf_[j];
+              c[j + 1] = c[j] + P * (a + (1.0 - a) * guide_->g_piece[j] / tot);
+            }
+            for (std::size_t j = 0; j < n; ++j) cdf_[j] = c[j] / c.back();
+            cdf_.back() = 1.0;
+          }
+        }
       }
     }
   }
@@ -467,10 +528,12 @@ class SphereMedium {
     const glm::dvec3 rho = m_.atm->density(std::max(glm::length(ray.p) - m_.R, 0.0));
     w *= glm::dot(sca_, rho) * std::exp(-tau) / (q * (1.0 - p_ground_));
     last_rho_ = rho;
+    first_point_ = guide_ ? static_cast<int>(guide_->nearest(s)) : -1;
     return Event::Scatter;
   }
 
   Event flight(Ray& ray, Rng& rng, bool force, double& w) const {
+    first_point_ = -1;
     if (force) return first_flight(ray, rng, w);
     const double R = m_.R, T = m_.T;
     double r = glm::length(ray.p);
@@ -491,6 +554,7 @@ class SphereMedium {
       const glm::dvec3 rho = m_.atm->density(std::max(glm::length(ray.p) - R, 0.0));
       w *= sig_t > 0 ? glm::dot(sca_, rho) / sig_t : 0.0;
       last_rho_ = rho;
+      if (guide_) first_point_ = static_cast<int>(guide_->nearest_altitude(glm::length(ray.p) - R));
       return Event::Scatter;
     }
     if (!ground) return Event::Escape;
@@ -555,8 +619,15 @@ class SphereMedium {
   // the mixed phase function [1/sr] (<= 1 / (1 - b)).
   glm::dvec3 sample_scatter(const Ray& ray, Rng& rng, double& w) const {
     const double sr = sca_[kRayleigh] * last_rho_[kRayleigh], sm = sca_[kMie] * last_rho_[kMie];
+    // At the first vertex with a guide: its cell distribution with share g.
+    const bool guided = guide_ && first_point_ >= 0;
+    const double g = guided ? guide_share_ : 0.0;
+    glm::dvec3 up, e1, e2;
+    if (guided) guide_frame(ray.p, sun_, up, e1, e2);
     glm::dvec3 d;
-    if (cone_share_ > 0 && rng.uniform() < cone_share_) {
+    if (g > 0 && rng.uniform() < g) {
+      d = guide_sample(static_cast<std::size_t>(first_point_), up, e1, e2, rng);
+    } else if (cone_share_ > 0 && rng.uniform() < cone_share_) {
       const double c = 1.0 - rng.uniform() * (1.0 - cone_cos_);
       d = turn(sun_, c, 2.0 * kPi * rng.uniform());
     } else {
@@ -564,13 +635,75 @@ class SphereMedium {
       const double cos_t = m_.phase[static_cast<std::size_t>(c)].sample(rng.uniform());
       d = turn(ray.d, cos_t, 2.0 * kPi * rng.uniform());
     }
-    if (cone_share_ > 0) {
+    if (cone_share_ > 0 || g > 0) {
       const double nu = glm::dot(ray.d, d);
       const double f = (sr * (sr > 0 ? m_.phase[0].value(nu) : 0.0) + sm * (sm > 0 ? m_.phase[1].value(nu) : 0.0)) / (sr + sm);
       const double p_cone = glm::dot(d, sun_) >= cone_cos_ ? 1.0 / (2.0 * kPi * (1.0 - cone_cos_)) : 0.0;
-      w *= f / ((1.0 - cone_share_) * f + cone_share_ * p_cone);
+      const double p_rest = (1.0 - cone_share_) * f + cone_share_ * p_cone;
+      const double p_g = g > 0 ? guide_pdf(static_cast<std::size_t>(first_point_), up, e1, e2, d) : 0.0;
+      w *= f / (g * p_g + (1.0 - g) * p_rest);
     }
     return d;
+  }
+  // A direction from pilot point k's cells: a cell by its probability, then uniform in
+  // z and azimuth inside it; its density [1/sr] is guide_pdf.
+  glm::dvec3 guide_sample(std::size_t k, const glm::dvec3& up, const glm::dvec3& e1, const glm::dvec3& e2,
+                          Rng& rng) const {
+    const FirstGuide& G = *guide_;
+    const std::size_t nc = static_cast<std::size_t>(G.nz) * G.nphi;
+    const double* cdf = &G.cell_cdf[k * (nc + 1)];
+    const double u = rng.uniform();
+    std::size_t c = static_cast<std::size_t>(std::upper_bound(cdf, cdf + nc + 1, u) - cdf);
+    c = std::clamp<std::size_t>(c == 0 ? 0 : c - 1, 0, nc - 1);
+    while (c + 1 < nc && !(G.cell_p[k * nc + c] > 0)) ++c;  // never a cell of probability 0
+    const std::size_t iz = c / static_cast<std::size_t>(G.nphi), ip = c % static_cast<std::size_t>(G.nphi);
+    const double z = G.z_edges[iz] + rng.uniform() * (G.z_edges[iz + 1] - G.z_edges[iz]);
+    const double phi = -kPi + (static_cast<double>(ip) + rng.uniform()) * 2.0 * kPi / G.nphi;
+    const double st = std::sqrt(std::max(0.0, (1.0 - z) * (1.0 + z)));
+    return glm::normalize(z * up + st * (std::cos(phi) * e1 + std::sin(phi) * e2));
+  }
+  double guide_pdf(std::size_t k, const glm::dvec3& up, const glm::dvec3& e1, const glm::dvec3& e2,
+                   const glm::dvec3& d) const {
+    const FirstGuide& G = *guide_;
+    const double z = std::clamp(glm::dot(d, up), -1.0, 1.0);
+    std::size_t iz = static_cast<std::size_t>(std::upper_bound(G.z_edges.begin(), G.z_edges.end(), z) - G.z_edges.begin());
+    iz = std::clamp<std::size_t>(iz == 0 ? 0 : iz - 1, 0, static_cast<std::size_t>(G.nz) - 1);
+    const double phi = std::atan2(glm::dot(d, e2), glm::dot(d, e1));
+    const double dphi = 2.0 * kPi / G.nphi;
+    const int ip = std::clamp(static_cast<int>((phi + kPi) / dphi), 0, G.nphi - 1);
+    const std::size_t nc = static_cast<std::size_t>(G.nz) * G.nphi;
+    const double P = G.cell_p[k * nc + iz * static_cast<std::size_t>(G.nphi) + static_cast<std::size_t>(ip)];
+    return P / ((G.z_edges[iz + 1] - G.z_edges[iz]) * dphi);
+  }
+  // The pilot's value at a first vertex at p (view direction v): next-event estimate
+  // and, per cell, phase x line estimate x the cell's solid angle (one jittered
+  // direction per cell), into cell[]; returns the next-event estimate. Sets the vertex.
+  double pilot(const glm::dvec3& p, const glm::dvec3& v, const FirstGuide& G, Rng& rng, double* cell) const {
+    last_rho_ = m_.atm->density(std::max(glm::length(p) - m_.R, 0.0));
+    Ray ray;
+    ray.p = p;
+    ray.d = v;
+    const double nee = sun_scatter(ray);
+    const double sr = sca_[kRayleigh] * last_rho_[kRayleigh], sm = sca_[kMie] * last_rho_[kMie];
+    glm::dvec3 up, e1, e2;
+    guide_frame(p, sun_, up, e1, e2);
+    const double dphi = 2.0 * kPi / G.nphi;
+    for (int iz = 0; iz < G.nz; ++iz)
+      for (int ip = 0; ip < G.nphi; ++ip) {
+        const double z = G.z_edges[iz] + rng.uniform() * (G.z_edges[iz + 1] - G.z_edges[iz]);
+        const double phi = -kPi + (ip + rng.uniform()) * dphi;
+        const double st = std::sqrt(std::max(0.0, (1.0 - z) * (1.0 + z)));
+        Ray out;
+        out.p = p;
+        out.d = glm::normalize(z * up + st * (std::cos(phi) * e1 + std::sin(phi) * e2));
+        const double nu = glm::dot(v, out.d);
+        const double f =
+            sr + sm > 0 ? (sr * (sr > 0 ? m_.phase[0].value(nu) : 0.0) + sm * (sm > 0 ? m_.phase[1].value(nu) : 0.0)) / (sr + sm)
+                        : 0.0;
+        const double le = f > 0 ? line_estimate(out, rng) : 0.0;
+        cell[iz * G.nphi + ip] = f * le * (G.z_edges[iz + 1] - G.z_edges[iz]) * dphi;
+      }
+    return nee;
   }
   double sun_ground(const Ray& ray) const {
     const glm::dvec3 n = ground_normal(ray);
@@ -623,6 +756,10 @@ class SphereMedium {
   double p_ground_ = 0.0;
   double cone_share_ = 0.0, cone_cos_ = 1.0;
   bool line_ = false;
+  const FirstGuide* guide_ = nullptr;
+  double guide_share_ = 0.0;
+  mutable int first_point_ = -1;
+  bool guide_all_ = std::getenv("GUIDE_ALL") != nullptr;  // the first vertex's pilot point while it scatters (guide)
   mutable glm::dvec3 last_rho_{0.0};  // densities at the last collision (one medium per path thread)
 };
 
@@ -705,6 +842,18 @@ MonteCarloSky::MonteCarloSky(const Atmosphere& atmosphere, SolarSpectrum solar, 
     throw InputError("sun_cone_share = " + std::to_string(opt_.sun_cone_share) + ": must be in [0, 1)");
   if (!(opt_.sun_cone_half_angle_deg > 0 && opt_.sun_cone_half_angle_deg <= 180))
     throw InputError("sun_cone_half_angle_deg = " + std::to_string(opt_.sun_cone_half_angle_deg) + ": must be in (0, 180]");
+  if (opt_.guide_points < 2 || opt_.guide_points > 256)
+    throw InputError("guide_points = " + std::to_string(opt_.guide_points) + ": must be in [2, 256]");
+  if (opt_.guide_zenith < 2 || opt_.guide_zenith > 256)
+    throw InputError("guide_zenith = " + std::to_string(opt_.guide_zenith) + ": must be in [2, 256]");
+  if (opt_.guide_azimuth < 1 || opt_.guide_azimuth > 256)
+    throw InputError("guide_azimuth = " + std::to_string(opt_.guide_azimuth) + ": must be in [1, 256]");
+  if (!(opt_.guide_share >= 0 && opt_.guide_share < 1))
+    throw InputError("guide_share = " + std::to_string(opt_.guide_share) + ": must be in [0, 1)");
+  if (!(opt_.guide_defensive > 0 && opt_.guide_defensive <= 1))
+    throw InputError("guide_defensive = " + std::to_string(opt_.guide_defensive) + ": must be in (0, 1]");
+  if (!std::isfinite(opt_.guide_below_deg))
+    throw InputError("guide_below_deg is not finite");
   SphereModel& m = impl_->model;
   m.atm = &atm_;
   m.R = atm_.ground_radius();
@@ -769,11 +918,78 @@ RtSkyResult MonteCarloSky::radiance(double altitude_m, const glm::dvec3& view_in
   const double scale = 1.0 / (opt_.sun_distance_au * opt_.sun_distance_au);
   const glm::dvec3 origin(0.0, 0.0, m.R + altitude_m);
 
-  const bool line = opt_.line_estimate == RtLineEstimate::On ||
-                    (opt_.line_estimate == RtLineEstimate::DeepTwilight &&
-                     sun.z < std::sin(kRtDeepTwilightDeg * kPi / 180.0));
   // The view ray's nodes and columns (the first collision's sampling).
   const ViewRay vray = make_view_ray(m, origin, view);
+
+  // The pilot of the guided first scattering, per wavelength (its own stream).
+  const bool guided = !vray.empty && vray.s.size() >= 2 &&
+                      (opt_.guide == RtLineEstimate::On ||
+                       (opt_.guide == RtLineEstimate::DeepTwilight && sun.z < std::sin(opt_.guide_below_deg * kPi / 180.0)));
+  // The guide steers vertices toward where the line estimate finds light: it implies it.
+  const bool line = guided || opt_.line_estimate == RtLineEstimate::On ||
+                    (opt_.line_estimate == RtLineEstimate::DeepTwilight &&
+                     sun.z < std::sin(kRtDeepTwilightDeg * kPi / 180.0));
+  std::vector<FirstGuide> guides(nw);
+  if (guided)
+    parallel_for(nw, run.threads, [&](std::size_t i) {
+      FirstGuide& G = guides[i];
+      const SphereMedium med(m, atm_.coefficients(i), solar_[i] * scale, sun, std::max(albedo, 0.0), vray,
+                             opt_.sun_cone_share, opt_.sun_cone_half_angle_deg, true);
+      const std::size_t np = vray.s.size() - 1;
+      const std::size_t K = std::min<std::size_t>(static_cast<std::size_t>(opt_.guide_points), np);
+      G.nz = opt_.guide_zenith;
+      G.nphi = opt_.guide_azimuth;
+      for (int e = 0; e <= G.nz; ++e) {
+        const double u = -1.0 + 2.0 * e / G.nz;
+        G.z_edges.push_back(u < 0 ? -u * u : u * u);
+      }
+      G.z_edges.front() = -1.0;
+      G.z_edges.back() = 1.0;
+      const std::size_t nc = static_cast<std::size_t>(G.nz) * G.nphi;
+      G.cell_p.assign(K * nc, 0.0);
+      G.cell_cdf.assign(K * (nc + 1), 0.0);
+      std::vector<double> gk(K, 0.0);
+      Rng rng(run.seed, 0x6775696465ull + i, 0x70696C6F74ull);
+      for (std::size_t k = 0; k < K; ++k) {
+        const std::size_t j = std::min(np - 1, static_cast<std::size_t>((k + 0.5) * static_cast<double>(np) / K));
+        G.s.push_back(0.5 * (vray.s[j] + vray.s[j + 1]));
+        G.h.push_back(glm::length(vray.o + G.s.back() * vray.v) - m.R);
+        double* cell = &G.cell_p[k * nc];
+        const double nee = med.pilot(vray.o + G.s.back() * vray.v, vray.v, G, rng, cell);
+        double sum = 0.0;
+        for (std::size_t c = 0; c < nc; ++c) sum += cell[c];
+        gk[k] = nee + sum;
+        for (std::size_t c = 0; c < nc; ++c)  // no light found: cells by solid angle
+          cell[c] = sum > 0 && std::isfinite(sum)
+                        ? cell[c] / sum
+                        : (G.z_edges[c / G.nphi + 1] - G.z_edges[c / G.nphi]) / (2.0 * static_cast<double>(G.nphi));
+        double* cdf = &G.cell_cdf[k * (nc + 1)];
+        for (std::size_t c = 0; c < nc; ++c) cdf[c + 1] = cdf[c] + cell[c];
+        for (std::size_t c = 0; c <= nc; ++c) cdf[c] /= cdf[nc];
+        cdf[nc] = 1.0;
+      }
+      // The value at every piece: log-linear between the pilot points (constant
+      // beyond), 1e-30 of the largest where the pilot found none.
+      const double gmax = *std::max_element(gk.begin(), gk.end());
+      if (!(gmax > 0) || !std::isfinite(gmax)) return;  // nothing lit: the plain sampling
+      std::vector<double> lg(K);
+      for (std::size_t k = 0; k < K; ++k) lg[k] = std::log(std::max(gk[k], 1e-30 * gmax));
+      G.g_piece.resize(np);
+      for (std::size_t j = 0; j < np; ++j) {
+        const double sm = 0.5 * (vray.s[j] + vray.s[j + 1]);
+        const auto it = std::lower_bound(G.s.begin(), G.s.end(), sm);
+        double l;
+        if (it == G.s.begin()) l = lg.front();
+        else if (it == G.s.end()) l = lg.back();
+        else {
+          const std::size_t k = static_cast<std::size_t>(it - G.s.begin());
+          const double f = (sm - G.s[k - 1]) / (G.s[k] - G.s[k - 1]);
+          l = (1.0 - f) * lg[k - 1] + f * lg[k];
+        }
+        G.g_piece[j] = std::exp(l);
+      }
+      G.active = true;
+    });
 
   const std::int64_t per_wl = std::max<std::int64_t>(1, run.paths / static_cast<std::int64_t>(nw));
   const std::int64_t B = std::min<std::int64_t>(run.batches, per_wl);
@@ -783,7 +999,7 @@ RtSkyResult MonteCarloSky::radiance(double altitude_m, const glm::dvec3& view_in
     const std::int64_t b = static_cast<std::int64_t>(task % static_cast<std::size_t>(B));
     const Coefficients& k = atm_.coefficients(i);
     const SphereMedium med(m, k, solar_[i] * scale, sun, std::max(albedo, 0.0), vray, opt_.sun_cone_share,
-                           opt_.sun_cone_half_angle_deg, line);
+                           opt_.sun_cone_half_angle_deg, line, &guides[i], opt_.guide_share, opt_.guide_defensive);
     const std::int64_t n = per_wl / B + (b < per_wl % B ? 1 : 0);
     Rng rng(run.seed, i, static_cast<std::uint64_t>(b));
     Sums s;
