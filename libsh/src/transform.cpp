@@ -862,53 +862,149 @@ void fft(double* re, double* im, int n, int sign) {
 }
 
 namespace {
+// How a size is transformed (chosen from the factors of n alone, so that the same input
+// gives the same bits from run to run; the costs were measured with FFTW 3.3 on AVX2, one
+// thread, docs/sh.md):
+//   real: n = 2^a 3^b 5^c — one real FFT (r2c / c2r) per ring;
+//   pair: other factors all <= 13 — two rings as the real and imaginary parts of one
+//         complex FFT of size n (FFTW's real transforms of such sizes cost 3-4x the complex
+//         ones per ring);
+//   chirp: a prime factor > 13 (511 = 7 x 73, 2047 = 23 x 89: FFTW then takes 10-20x the
+//         power-of-two time) — two rings at once through Bluestein's chirp convolution
+//         with complex FFTs of the power of two M >= 2n.
+enum class FftMode { real, pair, chirp };
 struct FftPlans {
-  fftw_plan r2c = nullptr, c2r = nullptr;
+  FftMode mode = FftMode::real;
+  int m = 0;                                   // complex FFT size: n (pair) or M (chirp)
+  fftw_plan r2c = nullptr, c2r = nullptr;      // size n, real
+  fftw_plan fwd = nullptr, bwd = nullptr;      // size m, complex, in place
+  std::vector<double> chirp;                   // w_t = e^{i pi t^2 / n}, t < n (re, im)
+  std::vector<double> kf, kb;                  // FFT of the forward / inverse kernels, / M
 };
 std::mutex& fftw_planner_mutex() {
   static std::mutex mu;
   return mu;
 }
-// Plans of size n, made once and kept until the process exits; then they are destroyed and
-// FFTW's planner memory released (fftw_cleanup), so that leak checkers see nothing.
+// Plans of size n, made once and kept until the process exits; then libsh destroys its own
+// plans and nothing else: FFTW's global state (wisdom, planner) belongs to the process, and
+// fftw_cleanup() would invalidate the plans that other code in it holds.
 struct PlanCache {
   std::map<int, FftPlans> plans;
   ~PlanCache() {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-    for (auto& [n, p] : plans) {
-      fftw_destroy_plan(p.r2c);
-      fftw_destroy_plan(p.c2r);
-    }
+    for (auto& [n, p] : plans)
+      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd})
+        if (q) fftw_destroy_plan(q);
     plans.clear();
-    fftw_cleanup();
   }
 };
+
+FftMode fft_mode(int n) {
+  int r = n, largest = 1;
+  for (int p = 2; p * p <= r; ++p)
+    while (r % p == 0) {
+      largest = std::max(largest, p);
+      r /= p;
+    }
+  if (r > 1) largest = std::max(largest, r);
+  if (largest <= 5) return FftMode::real;
+  return largest <= 13 ? FftMode::pair : FftMode::chirp;
+}
+
+// e^{i pi t^2 / n} with t^2 reduced mod 2n (exact in integers, so large t lose nothing).
+void chirp_value(long long t, int n, double& re, double& im) {
+  const long long q = (t % (2LL * n)) * (t % (2LL * n)) % (2LL * n);
+  const double a = std::numbers::pi * static_cast<double>(q) / n;
+  re = std::cos(a);
+  im = std::sin(a);
+}
+
 const FftPlans* fft_plans(int n) {
   std::lock_guard<std::mutex> lock(fftw_planner_mutex());
   static PlanCache cache;
   auto& plans = cache.plans;
   auto it = plans.find(n);
   if (it != plans.end()) return &it->second;
+  FftPlans p;
+  p.mode = fft_mode(n);
   double* r = fftw_alloc_real(static_cast<std::size_t>(n));
   fftw_complex* c = fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1);
-  FftPlans p;
   p.r2c = fftw_plan_dft_r2c_1d(n, r, c, FFTW_ESTIMATE);
   p.c2r = fftw_plan_dft_c2r_1d(n, c, r, FFTW_ESTIMATE);
   fftw_free(r);
   fftw_free(c);
-  if (!p.r2c || !p.c2r) throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
-  return &plans.emplace(n, p).first->second;
+  bool ok = p.r2c && p.c2r;
+  if (p.mode != FftMode::real) {
+    int m = n;
+    if (p.mode == FftMode::chirp) {
+      m = 1;
+      while (m < 2 * n) m <<= 1;
+    }
+    p.m = m;
+    fftw_complex* z = fftw_alloc_complex(static_cast<std::size_t>(m));
+    p.fwd = fftw_plan_dft_1d(m, z, z, FFTW_FORWARD, FFTW_ESTIMATE);
+    p.bwd = fftw_plan_dft_1d(m, z, z, FFTW_BACKWARD, FFTW_ESTIMATE);
+    ok = ok && p.fwd && p.bwd;
+    if (ok && p.mode == FftMode::chirp) {
+      // Forward: X_k = conj(w_k) sum_j (x_j conj(w_j)) w_{k-j}, k in (-cf, cf) with
+      // cf = n/2 + 1, so the kernel w_t is needed for t in [-(n + cf - 2), cf - 1].
+      // Inverse: z_j = w_j sum_k (Z_k w_k) conj(w_{j-k}), |k| < ci = (n + 1) / 2, j < n:
+      // the kernel conj(w_t) for t in [-(ci - 1), n + ci - 2]. Both ranges are shorter
+      // than M, so the cyclic convolutions of size M are the linear ones.
+      p.chirp.resize(2 * static_cast<std::size_t>(n));
+      for (int t = 0; t < n; ++t) chirp_value(t, n, p.chirp[2 * t], p.chirp[2 * t + 1]);
+      const int cf = n / 2 + 1, ci = (n + 1) / 2;
+      auto kernel = [&](int t0, int t1, double conj_sign, std::vector<double>& out) {
+        for (int i = 0; i < 2 * m; ++i) reinterpret_cast<double*>(z)[i] = 0.0;
+        for (int t = t0; t <= t1; ++t) {
+          const int pos = ((t % m) + m) % m;
+          chirp_value(t < 0 ? -static_cast<long long>(t) : t, n, z[pos][0], z[pos][1]);
+          z[pos][1] *= conj_sign;
+        }
+        fftw_execute_dft(p.fwd, z, z);
+        out.resize(2 * static_cast<std::size_t>(m));
+        for (int i = 0; i < m; ++i) {
+          out[2 * i] = z[i][0] / m;
+          out[2 * i + 1] = z[i][1] / m;
+        }
+      };
+      kernel(-(n + cf - 2), cf - 1, 1.0, p.kf);
+      kernel(-(ci - 1), n + ci - 2, -1.0, p.kb);
+    }
+    fftw_free(z);
+  }
+  if (!ok) {
+    for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd})
+      if (q) fftw_destroy_plan(q);
+    throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
+  }
+  return &plans.emplace(n, std::move(p)).first->second;
+}
+
+// z *= k elementwise (m complex values, interleaved).
+ATMOSH_DISPATCH
+void complex_multiply(double* __restrict z, const double* __restrict k, int m) {
+  for (int i = 0; i < m; ++i) {
+    const double a = z[2 * i], b = z[2 * i + 1], c = k[2 * i], d = k[2 * i + 1];
+    z[2 * i] = a * c - b * d;
+    z[2 * i + 1] = a * d + b * c;
+  }
 }
 }  // namespace
 
 RealFft::RealFft(int n) : n_(n) {
   if (n < 1) throw InputError("RealFft: size must be >= 1, got " + std::to_string(n));
   plans_ = fft_plans(n);
+  const int m = static_cast<const FftPlans*>(plans_)->m;
   real_ = fftw_alloc_real(static_cast<std::size_t>(n));
   spec_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
-  if (!real_ || !spec_) {
+  work_ = m > 0 ? reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(m))) : nullptr;
+  spec2_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
+  if (!real_ || !spec_ || !spec2_ || (m > 0 && !work_)) {
     fftw_free(real_);
     fftw_free(spec_);
+    fftw_free(spec2_);
+    fftw_free(work_);
     throw std::bad_alloc();
   }
 }
@@ -916,27 +1012,93 @@ RealFft::RealFft(int n) : n_(n) {
 RealFft::~RealFft() {
   fftw_free(real_);
   fftw_free(spec_);
+  fftw_free(spec2_);
+  fftw_free(work_);
 }
+
+RealFft::RealFft(RealFft&& o) noexcept
+    : n_(o.n_), plans_(o.plans_), real_(o.real_), spec_(o.spec_), spec2_(o.spec2_), work_(o.work_) {
+  o.real_ = o.spec_ = o.spec2_ = o.work_ = nullptr;
+}
+
+namespace {
+// a_m, b_m (m < count) from the spectrum X_k = a_k - i b_k, k <= n/2 (filled for
+// k < min(count, n/2 + 1)); orders above n/2 are the aliases.
+void emit_orders(const double* spec, int n, int count, double* out) {
+  const int half = n / 2;
+  for (int m = 0; m < count; ++m) {
+    int k = m % n;
+    double sg = -1.0;
+    if (k > half) {
+      k = n - k;
+      sg = 1.0;
+    }
+    out[2 * m] = spec[2 * k];
+    out[2 * m + 1] = sg * spec[2 * k + 1];
+  }
+}
+}  // namespace
 
 template <class T>
 void RealFft::forward(const T* f, int count, double* out) {
   for (int j = 0; j < n_; ++j) real_[j] = static_cast<double>(f[j]);
   fftw_execute_dft_r2c(static_cast<const FftPlans*>(plans_)->r2c, real_, reinterpret_cast<fftw_complex*>(spec_));
   // X_k = sum_j f_j e^{-2 pi i j k / n} = a_k - i b_k
-  const int half = n_ / 2;
-  for (int m = 0; m < count; ++m) {
-    int k = m % n_;
-    double sg = -1.0;
-    if (k > half) {
-      k = n_ - k;
-      sg = 1.0;
-    }
-    out[2 * m] = spec_[2 * k];
-    out[2 * m + 1] = sg * spec_[2 * k + 1];
-  }
+  emit_orders(spec_, n_, count, out);
 }
 template void RealFft::forward<double>(const double*, int, double*);
 template void RealFft::forward<float>(const float*, int, double*);
+
+void RealFft::forward2(const double* f1, const double* f2, int count, double* out1, double* out2) {
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  if (p.mode == FftMode::real) {
+    forward(f1, count, out1);
+    forward(f2, count, out2);
+    return;
+  }
+  const int n = n_, m = p.m, cm = std::min(count, n / 2 + 1);
+  double* z = work_;
+  // z_j = f1_j + i f2_j; X_k = F1_k + i F2_k for |k| < cm at xk(k)
+  if (p.mode == FftMode::pair) {
+    for (int j = 0; j < n; ++j) {
+      z[2 * j] = f1[j];
+      z[2 * j + 1] = f2[j];
+    }
+    fftw_execute_dft(p.fwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+  } else {
+    const double* w = p.chirp.data();
+    for (int j = 0; j < n; ++j) {  // u_j = z_j conj(w_j)
+      const double a = f1[j], b = f2[j], c = w[2 * j], d = w[2 * j + 1];
+      z[2 * j] = a * c + b * d;
+      z[2 * j + 1] = b * c - a * d;
+    }
+    std::fill(z + 2 * n, z + 2 * m, 0.0);
+    fftw_execute_dft(p.fwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+    complex_multiply(z, p.kf.data(), m);
+    fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+    // X_k = conj(w_k) z_(k mod M), w_-k = w_k
+    auto fix = [&](int k) {
+      double* v = z + 2 * static_cast<std::size_t>(((k % m) + m) % m);
+      const int a = k < 0 ? -k : k;
+      const double c = w[2 * a], d = w[2 * a + 1], x = v[0], y = v[1];
+      v[0] = x * c + y * d;
+      v[1] = y * c - x * d;
+    };
+    for (int k = -(cm - 1); k < cm; ++k) fix(k);
+  }
+  const int period = p.mode == FftMode::pair ? n : m;
+  // F1_k = (X_k + conj(X_-k)) / 2, F2_k = (X_k - conj(X_-k)) / (2 i)
+  for (int k = 0; k < cm; ++k) {
+    const double* xp = z + 2 * static_cast<std::size_t>(k);
+    const double* xm = z + 2 * static_cast<std::size_t>((period - k) % period);
+    spec_[2 * k] = 0.5 * (xp[0] + xm[0]);
+    spec_[2 * k + 1] = 0.5 * (xp[1] - xm[1]);
+    spec2_[2 * k] = 0.5 * (xp[1] + xm[1]);
+    spec2_[2 * k + 1] = -0.5 * (xp[0] - xm[0]);
+  }
+  emit_orders(spec_, n, count, out1);
+  emit_orders(spec2_, n, count, out2);
+}
 
 void RealFft::inverse(const double* cs, int count, double* v) {
   if (2 * count - 1 > n_)
@@ -953,6 +1115,60 @@ void RealFft::inverse(const double* cs, int count, double* v) {
   }
   fftw_execute_dft_c2r(static_cast<const FftPlans*>(plans_)->c2r, reinterpret_cast<fftw_complex*>(spec_), real_);
   std::copy(real_, real_ + n_, v);
+}
+
+void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* v1, double* v2) {
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  if (p.mode == FftMode::real) {
+    inverse(cs1, count, v1);
+    inverse(cs2, count, v2);
+    return;
+  }
+  if (2 * count - 1 > n_)
+    throw InputError("RealFft::inverse2: " + std::to_string(count) + " orders need at least " +
+                     std::to_string(2 * count - 1) + " points, have " + std::to_string(n_));
+  const int n = n_, m = p.m;
+  double* z = work_;
+  std::fill(z, z + 2 * m, 0.0);
+  const double* w = p.chirp.data();
+  const bool chirp = p.mode == FftMode::chirp;
+  // Z_k = V1_k + i V2_k, V_0 = C_0, V_k = (C_k - i S_k) / 2, V_-k = conj(V_k); for the
+  // chirp, y_k = Z_k w_k
+  auto put = [&](int k, double re, double im) {
+    double* v = z + 2 * static_cast<std::size_t>(((k % m) + m) % m);
+    if (chirp) {
+      const int a = k < 0 ? -k : k;
+      const double c = w[2 * a], d = w[2 * a + 1];
+      v[0] = re * c - im * d;
+      v[1] = re * d + im * c;
+    } else {
+      v[0] = re;
+      v[1] = im;
+    }
+  };
+  if (count > 0) put(0, cs1[0], cs2[0]);
+  for (int k = 1; k < count; ++k) {
+    const double c1 = 0.5 * cs1[2 * k], s1 = 0.5 * cs1[2 * k + 1], c2 = 0.5 * cs2[2 * k], s2 = 0.5 * cs2[2 * k + 1];
+    // V1_k = c1 - i s1, V2_k = c2 - i s2: Z_k = (c1 + s2) + i (c2 - s1); Z_-k = (c1 - s2) + i (c2 + s1)
+    put(k, c1 + s2, c2 - s1);
+    put(-k, c1 - s2, c2 + s1);
+  }
+  if (chirp) {
+    fftw_execute_dft(p.fwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+    complex_multiply(z, p.kb.data(), m);
+  }
+  fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+  for (int j = 0; j < n; ++j) {
+    double x = z[2 * j], y = z[2 * j + 1];
+    if (chirp) {  // z_j = w_j (y * conj w)_j
+      const double c = w[2 * j], d = w[2 * j + 1];
+      const double t = x * c - y * d;
+      y = x * d + y * c;
+      x = t;
+    }
+    v1[j] = x;
+    v2[j] = y;
+  }
 }
 
 }  // namespace detail
@@ -1072,8 +1288,11 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
         continue;
       }
       const int r = pr.north[q], s = pr.south[q];
-      fft.forward(values + static_cast<std::size_t>(r) * n, L, fn.data());
-      if (s >= 0) fft.forward(values + static_cast<std::size_t>(s) * n, L, fs.data());
+      if (s >= 0)
+        fft.forward2(values + static_cast<std::size_t>(r) * n, values + static_cast<std::size_t>(s) * n, L, fn.data(),
+                     fs.data());
+      else
+        fft.forward(values + static_cast<std::size_t>(r) * n, L, fn.data());
       // weights of the Gauss rule in latitude and of the uniform rule in longitude
       pair_sums(L, fn.data(), s >= 0 ? fs.data() : nullptr, g.weights[r] * dphi, s >= 0 ? g.weights[s] * dphi : 0.0,
                 pr.x[q], out);
@@ -1108,12 +1327,19 @@ std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int thr
   std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
   detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four.data(), threads);
   std::vector<double> out(static_cast<std::size_t>(g.nlat) * n, 0.0);
-  // One ring at a time from the shared counter; each worker keeps its FFT plan.
+  // Two rings at a time from the shared counter; each worker keeps its FFT plan.
+  const int npairs = (g.nlat + 1) / 2;
   atmosh::parallel_for_ranges_local(
-      static_cast<std::size_t>(g.nlat), 1, threads, [&] { return detail::RealFft(n); },
+      static_cast<std::size_t>(npairs), 1, threads, [&] { return detail::RealFft(n); },
       [&](detail::RealFft& fft, std::size_t b, std::size_t e) {
-        for (std::size_t r = b; r < e; ++r)
-          fft.inverse(four.data() + r * L * 2, L, out.data() + r * n);
+        for (std::size_t q = b; q < e; ++q) {
+          const std::size_t r = 2 * q;
+          if (static_cast<int>(r) + 1 < g.nlat)
+            fft.inverse2(four.data() + r * L * 2, four.data() + (r + 1) * L * 2, L, out.data() + r * n,
+                         out.data() + (r + 1) * n);
+          else
+            fft.inverse(four.data() + r * L * 2, L, out.data() + r * n);
+        }
       });
   return out;
 }
