@@ -45,6 +45,32 @@ void parallel_for_m(int count, int threads, MakeLocal&& make_local, F&& body) {
 }
 struct NoScratch {};
 
+// Work arrays kept by the calling thread from one transform to the next: fresh pages from
+// the system cost a page fault and a clear each, which was a quarter of an analysis at
+// L = 1024 when the ~30 MB of work arrays were allocated per call. They only grow (to the
+// largest transform the thread has run); contents are never assumed.
+template <class T>
+struct Reused {
+  std::unique_ptr<T[]> p;
+  std::size_t n = 0;
+  T* get(std::size_t need) {
+    if (need > n) {
+      p.reset();
+      p.reset(new T[need]);
+      n = need;
+    }
+    return p.get();
+  }
+};
+struct ThreadWork {
+  Reused<double> fm, col, smant, four;
+  Reused<int> sexp;
+};
+ThreadWork& thread_work() {
+  thread_local ThreadWork w;
+  return w;
+}
+
 constexpr int B = 8;  // lanes (ring pairs) per block
 
 struct Pairs {
@@ -78,18 +104,18 @@ Pairs make_pairs(int nrings, const double* cos_t, const double* sin_t, bool symm
 }
 
 // Sectoral extended-range values for every m and lane: mant[m * padded + k], exp[...].
-void sectorals(int bands, const Pairs& p, const LegendreTable& t, std::vector<double>& mant,
-               std::vector<int>& ex) {
+void sectorals(int bands, const Pairs& p, const LegendreTable& t, double* mant, int* ex) {
   const std::size_t padded = p.x.size();
-  mant.assign(static_cast<std::size_t>(bands) * padded, 0.0);
-  ex.assign(static_cast<std::size_t>(bands) * padded, 0);
   // m outer: each row follows from the previous one (rows stream; lanes independent)
-  for (std::size_t k = 0; k < padded; ++k) mant[k] = 1.0 / std::sqrt(4.0 * std::numbers::pi);
+  for (std::size_t k = 0; k < padded; ++k) {
+    mant[k] = 1.0 / std::sqrt(4.0 * std::numbers::pi);
+    ex[k] = 0;
+  }
   for (int m = 1; m < bands; ++m) {
-    const double* pm = mant.data() + (m - 1) * padded;
-    const int* pe = ex.data() + (m - 1) * padded;
-    double* cm = mant.data() + m * padded;
-    int* ce = ex.data() + m * padded;
+    const double* pm = mant + (m - 1) * padded;
+    const int* pe = ex + (m - 1) * padded;
+    double* cm = mant + m * padded;
+    int* ce = ex + m * padded;
     for (std::size_t k = 0; k < padded; ++k) {
       const XNum v = next_sectoral(XNum{pm[k], pe[k]}, t.sectoral()[m], p.u[k]);
       cm[k] = v.mant;
@@ -221,13 +247,35 @@ __attribute__((always_inline)) inline bool any(I m) {
 // of kScaleExp; an extended lane's terms are dropped: with the fold below its values
 // are under 2^-250, far below any term that can change a double result). Steps all of
 // them together, two steps at a time (k outer, so that the blocks' recurrences
-// overlap). Every kFoldEvery steps each extended lane whose |lam| passed 2^100 is
-// scaled by 2^-kScaleExp (growth over two steps is below 2^60, so values stay below
-// 2^(100 + 60 kFoldEvery / 2) = 2^340 in between), and the blocks are sorted into those
+// overlap). Every kFoldEvery steps each extended lane whose |lam| passed kJoinFold is
+// scaled by 2^-kScaleExp (see kJoinExp below), and the blocks are sorted into those
 // with no plain lane (recurrence only: 4 FMAs per two steps) and those with some
 // (recurrence and masked sums into sums[k]). A block leaves at the first check at
 // which all its lanes are plain: join[i] = that step (kmax + 1 if never).
 constexpr int kFoldEvery = 8;
+// Lanes join the sums once their recurrence value exceeds 2^-kJoinExp (polar
+// optimisation): a lane starts in the extended range when its sectoral value is below
+// that, and folds back to the plain range (exponent 0) when its mantissa passes
+// kJoinFold = 2^(kScaleExp - kJoinExp), i.e. its value 2^-kJoinExp. The terms left out
+// are below 2^-80 |f| each (lam >= |Pbar_lm| / alpha >= |Pbar_lm|), so they cannot change
+// a double result at the 1e-13 level of the round trips; below that threshold lanes
+// only cost work: at L = 1024 they are a large share of the triangle near the poles.
+// Between checks values grow by less than 2^(60 kFoldEvery / 2) = 2^240, so they stay
+// below 2^760.
+constexpr int kJoinExp = 80;
+inline const double kJoin = std::ldexp(1.0, -kJoinExp);
+inline const double kJoinFold = std::ldexp(1.0, kScaleExp - kJoinExp);
+// Sectoral value of a lane (mant * 2^ex) in the representation of the kernels: values
+// below kJoin go to the extended range (exponent -kScaleExp) until they join.
+inline void lane_start(double mant, int ex, double& m, double& e) {
+  if (ex == 0 && std::abs(mant) < kJoin) {
+    m = mant * kScaleUp;
+    e = -kScaleExp;
+  } else {
+    m = mant;
+    e = ex;
+  }
+}
 template <int W>
 __attribute__((always_inline)) inline void ana_extended(int kmax, const double* ap, const double* bp,
                                                         AnaGroup<W>* grp, const int* ids, int nx, int* join,
@@ -235,7 +283,7 @@ __attribute__((always_inline)) inline void ana_extended(int kmax, const double* 
   using D = typename Lanes<W>::D;
   using I = typename Lanes<W>::I;
   const D down = D{} + kScaleDown, step = D{} + static_cast<double>(kScaleExp);
-  const I fold = I{} + std::bit_cast<long long>(kFold), magnitude = I{} + 0x7fffffffffffffffLL;
+  const I fold = I{} + std::bit_cast<long long>(kJoinFold), magnitude = I{} + 0x7fffffffffffffffLL;
   int nlive = nx, nall = 0;  // live[0..nall): no plain lane; live[nall..nlive): some
   int* mixed = live + nx;    // scratch (live has room for 2 nx)
   for (int j = 0; j < nx; ++j) live[j] = ids[j];
@@ -402,9 +450,11 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
       const int q = W * gi + k;
       g.csq[k] = x[q] * x[q];
       g.lam1[k] = 0.0;
-      g.lam2[k] = mant[q];
-      g.e[k] = ex[q];
-      if (ex[q] != 0) plain = false;
+      double lm, le;
+      lane_start(mant[q], ex[q], lm, le);
+      g.lam2[k] = lm;
+      g.e[k] = le;
+      if (le != 0) plain = false;
     }
     w.join[gi] = 0;
     if (!plain) w.ids[nx++] = gi;
@@ -464,7 +514,7 @@ __attribute__((always_inline)) inline int syn_extended(int kmax, const double* a
   using D = typename Lanes<W>::D;
   using I = typename Lanes<W>::I;
   const D down = D{} + kScaleDown, step = D{} + static_cast<double>(kScaleExp);
-  const I fold = I{} + std::bit_cast<long long>(kFold), magnitude = I{} + 0x7fffffffffffffffLL;
+  const I fold = I{} + std::bit_cast<long long>(kJoinFold), magnitude = I{} + 0x7fffffffffffffffLL;
   int k = 0;
   for (; k <= kmax; k += 2) {
     if (k % kFoldEvery == 0) {
@@ -569,8 +619,10 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
         const int q = W * (gi + std::min(b, nb - 1)) + j;
         g.csq[j] = x[q] * x[q];
         g.lam1[j] = 0.0;
-        g.lam2[j] = mant[q];
-        g.e[j] = ex[q];
+        double lm, le;
+        lane_start(mant[q], ex[q], lm, le);
+        g.lam2[j] = lm;
+        g.e[j] = le;
         g.ec[j] = g.es[j] = g.dc[j] = g.ds[j] = 0.0;
       }
       if (b < nb) {
@@ -630,7 +682,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
   // Ring sums regrouped m-major, in blocks of m so that both the ring rows and the m
   // planes stream.
   constexpr int MB = 8;
-  std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(bands) * padded * 4]);
+  double* const fm = thread_work().fm.get(static_cast<std::size_t>(bands) * padded * 4);
   parallel_for_m((bands + MB - 1) / MB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
     {
       const int mb = block * MB;
@@ -645,7 +697,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
         for (int m = mb; m < m1; ++m) {
           const double nc = fn[2 * m], ns = fn[2 * m + 1];
           const double sc = fs ? fs[2 * m] : 0.0, ss = fs ? fs[2 * m + 1] : 0.0;
-          double* o = fm.get() + ring_sum_index(padded, W, m, q, 0);
+          double* o = fm + ring_sum_index(padded, W, m, q, 0);
           o[0] = nc + sc;
           o[W] = ns + ss;
           o[2 * W] = x * (nc - sc);
@@ -654,7 +706,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
       }
     }
   });
-  analysis_from_ring_sums(bands, pr, W, fm.get(), coeffs, threads);
+  analysis_from_ring_sums(bands, pr, W, fm, coeffs, threads);
 }
 
 namespace {
@@ -664,13 +716,15 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
   const auto table = legendre_table(bands);
   const int padded = static_cast<int>(pr.x.size());
   const bool wide = W == 8;
-  std::vector<double> smant;
-  std::vector<int> sexp;
+  ThreadWork& tw = thread_work();
+  const std::size_t nsect = static_cast<std::size_t>(bands) * padded;
+  double* const smant = tw.smant.get(nsect);
+  int* const sexp = tw.sexp.get(nsect);
   sectorals(bands, pr, *table, smant, sexp);
 
   // per-m results: column m at col_offset(m), 2 (bands - m) values
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
-  std::unique_ptr<double[]> col(new double[col_offset(bands)]);
+  double* const col = tw.col.get(col_offset(bands));
   auto columns = [&](auto& scratch, int m) {
     auto& work = scratch.work;
     AnaCoef& cf = scratch.cf;
@@ -679,10 +733,10 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     ana_coefficients(bands, m, cf);
     for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
     const std::size_t off = static_cast<std::size_t>(m) * padded;
-    ana_column(kmax, pr.x.data(), smant.data() + off, sexp.data() + off, fm + off * 4, cf, work, sums);
+    ana_column(kmax, pr.x.data(), smant + off, sexp + off, fm + off * 4, cf, work, sums);
     // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
     // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
-    double* out = col.get() + col_offset(m);
+    double* out = col + col_offset(m);
     double pc = 0.0, ps = 0.0;  // A_l-1 of the odd parity
     for (int k = 0; k <= kmax; ++k) {
       const int i = 2 * k;
@@ -708,7 +762,7 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     for (int l = mb; l < bands; ++l) {
       double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
       for (int m = mb; m < m1 && m <= l; ++m) {
-        const double* c = col.get() + col_offset(m) + 2 * (l - m);
+        const double* c = col + col_offset(m) + 2 * (l - m);
         row[m] += c[0];
         if (m > 0) row[-m] += c[1];
       }
@@ -724,8 +778,10 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
   const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
-  std::vector<double> smant;
-  std::vector<int> sexp;
+  ThreadWork& tw = thread_work();
+  const std::size_t nsect = static_cast<std::size_t>(bands) * padded;
+  double* const smant = tw.smant.get(nsect);
+  int* const sexp = tw.sexp.get(nsect);
   sectorals(bands, pr, *table, smant, sexp);
   const int W = analysis_lanes();
 
@@ -760,10 +816,10 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
     }
     const std::size_t off = static_cast<std::size_t>(m) * padded;
     if (W == 8)
-      syn_column8(kmax, padded / 8, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
+      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap.data(), cf.bp.data(),
                   sc.data(), sums.data());
     else
-      syn_column4(kmax, padded / 4, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
+      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap.data(), cf.bp.data(),
                   sc.data(), sums.data());
     const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
     for (int q = 0; q < np; ++q) {
@@ -1267,7 +1323,7 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
   const detail::Pairs pr = detail::make_pairs(g.nlat, g.cos_t.data(), g.sin_t.data(), true);
   const int padded = static_cast<int>(pr.x.size()), np = static_cast<int>(pr.north.size());
   const int W = detail::analysis_lanes();
-  std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(L) * padded * 4]);
+  double* const fm = detail::thread_work().fm.get(static_cast<std::size_t>(L) * padded * 4);
   const double dphi = 2.0 * std::numbers::pi / n;
   // One block of W ring pairs at a time from the shared counter; each worker keeps its
   // FFT plan and lane buffers.
@@ -1299,7 +1355,7 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
     }
     // one contiguous run of 4 W values per m
     for (int m = 0; m < L; ++m) {
-      double* o = fm.get() + detail::ring_sum_index(padded, W, m, blk * W, 0);
+      double* o = fm + detail::ring_sum_index(padded, W, m, blk * W, 0);
       for (int f = 0; f < 4; ++f)
         for (int k = 0; k < W; ++k) o[f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * L + m];
     }
@@ -1315,7 +1371,7 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
         for (std::size_t blk = b; blk < e; ++blk) block(scratch, static_cast<int>(blk));
       });
   std::vector<double> c(sh_count(L), 0.0);
-  detail::analysis_from_ring_sums(L, pr, W, fm.get(), c.data(), threads);
+  detail::analysis_from_ring_sums(L, pr, W, fm, c.data(), threads);
   return c;
 }
 
@@ -1324,8 +1380,9 @@ std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int thr
     throw InputError("synthesise: grid is not initialised (use gauss_grid)");
   threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
-  std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
-  detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four.data(), threads);
+  // every ring and order of the work array is written by legendre_synthesis
+  double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
+  detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four, threads);
   std::vector<double> out(static_cast<std::size_t>(g.nlat) * n, 0.0);
   // Two rings at a time from the shared counter; each worker keeps its FFT plan.
   const int npairs = (g.nlat + 1) / 2;
@@ -1335,10 +1392,10 @@ std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int thr
         for (std::size_t q = b; q < e; ++q) {
           const std::size_t r = 2 * q;
           if (static_cast<int>(r) + 1 < g.nlat)
-            fft.inverse2(four.data() + r * L * 2, four.data() + (r + 1) * L * 2, L, out.data() + r * n,
+            fft.inverse2(four + r * L * 2, four + (r + 1) * L * 2, L, out.data() + r * n,
                          out.data() + (r + 1) * n);
           else
-            fft.inverse(four.data() + r * L * 2, L, out.data() + r * n);
+            fft.inverse(four + r * L * 2, L, out.data() + r * n);
         }
       });
   return out;
