@@ -756,16 +756,15 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     parallel_for_m(bands, threads, [&] { return AnaScratch<8>(padded, bands); }, columns);
   else
     parallel_for_m(bands, threads, [&] { return AnaScratch<4>(padded, bands); }, columns);
-  // columns into the coefficient vector, in blocks of m (contiguous in m for each l)
-  for (int mb = 0; mb < bands; mb += 8) {
-    const int m1 = std::min(bands, mb + 8);
-    for (int l = mb; l < bands; ++l) {
-      double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-      for (int m = mb; m < m1 && m <= l; ++m) {
-        const double* c = col + col_offset(m) + 2 * (l - m);
-        row[m] += c[0];
-        if (m > 0) row[-m] += c[1];
-      }
+  // columns into the coefficient vector, degree rows in order (the columns' current
+  // lines, one per m <= l, stay in L2)
+  for (int l = 0; l < bands; ++l) {
+    double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+    row[0] += col[col_offset(0) + 2 * l];
+    for (int m = 1; m <= l; ++m) {
+      const double* c = col + col_offset(m) + 2 * (l - m);
+      row[m] += c[0];
+      row[-m] += c[1];
     }
   }
 }
@@ -785,32 +784,35 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
   sectorals(bands, pr, *table, smant, sexp);
   const int W = analysis_lanes();
   // Coefficients regrouped m-major (column m: c_l,m and c_l,-m for l = m..bands-1 at
-  // col + col_offset(m)), in blocks of m so that both the degree rows and the columns
-  // stream; the per-column sums are written m-major too (sm, 4 values per ring pair) and
-  // turned into ring rows in blocks of ring pairs at the end. (Strided reads and writes
+  // col + col_offset(m)); the per-column sums are kept in blocks of 16 ring pairs (sm,
+  // 4 values per pair, m after m within a block) and turned into ring rows at the end. (Strided reads and writes
   // of single values per (l, m) and (ring, m) cost a fifth of a synthesis at L = 1024.)
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
   double* const col = tw.col.get(col_offset(bands));
-  double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * padded * 4);
-  for (int mb = 0; mb < bands; mb += 8) {
-    const int m1 = std::min(bands, mb + 8);
-    for (int l = mb; l < bands; ++l) {
-      const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-      for (int m = mb; m < m1 && m <= l; ++m) {
-        double* c = col + col_offset(m) + 2 * (l - m);
-        c[0] = row[m];
-        c[1] = m > 0 ? row[-m] : 0.0;
-      }
+  constexpr int QB = 16;  // ring pairs per block of the sums
+  const int nqb = (padded + QB - 1) / QB;
+  double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
+  // degree rows read once, in order; the columns' current lines (one per m <= l, 64 kB at
+  // L = 1024) stay in L2
+  for (int l = 0; l < bands; ++l) {
+    const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+    col[col_offset(0) + 2 * l] = row[0];
+    col[col_offset(0) + 2 * l + 1] = 0.0;
+    for (int m = 1; m <= l; ++m) {
+      double* c = col + col_offset(m) + 2 * (l - m);
+      c[0] = row[m];
+      c[1] = row[-m];
     }
   }
 
   struct Scratch {
     AnaCoef cf;
-    std::vector<double> sc;
+    std::vector<double> sc, sums;
   };
   auto column = [&](Scratch& scratch, int m) {
     AnaCoef& cf = scratch.cf;
     std::vector<double>& sc = scratch.sc;
+    std::vector<double>& sums = scratch.sums;
     const int kmax = (bands - 1 - m) / 2;
     ana_coefficients(bands, m, cf);
     // step coefficients: e_k (cos, sin) and d_k (cos, sin), zero past the last degree
@@ -834,28 +836,32 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
     const std::size_t off = static_cast<std::size_t>(m) * padded;
     if (W == 8)
       syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap.data(), cf.bp.data(),
-                  sc.data(), sm + off * 4);
+                  sc.data(), sums.data());
     else
       syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap.data(), cf.bp.data(),
-                  sc.data(), sm + off * 4);
+                  sc.data(), sums.data());
+    // block b of the sums: sm[((b * bands + m) * QB + j) * 4 + f] for pair b QB + j
+    for (int b = 0; b < nqb; ++b)
+      std::memcpy(sm + (static_cast<std::size_t>(b) * bands + m) * QB * 4, sums.data() + static_cast<std::size_t>(b) * QB * 4,
+                  sizeof(double) * 4 * std::min(QB, padded - b * QB));
   };
   parallel_for_m(
       bands, threads,
       [&] {
-        return Scratch{{}, std::vector<double>(4 * (static_cast<std::size_t>(bands) + 4))};
+        return Scratch{{}, std::vector<double>(4 * (static_cast<std::size_t>(bands) + 4)),
+                       std::vector<double>(4 * static_cast<std::size_t>(padded))};
       },
       column);
-  // ring rows from the m-major sums, 16 ring pairs at a time (their runs of 64 values
-  // per m are contiguous; the 32 ring rows fill in step)
-  constexpr int QB = 16;
+  // ring rows from the sums, one block of 16 ring pairs at a time (its values are
+  // contiguous, m after m; the 32 ring rows fill in step)
   parallel_for_m((np + QB - 1) / QB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
     const int q0 = block * QB, q1 = std::min(np, q0 + QB);
     for (int m = 0; m < bands; ++m) {
       const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
       const double sin_on = m > 0 ? 1.0 : 0.0;
-      const double* vm = sm + (static_cast<std::size_t>(m) * padded) * 4;
+      const double* vm = sm + (static_cast<std::size_t>(block) * bands + m) * QB * 4;
       for (int q = q0; q < q1; ++q) {
-        const double* v = vm + 4 * static_cast<std::size_t>(q);
+        const double* v = vm + 4 * static_cast<std::size_t>(q - q0);
         double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
         fn[0] = scale * (v[0] + v[2]);
         fn[1] = sin_on * scale * (v[1] + v[3]);
