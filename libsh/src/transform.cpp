@@ -12,6 +12,7 @@
 #include <cstring>
 #include <numbers>
 #include <string>
+#include <type_traits>
 #include <map>
 #include <mutex>
 
@@ -1114,6 +1115,13 @@ namespace {
 // k < min(count, n/2 + 1)); orders above n/2 are the aliases.
 void emit_orders(const double* spec, int n, int count, double* out) {
   const int half = n / 2;
+  if (count <= half + 1) {  // no aliases (the usual case): no index arithmetic
+    for (int m = 0; m < count; ++m) {
+      out[2 * m] = spec[2 * m];
+      out[2 * m + 1] = -spec[2 * m + 1];
+    }
+    return;
+  }
   for (int m = 0; m < count; ++m) {
     int k = m % n;
     double sg = -1.0;
@@ -1129,7 +1137,10 @@ void emit_orders(const double* spec, int n, int count, double* out) {
 
 template <class T>
 void RealFft::forward(const T* f, int count, double* out) {
-  for (int j = 0; j < n_; ++j) real_[j] = static_cast<double>(f[j]);
+  if constexpr (std::is_same_v<T, double>)
+    std::memcpy(real_, f, sizeof(double) * n_);
+  else
+    for (int j = 0; j < n_; ++j) real_[j] = static_cast<double>(f[j]);
   fftw_execute_dft_r2c(static_cast<const FftPlans*>(plans_)->r2c, real_, reinterpret_cast<fftw_complex*>(spec_));
   // X_k = sum_j f_j e^{-2 pi i j k / n} = a_k - i b_k
   emit_orders(spec_, n_, count, out);
