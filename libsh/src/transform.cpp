@@ -215,6 +215,61 @@ static void ana_coefficients(int bands, int m, AnaCoef& c) {
   }
 }
 
+// The coefficients of one column, read from a table or from AnaCoef (they depend on m and
+// the step k only, not on the band limit: a table for B bands serves every bands <= B).
+struct ColCoef {
+  const double *ap, *bp, *alpha, *rb, *qa;
+};
+ColCoef view(const AnaCoef& c) { return {c.ap.data(), c.bp.data(), c.alpha.data(), c.rb.data(), c.qa.data()}; }
+
+// Process-wide table of every column's coefficients (the largest band limit asked for so
+// far, up to kCoefTableBands: ~10 MB at 1024 bands); computing them per call was 5-10% of
+// a transform. Larger band limits compute them per column and call.
+constexpr int kCoefTableBands = 1024;
+class CoefTable {
+ public:
+  explicit CoefTable(int bands) : bands_(bands), off_(bands + 1) {
+    std::size_t n = 0;
+    for (int m = 0; m < bands; ++m) {
+      off_[m] = n;
+      n += 5 * static_cast<std::size_t>(steps(m)) + 1;
+    }
+    off_[bands] = n;
+    store_.resize(n);
+    AnaCoef c;
+    for (int m = 0; m < bands; ++m) {
+      ana_coefficients(bands, m, c);
+      const int nk = steps(m);
+      double* p = store_.data() + off_[m];
+      std::copy(c.ap.begin(), c.ap.begin() + nk, p);
+      std::copy(c.bp.begin(), c.bp.begin() + nk, p + nk);
+      std::copy(c.rb.begin(), c.rb.begin() + nk, p + 2 * nk);
+      std::copy(c.qa.begin(), c.qa.begin() + nk, p + 3 * nk);
+      std::copy(c.alpha.begin(), c.alpha.begin() + nk + 1, p + 4 * nk);
+    }
+  }
+  int bands() const { return bands_; }
+  ColCoef col(int m) const {
+    const int nk = steps(m);
+    const double* p = store_.data() + off_[m];
+    return {p, p + nk, p + 4 * nk, p + 2 * nk, p + 3 * nk};
+  }
+
+ private:
+  int steps(int m) const { return (bands_ - 1 - m) / 2 + 3; }
+  int bands_;
+  std::vector<std::size_t> off_;
+  std::vector<double> store_;
+};
+std::shared_ptr<const CoefTable> coef_table(int bands) {
+  if (bands > kCoefTableBands) return nullptr;
+  static std::mutex mu;
+  static std::shared_ptr<const CoefTable> cached;
+  std::lock_guard<std::mutex> lock(mu);
+  if (!cached || cached->bands() < bands) cached = std::make_shared<const CoefTable>(std::max(bands, 64));
+  return cached;
+}
+
 // {sum of the lanes of a0, ..., of a3}; 8-lane vectors are first folded to 4 lanes.
 __attribute__((always_inline)) inline V4 hsum4(V4 a0, V4 a1, V4 a2, V4 a3) {
   const V4 u0 = __builtin_shufflevector(a0, a1, 0, 4, 2, 6) + __builtin_shufflevector(a0, a1, 1, 5, 3, 7);
@@ -440,7 +495,7 @@ struct AnaScratch {
 // (E cos, E sin, xO cos, xO sin: 4 W values per block), mant/ex the sectoral values.
 template <int W>
 void ana_column(int kmax, const double* x, const double* mant, const int* ex, const double* f,
-                const AnaCoef& cf, AnaWork<W>& w, V4* sums) {
+                const ColCoef& cf, AnaWork<W>& w, V4* sums) {
   const int ngroups = w.ngroups;
   int nx = 0;
   for (int gi = 0; gi < ngroups; ++gi) {
@@ -462,9 +517,9 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
   }
   if (nx > 0) {
     if constexpr (W == 8)
-      ana_extended8(kmax, cf.ap.data(), cf.bp.data(), w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
+      ana_extended8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
     else
-      ana_extended4(kmax, cf.ap.data(), cf.bp.data(), w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
+      ana_extended4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
   }
   // the plain blocks in ring order, then the others by the step they join at
   int nlive = 0;
@@ -482,9 +537,9 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
   }
   const int K0 = nplain > 0 ? 0 : join[w.ids[0]];
   if constexpr (W == 8)
-    ana_kernel8(K0, kmax, w.nact.data(), cf.ap.data(), cf.bp.data(), w.act.get(), sums);
+    ana_kernel8(K0, kmax, w.nact.data(), cf.ap, cf.bp, w.act.get(), sums);
   else
-    ana_kernel4(K0, kmax, w.nact.data(), cf.ap.data(), cf.bp.data(), w.act.get(), sums);
+    ana_kernel4(K0, kmax, w.nact.data(), cf.ap, cf.bp, w.act.get(), sums);
 }
 }  // namespace
 
@@ -715,6 +770,7 @@ namespace {
 // coefficients to coeffs.
 void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads) {
   const auto table = legendre_table(bands);
+  const auto coefs = coef_table(bands);
   const int padded = static_cast<int>(pr.x.size());
   const bool wide = W == 8;
   ThreadWork& tw = thread_work();
@@ -728,10 +784,10 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
   double* const col = tw.col.get(col_offset(bands));
   auto columns = [&](auto& scratch, int m) {
     auto& work = scratch.work;
-    AnaCoef& cf = scratch.cf;
     V4* const sums = scratch.sums.get();
     const int kmax = (bands - 1 - m) / 2;
-    ana_coefficients(bands, m, cf);
+    if (!coefs) ana_coefficients(bands, m, scratch.cf);
+    const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
     for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
     const std::size_t off = static_cast<std::size_t>(m) * padded;
     ana_column(kmax, pr.x.data(), smant + off, sexp + off, fm + off * 4, cf, work, sums);
@@ -775,6 +831,7 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
                         const double* coeffs, bool symmetric, double* fourier, int threads) {
   threads = atmosh::resolve_threads(threads);
   const auto table = legendre_table(bands);
+  const auto coefs = coef_table(bands);
   const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
@@ -811,11 +868,11 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
     std::vector<double> sc, sums;
   };
   auto column = [&](Scratch& scratch, int m) {
-    AnaCoef& cf = scratch.cf;
     std::vector<double>& sc = scratch.sc;
     std::vector<double>& sums = scratch.sums;
     const int kmax = (bands - 1 - m) / 2;
-    ana_coefficients(bands, m, cf);
+    if (!coefs) ana_coefficients(bands, m, scratch.cf);
+    const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
     // step coefficients: e_k (cos, sin) and d_k (cos, sin), zero past the last degree
     std::fill(sc.begin(), sc.begin() + 4 * (kmax + 2), 0.0);
     const double* cm = col + col_offset(m);  // [2 (l - m) + {0, 1}]
@@ -836,10 +893,10 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
     }
     const std::size_t off = static_cast<std::size_t>(m) * padded;
     if (W == 8)
-      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap.data(), cf.bp.data(),
+      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp,
                   sc.data(), sums.data());
     else
-      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap.data(), cf.bp.data(),
+      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp,
                   sc.data(), sums.data());
     // block b of the sums: sm[((b * bands + m) * QB + j) * 4 + f] for pair b QB + j
     for (int b = 0; b < nqb; ++b)
