@@ -913,20 +913,26 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
   // ring rows from the sums, one block of 16 ring pairs at a time (its values are
   // contiguous, m after m; the 32 ring rows fill in step)
   parallel_for_m((np + QB - 1) / QB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
+    // runs of 16 orders per ring (ring rows lie a multiple of 4 kB apart when bands is a
+    // power of two: writing 32 of them in step, one value each, thrashed L1's sets)
     const int q0 = block * QB, q1 = std::min(np, q0 + QB);
-    for (int m = 0; m < bands; ++m) {
-      const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
-      const double sin_on = m > 0 ? 1.0 : 0.0;
-      const double* vm = sm + (static_cast<std::size_t>(block) * bands + m) * QB * 4;
+    constexpr int MC = 16;
+    for (int m0 = 0; m0 < bands; m0 += MC) {
+      const int m1 = std::min(bands, m0 + MC);
       for (int q = q0; q < q1; ++q) {
-        const double* v = vm + 4 * static_cast<std::size_t>(q - q0);
-        double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
-        fn[0] = scale * (v[0] + v[2]);
-        fn[1] = sin_on * scale * (v[1] + v[3]);
-        if (pr.south[q] >= 0) {
-          double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
-          fs[0] = scale * (v[0] - v[2]);
-          fs[1] = sin_on * scale * (v[1] - v[3]);
+        double* fn = fourier + static_cast<std::size_t>(pr.north[q]) * bands * 2;
+        double* fs = pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * bands * 2 : nullptr;
+        const double* v0 = sm + static_cast<std::size_t>(block) * bands * QB * 4 + 4 * static_cast<std::size_t>(q - q0);
+        for (int m = m0; m < m1; ++m) {
+          const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
+          const double sin_on = m > 0 ? 1.0 : 0.0;
+          const double* v = v0 + static_cast<std::size_t>(m) * QB * 4;
+          fn[2 * m] = scale * (v[0] + v[2]);
+          fn[2 * m + 1] = sin_on * scale * (v[1] + v[3]);
+          if (fs) {
+            fs[2 * m] = scale * (v[0] - v[2]);
+            fs[2 * m + 1] = sin_on * scale * (v[1] - v[3]);
+          }
         }
       }
     }
@@ -1335,11 +1341,12 @@ namespace {
 // weights, E cos, E sin, xO cos, xO sin at out[f * bands + m]. Rounded as written (no
 // fused multiply-add), as the sums regrouped by legendre_analysis.
 ATMOSH_DISPATCH_NO_FMA
-void pair_sums(int bands, const double* fn, const double* fs, double wn, double ws, double x, double* out) {
+void pair_sums(int bands, const double* fn, const double* fs, double wn, double ws, double x, double* out,
+               std::size_t stride) {
   double* ec = out;
-  double* es = out + bands;
-  double* oc = out + 2 * bands;
-  double* os = out + 3 * bands;
+  double* es = out + stride;
+  double* oc = out + 2 * stride;
+  double* os = out + 3 * stride;
   for (int m = 0; m < bands; ++m) {
     const double sq = m > 0 ? std::numbers::sqrt2 : 1.0;
     const double wnm = wn * sq, wsm = ws * sq;
@@ -1425,6 +1432,8 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
   const int W = detail::analysis_lanes();
   double* const fm = detail::thread_work().fm.get(static_cast<std::size_t>(L) * padded * 4);
   const double dphi = 2.0 * std::numbers::pi / n;
+  // row stride of the lane buffers: off a multiple of 4 kB (the 4 W rows are read in step)
+  const std::size_t LS = static_cast<std::size_t>(L) + 8;
   // One block of W ring pairs at a time from the shared counter; each worker keeps its
   // FFT plan and lane buffers.
   struct Scratch {
@@ -1438,9 +1447,9 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
     std::vector<double>& lanes = scratch.lanes;
     for (int k = 0; k < W; ++k) {
       const int q = blk * W + k;
-      double* out = lanes.data() + static_cast<std::size_t>(k) * 4 * L;
+      double* out = lanes.data() + static_cast<std::size_t>(k) * 4 * LS;
       if (q >= np) {
-        std::fill(out, out + 4 * L, 0.0);
+        std::fill(out, out + 4 * LS, 0.0);
         continue;
       }
       const int r = pr.north[q], s = pr.south[q];
@@ -1451,13 +1460,13 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
         fft.forward(values + static_cast<std::size_t>(r) * n, L, fn.data());
       // weights of the Gauss rule in latitude and of the uniform rule in longitude
       pair_sums(L, fn.data(), s >= 0 ? fs.data() : nullptr, g.weights[r] * dphi, s >= 0 ? g.weights[s] * dphi : 0.0,
-                pr.x[q], out);
+                pr.x[q], out, LS);
     }
     // one contiguous run of 4 W values per m
     for (int m = 0; m < L; ++m) {
       double* o = fm + detail::ring_sum_index(padded, W, m, blk * W, 0);
       for (int f = 0; f < 4; ++f)
-        for (int k = 0; k < W; ++k) o[f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * L + m];
+        for (int k = 0; k < W; ++k) o[f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * LS + m];
     }
   };
   atmosh::parallel_for_ranges_local(
@@ -1465,7 +1474,7 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
       [&] {
         return Scratch{detail::RealFft(n), std::vector<double>(2 * static_cast<std::size_t>(L)),
                        std::vector<double>(2 * static_cast<std::size_t>(L)),
-                       std::vector<double>(static_cast<std::size_t>(W) * 4 * L)};
+                       std::vector<double>(static_cast<std::size_t>(W) * 4 * LS)};
       },
       [&](Scratch& scratch, std::size_t b, std::size_t e) {
         for (std::size_t blk = b; blk < e; ++blk) block(scratch, static_cast<int>(blk));
