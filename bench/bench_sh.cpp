@@ -221,7 +221,7 @@ BENCHMARK(BM_EvalGeneralFloat)->Arg(16)->Arg(64);
 BENCHMARK(BM_CubeProject)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RotationBuild)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RotationApply)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_RotationApplyHigh)->Args({512, 0})->Args({1000, 0})->Args({1000, 1})->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_RotationApplyHigh)->Args({512, 0})->Args({1000, 0})->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_RotationBandMatrix)->Arg(64)->Arg(256)->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Analysis)
     ->Args({256, 1, 0})->Args({256, 1, 511})->Args({256, 1, 768})->Args({256, 2, 0})

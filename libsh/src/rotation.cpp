@@ -368,6 +368,129 @@ ATMOSH_INLINE void zrot_band(const Split& v, const ZTable& z, int te, int to) {
   zrot_split(v.co, v.so, z.co, z.so, to);
 }
 
+// ---- Ry(90) on the fly ---------------------------------------------------------------
+// Bands from kStreamFrom to kStreamTo are not stored: each application runs the row
+// recurrence of wigner_half_pi again (the same rows, bit for bit) and uses every row as
+// it is made. In the real basis, with x~ = L x, L = diag(1/sqrt2 at m = 0, 1 elsewhere),
+// the cosine block is C = 2 L d^c L and the sine block S = 2 d^s, where d^c (d^s) keeps
+// the entries d_{m'm}(pi/2) with l + m' + m even (odd); the upper triangles follow from
+// C^T = (-1)^l C and S^T = -(-1)^l S. So row m' (m <= m') of d gives, in one pass over
+// its two parity halves, the row sums y~_{m'} += sum_m d_{m'm} x~_m and the transposed
+// terms y~_m += sigma d_{m'm} x~_{m'} (m < m'), and makes row m' - 1. Per entry: three
+// operations of recurrence and two multiply-adds; nothing is read from memory but three
+// rows and the two vectors of the band (a few tens of kB). Rows are stored parity-split
+// (even m | odd m), like the vectors, so that the halves are contiguous.
+constexpr int kStreamFrom = 256;   // the default cache holds the bands below
+constexpr int kStreamTo = 1600;    // wigner_half_pi's row path (one scale factor per band)
+
+struct StreamWork {
+  int stride = 0;                  // doubles per half row (multiple of 4)
+  std::vector<double> rows;        // 3 rows of 2 halves, + 4 for alignment
+  std::vector<double> q, iq;       // sqrt((l - k)(l + k + 1)) and its reciprocal
+  std::vector<double> tw;          // 2m, parity-split: [even m | odd m], stride each
+  explicit StreamWork(int bands) {
+    stride = 4 * (((bands + 2) / 2 + 4) / 4 + 1);
+    rows.assign(6 * static_cast<std::size_t>(stride) + 4, 0.0);
+    q.assign(bands + 2, 0.0);
+    iq.assign(bands + 2, 0.0);
+    tw.assign(2 * static_cast<std::size_t>(stride), 0.0);
+    for (int i = 0; i < stride; ++i) {
+      tw[i] = 2.0 * (2 * i);
+      tw[stride + i] = 2.0 * (2 * i + 1);
+    }
+  }
+};
+
+// out = Ry(90) in for band l (kStreamFrom <= l <= kStreamTo); in.ce[0] is scaled by
+// 1/sqrt2 on the way (in is a work buffer). te / to: vectors of even / odd m.
+ATMOSH_DISPATCH
+void y90_stream(int l, int te, int to, StreamWork& sw, const Split& in, const Split& out) {
+  const int stride = sw.stride;
+  double* base = sw.rows.data();
+  while (reinterpret_cast<std::uintptr_t>(base) % 32 != 0) ++base;
+  double* r2 = base;               // row m' + 1
+  double* r1 = base + 2 * stride;  // row m'
+  double* r0 = base + 4 * stride;  // row m' - 1 (made now)
+  std::fill(base, base + 6 * stride, 0.0);
+  double* q = sw.q.data();
+  double* iq = sw.iq.data();
+  for (int k = 0; k <= l; ++k) {
+    q[k] = std::sqrt(static_cast<double>(l - k) * (l + k + 1));
+    iq[k] = q[k] > 0.0 ? 1.0 / q[k] : 0.0;
+  }
+  const int S = l >= 900 ? 600 : 0;
+  // row l: d_{l,m} = (-1)^(l-m) sqrt(C(2l, l+m)) 2^-l, times 2^S
+  {
+    double t = std::ldexp(1.0, S - l);
+    r1[(l & 1) * stride + (l >> 1)] = t;
+    for (int m = l - 1; m >= 0; --m) {
+      t = -t * std::sqrt(static_cast<double>(l + m + 1) / (l - m));
+      r1[(m & 1) * stride + (m >> 1)] = t;
+    }
+  }
+  in.ce[0] *= 1.0 / std::numbers::sqrt2;
+  for (int i = 0; i < 4 * te; ++i) out.ce[i] = out.se[i] = 0.0;
+  for (int i = 0; i < 4 * to; ++i) out.co[i] = out.so[i] = 0.0;
+  const double sigma_c = (l & 1) ? -1.0 : 1.0;
+  for (int mp = l; mp >= 0; --mp) {
+    const V4 vq = splat(q[mp]), viq = splat(mp > 0 ? iq[mp - 1] : 0.0);
+    for (int P = 0; P < 2; ++P) {
+      const bool ctype = ((l + mp + P) & 1) == 0;
+      const double* x = P ? (ctype ? in.co : in.so) : (ctype ? in.ce : in.se);
+      double* y = P ? (ctype ? out.co : out.so) : (ctype ? out.ce : out.se);
+      const double sigma = ctype ? sigma_c : -sigma_c;
+      // the same type's vectors at m = m' (half m' & 1)
+      const double* xd = (mp & 1) ? (ctype ? in.co : in.so) : (ctype ? in.ce : in.se);
+      double* yd = (mp & 1) ? (ctype ? out.co : out.so) : (ctype ? out.ce : out.se);
+      const double xmp = xd[mp >> 1];
+      const int nv = std::min((mp + 2 - P) / 8 + 1, P ? to : te);
+      const double* a = r1 + P * stride;
+      const double* b = r2 + P * stride;
+      double* c = r0 + P * stride;
+      const double* tw = sw.tw.data() + P * stride;
+      const V4 sx = splat(sigma * xmp);
+      V4 d0 = splat(0.0), d1 = d0;
+      int v = 0;
+      for (; v + 1 < nv; v += 2) {
+        const V4 a0 = load4(a + 4 * v), a1 = load4(a + 4 * v + 4);
+        d0 += a0 * load4(x + 4 * v);
+        d1 += a1 * load4(x + 4 * v + 4);
+        store4(y + 4 * v, load4(y + 4 * v) + a0 * sx);
+        store4(y + 4 * v + 4, load4(y + 4 * v + 4) + a1 * sx);
+        store4(c + 4 * v, (load4(tw + 4 * v) * a0 - vq * load4(b + 4 * v)) * viq);
+        store4(c + 4 * v + 4, (load4(tw + 4 * v + 4) * a1 - vq * load4(b + 4 * v + 4)) * viq);
+      }
+      for (; v < nv; ++v) {
+        const V4 a0 = load4(a + 4 * v);
+        d0 += a0 * load4(x + 4 * v);
+        store4(y + 4 * v, load4(y + 4 * v) + a0 * sx);
+        store4(c + 4 * v, (load4(tw + 4 * v) * a0 - vq * load4(b + 4 * v)) * viq);
+      }
+      const V4 d = d0 + d1;
+      // the diagonal once: its transposed term comes off, the row sum goes on
+      if (P == (mp & 1)) y[mp >> 1] -= a[mp >> 1] * sigma * xmp;
+      yd[mp >> 1] += (d[0] + d[1]) + (d[2] + d[3]);
+    }
+    // row m' - 1 ends at m = m' - 1
+    for (int m = mp; m <= mp + 2; ++m) r0[(m & 1) * stride + (m >> 1)] = 0.0;
+    double* t = r2;
+    r2 = r1;
+    r1 = r0;
+    r0 = t;
+  }
+  const double f = std::ldexp(2.0, -S);
+  for (int i = 0; i < 4 * te; ++i) {
+    out.ce[i] *= f;
+    out.se[i] *= f;
+  }
+  for (int i = 0; i < 4 * to; ++i) {
+    out.co[i] *= f;
+    out.so[i] *= f;
+  }
+  out.ce[0] *= 1.0 / std::numbers::sqrt2;
+  out.se[0] = 0.0;
+}
+
 ATMOSH_INLINE V4 reverse4(V4 a) { return ATMOSH_SHUFFLE(a, a, 3, 2, 1, 0); }
 
 // Rotates band l: vout = Rz(alpha') Y90 Rz(beta') Y90 Rz(gamma') vin, with v[l + m].
@@ -376,10 +499,14 @@ ATMOSH_INLINE V4 reverse4(V4 a) { return ATMOSH_SHUFFLE(a, a, 3, 2, 1, 0); }
 // Split layout from v: cosine parts c_m = v[l + m] (forward from v + l), sine parts
 // s_m = v[l - m] (backward from v + l); 8 consecutive values of each direction give one
 // vector of even m and one of odd m (the m = 0 sine slot is set to zero).
+// Bp: the stored matrix of band l, or null: Ry(90) on the fly (y90_stream, work sw).
 ATMOSH_DISPATCH
-void rotate_band(const BandY90& B, const double* vin, double* vout, bool read_around, const ZTable& za,
-                 const ZTable& zb, const ZTable& zg, const Split& w, const Split& u) {
-  const int l = B.l, n = l + 1;  // n values in each direction, m = 0..l
+void rotate_band(int l, const BandY90* Bp, StreamWork* sw, const double* vin, double* vout, bool read_around,
+                 const ZTable& za, const ZTable& zb, const ZTable& zg, const Split& w, const Split& u) {
+  const int n = l + 1;           // n values in each direction, m = 0..l
+  const struct {
+    int te, to;
+  } B{(l / 2 + 1 + 3) / 4, ((l + 1) / 2 + 3) / 4};
   const int nv = B.te;           // vectors of even m; odd m has B.to = nv or nv - 1
   const M4 iota = {0, 1, 2, 3};
   const V4 zero = {0, 0, 0, 0};
@@ -420,9 +547,15 @@ void rotate_band(const BandY90& B, const double* vin, double* vout, bool read_ar
       rot_store(ATMOSH_SHUFFLE(f0, f1, 1, 3, 5, 7), ATMOSH_SHUFFLE(g0, g1, 1, 3, 5, 7), zg.co + i, zg.so + i,
                 w.co + i, w.so + i);
   }
-  apply_y90(B, w, u);
-  zrot_band(u, zb, B.te, B.to);
-  apply_y90(B, u, w);
+  if (Bp) {
+    apply_y90(*Bp, w, u);
+    zrot_band(u, zb, B.te, B.to);
+    apply_y90(*Bp, u, w);
+  } else {
+    y90_stream(l, B.te, B.to, *sw, w, u);
+    zrot_band(u, zb, B.te, B.to);
+    y90_stream(l, B.te, B.to, *sw, u, w);
+  }
   // back to v[l + m]: sine parts first, so that the m = 0 slot ends as c_0
   for (int j = nv - 1; j >= 0; --j) {
     const int k = 8 * j, left = n - k;
@@ -559,16 +692,18 @@ void Rotation::apply(const double* in, double* out) const {
   const std::unique_ptr<BandY90>* cache = cached_bands(bands_);
   const int ncached = std::min(bands_, y90_cache().ready.load(std::memory_order_acquire));
   BandY90 local;
+  std::unique_ptr<StreamWork> sw;
+  if (bands_ > kStreamFrom) sw = std::make_unique<StreamWork>(bands_);
   out[0] = in[0];
   for (int l = 1; l < bands_; ++l) {
-    const BandY90* B;
-    if (l < ncached) {
+    const BandY90* B = nullptr;
+    if (l < ncached && l < kStreamFrom) {
       B = cache[l].get();
-    } else {
+    } else if (l < kStreamFrom || l > kStreamTo) {
       build_band(l, local);
       B = &local;
     }
-    rotate_band(*B, in + l * l, out + l * l, l >= 3 && l + 1 < bands_, za, zb, zg, w, u);
+    rotate_band(l, B, sw.get(), in + l * l, out + l * l, l >= 3 && l + 1 < bands_, za, zb, zg, w, u);
   }
 }
 
@@ -600,19 +735,22 @@ std::vector<double> Rotation::band_matrix(int l) const {
     return ZTable{c.data(), s.data(), c.data() + nh, s.data() + nh};
   };
   const ZTable za = ztable(ca_, sa_), zb = ztable(cb_, sb_), zg = ztable(cg_, sg_);
-  const std::unique_ptr<BandY90>* cache = cached_bands(l + 1);
+  const std::unique_ptr<BandY90>* cache = cached_bands(std::min(l + 1, kStreamFrom));
   BandY90 local;
-  const BandY90* B;
-  if (l < y90_cache().ready.load(std::memory_order_acquire)) {
+  std::unique_ptr<StreamWork> sw;
+  const BandY90* B = nullptr;
+  if (l < kStreamFrom && l < y90_cache().ready.load(std::memory_order_acquire)) {
     B = cache[l].get();
-  } else {
+  } else if (l < kStreamFrom || l > kStreamTo) {
     build_band(l, local);
     B = &local;
+  } else {
+    sw = std::make_unique<StreamWork>(l + 1);
   }
   std::vector<double> in(n, 0.0), out(n);
   for (int j = 0; j < n; ++j) {
     in[j] = 1.0;
-    rotate_band(*B, in.data(), out.data(), false, za, zb, zg, w, u);
+    rotate_band(l, B, sw.get(), in.data(), out.data(), false, za, zb, zg, w, u);
     in[j] = 0.0;
     for (int i = 0; i < n; ++i) M[static_cast<std::size_t>(i) * n + j] = out[i];
   }
@@ -621,12 +759,9 @@ std::vector<double> Rotation::band_matrix(int l) const {
 
 void reserve_rotation_cache(int bands) {
   check_bands(bands, "reserve_rotation_cache", kMaxBands);
-  Y90Cache& c = y90_cache();
-  {
-    std::lock_guard<std::mutex> lock(c.mu);
-    if (bands > c.limit.load(std::memory_order_relaxed)) c.limit.store(bands, std::memory_order_release);
-  }
-  cached_bands(bands);
+  // bands from kStreamFrom to kStreamTo are applied on the fly (faster than streaming their
+  // stored matrices from memory): only the bands below are ever kept
+  cached_bands(std::min(bands, kStreamFrom));
 }
 
 int rotation_cache_bands() { return y90_cache().ready.load(std::memory_order_acquire); }

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <numbers>
 #include <string>
+#include <type_traits>
 #include <map>
 #include <mutex>
 
@@ -44,6 +45,32 @@ void parallel_for_m(int count, int threads, MakeLocal&& make_local, F&& body) {
       });
 }
 struct NoScratch {};
+
+// Work arrays kept by the calling thread from one transform to the next: fresh pages from
+// the system cost a page fault and a clear each, which was a quarter of an analysis at
+// L = 1024 when the ~30 MB of work arrays were allocated per call. They only grow (to the
+// largest transform the thread has run); contents are never assumed.
+template <class T>
+struct Reused {
+  std::unique_ptr<T[]> p;
+  std::size_t n = 0;
+  T* get(std::size_t need) {
+    if (need > n) {
+      p.reset();
+      p.reset(new T[need]);
+      n = need;
+    }
+    return p.get();
+  }
+};
+struct ThreadWork {
+  Reused<double> fm, col, smant, four;
+  Reused<int> sexp;
+};
+ThreadWork& thread_work() {
+  thread_local ThreadWork w;
+  return w;
+}
 
 constexpr int B = 8;  // lanes (ring pairs) per block
 
@@ -78,18 +105,18 @@ Pairs make_pairs(int nrings, const double* cos_t, const double* sin_t, bool symm
 }
 
 // Sectoral extended-range values for every m and lane: mant[m * padded + k], exp[...].
-void sectorals(int bands, const Pairs& p, const LegendreTable& t, std::vector<double>& mant,
-               std::vector<int>& ex) {
+void sectorals(int bands, const Pairs& p, const LegendreTable& t, double* mant, int* ex) {
   const std::size_t padded = p.x.size();
-  mant.assign(static_cast<std::size_t>(bands) * padded, 0.0);
-  ex.assign(static_cast<std::size_t>(bands) * padded, 0);
   // m outer: each row follows from the previous one (rows stream; lanes independent)
-  for (std::size_t k = 0; k < padded; ++k) mant[k] = 1.0 / std::sqrt(4.0 * std::numbers::pi);
+  for (std::size_t k = 0; k < padded; ++k) {
+    mant[k] = 1.0 / std::sqrt(4.0 * std::numbers::pi);
+    ex[k] = 0;
+  }
   for (int m = 1; m < bands; ++m) {
-    const double* pm = mant.data() + (m - 1) * padded;
-    const int* pe = ex.data() + (m - 1) * padded;
-    double* cm = mant.data() + m * padded;
-    int* ce = ex.data() + m * padded;
+    const double* pm = mant + (m - 1) * padded;
+    const int* pe = ex + (m - 1) * padded;
+    double* cm = mant + m * padded;
+    int* ce = ex + m * padded;
     for (std::size_t k = 0; k < padded; ++k) {
       const XNum v = next_sectoral(XNum{pm[k], pe[k]}, t.sectoral()[m], p.u[k]);
       cm[k] = v.mant;
@@ -188,6 +215,61 @@ static void ana_coefficients(int bands, int m, AnaCoef& c) {
   }
 }
 
+// The coefficients of one column, read from a table or from AnaCoef (they depend on m and
+// the step k only, not on the band limit: a table for B bands serves every bands <= B).
+struct ColCoef {
+  const double *ap, *bp, *alpha, *rb, *qa;
+};
+ColCoef view(const AnaCoef& c) { return {c.ap.data(), c.bp.data(), c.alpha.data(), c.rb.data(), c.qa.data()}; }
+
+// Process-wide table of every column's coefficients (the largest band limit asked for so
+// far, up to kCoefTableBands: ~10 MB at 1024 bands); computing them per call was 5-10% of
+// a transform. Larger band limits compute them per column and call.
+constexpr int kCoefTableBands = 1024;
+class CoefTable {
+ public:
+  explicit CoefTable(int bands) : bands_(bands), off_(bands + 1) {
+    std::size_t n = 0;
+    for (int m = 0; m < bands; ++m) {
+      off_[m] = n;
+      n += 5 * static_cast<std::size_t>(steps(m)) + 1;
+    }
+    off_[bands] = n;
+    store_.resize(n);
+    AnaCoef c;
+    for (int m = 0; m < bands; ++m) {
+      ana_coefficients(bands, m, c);
+      const int nk = steps(m);
+      double* p = store_.data() + off_[m];
+      std::copy(c.ap.begin(), c.ap.begin() + nk, p);
+      std::copy(c.bp.begin(), c.bp.begin() + nk, p + nk);
+      std::copy(c.rb.begin(), c.rb.begin() + nk, p + 2 * nk);
+      std::copy(c.qa.begin(), c.qa.begin() + nk, p + 3 * nk);
+      std::copy(c.alpha.begin(), c.alpha.begin() + nk + 1, p + 4 * nk);
+    }
+  }
+  int bands() const { return bands_; }
+  ColCoef col(int m) const {
+    const int nk = steps(m);
+    const double* p = store_.data() + off_[m];
+    return {p, p + nk, p + 4 * nk, p + 2 * nk, p + 3 * nk};
+  }
+
+ private:
+  int steps(int m) const { return (bands_ - 1 - m) / 2 + 3; }
+  int bands_;
+  std::vector<std::size_t> off_;
+  std::vector<double> store_;
+};
+std::shared_ptr<const CoefTable> coef_table(int bands) {
+  if (bands > kCoefTableBands) return nullptr;
+  static std::mutex mu;
+  static std::shared_ptr<const CoefTable> cached;
+  std::lock_guard<std::mutex> lock(mu);
+  if (!cached || cached->bands() < bands) cached = std::make_shared<const CoefTable>(std::max(bands, 64));
+  return cached;
+}
+
 // {sum of the lanes of a0, ..., of a3}; 8-lane vectors are first folded to 4 lanes.
 __attribute__((always_inline)) inline V4 hsum4(V4 a0, V4 a1, V4 a2, V4 a3) {
   const V4 u0 = __builtin_shufflevector(a0, a1, 0, 4, 2, 6) + __builtin_shufflevector(a0, a1, 1, 5, 3, 7);
@@ -221,13 +303,35 @@ __attribute__((always_inline)) inline bool any(I m) {
 // of kScaleExp; an extended lane's terms are dropped: with the fold below its values
 // are under 2^-250, far below any term that can change a double result). Steps all of
 // them together, two steps at a time (k outer, so that the blocks' recurrences
-// overlap). Every kFoldEvery steps each extended lane whose |lam| passed 2^100 is
-// scaled by 2^-kScaleExp (growth over two steps is below 2^60, so values stay below
-// 2^(100 + 60 kFoldEvery / 2) = 2^340 in between), and the blocks are sorted into those
+// overlap). Every kFoldEvery steps each extended lane whose |lam| passed kJoinFold is
+// scaled by 2^-kScaleExp (see kJoinExp below), and the blocks are sorted into those
 // with no plain lane (recurrence only: 4 FMAs per two steps) and those with some
 // (recurrence and masked sums into sums[k]). A block leaves at the first check at
 // which all its lanes are plain: join[i] = that step (kmax + 1 if never).
 constexpr int kFoldEvery = 8;
+// Lanes join the sums once their recurrence value exceeds 2^-kJoinExp (polar
+// optimisation): a lane starts in the extended range when its sectoral value is below
+// that, and folds back to the plain range (exponent 0) when its mantissa passes
+// kJoinFold = 2^(kScaleExp - kJoinExp), i.e. its value 2^-kJoinExp. The terms left out
+// are below 2^-80 |f| each (lam >= |Pbar_lm| / alpha >= |Pbar_lm|), so they cannot change
+// a double result at the 1e-13 level of the round trips; below that threshold lanes
+// only cost work: at L = 1024 they are a large share of the triangle near the poles.
+// Between checks values grow by less than 2^(60 kFoldEvery / 2) = 2^240, so they stay
+// below 2^760.
+constexpr int kJoinExp = 80;
+inline const double kJoin = std::ldexp(1.0, -kJoinExp);
+inline const double kJoinFold = std::ldexp(1.0, kScaleExp - kJoinExp);
+// Sectoral value of a lane (mant * 2^ex) in the representation of the kernels: values
+// below kJoin go to the extended range (exponent -kScaleExp) until they join.
+inline void lane_start(double mant, int ex, double& m, double& e) {
+  if (ex == 0 && std::abs(mant) < kJoin) {
+    m = mant * kScaleUp;
+    e = -kScaleExp;
+  } else {
+    m = mant;
+    e = ex;
+  }
+}
 template <int W>
 __attribute__((always_inline)) inline void ana_extended(int kmax, const double* ap, const double* bp,
                                                         AnaGroup<W>* grp, const int* ids, int nx, int* join,
@@ -235,7 +339,7 @@ __attribute__((always_inline)) inline void ana_extended(int kmax, const double* 
   using D = typename Lanes<W>::D;
   using I = typename Lanes<W>::I;
   const D down = D{} + kScaleDown, step = D{} + static_cast<double>(kScaleExp);
-  const I fold = I{} + std::bit_cast<long long>(kFold), magnitude = I{} + 0x7fffffffffffffffLL;
+  const I fold = I{} + std::bit_cast<long long>(kJoinFold), magnitude = I{} + 0x7fffffffffffffffLL;
   int nlive = nx, nall = 0;  // live[0..nall): no plain lane; live[nall..nlive): some
   int* mixed = live + nx;    // scratch (live has room for 2 nx)
   for (int j = 0; j < nx; ++j) live[j] = ids[j];
@@ -391,7 +495,7 @@ struct AnaScratch {
 // (E cos, E sin, xO cos, xO sin: 4 W values per block), mant/ex the sectoral values.
 template <int W>
 void ana_column(int kmax, const double* x, const double* mant, const int* ex, const double* f,
-                const AnaCoef& cf, AnaWork<W>& w, V4* sums) {
+                const ColCoef& cf, AnaWork<W>& w, V4* sums) {
   const int ngroups = w.ngroups;
   int nx = 0;
   for (int gi = 0; gi < ngroups; ++gi) {
@@ -402,18 +506,20 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
       const int q = W * gi + k;
       g.csq[k] = x[q] * x[q];
       g.lam1[k] = 0.0;
-      g.lam2[k] = mant[q];
-      g.e[k] = ex[q];
-      if (ex[q] != 0) plain = false;
+      double lm, le;
+      lane_start(mant[q], ex[q], lm, le);
+      g.lam2[k] = lm;
+      g.e[k] = le;
+      if (le != 0) plain = false;
     }
     w.join[gi] = 0;
     if (!plain) w.ids[nx++] = gi;
   }
   if (nx > 0) {
     if constexpr (W == 8)
-      ana_extended8(kmax, cf.ap.data(), cf.bp.data(), w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
+      ana_extended8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
     else
-      ana_extended4(kmax, cf.ap.data(), cf.bp.data(), w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
+      ana_extended4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
   }
   // the plain blocks in ring order, then the others by the step they join at
   int nlive = 0;
@@ -431,9 +537,9 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
   }
   const int K0 = nplain > 0 ? 0 : join[w.ids[0]];
   if constexpr (W == 8)
-    ana_kernel8(K0, kmax, w.nact.data(), cf.ap.data(), cf.bp.data(), w.act.get(), sums);
+    ana_kernel8(K0, kmax, w.nact.data(), cf.ap, cf.bp, w.act.get(), sums);
   else
-    ana_kernel4(K0, kmax, w.nact.data(), cf.ap.data(), cf.bp.data(), w.act.get(), sums);
+    ana_kernel4(K0, kmax, w.nact.data(), cf.ap, cf.bp, w.act.get(), sums);
 }
 }  // namespace
 
@@ -464,7 +570,7 @@ __attribute__((always_inline)) inline int syn_extended(int kmax, const double* a
   using D = typename Lanes<W>::D;
   using I = typename Lanes<W>::I;
   const D down = D{} + kScaleDown, step = D{} + static_cast<double>(kScaleExp);
-  const I fold = I{} + std::bit_cast<long long>(kFold), magnitude = I{} + 0x7fffffffffffffffLL;
+  const I fold = I{} + std::bit_cast<long long>(kJoinFold), magnitude = I{} + 0x7fffffffffffffffLL;
   int k = 0;
   for (; k <= kmax; k += 2) {
     if (k % kFoldEvery == 0) {
@@ -569,8 +675,10 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
         const int q = W * (gi + std::min(b, nb - 1)) + j;
         g.csq[j] = x[q] * x[q];
         g.lam1[j] = 0.0;
-        g.lam2[j] = mant[q];
-        g.e[j] = ex[q];
+        double lm, le;
+        lane_start(mant[q], ex[q], lm, le);
+        g.lam2[j] = lm;
+        g.e[j] = le;
         g.ec[j] = g.es[j] = g.dc[j] = g.ds[j] = 0.0;
       }
       if (b < nb) {
@@ -630,7 +738,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
   // Ring sums regrouped m-major, in blocks of m so that both the ring rows and the m
   // planes stream.
   constexpr int MB = 8;
-  std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(bands) * padded * 4]);
+  double* const fm = thread_work().fm.get(static_cast<std::size_t>(bands) * padded * 4);
   parallel_for_m((bands + MB - 1) / MB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
     {
       const int mb = block * MB;
@@ -645,7 +753,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
         for (int m = mb; m < m1; ++m) {
           const double nc = fn[2 * m], ns = fn[2 * m + 1];
           const double sc = fs ? fs[2 * m] : 0.0, ss = fs ? fs[2 * m + 1] : 0.0;
-          double* o = fm.get() + ring_sum_index(padded, W, m, q, 0);
+          double* o = fm + ring_sum_index(padded, W, m, q, 0);
           o[0] = nc + sc;
           o[W] = ns + ss;
           o[2 * W] = x * (nc - sc);
@@ -654,7 +762,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
       }
     }
   });
-  analysis_from_ring_sums(bands, pr, W, fm.get(), coeffs, threads);
+  analysis_from_ring_sums(bands, pr, W, fm, coeffs, threads);
 }
 
 namespace {
@@ -662,27 +770,30 @@ namespace {
 // coefficients to coeffs.
 void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads) {
   const auto table = legendre_table(bands);
+  const auto coefs = coef_table(bands);
   const int padded = static_cast<int>(pr.x.size());
   const bool wide = W == 8;
-  std::vector<double> smant;
-  std::vector<int> sexp;
+  ThreadWork& tw = thread_work();
+  const std::size_t nsect = static_cast<std::size_t>(bands) * padded;
+  double* const smant = tw.smant.get(nsect);
+  int* const sexp = tw.sexp.get(nsect);
   sectorals(bands, pr, *table, smant, sexp);
 
   // per-m results: column m at col_offset(m), 2 (bands - m) values
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
-  std::unique_ptr<double[]> col(new double[col_offset(bands)]);
+  double* const col = tw.col.get(col_offset(bands));
   auto columns = [&](auto& scratch, int m) {
     auto& work = scratch.work;
-    AnaCoef& cf = scratch.cf;
     V4* const sums = scratch.sums.get();
     const int kmax = (bands - 1 - m) / 2;
-    ana_coefficients(bands, m, cf);
+    if (!coefs) ana_coefficients(bands, m, scratch.cf);
+    const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
     for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
     const std::size_t off = static_cast<std::size_t>(m) * padded;
-    ana_column(kmax, pr.x.data(), smant.data() + off, sexp.data() + off, fm + off * 4, cf, work, sums);
+    ana_column(kmax, pr.x.data(), smant + off, sexp + off, fm + off * 4, cf, work, sums);
     // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
     // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
-    double* out = col.get() + col_offset(m);
+    double* out = col + col_offset(m);
     double pc = 0.0, ps = 0.0;  // A_l-1 of the odd parity
     for (int k = 0; k <= kmax; ++k) {
       const int i = 2 * k;
@@ -702,16 +813,15 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     parallel_for_m(bands, threads, [&] { return AnaScratch<8>(padded, bands); }, columns);
   else
     parallel_for_m(bands, threads, [&] { return AnaScratch<4>(padded, bands); }, columns);
-  // columns into the coefficient vector, in blocks of m (contiguous in m for each l)
-  for (int mb = 0; mb < bands; mb += 8) {
-    const int m1 = std::min(bands, mb + 8);
-    for (int l = mb; l < bands; ++l) {
-      double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-      for (int m = mb; m < m1 && m <= l; ++m) {
-        const double* c = col.get() + col_offset(m) + 2 * (l - m);
-        row[m] += c[0];
-        if (m > 0) row[-m] += c[1];
-      }
+  // columns into the coefficient vector, degree rows in order (the columns' current
+  // lines, one per m <= l, stay in L2)
+  for (int l = 0; l < bands; ++l) {
+    double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+    row[0] += col[col_offset(0) + 2 * l];
+    for (int m = 1; m <= l; ++m) {
+      const double* c = col + col_offset(m) + 2 * (l - m);
+      row[m] += c[0];
+      row[-m] += c[1];
     }
   }
 }
@@ -721,62 +831,77 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
                         const double* coeffs, bool symmetric, double* fourier, int threads) {
   threads = atmosh::resolve_threads(threads);
   const auto table = legendre_table(bands);
+  const auto coefs = coef_table(bands);
   const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
-  std::vector<double> smant;
-  std::vector<int> sexp;
+  ThreadWork& tw = thread_work();
+  const std::size_t nsect = static_cast<std::size_t>(bands) * padded;
+  double* const smant = tw.smant.get(nsect);
+  int* const sexp = tw.sexp.get(nsect);
   sectorals(bands, pr, *table, smant, sexp);
   const int W = analysis_lanes();
+  // Coefficients regrouped m-major (column m: c_l,m and c_l,-m for l = m..bands-1 at
+  // col + col_offset(m)); the per-column sums are kept in blocks of 16 ring pairs (sm,
+  // 4 values per pair, m after m within a block) and turned into ring rows at the end. (Strided reads and writes
+  // of single values per (l, m) and (ring, m) cost a fifth of a synthesis at L = 1024.)
+  auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
+  double* const col = tw.col.get(col_offset(bands));
+  constexpr int QB = 16;  // ring pairs per block of the sums
+  const int nqb = (padded + QB - 1) / QB;
+  double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
+  // degree rows read once, in order; the columns' current lines (one per m <= l, 64 kB at
+  // L = 1024) stay in L2
+  for (int l = 0; l < bands; ++l) {
+    const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+    col[col_offset(0) + 2 * l] = row[0];
+    col[col_offset(0) + 2 * l + 1] = 0.0;
+    for (int m = 1; m <= l; ++m) {
+      double* c = col + col_offset(m) + 2 * (l - m);
+      c[0] = row[m];
+      c[1] = row[-m];
+    }
+  }
 
   struct Scratch {
     AnaCoef cf;
     std::vector<double> sc, sums;
   };
   auto column = [&](Scratch& scratch, int m) {
-    AnaCoef& cf = scratch.cf;
     std::vector<double>& sc = scratch.sc;
     std::vector<double>& sums = scratch.sums;
     const int kmax = (bands - 1 - m) / 2;
-    ana_coefficients(bands, m, cf);
+    if (!coefs) ana_coefficients(bands, m, scratch.cf);
+    const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
     // step coefficients: e_k (cos, sin) and d_k (cos, sin), zero past the last degree
     std::fill(sc.begin(), sc.begin() + 4 * (kmax + 2), 0.0);
+    const double* cm = col + col_offset(m);  // [2 (l - m) + {0, 1}]
     for (int k = 0; k <= kmax; ++k) {
-      const int l = m + 2 * k, i = l * (l + 1);
-      sc[4 * k] = cf.alpha[k] * coeffs[i + m];
-      sc[4 * k + 1] = m > 0 ? cf.alpha[k] * coeffs[i - m] : 0.0;
+      sc[4 * k] = cf.alpha[k] * cm[4 * k];
+      sc[4 * k + 1] = cf.alpha[k] * cm[4 * k + 1];
     }
     const int kodd = (bands - 2 - m) / 2;  // odd degrees m + 2k + 1 < bands: k <= kodd
     if (bands - 2 - m >= 0) {
       double yc = 0.0, ys = 0.0;
       for (int k = kodd; k >= 0; --k) {
-        const int l = m + 2 * k + 1, i = l * (l + 1);
         const double q = k + 1 <= kodd ? cf.qa[k + 1] : 0.0;
-        yc = coeffs[i + m] - q * yc;
-        ys = (m > 0 ? coeffs[i - m] : 0.0) - q * ys;
+        yc = cm[4 * k + 2] - q * yc;
+        ys = cm[4 * k + 3] - q * ys;
         sc[4 * k + 2] = cf.rb[k] * yc;
         sc[4 * k + 3] = cf.rb[k] * ys;
       }
     }
     const std::size_t off = static_cast<std::size_t>(m) * padded;
     if (W == 8)
-      syn_column8(kmax, padded / 8, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
+      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp,
                   sc.data(), sums.data());
     else
-      syn_column4(kmax, padded / 4, pr.x.data(), smant.data() + off, sexp.data() + off, cf.ap.data(), cf.bp.data(),
+      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp,
                   sc.data(), sums.data());
-    const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
-    for (int q = 0; q < np; ++q) {
-      const double* v = sums.data() + 4 * static_cast<std::size_t>(q);
-      double* fn = fourier + (static_cast<std::size_t>(pr.north[q]) * bands + m) * 2;
-      fn[0] = scale * (v[0] + v[2]);
-      fn[1] = m > 0 ? scale * (v[1] + v[3]) : 0.0;
-      if (pr.south[q] >= 0) {
-        double* fs = fourier + (static_cast<std::size_t>(pr.south[q]) * bands + m) * 2;
-        fs[0] = scale * (v[0] - v[2]);
-        fs[1] = m > 0 ? scale * (v[1] - v[3]) : 0.0;
-      }
-    }
+    // block b of the sums: sm[((b * bands + m) * QB + j) * 4 + f] for pair b QB + j
+    for (int b = 0; b < nqb; ++b)
+      std::memcpy(sm + (static_cast<std::size_t>(b) * bands + m) * QB * 4, sums.data() + static_cast<std::size_t>(b) * QB * 4,
+                  sizeof(double) * 4 * std::min(QB, padded - b * QB));
   };
   parallel_for_m(
       bands, threads,
@@ -785,6 +910,33 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
                        std::vector<double>(4 * static_cast<std::size_t>(padded))};
       },
       column);
+  // ring rows from the sums, one block of 16 ring pairs at a time (its values are
+  // contiguous, m after m; the 32 ring rows fill in step)
+  parallel_for_m((np + QB - 1) / QB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
+    // runs of 16 orders per ring (ring rows lie a multiple of 4 kB apart when bands is a
+    // power of two: writing 32 of them in step, one value each, thrashed L1's sets)
+    const int q0 = block * QB, q1 = std::min(np, q0 + QB);
+    constexpr int MC = 16;
+    for (int m0 = 0; m0 < bands; m0 += MC) {
+      const int m1 = std::min(bands, m0 + MC);
+      for (int q = q0; q < q1; ++q) {
+        double* fn = fourier + static_cast<std::size_t>(pr.north[q]) * bands * 2;
+        double* fs = pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * bands * 2 : nullptr;
+        const double* v0 = sm + static_cast<std::size_t>(block) * bands * QB * 4 + 4 * static_cast<std::size_t>(q - q0);
+        for (int m = m0; m < m1; ++m) {
+          const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
+          const double sin_on = m > 0 ? 1.0 : 0.0;
+          const double* v = v0 + static_cast<std::size_t>(m) * QB * 4;
+          fn[2 * m] = scale * (v[0] + v[2]);
+          fn[2 * m + 1] = sin_on * scale * (v[1] + v[3]);
+          if (fs) {
+            fs[2 * m] = scale * (v[0] - v[2]);
+            fs[2 * m + 1] = sin_on * scale * (v[1] - v[3]);
+          }
+        }
+      }
+    }
+  });
 }
 
 // Radix-2 butterflies of one stage (half = len / 2 >= 4) with the stage's twiddles
@@ -862,53 +1014,149 @@ void fft(double* re, double* im, int n, int sign) {
 }
 
 namespace {
+// How a size is transformed (chosen from the factors of n alone, so that the same input
+// gives the same bits from run to run; the costs were measured with FFTW 3.3 on AVX2, one
+// thread, docs/sh.md):
+//   real: n = 2^a 3^b 5^c — one real FFT (r2c / c2r) per ring;
+//   pair: other factors all <= 13 — two rings as the real and imaginary parts of one
+//         complex FFT of size n (FFTW's real transforms of such sizes cost 3-4x the complex
+//         ones per ring);
+//   chirp: a prime factor > 13 (511 = 7 x 73, 2047 = 23 x 89: FFTW then takes 10-20x the
+//         power-of-two time) — two rings at once through Bluestein's chirp convolution
+//         with complex FFTs of the power of two M >= 2n.
+enum class FftMode { real, pair, chirp };
 struct FftPlans {
-  fftw_plan r2c = nullptr, c2r = nullptr;
+  FftMode mode = FftMode::real;
+  int m = 0;                                   // complex FFT size: n (pair) or M (chirp)
+  fftw_plan r2c = nullptr, c2r = nullptr;      // size n, real
+  fftw_plan fwd = nullptr, bwd = nullptr;      // size m, complex, in place
+  std::vector<double> chirp;                   // w_t = e^{i pi t^2 / n}, t < n (re, im)
+  std::vector<double> kf, kb;                  // FFT of the forward / inverse kernels, / M
 };
 std::mutex& fftw_planner_mutex() {
   static std::mutex mu;
   return mu;
 }
-// Plans of size n, made once and kept until the process exits; then they are destroyed and
-// FFTW's planner memory released (fftw_cleanup), so that leak checkers see nothing.
+// Plans of size n, made once and kept until the process exits; then libsh destroys its own
+// plans and nothing else: FFTW's global state (wisdom, planner) belongs to the process, and
+// fftw_cleanup() would invalidate the plans that other code in it holds.
 struct PlanCache {
   std::map<int, FftPlans> plans;
   ~PlanCache() {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-    for (auto& [n, p] : plans) {
-      fftw_destroy_plan(p.r2c);
-      fftw_destroy_plan(p.c2r);
-    }
+    for (auto& [n, p] : plans)
+      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd})
+        if (q) fftw_destroy_plan(q);
     plans.clear();
-    fftw_cleanup();
   }
 };
+
+FftMode fft_mode(int n) {
+  int r = n, largest = 1;
+  for (int p = 2; p * p <= r; ++p)
+    while (r % p == 0) {
+      largest = std::max(largest, p);
+      r /= p;
+    }
+  if (r > 1) largest = std::max(largest, r);
+  if (largest <= 5) return FftMode::real;
+  return largest <= 13 ? FftMode::pair : FftMode::chirp;
+}
+
+// e^{i pi t^2 / n} with t^2 reduced mod 2n (exact in integers, so large t lose nothing).
+void chirp_value(long long t, int n, double& re, double& im) {
+  const long long q = (t % (2LL * n)) * (t % (2LL * n)) % (2LL * n);
+  const double a = std::numbers::pi * static_cast<double>(q) / n;
+  re = std::cos(a);
+  im = std::sin(a);
+}
+
 const FftPlans* fft_plans(int n) {
   std::lock_guard<std::mutex> lock(fftw_planner_mutex());
   static PlanCache cache;
   auto& plans = cache.plans;
   auto it = plans.find(n);
   if (it != plans.end()) return &it->second;
+  FftPlans p;
+  p.mode = fft_mode(n);
   double* r = fftw_alloc_real(static_cast<std::size_t>(n));
   fftw_complex* c = fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1);
-  FftPlans p;
   p.r2c = fftw_plan_dft_r2c_1d(n, r, c, FFTW_ESTIMATE);
   p.c2r = fftw_plan_dft_c2r_1d(n, c, r, FFTW_ESTIMATE);
   fftw_free(r);
   fftw_free(c);
-  if (!p.r2c || !p.c2r) throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
-  return &plans.emplace(n, p).first->second;
+  bool ok = p.r2c && p.c2r;
+  if (p.mode != FftMode::real) {
+    int m = n;
+    if (p.mode == FftMode::chirp) {
+      m = 1;
+      while (m < 2 * n) m <<= 1;
+    }
+    p.m = m;
+    fftw_complex* z = fftw_alloc_complex(static_cast<std::size_t>(m));
+    p.fwd = fftw_plan_dft_1d(m, z, z, FFTW_FORWARD, FFTW_ESTIMATE);
+    p.bwd = fftw_plan_dft_1d(m, z, z, FFTW_BACKWARD, FFTW_ESTIMATE);
+    ok = ok && p.fwd && p.bwd;
+    if (ok && p.mode == FftMode::chirp) {
+      // Forward: X_k = conj(w_k) sum_j (x_j conj(w_j)) w_{k-j}, k in (-cf, cf) with
+      // cf = n/2 + 1, so the kernel w_t is needed for t in [-(n + cf - 2), cf - 1].
+      // Inverse: z_j = w_j sum_k (Z_k w_k) conj(w_{j-k}), |k| < ci = (n + 1) / 2, j < n:
+      // the kernel conj(w_t) for t in [-(ci - 1), n + ci - 2]. Both ranges are shorter
+      // than M, so the cyclic convolutions of size M are the linear ones.
+      p.chirp.resize(2 * static_cast<std::size_t>(n));
+      for (int t = 0; t < n; ++t) chirp_value(t, n, p.chirp[2 * t], p.chirp[2 * t + 1]);
+      const int cf = n / 2 + 1, ci = (n + 1) / 2;
+      auto kernel = [&](int t0, int t1, double conj_sign, std::vector<double>& out) {
+        for (int i = 0; i < 2 * m; ++i) reinterpret_cast<double*>(z)[i] = 0.0;
+        for (int t = t0; t <= t1; ++t) {
+          const int pos = ((t % m) + m) % m;
+          chirp_value(t < 0 ? -static_cast<long long>(t) : t, n, z[pos][0], z[pos][1]);
+          z[pos][1] *= conj_sign;
+        }
+        fftw_execute_dft(p.fwd, z, z);
+        out.resize(2 * static_cast<std::size_t>(m));
+        for (int i = 0; i < m; ++i) {
+          out[2 * i] = z[i][0] / m;
+          out[2 * i + 1] = z[i][1] / m;
+        }
+      };
+      kernel(-(n + cf - 2), cf - 1, 1.0, p.kf);
+      kernel(-(ci - 1), n + ci - 2, -1.0, p.kb);
+    }
+    fftw_free(z);
+  }
+  if (!ok) {
+    for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd})
+      if (q) fftw_destroy_plan(q);
+    throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
+  }
+  return &plans.emplace(n, std::move(p)).first->second;
+}
+
+// z *= k elementwise (m complex values, interleaved).
+ATMOSH_DISPATCH
+void complex_multiply(double* __restrict z, const double* __restrict k, int m) {
+  for (int i = 0; i < m; ++i) {
+    const double a = z[2 * i], b = z[2 * i + 1], c = k[2 * i], d = k[2 * i + 1];
+    z[2 * i] = a * c - b * d;
+    z[2 * i + 1] = a * d + b * c;
+  }
 }
 }  // namespace
 
 RealFft::RealFft(int n) : n_(n) {
   if (n < 1) throw InputError("RealFft: size must be >= 1, got " + std::to_string(n));
   plans_ = fft_plans(n);
+  const int m = static_cast<const FftPlans*>(plans_)->m;
   real_ = fftw_alloc_real(static_cast<std::size_t>(n));
   spec_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
-  if (!real_ || !spec_) {
+  work_ = m > 0 ? reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(m))) : nullptr;
+  spec2_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
+  if (!real_ || !spec_ || !spec2_ || (m > 0 && !work_)) {
     fftw_free(real_);
     fftw_free(spec_);
+    fftw_free(spec2_);
+    fftw_free(work_);
     throw std::bad_alloc();
   }
 }
@@ -916,27 +1164,103 @@ RealFft::RealFft(int n) : n_(n) {
 RealFft::~RealFft() {
   fftw_free(real_);
   fftw_free(spec_);
+  fftw_free(spec2_);
+  fftw_free(work_);
 }
+
+RealFft::RealFft(RealFft&& o) noexcept
+    : n_(o.n_), plans_(o.plans_), real_(o.real_), spec_(o.spec_), spec2_(o.spec2_), work_(o.work_) {
+  o.real_ = o.spec_ = o.spec2_ = o.work_ = nullptr;
+}
+
+namespace {
+// a_m, b_m (m < count) from the spectrum X_k = a_k - i b_k, k <= n/2 (filled for
+// k < min(count, n/2 + 1)); orders above n/2 are the aliases.
+void emit_orders(const double* spec, int n, int count, double* out) {
+  const int half = n / 2;
+  if (count <= half + 1) {  // no aliases (the usual case): no index arithmetic
+    for (int m = 0; m < count; ++m) {
+      out[2 * m] = spec[2 * m];
+      out[2 * m + 1] = -spec[2 * m + 1];
+    }
+    return;
+  }
+  for (int m = 0; m < count; ++m) {
+    int k = m % n;
+    double sg = -1.0;
+    if (k > half) {
+      k = n - k;
+      sg = 1.0;
+    }
+    out[2 * m] = spec[2 * k];
+    out[2 * m + 1] = sg * spec[2 * k + 1];
+  }
+}
+}  // namespace
 
 template <class T>
 void RealFft::forward(const T* f, int count, double* out) {
-  for (int j = 0; j < n_; ++j) real_[j] = static_cast<double>(f[j]);
+  if constexpr (std::is_same_v<T, double>)
+    std::memcpy(real_, f, sizeof(double) * n_);
+  else
+    for (int j = 0; j < n_; ++j) real_[j] = static_cast<double>(f[j]);
   fftw_execute_dft_r2c(static_cast<const FftPlans*>(plans_)->r2c, real_, reinterpret_cast<fftw_complex*>(spec_));
   // X_k = sum_j f_j e^{-2 pi i j k / n} = a_k - i b_k
-  const int half = n_ / 2;
-  for (int m = 0; m < count; ++m) {
-    int k = m % n_;
-    double sg = -1.0;
-    if (k > half) {
-      k = n_ - k;
-      sg = 1.0;
-    }
-    out[2 * m] = spec_[2 * k];
-    out[2 * m + 1] = sg * spec_[2 * k + 1];
-  }
+  emit_orders(spec_, n_, count, out);
 }
 template void RealFft::forward<double>(const double*, int, double*);
 template void RealFft::forward<float>(const float*, int, double*);
+
+void RealFft::forward2(const double* f1, const double* f2, int count, double* out1, double* out2) {
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  if (p.mode == FftMode::real) {
+    forward(f1, count, out1);
+    forward(f2, count, out2);
+    return;
+  }
+  const int n = n_, m = p.m, cm = std::min(count, n / 2 + 1);
+  double* z = work_;
+  // z_j = f1_j + i f2_j; X_k = F1_k + i F2_k for |k| < cm at xk(k)
+  if (p.mode == FftMode::pair) {
+    for (int j = 0; j < n; ++j) {
+      z[2 * j] = f1[j];
+      z[2 * j + 1] = f2[j];
+    }
+    fftw_execute_dft(p.fwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+  } else {
+    const double* w = p.chirp.data();
+    for (int j = 0; j < n; ++j) {  // u_j = z_j conj(w_j)
+      const double a = f1[j], b = f2[j], c = w[2 * j], d = w[2 * j + 1];
+      z[2 * j] = a * c + b * d;
+      z[2 * j + 1] = b * c - a * d;
+    }
+    std::fill(z + 2 * n, z + 2 * m, 0.0);
+    fftw_execute_dft(p.fwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+    complex_multiply(z, p.kf.data(), m);
+    fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+    // X_k = conj(w_k) z_(k mod M), w_-k = w_k
+    auto fix = [&](int k) {
+      double* v = z + 2 * static_cast<std::size_t>(((k % m) + m) % m);
+      const int a = k < 0 ? -k : k;
+      const double c = w[2 * a], d = w[2 * a + 1], x = v[0], y = v[1];
+      v[0] = x * c + y * d;
+      v[1] = y * c - x * d;
+    };
+    for (int k = -(cm - 1); k < cm; ++k) fix(k);
+  }
+  const int period = p.mode == FftMode::pair ? n : m;
+  // F1_k = (X_k + conj(X_-k)) / 2, F2_k = (X_k - conj(X_-k)) / (2 i)
+  for (int k = 0; k < cm; ++k) {
+    const double* xp = z + 2 * static_cast<std::size_t>(k);
+    const double* xm = z + 2 * static_cast<std::size_t>((period - k) % period);
+    spec_[2 * k] = 0.5 * (xp[0] + xm[0]);
+    spec_[2 * k + 1] = 0.5 * (xp[1] - xm[1]);
+    spec2_[2 * k] = 0.5 * (xp[1] + xm[1]);
+    spec2_[2 * k + 1] = -0.5 * (xp[0] - xm[0]);
+  }
+  emit_orders(spec_, n, count, out1);
+  emit_orders(spec2_, n, count, out2);
+}
 
 void RealFft::inverse(const double* cs, int count, double* v) {
   if (2 * count - 1 > n_)
@@ -955,6 +1279,60 @@ void RealFft::inverse(const double* cs, int count, double* v) {
   std::copy(real_, real_ + n_, v);
 }
 
+void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* v1, double* v2) {
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  if (p.mode == FftMode::real) {
+    inverse(cs1, count, v1);
+    inverse(cs2, count, v2);
+    return;
+  }
+  if (2 * count - 1 > n_)
+    throw InputError("RealFft::inverse2: " + std::to_string(count) + " orders need at least " +
+                     std::to_string(2 * count - 1) + " points, have " + std::to_string(n_));
+  const int n = n_, m = p.m;
+  double* z = work_;
+  std::fill(z, z + 2 * m, 0.0);
+  const double* w = p.chirp.data();
+  const bool chirp = p.mode == FftMode::chirp;
+  // Z_k = V1_k + i V2_k, V_0 = C_0, V_k = (C_k - i S_k) / 2, V_-k = conj(V_k); for the
+  // chirp, y_k = Z_k w_k
+  auto put = [&](int k, double re, double im) {
+    double* v = z + 2 * static_cast<std::size_t>(((k % m) + m) % m);
+    if (chirp) {
+      const int a = k < 0 ? -k : k;
+      const double c = w[2 * a], d = w[2 * a + 1];
+      v[0] = re * c - im * d;
+      v[1] = re * d + im * c;
+    } else {
+      v[0] = re;
+      v[1] = im;
+    }
+  };
+  if (count > 0) put(0, cs1[0], cs2[0]);
+  for (int k = 1; k < count; ++k) {
+    const double c1 = 0.5 * cs1[2 * k], s1 = 0.5 * cs1[2 * k + 1], c2 = 0.5 * cs2[2 * k], s2 = 0.5 * cs2[2 * k + 1];
+    // V1_k = c1 - i s1, V2_k = c2 - i s2: Z_k = (c1 + s2) + i (c2 - s1); Z_-k = (c1 - s2) + i (c2 + s1)
+    put(k, c1 + s2, c2 - s1);
+    put(-k, c1 - s2, c2 + s1);
+  }
+  if (chirp) {
+    fftw_execute_dft(p.fwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+    complex_multiply(z, p.kb.data(), m);
+  }
+  fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+  for (int j = 0; j < n; ++j) {
+    double x = z[2 * j], y = z[2 * j + 1];
+    if (chirp) {  // z_j = w_j (y * conj w)_j
+      const double c = w[2 * j], d = w[2 * j + 1];
+      const double t = x * c - y * d;
+      y = x * d + y * c;
+      x = t;
+    }
+    v1[j] = x;
+    v2[j] = y;
+  }
+}
+
 }  // namespace detail
 
 namespace {
@@ -963,11 +1341,12 @@ namespace {
 // weights, E cos, E sin, xO cos, xO sin at out[f * bands + m]. Rounded as written (no
 // fused multiply-add), as the sums regrouped by legendre_analysis.
 ATMOSH_DISPATCH_NO_FMA
-void pair_sums(int bands, const double* fn, const double* fs, double wn, double ws, double x, double* out) {
+void pair_sums(int bands, const double* fn, const double* fs, double wn, double ws, double x, double* out,
+               std::size_t stride) {
   double* ec = out;
-  double* es = out + bands;
-  double* oc = out + 2 * bands;
-  double* os = out + 3 * bands;
+  double* es = out + stride;
+  double* oc = out + 2 * stride;
+  double* os = out + 3 * stride;
   for (int m = 0; m < bands; ++m) {
     const double sq = m > 0 ? std::numbers::sqrt2 : 1.0;
     const double wnm = wn * sq, wsm = ws * sq;
@@ -1051,8 +1430,10 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
   const detail::Pairs pr = detail::make_pairs(g.nlat, g.cos_t.data(), g.sin_t.data(), true);
   const int padded = static_cast<int>(pr.x.size()), np = static_cast<int>(pr.north.size());
   const int W = detail::analysis_lanes();
-  std::unique_ptr<double[]> fm(new double[static_cast<std::size_t>(L) * padded * 4]);
+  double* const fm = detail::thread_work().fm.get(static_cast<std::size_t>(L) * padded * 4);
   const double dphi = 2.0 * std::numbers::pi / n;
+  // row stride of the lane buffers: off a multiple of 4 kB (the 4 W rows are read in step)
+  const std::size_t LS = static_cast<std::size_t>(L) + 8;
   // One block of W ring pairs at a time from the shared counter; each worker keeps its
   // FFT plan and lane buffers.
   struct Scratch {
@@ -1066,23 +1447,26 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
     std::vector<double>& lanes = scratch.lanes;
     for (int k = 0; k < W; ++k) {
       const int q = blk * W + k;
-      double* out = lanes.data() + static_cast<std::size_t>(k) * 4 * L;
+      double* out = lanes.data() + static_cast<std::size_t>(k) * 4 * LS;
       if (q >= np) {
-        std::fill(out, out + 4 * L, 0.0);
+        std::fill(out, out + 4 * LS, 0.0);
         continue;
       }
       const int r = pr.north[q], s = pr.south[q];
-      fft.forward(values + static_cast<std::size_t>(r) * n, L, fn.data());
-      if (s >= 0) fft.forward(values + static_cast<std::size_t>(s) * n, L, fs.data());
+      if (s >= 0)
+        fft.forward2(values + static_cast<std::size_t>(r) * n, values + static_cast<std::size_t>(s) * n, L, fn.data(),
+                     fs.data());
+      else
+        fft.forward(values + static_cast<std::size_t>(r) * n, L, fn.data());
       // weights of the Gauss rule in latitude and of the uniform rule in longitude
       pair_sums(L, fn.data(), s >= 0 ? fs.data() : nullptr, g.weights[r] * dphi, s >= 0 ? g.weights[s] * dphi : 0.0,
-                pr.x[q], out);
+                pr.x[q], out, LS);
     }
     // one contiguous run of 4 W values per m
     for (int m = 0; m < L; ++m) {
-      double* o = fm.get() + detail::ring_sum_index(padded, W, m, blk * W, 0);
+      double* o = fm + detail::ring_sum_index(padded, W, m, blk * W, 0);
       for (int f = 0; f < 4; ++f)
-        for (int k = 0; k < W; ++k) o[f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * L + m];
+        for (int k = 0; k < W; ++k) o[f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * LS + m];
     }
   };
   atmosh::parallel_for_ranges_local(
@@ -1090,13 +1474,13 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
       [&] {
         return Scratch{detail::RealFft(n), std::vector<double>(2 * static_cast<std::size_t>(L)),
                        std::vector<double>(2 * static_cast<std::size_t>(L)),
-                       std::vector<double>(static_cast<std::size_t>(W) * 4 * L)};
+                       std::vector<double>(static_cast<std::size_t>(W) * 4 * LS)};
       },
       [&](Scratch& scratch, std::size_t b, std::size_t e) {
         for (std::size_t blk = b; blk < e; ++blk) block(scratch, static_cast<int>(blk));
       });
   std::vector<double> c(sh_count(L), 0.0);
-  detail::analysis_from_ring_sums(L, pr, W, fm.get(), c.data(), threads);
+  detail::analysis_from_ring_sums(L, pr, W, fm, c.data(), threads);
   return c;
 }
 
@@ -1105,15 +1489,23 @@ std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int thr
     throw InputError("synthesise: grid is not initialised (use gauss_grid)");
   threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
-  std::vector<double> four(static_cast<std::size_t>(g.nlat) * L * 2, 0.0);
-  detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four.data(), threads);
+  // every ring and order of the work array is written by legendre_synthesis
+  double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
+  detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four, threads);
   std::vector<double> out(static_cast<std::size_t>(g.nlat) * n, 0.0);
-  // One ring at a time from the shared counter; each worker keeps its FFT plan.
+  // Two rings at a time from the shared counter; each worker keeps its FFT plan.
+  const int npairs = (g.nlat + 1) / 2;
   atmosh::parallel_for_ranges_local(
-      static_cast<std::size_t>(g.nlat), 1, threads, [&] { return detail::RealFft(n); },
+      static_cast<std::size_t>(npairs), 1, threads, [&] { return detail::RealFft(n); },
       [&](detail::RealFft& fft, std::size_t b, std::size_t e) {
-        for (std::size_t r = b; r < e; ++r)
-          fft.inverse(four.data() + r * L * 2, L, out.data() + r * n);
+        for (std::size_t q = b; q < e; ++q) {
+          const std::size_t r = 2 * q;
+          if (static_cast<int>(r) + 1 < g.nlat)
+            fft.inverse2(four + r * L * 2, four + (r + 1) * L * 2, L, out.data() + r * n,
+                         out.data() + (r + 1) * n);
+          else
+            fft.inverse(four + r * L * 2, L, out.data() + r * n);
+        }
       });
   return out;
 }

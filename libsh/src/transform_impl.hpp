@@ -18,13 +18,17 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
 /// In-place complex FFT of size n (power of two), sign -1 forward, +1 inverse (unscaled).
 void fft(double* re, double* im, int n, int sign);
 /// Real FFT of any size n >= 1 through FFTW3. The plans are made once per size (FFTW's
-/// planner is not thread safe: under a process-wide lock) with FFTW_ESTIMATE, so the same
-/// input gives the same bits from run to run; executing them is thread safe. Each object
-/// owns aligned work arrays: one per thread.
+/// planner is not thread safe: under a process-wide lock) with FFTW_ESTIMATE, and the
+/// method is chosen from the factors of n alone (transform.cpp), so the same input gives
+/// the same bits from run to run; executing them is thread safe. Sizes with a prime factor
+/// above 5 transform two rings at once (forward2 / inverse2: one complex FFT of size n,
+/// or Bluestein's chirp convolution where a prime factor exceeds 13). Each object owns
+/// aligned work arrays: one per thread. libsh destroys only its own plans at exit.
 class RealFft {
  public:
   explicit RealFft(int n);
   ~RealFft();
+  RealFft(RealFft&& o) noexcept;
   RealFft(const RealFft&) = delete;
   RealFft& operator=(const RealFft&) = delete;
   int size() const { return n_; }
@@ -32,15 +36,21 @@ class RealFft {
   /// out[2m+1] for m < count (any count: orders above n/2 are the aliases).
   template <class T>
   void forward(const T* f, int count, double* out);
+  /// forward() of two rings (out1 from f1, out2 from f2).
+  void forward2(const double* f1, const double* f2, int count, double* out1, double* out2);
   /// v_j = sum_{m < count} (C_m cos(2 pi j m / n) + S_m sin(2 pi j m / n)) from cs[2m], cs[2m+1];
   /// needs 2 count - 1 <= n.
   void inverse(const double* cs, int count, double* v);
+  /// inverse() of two rings.
+  void inverse2(const double* cs1, const double* cs2, int count, double* v1, double* v2);
 
  private:
   int n_;
   const void* plans_;  // the shared plans of size n
   double* real_;       // n values (FFTW-aligned)
   double* spec_;       // n/2 + 1 complex values
+  double* spec2_;      // n/2 + 1 complex values (second ring)
+  double* work_;       // complex work array of the paired methods (null: real FFTs only)
 };
 }  // namespace detail
 

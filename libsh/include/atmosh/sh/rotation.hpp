@@ -17,11 +17,13 @@
 // factorials). In the real basis this matrix has checkerboard sparsity, and by the
 // symmetry d_{m m'} = (-1)^(m'-m) d_{m' m} its parity blocks are symmetric or
 // antisymmetric: only a quarter of the dense band (half of the non-zeros) is stored, in
-// 4 x 4 tiles each used for two products. The band matrices are the same for every
-// rotation: a process-wide cache holds bands below 256 (~22 MB) by default and is extended
-// by reserve_rotation_cache(L) (memory ~ L^3 / 6 doubles: 180 MB at L = 512, 1.3 GB at
-// L = 1000); bands above the cache are rebuilt in each application (row recurrence,
-// vectorised: O(l^2) per band, measured in docs/sh.md).
+// 4 x 4 tiles each used for two products. Bands below 256 use these stored matrices
+// (a process-wide cache, ~22 MB, built on first use). Bands 256..1600 are applied on the fly:
+// every application runs the row recurrence again and uses each row of d^l(pi/2) as it is
+// made (row sums and transposed terms in one pass; three rows of work memory), which is
+// faster than streaming stored matrices from memory (1.3 GB at L = 1000) and needs no
+// cache; bands above 1600 are rebuilt in each application (column recurrence with
+// per-column exponents). Measured in docs/sh.md.
 //
 // Accuracy (measured, docs/sh.md): ||D D^T - I||_max <= 1e-14 at L = 64 and
 // ~1e-13 at L = 1000; rotation commutes with projection to rounding.
@@ -71,9 +73,10 @@ class Rotation {
   std::vector<double> ca_, sa_, cb_, sb_, cg_, sg_;
 };
 
-/// Builds and keeps the Ry(90) band matrices of all bands below `bands` (thread safe; the
-/// cache only grows). Afterwards applying any rotation of up to `bands` bands rebuilds
-/// nothing. Memory: about bands^3 / 6 doubles. InputError for bands outside [1, 8192].
+/// Builds and keeps the Ry(90) band matrices of all bands below min(bands, 256) now (thread
+/// safe; otherwise they are built on first use). Bands from 256 on are applied on the fly
+/// and never stored, so this no longer grows the cache past 256 bands (at most ~22 MB).
+/// InputError for bands outside [1, 8192].
 void reserve_rotation_cache(int bands);
 /// Number of bands whose matrices are cached now.
 int rotation_cache_bands();

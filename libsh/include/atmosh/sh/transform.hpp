@@ -8,7 +8,9 @@
 // nlat >= L and nphi >= 2L - 1 (the Gauss rule integrates the degree <= 2L-2 products
 // in cos t; the uniform rule the trigonometric ones in p).
 //
-// Method: per ring a real FFT in p (FFTW3, any nphi, plans made once per size), then the
+// Method: per ring a real FFT in p (FFTW3, any nphi, plans made once per size; sizes with
+// a prime factor above 5 take two rings per complex FFT, and above 13 Bluestein's chirp
+// convolution through power-of-two FFTs: within ~1.3x of the power-of-two time), then the
 // Legendre sums, m outer, vectorised over
 // blocks of ring pairs and using the equatorial symmetry Pbar_lm(-x) = (-1)^(l+m)
 // Pbar_lm(x). Analysis recurs only the degrees of the parity of m, in x^2 (two FMAs per
@@ -18,8 +20,8 @@
 // ring pairs (transform.cpp). Work is split over m between `threads` threads (0 = all
 // hardware threads). FFTW's planner is not thread safe: plans are made under a lock held
 // by libsh only — other code in the process that plans FFTW transforms concurrently must
-// not race with the first transform of a new nphi. At exit libsh destroys its plans and
-// calls fftw_cleanup() (no leak reports).
+// not race with the first transform of a new nphi. At exit libsh destroys its own plans
+// and nothing else (no fftw_cleanup(): FFTW plans held by other code stay valid).
 //
 // Accuracy: analysis of synthesis reproduces coefficients to ~3e-13 relative at
 // L = 1024; synthesised values are within ~1e-12 of max |f| at L = 1024 (1.3e-13 at

@@ -1,0 +1,142 @@
+// The FFTs behind the transforms: the paired and chirp (Bluestein) methods against direct
+// sums in long double, and libsh's teardown leaving the process's other FFTW plans and
+// wisdom alone.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <cstdlib>
+#include <cstring>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <fftw3.h>
+
+#include "atmosh/error.hpp"
+#include "atmosh/sh/transform.hpp"
+#include "transform_impl.hpp"  // private (libsh/src): detail::RealFft
+
+using namespace atmosh::sh;
+
+namespace {
+long double angle(long long m, long long j, long long n) {
+  return 2.0L * std::numbers::pi_v<long double> * ((m * j) % n) / n;
+}
+}  // namespace
+
+TEST(Transform, PairedRealFftsMatchDirectSums) {
+  // Sizes of each method: 2^a 3^b 5^c (real FFTs), other factors <= 13 (two rings per
+  // complex FFT: 7, 21, 77, 525), a factor > 13 (Bluestein: 17, 34, 89, 511);
+  // forward with aliased orders (count > n/2), inverse at the largest count.
+  std::mt19937_64 rng(27);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int n : {1, 2, 16, 96, 7, 21, 77, 525, 17, 34, 89, 511}) {
+    detail::RealFft fft(n);
+    std::vector<double> f1(n), f2(n);
+    for (auto& v : f1) v = U(rng);
+    for (auto& v : f2) v = U(rng);
+    const std::vector<int> counts = n > 100 ? std::vector<int>{(n + 1) / 2} : std::vector<int>{1, (n + 1) / 2, n / 2 + 1, n + 3};
+    for (int count : counts) {
+      std::vector<double> o1(2 * count), o2(2 * count);
+      fft.forward2(f1.data(), f2.data(), count, o1.data(), o2.data());
+      for (int m = 0; m < count; ++m) {
+        long double a1 = 0, b1 = 0, a2 = 0, b2 = 0;
+        for (int j = 0; j < n; ++j) {
+          const long double p = angle(m, j, n);
+          a1 += f1[j] * std::cos(p);
+          b1 += f1[j] * std::sin(p);
+          a2 += f2[j] * std::cos(p);
+          b2 += f2[j] * std::sin(p);
+        }
+        const double tol = 1e-14 * n + 1e-14;
+        ASSERT_NEAR(o1[2 * m], static_cast<double>(a1), tol) << n << " " << count << " " << m;
+        ASSERT_NEAR(o1[2 * m + 1], static_cast<double>(b1), tol) << n << " " << count << " " << m;
+        ASSERT_NEAR(o2[2 * m], static_cast<double>(a2), tol) << n << " " << count << " " << m;
+        ASSERT_NEAR(o2[2 * m + 1], static_cast<double>(b2), tol) << n << " " << count << " " << m;
+      }
+    }
+    for (int count : {1, (n + 1) / 2}) {
+      std::vector<double> c1(2 * count), c2(2 * count), v1(n), v2(n);
+      for (auto& x : c1) x = U(rng);
+      for (auto& x : c2) x = U(rng);
+      fft.inverse2(c1.data(), c2.data(), count, v1.data(), v2.data());
+      for (int j = 0; j < n; ++j) {
+        long double s1 = 0, s2 = 0;
+        for (int m = 0; m < count; ++m) {
+          const long double p = angle(m, j, n);
+          s1 += c1[2 * m] * std::cos(p) + (m > 0 ? c1[2 * m + 1] * std::sin(p) : 0.0L);
+          s2 += c2[2 * m] * std::cos(p) + (m > 0 ? c2[2 * m + 1] * std::sin(p) : 0.0L);
+        }
+        const double tol = 1e-14 * n + 1e-14;
+        ASSERT_NEAR(v1[j], static_cast<double>(s1), tol) << n << " " << count << " " << j;
+        ASSERT_NEAR(v2[j], static_cast<double>(s2), tol) << n << " " << count << " " << j;
+      }
+      if (n > 1) {
+        std::vector<double> big(2 * ((n + 1) / 2 + 1), 0.0);
+        EXPECT_THROW(fft.inverse2(big.data(), big.data(), (n + 1) / 2 + 1, v1.data(), v2.data()), atmosh::InputError);
+      }
+    }
+  }
+}
+
+namespace {
+// A user's FFTW state, checked after libsh's static teardown (atexit runs the handlers in
+// reverse order of registration, and libsh's plan cache is created after this one is
+// registered, so its destructor runs first).
+struct UserFftw {
+  int n = 96;
+  double* in = nullptr;
+  fftw_complex* out = nullptr;
+  fftw_plan plan = nullptr;
+};
+UserFftw user;
+
+void check_user_fftw_at_exit() {
+  // the plan still transforms (against the direct sums) and the wisdom is still there
+  for (int j = 0; j < user.n; ++j) user.in[j] = std::cos(0.37 * j * j) + 0.25 * j / user.n;
+  fftw_execute(user.plan);
+  for (int k = 0; k <= user.n / 2; ++k) {
+    std::complex<long double> s = 0;
+    for (int j = 0; j < user.n; ++j) s += std::polar<long double>(user.in[j], -angle(k, j, user.n));
+    if (std::abs(user.out[k][0] - static_cast<double>(s.real())) > 1e-12 ||
+        std::abs(user.out[k][1] - static_cast<double>(s.imag())) > 1e-12)
+      std::_Exit(3);
+  }
+  // the wisdom of the user's FFTW_MEASURE plan is still known: FFTW_WISDOM_ONLY plans
+  // from it (it returns no plan where the wisdom was dropped)
+  fftw_plan again = fftw_plan_dft_r2c_1d(user.n, user.in, user.out, FFTW_MEASURE | FFTW_WISDOM_ONLY);
+  const bool same = again != nullptr;
+  if (again) fftw_destroy_plan(again);
+  fftw_destroy_plan(user.plan);
+  fftw_free(user.in);
+  fftw_free(user.out);
+  std::_Exit(same ? 0 : 4);
+}
+}  // namespace
+
+TEST(Transform, UserFftwPlansAndWisdomSurviveLibshTeardown) {
+  // In a fresh process (threadsafe death test: the binary re-runs only this test), a user
+  // plans an FFT with FFTW_MEASURE (which records wisdom), then libsh transforms on grids
+  // of each FFT method and the process exits. libsh's teardown must destroy only its own
+  // plans: fftw_cleanup() there would drop the user's wisdom (and, by FFTW's manual, make
+  // the user's plan undefined). Exit codes: 3 plan wrong, 4 wisdom lost.
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(
+      {
+        user.in = fftw_alloc_real(user.n);
+        user.out = fftw_alloc_complex(user.n / 2 + 1);
+        user.plan = fftw_plan_dft_r2c_1d(user.n, user.in, user.out, FFTW_MEASURE);
+        std::atexit(check_user_fftw_at_exit);
+        for (int nphi : {16, 21, 17}) {
+          const GaussGrid g = gauss_grid(8, 8, nphi);
+          std::vector<double> c(64, 0.5);
+          const auto f = synthesise(g, c.data());
+          const auto c2 = analyse(g, f.data());
+          if (std::abs(c2[5] - 0.5) > 1e-12) std::_Exit(5);
+        }
+        std::exit(0);
+      },
+      ::testing::ExitedWithCode(0), "");
+}
