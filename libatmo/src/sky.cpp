@@ -42,30 +42,8 @@ Ray make_ray(const Atmosphere& atm, double altitude, const glm::dvec3& view, con
     throw InputError("observer altitude " + std::to_string(altitude) + " m is below the ground or not finite");
   const glm::dvec3 v = unit(view, "view"), l = unit(sun, "sun");
   // The shared set-up (shared/view_ray.glsl.hpp, the GPU's too).
-  const sg::SkyViewRay sr = sg::sky_view_ray(atm.ground_radius() + std::max(altitude, 0.0), v.z, l.z,
-                                             glm::clamp(glm::dot(v, l), -1.0, 1.0), atm.ground_radius(),
-                                             atm.top_radius());
-  Ray ray;
-  ray.empty = sr.empty;
-  ray.r = sr.r;
-  ray.mu = sr.mu;
-  ray.mu_s = sr.mu_s;
-  ray.nu = sr.nu;
-  ray.s_end = sr.s_end;
-  ray.ground = sr.ground;
-  return ray;
-}
-
-sg::SkyViewRay shared_ray(const Ray& ray) {
-  sg::SkyViewRay s;
-  s.r = ray.r;
-  s.mu = ray.mu;
-  s.mu_s = ray.mu_s;
-  s.nu = ray.nu;
-  s.s_end = ray.s_end;
-  s.empty = ray.empty;
-  s.ground = ray.ground;
-  return s;
+  return sg::sky_view_ray(atm.ground_radius() + std::max(altitude, 0.0), v.z, l.z,
+                          glm::clamp(glm::dot(v, l), -1.0, 1.0), atm.ground_radius(), atm.top_radius());
 }
 
 std::vector<PhaseFunction> make_phases(const Atmosphere& atm) {
@@ -259,12 +237,9 @@ template <class Ray, class Visit>  // Ray = detail::SkyRay (the header names no 
 glm::dvec3 SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, Visit&& visit) const {
   // The walk along the ray: shared/view_ray.glsl.hpp (the GPU's sky.comp runs it too).
   return sg::sky_trace(
-      shared_ray(ray), cuts, nc, atm_.ground_radius(), ext_max_, opt_.max_piece_optical_depth, gl_x_.data(),
+      ray, cuts, nc, atm_.ground_radius(), ext_max_, opt_.max_piece_optical_depth, gl_x_.data(),
       gl_w_.data(), static_cast<int>(gl_x_.size()), part_w_.data(), [&](double h) { return atm_.density(h); },
-      [&](const sg::SkyViewNode& n) {
-        const detail::SkyViewNode nd{n.s, n.r, n.w, n.rho, n.column};
-        visit(nd);
-      });
+      visit);
 }
 
 template <class Ray, class ForEachNode, class SunColumn>  // Ray = detail::SkyRay
@@ -338,7 +313,7 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
     orders_->radiance(ray.r, ray.mu, ray.ground, ray.mu_s, ray.nu, v);
     for (std::size_t i = 0; i < nw; ++i) out[i] += solar_scaled_[i] * v[i];
     if (ray.ground && albedo > 0) {
-      const double mus_g = sg::sky_ground_sun_cosine(shared_ray(ray));
+      const double mus_g = sg::sky_ground_sun_cosine(ray);
       orders_->ground_irradiance(mus_g, v);
       const double* er = ext_.data();
       const double* em = er + nw;
@@ -350,7 +325,7 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
   }
   if (ray.ground && albedo > 0) {
     const double R = atm_.ground_radius();
-    const double mus_g = sg::sky_ground_sun_cosine(shared_ray(ray));
+    const double mus_g = sg::sky_ground_sun_cosine(ray);
     if (mus_g > 0) {
       const LutColumn to_sun = lut_->sun(R, mus_g);
       if (!to_sun.hits_ground)
