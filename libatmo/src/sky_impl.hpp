@@ -16,14 +16,11 @@ namespace detail {
 // the GPU's sky pass uses too.
 using SkyRay = shared::SkyViewRay;
 using SkyViewNode = shared::SkyViewNode;
-// What the spectral loop needs of one quadrature node, in single precision: the
-// column from the sun through the node to the observer per constituent (Rayleigh,
-// Mie, ozone) [m], and the node's scattering weights sr = rho_R p_R w, sm = rho_M p_M w
-// (relative density x phase function [1/sr] x quadrature weight [m]).
-struct SkyNodeTerms {
-  float x[3];
-  float sr, sm;
-};
+// What the spectral loop needs of one quadrature node, in single precision
+// (shared/view_ray.glsl.hpp, sky_node_terms): the column from the sun through the node
+// to the observer per constituent (Rayleigh, Mie, ozone) [m], and the node's
+// scattering weights sr = rho_R p_R w, sm = rho_M p_M w.
+using SkyNodeTerms = shared::SkyNodeTerms;
 // The spectral loop of a view ray over `count` nodes, in order: for every wavelength
 // i < n, acc[i] += sum over the nodes of exp(-tau_i) (cr[i] sr + cm[i] sm) with
 // tau_i = er[i] x0 + em[i] x1 + eo[i] x2, where ext = [er | em | eo] and sca = [cr | cm]
