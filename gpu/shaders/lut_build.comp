@@ -34,8 +34,7 @@ void main() {
   if (e >= params.n_items) return;
   int k = e / params.n_dirs, j = e - k * params.n_dirs;
   double R = params.ground_radius_d, T = params.top_radius_d;
-  double r = shell_r[k];
-  double rho = sqrt(max(0.0LF, (r - R) * (r + R)));
+  double r = shell_r[k], rho = shell_d[k];  // OpticalDepthLut::shell_radii(), shell_rho()
   bool ground = params.table_kind != 0;
   double d = lut_table_distance(r, rho, double(j) / double(params.n_dirs - 1), R, T, params.horizon_rho_d, ground);
   double mu = lut_table_mu(r, rho, d, T, ground), rt2 = tangent_radius_sq(r, mu);

@@ -516,6 +516,8 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
   const int nv = lo.view_tables ? lo.view_directions : 0, ns = lo.sun_directions;  // as lut_tables_from_cpu
   Buffer b_nodes(nodes.size() * sizeof(float) + 4, nodes.data()), b_cross(cross.size() * sizeof(double), cross.data()),
       b_rule(rule.size() * sizeof(double), rule.data()), b_radii(radii.size() * sizeof(double), radii.data());
+  Buffer b_rho(lut.shell_rho().size() * sizeof(double), lut.shell_rho().data());
+  b_rho.bind(ATMOSH_BIND_SHELLS);
   b_nodes.bind(ATMOSH_BIND_NODES);
   b_cross.bind(ATMOSH_BIND_CROSSINGS);
   b_rule.bind(ATMOSH_BIND_RULE);
