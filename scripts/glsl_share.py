@@ -13,17 +13,24 @@ gpu/shaders/. A code line is a line that is neither blank nor only a comment
 the parts. A shared block counts whole, also where the shader calls only some of its
 functions (the driver drops the rest), so the number says how much of the GLSL a
 shader is built from is compiled by the CPU build too, and the hand-written count
-says how much is not.
+says how much is not. Hence the lines of a shared block that only one side compiles
+are not counted as shared: the conditionals of a block are evaluated for the C++ build
+(nothing defined) and for the shader's GLSL (ATMOSH_GLSL and the macros the shader is
+assembled with, DEFINES); lines only the GLSL sees (e.g. `#ifdef ATMOSH_GLSL`) count as
+hand-written, lines the shader's GLSL does not see (`#ifndef ATMOSH_GLSL`, or the walk
+under `#if !defined(ATMOSH_GLSL) || defined(ATMOSH_SKY_TRACE)` in the shaders other
+than sky.comp) are not counted.
 """
 import argparse
+import re
 import os
 import sys
 
 SHARED = "libatmo/include/atmosh/atmo/shared/"
 SKY_PARTS = [SHARED + "geometry.glsl.hpp", SHARED + "lut.glsl.hpp", SHARED + "scatter.glsl.hpp",
-             SHARED + "sky_params.glsl.hpp", "gpu/shaders/sky_lib.glsl", SHARED + "view_ray.glsl.hpp"]
+             SHARED + "view_ray.glsl.hpp", SHARED + "sky_params.glsl.hpp", "gpu/shaders/sky_lib.glsl"]
 SHADERS = {
-    "sky.comp": SKY_PARTS + ["gpu/shaders/sky.comp"],
+    "sky.comp": SKY_PARTS + ["gpu/shaders/sky.comp"],  # assembled with ATMOSH_SKY_TRACE (DEFINES)
     "lut_build.comp": SKY_PARTS + ["gpu/shaders/lut_build.comp"],
     "sun_lookup.comp": SKY_PARTS + ["gpu/shaders/sun_lookup.comp"],
     "ozone_check.comp": SKY_PARTS + ["gpu/shaders/ozone_check.comp"],
@@ -32,20 +39,55 @@ SHADERS = {
 }
 
 
-def code_lines(path):
+# Macros a shader is assembled with (gpu::render_sky's Program).
+DEFINES = {"sky.comp": {"ATMOSH_SKY_TRACE"}}
+
+
+def condition(d, defined):
+    """Value of the conditional directive d (without '#') with the macros `defined`;
+    other names (include guards such as ATMOSH_SHARED_LUT_ONCE) count as undefined."""
+    words = d.split()
+    if words[0] == "ifdef":
+        return words[1] in defined
+    if words[0] == "ifndef":
+        return words[1] not in defined
+    expr = d[len("if"):].split("//")[0]
+    expr = re.sub(r"defined\s*\(\s*(\w+)\s*\)", lambda m: str(m.group(1) in defined), expr)
+    return bool(eval(expr.replace("||", " or ").replace("&&", " and ").replace("!", " not ")))
+
+
+def code_lines(path, defines=()):
+    """(lines both builds compile, lines only the shader's GLSL sees) of a part: the C++
+    build defines nothing, the GLSL build ATMOSH_GLSL and the shader's `defines`."""
     with open(path, encoding="utf-8") as f:
         lines = f.read().split("\n")
     if path.endswith(".hpp"):
         begin = next(i for i, l in enumerate(lines) if l.strip().startswith("// ATMOSH_GLSL_BEGIN"))
         end = next(i for i, l in enumerate(lines) if l.strip().startswith("// ATMOSH_GLSL_END"))
         lines = lines[begin + 1:end]
-    n = 0
+    glsl_env, cpp_env = {"ATMOSH_GLSL", *defines}, set()
+    both = glsl_only = 0
+    stack = []  # per open conditional: [in GLSL, in C++] of its current branch
     for l in lines:
         s = l.strip()
         if not s or s.startswith("//") or (s.startswith("/*") and s.endswith("*/")):
             continue
-        n += 1
-    return n
+        d = s[1:].strip() if s.startswith("#") else ""
+        # A conditional's own directives belong to the region around it.
+        around = stack[:-1] if (d.startswith("else") or d.startswith("endif")) else stack
+        in_glsl = all(g for g, _ in around)
+        in_cpp = path.endswith(".hpp") and all(c for _, c in around)
+        if d.startswith("if"):
+            stack.append([condition(d, glsl_env), condition(d, cpp_env)])
+        elif d.startswith("else") and stack:
+            stack[-1] = [not stack[-1][0], not stack[-1][1]]
+        elif d.startswith("endif") and stack:
+            stack.pop()
+        if in_glsl and in_cpp:
+            both += 1
+        elif in_glsl:
+            glsl_only += 1
+    return both, glsl_only
 
 
 def main():
@@ -62,11 +104,12 @@ def main():
             path = os.path.join(args.root, p)
             if not os.path.exists(path):
                 continue
-            n = code_lines(path)
+            n, glsl_only = code_lines(path, DEFINES.get(name, ()))
             if p.startswith(SHARED):
                 shared += n
+                hand += glsl_only
             else:
-                hand += n
+                hand += n + glsl_only
         share = 100.0 * shared / (shared + hand)
         worst = min(worst, share)
         print(f"| {name} | {shared} | {hand} | {share:.1f} % |")

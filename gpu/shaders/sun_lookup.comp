@@ -4,11 +4,11 @@
 // radiance[4 i + c] = column c [m] (0 Rayleigh, 1 Mie, 2 ozone) to the top of the
 // atmosphere, radiance[4 i + 3] = 1 where the ground blocks the ray. Assembled after
 // sky_lib.glsl.
-layout(local_size_x = 64) in;
+layout(local_size_x = ATMOSH_ITEM_GROUP_SIZE) in;
 
 
 void main() {
-  int i = int(gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x);
+  int i = item_index(int(gl_GlobalInvocationID.x), int(gl_GlobalInvocationID.y), int(gl_NumWorkGroups.x));
   if (i >= params.n_items) return;
   vec4 c = sun_lookup(dirs[i].x, dirs[i].y);
   for (int k = 0; k < 4; ++k) radiance[4 * i + k] = c[k];

@@ -26,21 +26,21 @@ namespace {
 namespace sg = atmo::shared;
 using atmo::DensityProfileSpec;
 
-constexpr int kMaxWavelengths = 64;  // sky.comp kMaxWavelengths
+using sg::kMaxWavelengths;
 constexpr int kMaxOzoneNodes = sg::kMaxLinearNodes;  // GLSL build of shared/geometry.glsl.hpp
 
 // The parameter block's C++ layout is its std430 layout (shared/sky_params.glsl.hpp):
 // doubles first, then 4-byte scalars and scalar arrays, no padding.
 using Params = sg::GpuSkyParams;
 static_assert(sizeof(double) == 8 && sizeof(float) == 4 && sizeof(int) == 4);
-static_assert(offsetof(Params, horizon_rho_d) == 24 && offsetof(Params, ground_radius) == 32);
-static_assert(offsetof(Params, scale_height) == 40 && offsetof(Params, ext_max) == 52);
-static_assert(offsetof(Params, phase_p) == 64 && offsetof(Params, sun_dir) == 96);
-static_assert(offsetof(Params, albedo) == 116 && offsetof(Params, n_items) == 120);
-static_assert(offsetof(Params, off_sub) == 160 && offsetof(Params, off_nodes) == 192);
-static_assert(offsetof(Params, n_gauss) == 216 && offsetof(Params, phase_model) == 244);
-static_assert(offsetof(Params, n_cross) == 252 && offsetof(Params, log_encoded) == 268);
-static_assert(offsetof(Params, n_q) == 316 && sizeof(Params) == 328);
+static_assert(offsetof(Params, cut_radii) == 32 && offsetof(Params, gauss_x) == 32 + 8 * sg::kMaxCutSpheres);
+static_assert(offsetof(Params, build_scale_height) == offsetof(Params, part_w) + 8 * sg::kMaxPartWeights);
+static_assert(offsetof(Params, ground_radius) == offsetof(Params, build_scale_height) + 8);
+static_assert(sizeof(sg::GpuLinearNodes) == 4 * (3 * sg::kMaxLinearNodes + 1));
+static_assert(sizeof(sg::GpuRamps) == 4 * (2 * sg::kMaxLinearNodes + 1));
+static_assert(offsetof(Params, ozone) == offsetof(Params, albedo) + 4);
+static_assert(offsetof(Params, n_items) == offsetof(Params, build_ramps) + 3 * sizeof(sg::GpuRamps));
+static_assert(sizeof(Params) == offsetof(Params, log_encoded) + 3 * sizeof(int));
 
 // Closed-form column at lookup (OpticalDepthLut: piecewise-linear profiles with
 // few nodes), else interpolated from the tables.
@@ -66,16 +66,32 @@ void profile_nodes(const atmo::DensityProfile& p, std::vector<double>& h, std::v
   }
 }
 
-// The nodes of a closed-form column for sky_lib's linear_column: radius[n], value[n],
-// slope[n] appended to `out`; returns n.
-int push_linear_nodes(const atmo::PiecewiseLinearColumn& p, std::vector<float>& out) {
+// The nodes of a closed-form column as the parameter block holds them (radius, value,
+// slope to the next node; at most kMaxLinearNodes, the GLSL build's array size).
+sg::GpuLinearNodes linear_nodes(const atmo::PiecewiseLinearColumn& p) {
+  sg::GpuLinearNodes g{};
   const auto& r = p.node_radii();
   const auto& v = p.node_values();
-  for (double x : r) out.push_back(static_cast<float>(x));
-  for (double x : v) out.push_back(static_cast<float>(x));
-  for (std::size_t i = 0; i < r.size(); ++i)
-    out.push_back(static_cast<float>(i + 1 < r.size() ? (v[i + 1] - v[i]) / (r[i + 1] - r[i]) : 0.0));
-  return p.nodes();
+  g.n = std::min(p.nodes(), sg::kMaxLinearNodes);
+  for (int i = 0; i < g.n; ++i) {
+    const std::size_t k = static_cast<std::size_t>(i);
+    g.radius[i] = static_cast<float>(r[k]);
+    g.value[i] = static_cast<float>(v[k]);
+    g.slope[i] = static_cast<float>(k + 1 < r.size() ? (v[k + 1] - v[k]) / (r[k + 1] - r[k]) : 0.0);
+  }
+  return g;
+}
+
+// Quadratic ramps as the parameter block holds them: radius - R0 (R0 = 0: the radius,
+// R0 = R: the altitude), half curvature; at most kMaxLinearNodes.
+sg::GpuRamps ramps(const atmo::QuadraticRampsColumn& q, double R0) {
+  sg::GpuRamps g{};
+  g.n = std::min(q.ramps(), sg::kMaxLinearNodes);
+  for (int k = 0; k < g.n; ++k) {
+    g.radius[k] = static_cast<float>(q.ramp_radii()[static_cast<std::size_t>(k)] - R0);
+    g.half_curv[k] = static_cast<float>(q.half_curvatures()[static_cast<std::size_t>(k)]);
+  }
+  return g;
 }
 
 // The integrator's table entries (log of the mean relative density), recovered
@@ -148,9 +164,9 @@ std::vector<ShaderPart> sky_parts(const std::string& main_shader) {
           geometry,  // its ray geometry again, in double (the rest is pasted once)
           lut,
           scatter,
+          embedded_source("libatmo/include/atmosh/atmo/shared/view_ray.glsl.hpp"),
           embedded_source("libatmo/include/atmosh/atmo/shared/sky_params.glsl.hpp"),
           embedded_source("gpu/shaders/sky_lib.glsl"),
-          embedded_source("libatmo/include/atmosh/atmo/shared/view_ray.glsl.hpp"),
           real_type_part("float"),
           embedded_source(main_shader)};
 }
@@ -203,26 +219,25 @@ std::string sky_unsupported_reason(const atmo::SkyIntegrator& sky) {
 namespace {
 
 // The inputs of sky_lib.glsl that depend on the integrator alone: its optical-depth
-// tables and shells, the closed-form nodes (ozone, subtracted kinks), the
-// piecewise-linear densities, the spectral coefficients and the quadrature, in
-// buffers 1, 2, 3, 5 and 6, and the uniforms that describe them. Shared by the
+// tables and shells, the piecewise-linear densities and the spectral coefficients in
+// storage buffers, and the parameter block's fields that describe them (with the
+// closed-form nodes of ozone and the subtracted kinks, the cut radii and the quadrature). Shared by the
 // sky pass and the sun-lookup pass, so both run on the same data.
 class SkyInputs {
  public:
   SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gpu_tables);
   void bind() const {
-    b_shell_d_->bind(6);
-    b_tab_->bind(1);
-    b_shell_->bind(2);
-    b_spec_->bind(3);
-    b_quad_->bind(5);
+    b_shell_d_->bind(ATMOSH_BIND_SHELLS);
+    b_tab_->bind(ATMOSH_BIND_TABLES);
+    b_shell_->bind(ATMOSH_BIND_NODES);
+    b_spec_->bind(ATMOSH_BIND_SPECTRAL);
   }
   // The parameter block describing these inputs (the pass adds its own fields).
   const Params& params() const { return p_; }
 
  private:
   Params p_{};
-  std::unique_ptr<Buffer> b_tab_, b_shell_, b_spec_, b_quad_, b_shell_d_;
+  std::unique_ptr<Buffer> b_tab_, b_shell_, b_spec_, b_shell_d_;
 };
 
 // The constituents' fields of the parameter block common to the sky and table passes.
@@ -241,10 +256,10 @@ void set_constituents(Params& p, const atmo::Atmosphere& atm) {
   }
 }
 
-// Binds the parameter block (binding 13); the buffer lives as long as the pass.
+// Binds the parameter block; the buffer lives as long as the pass.
 std::unique_ptr<Buffer> bind_params(const Params& p) {
   auto b = std::make_unique<Buffer>(sizeof(Params), &p);
-  b->bind(13);
+  b->bind(ATMOSH_BIND_PARAMS);
   return b;
 }
 
@@ -266,24 +281,13 @@ SkyInputs::SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gp
   p_.n_shells = static_cast<int>(rho.size());
   std::vector<double> shells_d = rho;
   shells_d.insert(shells_d.end(), inv_den.begin(), inv_den.end());
+  p_.n_cuts = static_cast<int>(sky.cut_radii().size());  // <= kMaxCutSpheres (SkyIntegrator checks)
+  std::copy(sky.cut_radii().begin(), sky.cut_radii().end(), p_.cut_radii);
   std::vector<float> shells;
-  for (double v : rho) shells.push_back(static_cast<float>(v));
-  p_.off_den = static_cast<int>(shells.size());
-  for (double v : inv_den) shells.push_back(static_cast<float>(v));
-  p_.off_cuts = static_cast<int>(shells_d.size());
-  p_.n_cuts = static_cast<int>(sky.cut_radii().size());
-  shells_d.insert(shells_d.end(), sky.cut_radii().begin(), sky.cut_radii().end());
-  p_.off_oz = static_cast<int>(shells.size());
-  if (atm.has(atmo::kOzone))
-    p_.n_oz = push_linear_nodes(atmo::PiecewiseLinearColumn(atm.profile(atmo::kOzone), R), shells);
+  if (atm.has(atmo::kOzone)) p_.ozone = linear_nodes(atmo::PiecewiseLinearColumn(atm.profile(atmo::kOzone), R));
   for (int c = 0; c < 2; ++c) {
-    p_.off_sub[c] = static_cast<int>(shells.size());
-    p_.n_sub[c] = push_linear_nodes(lut.subtracted(c), shells);
-    const auto& q = lut.subtracted_curvature(c);
-    p_.off_subq[c] = static_cast<int>(shells.size());
-    p_.n_subq[c] = q.ramps();
-    for (double x : q.ramp_radii()) shells.push_back(static_cast<float>(x));
-    for (double x : q.half_curvatures()) shells.push_back(static_cast<float>(x));
+    p_.sub[c] = linear_nodes(lut.subtracted(c));
+    p_.subq[c] = ramps(lut.subtracted_curvature(c), 0.0);
   }
   // Piecewise-linear densities (altitude, value) for the shader's density_at.
   for (int c = 0; c < 3; ++c) {
@@ -302,18 +306,18 @@ SkyInputs::SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gp
     const auto& k = atm.coefficients(static_cast<std::size_t>(i));
     for (int c = 0; c < 3; ++c) {
       const double e = atm.has(c) ? k.extinction[c] : 0.0, s = atm.has(c) ? k.scattering[c] : 0.0;
-      spec[c * nw + i] = static_cast<float>(e);
-      spec[(3 + c) * nw + i] = static_cast<float>(s);
+      spec[sg::sky_spectral(c, nw, i)] = static_cast<float>(e);
+      spec[sg::sky_spectral(3 + c, nw, i)] = static_cast<float>(s);
       p_.ext_max[c] = std::max(p_.ext_max[c], static_cast<float>(e));
     }
-    spec[6 * nw + i] = static_cast<float>(sky.solar()[static_cast<std::size_t>(i)]);
+    spec[sg::sky_spectral(6, nw, i)] = static_cast<float>(sky.solar()[static_cast<std::size_t>(i)]);
   }
   const auto gl = sh::gauss_legendre(sky.options().samples_per_segment);
-  p_.n_gauss = static_cast<int>(gl.nodes.size());
-  std::vector<double> quad = gl.nodes;
-  quad.insert(quad.end(), gl.weights.begin(), gl.weights.end());
+  p_.n_gauss = static_cast<int>(gl.nodes.size());  // <= kMaxPartNodes (SkyIntegrator checks)
+  std::copy(gl.nodes.begin(), gl.nodes.end(), p_.gauss_x);
+  std::copy(gl.weights.begin(), gl.weights.end(), p_.gauss_w);
   const auto part_w = atmo::sky_part_column_weights(sky.options().samples_per_segment);  // view column in a part
-  quad.insert(quad.end(), part_w.begin(), part_w.end());
+  std::copy(part_w.begin(), part_w.end(), p_.part_w);
   for (int c = 0; c < 2; ++c) {
     const auto ps = phase_spec(atm, c);
     p_.phase_model[c] = phase_code(ps.model);
@@ -327,15 +331,15 @@ SkyInputs::SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gp
   b_tab_ = std::make_unique<Buffer>(tab.size() * sizeof(float), tab.data());
   b_shell_ = std::make_unique<Buffer>(shells.size() * sizeof(float), shells.data());
   b_spec_ = std::make_unique<Buffer>(spec.size() * sizeof(float), spec.data());
-  b_quad_ = std::make_unique<Buffer>(quad.size() * sizeof(double), quad.data());
   b_shell_d_ = std::make_unique<Buffer>(shells_d.size() * sizeof(double), shells_d.data());
 }
 
-// Work groups of 64 invocations for n items, as (gx, gy) within the per-dimension limit.
+// Work groups for n items, as (gx, gy) within the per-dimension limit (shared
+// ATMOSH_ITEM_GROUP_SIZE and kMaxGroupsX; the shaders' item_index).
 void dispatch_items(const Program& prog, std::size_t n) {
-  const unsigned groups = static_cast<unsigned>((n + 63) / 64);
-  const unsigned gx = std::max(1u, std::min(groups, 32768u)), gy = (groups + gx - 1) / gx;
-  prog.dispatch(gx, std::max(gy, 1u));
+  const std::size_t groups = (n + ATMOSH_ITEM_GROUP_SIZE - 1) / ATMOSH_ITEM_GROUP_SIZE;
+  const std::size_t gx = std::clamp<std::size_t>(groups, 1, sg::kMaxGroupsX), gy = (groups + gx - 1) / gx;
+  prog.dispatch(static_cast<unsigned>(gx), static_cast<unsigned>(std::max<std::size_t>(gy, 1)));
 }
 
 }  // namespace
@@ -387,8 +391,8 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   const long rays = static_cast<long>(std::count(img.valid.begin(), img.valid.end(), std::uint8_t{1}));
 
   Buffer b_dirs(dirs.size() * sizeof(float), dirs.data()), b_out(n * static_cast<std::size_t>(nw) * sizeof(float));
-  b_dirs.bind(0);
-  b_out.bind(4);
+  b_dirs.bind(ATMOSH_BIND_ITEMS);
+  b_out.bind(ATMOSH_BIND_RESULT);
   inputs.bind();
   Params params = inputs.params();
   params.n_items = static_cast<int>(n);
@@ -439,8 +443,8 @@ SunLookups sun_lookups(const Context& ctx, const atmo::SkyIntegrator& sky, const
   std::vector<glm::vec4> in(h_mu.size());
   for (std::size_t i = 0; i < h_mu.size(); ++i) in[i] = glm::vec4(h_mu[i].x, h_mu[i].y, 0.0f, 0.0f);
   Buffer b_in(in.size() * sizeof(glm::vec4), in.data()), b_out(in.size() * sizeof(glm::vec4));
-  b_in.bind(0);
-  b_out.bind(4);
+  b_in.bind(ATMOSH_BIND_ITEMS);
+  b_out.bind(ATMOSH_BIND_RESULT);
   inputs.bind();
   Params params = inputs.params();
   params.n_items = static_cast<int>(in.size());
@@ -508,33 +512,25 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
     for (double x : h) nodes.push_back(static_cast<float>(x));
     for (double x : v) nodes.push_back(static_cast<float>(x));
   }
-  int off_q[3] = {0, 0, 0}, n_q[3] = {0, 0, 0};
-  for (int c = 0; c < 3; ++c) {
-    const auto& q = lut.subtracted_curvature(c);
-    off_q[c] = static_cast<int>(nodes.size());
-    n_q[c] = q.ramps();
-    for (double x : q.ramp_radii()) nodes.push_back(static_cast<float>(x - R));
-    for (double x : q.half_curvatures()) nodes.push_back(static_cast<float>(x));
-  }
   const int S = static_cast<int>(radii.size());
   const int nv = lo.view_tables ? lo.view_directions : 0, ns = lo.sun_directions;  // as lut_tables_from_cpu
   Buffer b_nodes(nodes.size() * sizeof(float) + 4, nodes.data()), b_cross(cross.size() * sizeof(double), cross.data()),
       b_rule(rule.size() * sizeof(double), rule.data()), b_radii(radii.size() * sizeof(double), radii.data());
-  b_nodes.bind(2);
-  b_cross.bind(9);
-  b_rule.bind(11);
-  b_radii.bind(12);
+  Buffer b_rho(lut.shell_rho().size() * sizeof(double), lut.shell_rho().data());
+  b_rho.bind(ATMOSH_BIND_SHELLS);
+  b_nodes.bind(ATMOSH_BIND_NODES);
+  b_cross.bind(ATMOSH_BIND_CROSSINGS);
+  b_rule.bind(ATMOSH_BIND_RULE);
+  b_radii.bind(ATMOSH_BIND_SHELL_RADII);
   Params params{};
   set_constituents(params, atm);
   params.n_cross = static_cast<int>(cross.size());
   params.n_rule = static_cast<int>(gl.nodes.size());
+  params.build_scale_height = lut.build_scale_height();  // the CPU build's sub-pieces
   for (int c = 0; c < 3; ++c) {
     params.off_nodes[c] = off_nodes[c];
     params.n_nodes[c] = n_nodes[c];
-    params.off_q[c] = off_q[c];
-    params.n_q[c] = n_q[c];
-    params.is_exponential[c] = atm.has(c) && atm.profile(c).kind() == DensityProfileSpec::Kind::Exponential ? 1 : 0;
-    params.tab_present[c] = tabulated(atm, c) ? 1 : 0;
+    params.build_ramps[c] = ramps(lut.subtracted_curvature(c), R);
     params.log_encoded[c] = tabulated(atm, c) && atm.profile(c).positive_on(top) ? 1 : 0;
   }
   std::vector<float> out;
@@ -542,7 +538,7 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
     const int entries = S * n;
     if (entries == 0) return;
     Buffer b_out(static_cast<std::size_t>(entries) * 3 * sizeof(float));
-    b_out.bind(10);
+    b_out.bind(ATMOSH_BIND_TABLE_OUT);
     params.n_dirs = n;
     params.table_kind = kind;
     params.n_items = entries;

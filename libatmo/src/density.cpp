@@ -165,8 +165,7 @@ double DensityProfile::operator()(double h) const {
       if (h < a.front() || h > a.back()) return 0.0;
       // i: first node above h (std::upper_bound), clamped to [1, n - 1]
       std::size_t i = static_cast<std::size_t>(std::clamp(index_.find(h) + 1, 1, static_cast<int>(a.size()) - 1));
-      double t = (h - a[i - 1]) / (a[i] - a[i - 1]);
-      return spec_.value[i - 1] + t * (spec_.value[i] - spec_.value[i - 1]);
+      return shared::linear_between(h, a[i - 1], a[i], spec_.value[i - 1], spec_.value[i]);  // the GPU's too
     }
   }
   return 0.0;

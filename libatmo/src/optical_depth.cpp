@@ -131,14 +131,8 @@ double QuadraticRampsColumn::operator()(double r, double mu, double length) cons
   return sg::quadratic_ramps_column(r, mu, length, radius_.data(), half_curv_.data(), ramps());
 }
 
-double QuadraticRampsColumn::at(double h) const {
-  double q = 0.0;
-  if (h < 0.0) return q;
-  for (std::size_t k = 0; k < radius_.size(); ++k) {
-    const double d = std::max(0.0, (radius_[k] - ground_radius_) - h);
-    q += half_curv_[k] * d * d;
-  }
-  return q;
+double QuadraticRampsColumn::at(double h) const {  // shared/geometry.glsl.hpp, as the GPU table build's
+  return sg::quadratic_ramps_at(h, radius_.data(), half_curv_.data(), static_cast<int>(radius_.size()), ground_radius_);
 }
 
 // ---------------------------------------------------------------- reference
@@ -476,16 +470,12 @@ namespace {
 ATMOSH_DISPATCH void window_sum(const double* __restrict base, std::size_t stride, const double* __restrict lw,
                                 const double* __restrict xw, double* __restrict out) {
   using v4d = double __attribute__((vector_size(32)));  // one sample's entries
-  v4d acc = {0.0, 0.0, 0.0, 0.0};
-  for (int i = 0; i < 4; ++i) {
-    const double* row = base + static_cast<std::size_t>(i) * stride;
-    v4d e0, e1, e2, e3;
-    std::memcpy(&e0, row, sizeof e0);
-    std::memcpy(&e1, row + 4, sizeof e1);
-    std::memcpy(&e2, row + 8, sizeof e2);
-    std::memcpy(&e3, row + 12, sizeof e3);
-    acc += lw[i] * (xw[0] * e0 + xw[1] * e1 + xw[2] * e2 + xw[3] * e3);
-  }
+  using v4du = double __attribute__((vector_size(32), aligned(8), may_alias));  // an unaligned load
+#define WINDOW_ENTRY(i, m) (*reinterpret_cast<const v4du*>(base + static_cast<std::size_t>(i) * stride + 4 * (m)))
+  v4d acc;
+  const v4d zero = {0.0, 0.0, 0.0, 0.0};
+  ATMOSH_LUT_WINDOW_SUM(v4d, zero, acc, lw, xw, WINDOW_ENTRY);  // shared/lut.glsl.hpp, the GPU's interpolate too
+#undef WINDOW_ENTRY
   std::memcpy(out, &acc, sizeof acc);
 }
 }  // namespace
@@ -493,14 +483,7 @@ ATMOSH_DISPATCH void window_sum(const double* __restrict base, std::size_t strid
 glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
   glm::dvec3 sum(0.0);
   if (!(L > 0.0)) return sum;
-  // Smallest scale height of the exponential constituents, at every altitude: the
-  // tables store the logarithm of each mean density, so even a constituent far above
-  // its scale height (the Mie layer at 80 km) is integrated to full relative accuracy.
-  auto scale_at = [&](double) {
-    double H = std::numeric_limits<double>::infinity();
-    for (int c : expo_) H = std::min(H, atm_.profile(c).spec().scale_height_m);
-    return H;
-  };
+  const double H = build_scale_height();
   const int n = static_cast<int>(gl_x_.size());
   // The quadrature nodes of the whole ray first (distance s, weight w), then one
   // vectorised sum per exponential constituent.
@@ -508,18 +491,15 @@ glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
   node_s.clear();
   node_w.clear();
   const double rt2 = std::max(0.0, r * r * ((1.0 - mu) * (1.0 + mu)));
-  auto piece = [&](double a, double b) {
-    const double ra = sg::radius_along(r, mu, a), rb = sg::radius_along(r, mu, b);
-    const int m = sg::lut_piece_count(ra, rb, b - a, rt2, scale_at(std::min(ra, rb) - R_));
-    const double h = (b - a) / m;
-    for (int p = 0; p < m; ++p) {
-      const double lo = a + p * h;
-      for (int g = 0; g < n; ++g) {
-        node_s.push_back(lo + gl_x_[g] * h);
-        node_w.push_back(gl_w_[g] * h);
-      }
-    }
+  auto rule_x = [&](int g) { return gl_x_[static_cast<std::size_t>(g)]; };
+  auto rule_w = [&](int g) { return gl_w_[static_cast<std::size_t>(g)]; };
+  auto node = [&](double s, double w) {
+    node_s.push_back(s);
+    node_w.push_back(w);
   };
+  // The sub-pieces and their nodes: shared/lut.glsl.hpp, as the GPU build's.
+  using namespace sg;  // the macro's functions
+  auto piece = [&](double a, double b) { ATMOSH_LUT_PIECE_NODES(double, r, mu, rt2, a, b, H, n, rule_x, rule_w, node); };
   if (!expo_.empty()) {
     auto radius_at = [&](int i) { return crossing_radii_[static_cast<std::size_t>(i)]; };
     const int N = static_cast<int>(crossing_radii_.size());
@@ -531,6 +511,15 @@ glm::dvec3 OpticalDepthLut::build_column(double r, double mu, double L) const {
   for (int c = 0; c < 3; ++c)
     if (build_closed_[c]) sum[c] = build_linear_[c](r, mu, L) - subtracted_curvature_[c](r, mu, L);
   return sum;
+}
+
+double OpticalDepthLut::build_scale_height() const {
+  // The tables store the logarithm of each mean density, so even a constituent far
+  // above its scale height (the Mie layer at 80 km) is integrated to full relative
+  // accuracy: the smallest scale height at every altitude.
+  double H = std::numeric_limits<double>::infinity();
+  for (int c : expo_) H = std::min(H, atm_.profile(c).spec().scale_height_m);
+  return H;
 }
 
 glm::dvec3 OpticalDepthLut::tabulated_density(double h) const {
@@ -551,8 +540,8 @@ glm::dvec3 OpticalDepthLut::subtracted_column(double r, double mu, double L) con
 void OpticalDepthLut::add_closed_form(glm::dvec3& column, double r, double mu, double L) const {
   for (int c = 0; c < 3; ++c) {
     if (analytic_[c]) column[c] = linear_[c](r, mu, L);
-    if (has_subtracted_[c])
-      column[c] = std::max(0.0, column[c] + subtracted_[c](r, mu, L) + subtracted_curvature_[c](r, mu, L));
+    if (has_subtracted_[c])  // shared/geometry.glsl.hpp, the GPU's sun lookup too
+      column[c] = sg::column_added_back(column[c], subtracted_[c](r, mu, L), subtracted_curvature_[c](r, mu, L));
   }
 }
 
@@ -564,7 +553,7 @@ glm::dvec3 OpticalDepthLut::encode(const glm::dvec3& mean) const {
 
 glm::dvec3 OpticalDepthLut::decode(const glm::dvec3& v) const {
   glm::dvec3 d;
-  for (int c = 0; c < 3; ++c) d[c] = log_encoded_[c] ? std::exp(v[c]) : std::max(v[c], 0.0);
+  for (int c = 0; c < 3; ++c) d[c] = sg::lut_decode(v[c], log_encoded_[c]);  // the GPU's too
   return d;
 }
 
@@ -611,10 +600,10 @@ OpticalDepthLut::ShellWeights OpticalDepthLut::shell_weights(double rho) const {
   // Window choice and weights: shared/lut.glsl.hpp (the GPU's interpolate too).
   // Shell search: the same k as the GPU's bisection (ATMOSH_LUT_SHELL_INDEX), in O(1).
   sw.k = shell_index_.find(rho);
-  sw.w = sg::lut_window_start(sw.k, S);
-  const int w = sw.w;
-  for (int i = 0; i < 4; ++i)
-    sw.lw[i] = sg::lut_shell_weight(rho, lagrange_den_[w * 4 + i], rho_[w], rho_[w + 1], rho_[w + 2], rho_[w + 3], i);
+  using namespace sg;  // the macro's functions
+  auto rho_at = [&](int i) { return rho_[static_cast<std::size_t>(i)]; };
+  auto den_at = [&](int i) { return lagrange_den_[static_cast<std::size_t>(i)]; };
+  ATMOSH_LUT_SHELL_WEIGHTS(sw.lw, sw.w, sw.k, S, rho, rho_at, den_at);
   if (has_kinks_) {
     // Profiles with kinks: Lagrange in rho only over shells of the same smooth
     // region (between kinks), of degree <= 3 (window and inverse denominators
@@ -641,10 +630,10 @@ double OpticalDepthLut::kinked_shell_sum(const Table& t, const ShellWeights& sw,
 glm::dvec3 OpticalDepthLut::interpolate(const Table& t, double rho, double x) const {
   const int n = t.n;
   const ShellWeights sw = shell_weights(rho);
-  const int jw = sg::lut_direction_window(x, n);
-  const double p = sg::lut_direction_offset(x, n, jw);
+  using namespace sg;  // the macro's functions
+  int jw;
   double xw[4];
-  for (int m = 0; m < 4; ++m) xw[m] = sg::lagrange_cubic_weight(p, m);
+  ATMOSH_LUT_DIRECTION_WEIGHTS(xw, jw, x, n);  // shared/lut.glsl.hpp, the GPU's interpolate too
   double acc[4];
   window_sum(&t.v[(static_cast<std::size_t>(sw.w) * n + jw) * 4], static_cast<std::size_t>(n) * 4, sw.lw, xw, acc);
   glm::dvec3 out(acc[0], acc[1], acc[2]);
@@ -781,13 +770,14 @@ LutColumn OpticalDepthLut::SunAtRadius::lookup(double mu) const {
   double d;
   const double x = L.x_up(r_, rho_, mu, d);
   const int n = L.sun_up_.n;
-  const int jw = sg::lut_direction_window(x, n);
-  const double p = sg::lut_direction_offset(x, n, jw);
+  using namespace sg;  // the macro's functions
+  int jw;
+  double xw[4];
+  ATMOSH_LUT_DIRECTION_WEIGHTS(xw, jw, x, n);
   glm::dvec3 e(0.0);
   for (int m = 0; m < 4; ++m) {
-    const double wm = sg::lagrange_cubic_weight(p, m);
     const double* v = &v_[static_cast<std::size_t>(jw + m) * 4];
-    e += wm * glm::dvec3(v[0], v[1], v[2]);
+    e += xw[m] * glm::dvec3(v[0], v[1], v[2]);
   }
   return L.finish_up(e, r_, mu, d);
 }

@@ -122,14 +122,20 @@ PhaseFunction::PhaseFunction(const PhaseSpec& spec, const std::string& key) : sp
   }
 }
 
+// shared::phase_analytic takes the model's code in this order.
+static_assert(static_cast<int>(PhaseSpec::Model::HenyeyGreenstein) == 1 &&
+              static_cast<int>(PhaseSpec::Model::CornetteShanks) == 2 &&
+              static_cast<int>(PhaseSpec::Model::DoubleHenyeyGreenstein) == 3);
+
 double PhaseFunction::value(double mu) const {
   using M = PhaseSpec::Model;
   mu = std::clamp(mu, -1.0, 1.0);
   switch (spec_.model) {
-    case M::Rayleigh: return shared::phase_rayleigh(mu, spec_.depolarization);
-    case M::HenyeyGreenstein: return shared::phase_hg(mu, spec_.g);
-    case M::CornetteShanks: return shared::phase_cornette_shanks(mu, spec_.g);
-    case M::DoubleHenyeyGreenstein: return shared::phase_double_hg(mu, spec_.g, spec_.g2, spec_.weight);
+    case M::Rayleigh: return shared::phase_analytic(0, mu, spec_.depolarization, spec_.g2, spec_.weight);
+    case M::HenyeyGreenstein:
+    case M::CornetteShanks:
+    case M::DoubleHenyeyGreenstein:  // shared/geometry.glsl.hpp, as the GPU's phase_value
+      return shared::phase_analytic(static_cast<int>(spec_.model), mu, spec_.g, spec_.g2, spec_.weight);
     case M::Tabulated: {
       const auto& c = spec_.cos_theta;
       if (mu < c.front() || mu > c.back()) return 0.0;

@@ -42,30 +42,8 @@ Ray make_ray(const Atmosphere& atm, double altitude, const glm::dvec3& view, con
     throw InputError("observer altitude " + std::to_string(altitude) + " m is below the ground or not finite");
   const glm::dvec3 v = unit(view, "view"), l = unit(sun, "sun");
   // The shared set-up (shared/view_ray.glsl.hpp, the GPU's too).
-  const sg::SkyViewRay sr = sg::sky_view_ray(atm.ground_radius() + std::max(altitude, 0.0), v.z, l.z,
-                                             glm::clamp(glm::dot(v, l), -1.0, 1.0), atm.ground_radius(),
-                                             atm.top_radius());
-  Ray ray;
-  ray.empty = sr.empty;
-  ray.r = sr.r;
-  ray.mu = sr.mu;
-  ray.mu_s = sr.mu_s;
-  ray.nu = sr.nu;
-  ray.s_end = sr.s_end;
-  ray.ground = sr.ground;
-  return ray;
-}
-
-sg::SkyViewRay shared_ray(const Ray& ray) {
-  sg::SkyViewRay s;
-  s.r = ray.r;
-  s.mu = ray.mu;
-  s.mu_s = ray.mu_s;
-  s.nu = ray.nu;
-  s.s_end = ray.s_end;
-  s.empty = ray.empty;
-  s.ground = ray.ground;
-  return s;
+  return sg::sky_view_ray_toward(atm.ground_radius() + std::max(altitude, 0.0), v, l, atm.ground_radius(),
+                                 atm.top_radius());
 }
 
 std::vector<PhaseFunction> make_phases(const Atmosphere& atm) {
@@ -259,12 +237,9 @@ template <class Ray, class Visit>  // Ray = detail::SkyRay (the header names no 
 glm::dvec3 SkyIntegrator::trace(const Ray& ray, const double* cuts, int nc, Visit&& visit) const {
   // The walk along the ray: shared/view_ray.glsl.hpp (the GPU's sky.comp runs it too).
   return sg::sky_trace(
-      shared_ray(ray), cuts, nc, atm_.ground_radius(), ext_max_, opt_.max_piece_optical_depth, gl_x_.data(),
+      ray, cuts, nc, atm_.ground_radius(), ext_max_, opt_.max_piece_optical_depth, gl_x_.data(),
       gl_w_.data(), static_cast<int>(gl_x_.size()), part_w_.data(), [&](double h) { return atm_.density(h); },
-      [&](const sg::SkyViewNode& n) {
-        const detail::SkyViewNode nd{n.s, n.r, n.w, n.rho, n.column};
-        visit(nd);
-      });
+      visit);
 }
 
 template <class Ray, class ForEachNode, class SunColumn>  // Ray = detail::SkyRay
@@ -303,17 +278,11 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
     }
   }
   const glm::dvec3 column_end = for_each_node([&](const detail::SkyViewNode& nd) {
-    const double mus = sg::cos_zenith_along(ray.r, ray.mu_s, ray.nu, nd.s, nd.r);
+    const double mus = sg::sky_node_sun_cosine(ray, nd);
     if (acc_ms) add_ms_node(nw, nd, mus, psi, acc_ms);
     const LutColumn to_sun = sun(nd, mus);
     if (to_sun.hits_ground) return;  // in the Earth's shadow
-    const glm::dvec3 x = nd.column + to_sun.column;
-    detail::SkyNodeTerms& t = block[nb];
-    t.x[0] = static_cast<float>(x[0]);
-    t.x[1] = static_cast<float>(x[1]);
-    t.x[2] = static_cast<float>(x[2]);
-    t.sr = static_cast<float>(nd.rho[kRayleigh] * p_ray * nd.w);
-    t.sm = static_cast<float>(nd.rho[kMie] * p_mie * nd.w);
+    block[nb] = sg::sky_node_terms(nd, to_sun.column, p_ray, p_mie);  // the GPU's sky_visit's too
     if (++nb == kBlock) {
       detail::accumulate_sky_nodes(n_pad_, ext_f_.data(), sca_f_.data(), block, nb, acc);
       nb = 0;
@@ -338,7 +307,7 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
     orders_->radiance(ray.r, ray.mu, ray.ground, ray.mu_s, ray.nu, v);
     for (std::size_t i = 0; i < nw; ++i) out[i] += solar_scaled_[i] * v[i];
     if (ray.ground && albedo > 0) {
-      const double mus_g = sg::sky_ground_sun_cosine(shared_ray(ray));
+      const double mus_g = sg::sky_ground_sun_cosine(ray);
       orders_->ground_irradiance(mus_g, v);
       const double* er = ext_.data();
       const double* em = er + nw;
@@ -349,10 +318,9 @@ void SkyIntegrator::shade(const Ray& ray, ForEachNode&& for_each_node, SunColumn
     }
   }
   if (ray.ground && albedo > 0) {
-    const double R = atm_.ground_radius();
-    const double mus_g = sg::sky_ground_sun_cosine(shared_ray(ray));
-    if (mus_g > 0) {
-      const LutColumn to_sun = lut_->sun(R, mus_g);
+    const double mus_g = sg::sky_ground_sun_cosine(ray);
+    if (sg::sky_ground_lit(ray, albedo, mus_g)) {  // sky.comp's test too
+      const LutColumn to_sun = lut_->sun(atm_.ground_radius(), mus_g);
       if (!to_sun.hits_ground)
         add_ground_terms(nw, ext_.data(), ext_.data() + nw, ext_.data() + 2 * nw, solar_scaled_.data(), albedo, mus_g,
                          column_end + to_sun.column, out);
@@ -378,14 +346,16 @@ void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const gl
   std::fill(out, out + solar_.size(), 0.0);
   const Ray ray = make_ray(atm_, altitude_m, view, sun);
   if (ray.empty || !(ray.s_end > 0)) return;
-  // Pieces between shell crossings, the tangent point and the shadow edges
-  // (shared/view_ray.glsl.hpp, the same function as the GPU's).
-  const sg::ViewRayCuts vc = sg::view_ray_cuts(ray.r, ray.mu, ray.mu_s, ray.nu, atm_.ground_radius(), ray.s_end,
-                                               sg::tangent_radius_sq(ray.r, ray.mu), cut_radii_.data(),
-                                               static_cast<int>(cut_radii_.size()));
-  // The nodes are shaded as they are traced (nothing stored).
+  // Pieces between shell crossings, the tangent point and the shadow edges, walked
+  // (shared/view_ray.glsl.hpp: sky_walk, the same function as the GPU's); the nodes are
+  // shaded as they are traced (nothing stored).
   shade(
-      ray, [&](auto&& visit) { return trace(ray, vc.s, vc.n, visit); },
+      ray,
+      [&](auto&& visit) {
+        return sg::sky_walk(ray, cut_radii_.data(), static_cast<int>(cut_radii_.size()), atm_.ground_radius(), ext_max_,
+                            opt_.max_piece_optical_depth, gl_x_.data(), gl_w_.data(), static_cast<int>(gl_x_.size()),
+                            part_w_.data(), [&](double h) { return atm_.density(h); }, visit);
+      },
       [&](const detail::SkyViewNode& nd, double mus) { return lut_->sun(nd.r, mus); }, out);
 }
 
@@ -448,8 +418,8 @@ void SkyIntegrator::radiance_same_zenith(double altitude_m, const glm::dvec3* vi
     const int budget = static_cast<int>(std::min<std::size_t>(n_shared / 4, 1 << 20));
     for (const auto& nd : nodes) {
       const Ray &a = rays[k_lo], &b = rays[k_hi];
-      const double lo = sg::cos_zenith_along(a.r, a.mu_s, a.nu, nd.s, nd.r);
-      const double hi = sg::cos_zenith_along(b.r, b.mu_s, b.nu, nd.s, nd.r);
+      const double lo = sg::sky_node_sun_cosine(a, nd);
+      const double hi = sg::sky_node_sun_cosine(b, nd);
       sun_at.push_back(budget >= 17 ? lut_->sun_at(nd.r, lo, hi, budget) : lut_->sun_at(nd.r));
     }
   }

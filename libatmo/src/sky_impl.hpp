@@ -6,34 +6,21 @@
 
 #include <glm/glm.hpp>
 
+#include "atmosh/atmo/shared/view_ray.glsl.hpp"
+
 namespace atmosh::atmo {
 
 namespace detail {
-// A view ray reduced to the planet-centred 2-D geometry, clipped to the atmosphere
-// (sky.cpp; lengths in m).
-struct SkyRay {
-  bool empty = false;    // misses the atmosphere (observer in space)
-  double r = 0, mu = 0;  // origin radius and view zenith cosine (at the entry point)
-  double mu_s = 0;       // sun zenith cosine at the origin
-  double nu = 0;         // cos(view, sun): constant along the ray
-  double s_end = 0;      // length inside the atmosphere
-  bool ground = false;   // ends on the ground
-};
-// A quadrature node of a view ray: what does not depend on the sun.
-struct SkyViewNode {
-  double s = 0, r = 0;       // distance from the origin, radius [m]
-  double w = 0;              // quadrature weight [m]
-  glm::dvec3 rho{0.0};       // relative densities
-  glm::dvec3 column{0.0};    // view column from the origin to the node [m]
-};
-// What the spectral loop needs of one quadrature node, in single precision: the
-// column from the sun through the node to the observer per constituent (Rayleigh,
-// Mie, ozone) [m], and the node's scattering weights sr = rho_R p_R w, sm = rho_M p_M w
-// (relative density x phase function [1/sr] x quadrature weight [m]).
-struct SkyNodeTerms {
-  float x[3];
-  float sr, sm;
-};
+// A view ray reduced to the planet-centred 2-D geometry, clipped to the atmosphere,
+// and a quadrature node along it: the shared types (shared/view_ray.glsl.hpp), which
+// the GPU's sky pass uses too.
+using SkyRay = shared::SkyViewRay;
+using SkyViewNode = shared::SkyViewNode;
+// What the spectral loop needs of one quadrature node, in single precision
+// (shared/view_ray.glsl.hpp, sky_node_terms): the column from the sun through the node
+// to the observer per constituent (Rayleigh, Mie, ozone) [m], and the node's
+// scattering weights sr = rho_R p_R w, sm = rho_M p_M w.
+using SkyNodeTerms = shared::SkyNodeTerms;
 // The spectral loop of a view ray over `count` nodes, in order: for every wavelength
 // i < n, acc[i] += sum over the nodes of exp(-tau_i) (cr[i] sr + cm[i] sm) with
 // tau_i = er[i] x0 + em[i] x1 + eo[i] x2, where ext = [er | em | eo] and sca = [cr | cm]

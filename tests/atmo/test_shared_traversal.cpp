@@ -425,3 +425,24 @@ TEST(FastExp, ExpNegFloatMatchesLibmToAFewFloatUlp) {
   EXPECT_EQ(atmosh::atmo::exp_neg_f(std::numeric_limits<float>::infinity()), 0.0f);
 }
 }  // namespace
+
+// The GPU's log1p (shared log1p_series, the atanh series on [-0.5, 1]) in the C++
+// double build against the C library's log1p: a few ulp, also for tiny |x| where
+// log(1 + x) would lose everything, and at the ends of the series' range.
+TEST(SharedLog1p, SeriesMatchesLibmLog1p) {
+  std::vector<double> xs = {-0.5, -0.49999999, 0.99999999, 1.0, 1.00000001, 3.0, 1e6, -0.9, -0.5000001};
+  for (double a = 1e-300; a < 1.0; a *= 3.7) {
+    xs.push_back(a);
+    xs.push_back(-a);
+  }
+  double worst = 0.0;
+  for (double x : xs) {
+    if (!(x > -1.0)) continue;
+    const double ref = std::log1p(x), got = sg::log1p_series(x);
+    const double ulp = std::abs(std::nextafter(ref, 2 * ref) - ref);
+    const double err = std::abs(got - ref) / ulp;
+    worst = std::max(worst, err);
+    EXPECT_LE(err, 4.0) << "x = " << x << ": " << got << " vs " << ref;
+  }
+  std::printf("log1p_series: worst %.2f ulp over %zu arguments\n", worst, xs.size());
+}

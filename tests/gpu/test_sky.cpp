@@ -161,6 +161,11 @@ TEST(GpuSky, ParameterBlockLayoutMatches) {
       {"params.top_radius_d", offsetof(sg::GpuSkyParams, top_radius_d)},
       {"params.observer_radius_d", offsetof(sg::GpuSkyParams, observer_radius_d)},
       {"params.horizon_rho_d", offsetof(sg::GpuSkyParams, horizon_rho_d)},
+      {"params.cut_radii[0]", offsetof(sg::GpuSkyParams, cut_radii)},
+      {"params.gauss_x[0]", offsetof(sg::GpuSkyParams, gauss_x)},
+      {"params.gauss_w[0]", offsetof(sg::GpuSkyParams, gauss_w)},
+      {"params.part_w[0]", offsetof(sg::GpuSkyParams, part_w)},
+      {"params.build_scale_height", offsetof(sg::GpuSkyParams, build_scale_height)},
       {"params.ground_radius", offsetof(sg::GpuSkyParams, ground_radius)},
       {"params.top_radius", offsetof(sg::GpuSkyParams, top_radius)},
       {"params.scale_height[0]", offsetof(sg::GpuSkyParams, scale_height)},
@@ -170,20 +175,24 @@ TEST(GpuSky, ParameterBlockLayoutMatches) {
       {"params.max_piece_optical_depth", offsetof(sg::GpuSkyParams, max_piece_optical_depth)},
       {"params.irradiance_scale", offsetof(sg::GpuSkyParams, irradiance_scale)},
       {"params.albedo", offsetof(sg::GpuSkyParams, albedo)},
+      {"params.ozone.radius[0]", offsetof(sg::GpuSkyParams, ozone.radius)},
+      {"params.ozone.value[0]", offsetof(sg::GpuSkyParams, ozone.value)},
+      {"params.ozone.slope[0]", offsetof(sg::GpuSkyParams, ozone.slope)},
+      {"params.ozone.n", offsetof(sg::GpuSkyParams, ozone) + offsetof(sg::GpuLinearNodes, n)},
+      {"params.sub[0].radius[0]", offsetof(sg::GpuSkyParams, sub) + offsetof(sg::GpuLinearNodes, radius)},
+      {"params.sub[1].radius[0]", offsetof(sg::GpuSkyParams, sub) + 1 * sizeof(sg::GpuLinearNodes) + offsetof(sg::GpuLinearNodes, radius)},
+      {"params.sub[1].slope[0]", offsetof(sg::GpuSkyParams, sub) + 1 * sizeof(sg::GpuLinearNodes) + offsetof(sg::GpuLinearNodes, slope)},
+      {"params.sub[1].n", offsetof(sg::GpuSkyParams, sub) + 1 * sizeof(sg::GpuLinearNodes) + offsetof(sg::GpuLinearNodes, n)},
+      {"params.subq[0].radius[0]", offsetof(sg::GpuSkyParams, subq) + offsetof(sg::GpuRamps, radius)},
+      {"params.subq[0].half_curv[0]", offsetof(sg::GpuSkyParams, subq) + offsetof(sg::GpuRamps, half_curv)},
+      {"params.subq[1].radius[0]", offsetof(sg::GpuSkyParams, subq) + 1 * sizeof(sg::GpuRamps) + offsetof(sg::GpuRamps, radius)},
+      {"params.subq[1].n", offsetof(sg::GpuSkyParams, subq) + 1 * sizeof(sg::GpuRamps) + offsetof(sg::GpuRamps, n)},
       {"params.n_items", offsetof(sg::GpuSkyParams, n_items)},
       {"params.nw", offsetof(sg::GpuSkyParams, nw)},
       {"params.n_shells", offsetof(sg::GpuSkyParams, n_shells)},
       {"params.n_sun", offsetof(sg::GpuSkyParams, n_sun)},
       {"params.off_sun", offsetof(sg::GpuSkyParams, off_sun)},
-      {"params.off_den", offsetof(sg::GpuSkyParams, off_den)},
-      {"params.off_cuts", offsetof(sg::GpuSkyParams, off_cuts)},
       {"params.n_cuts", offsetof(sg::GpuSkyParams, n_cuts)},
-      {"params.off_oz", offsetof(sg::GpuSkyParams, off_oz)},
-      {"params.n_oz", offsetof(sg::GpuSkyParams, n_oz)},
-      {"params.off_sub[0]", offsetof(sg::GpuSkyParams, off_sub)},
-      {"params.n_sub[0]", offsetof(sg::GpuSkyParams, n_sub)},
-      {"params.off_subq[0]", offsetof(sg::GpuSkyParams, off_subq)},
-      {"params.n_subq[0]", offsetof(sg::GpuSkyParams, n_subq)},
       {"params.off_nodes[0]", offsetof(sg::GpuSkyParams, off_nodes)},
       {"params.n_nodes[0]", offsetof(sg::GpuSkyParams, n_nodes)},
       {"params.n_gauss", offsetof(sg::GpuSkyParams, n_gauss)},
@@ -195,14 +204,12 @@ TEST(GpuSky, ParameterBlockLayoutMatches) {
       {"params.n_dirs", offsetof(sg::GpuSkyParams, n_dirs)},
       {"params.table_kind", offsetof(sg::GpuSkyParams, table_kind)},
       {"params.log_encoded[0]", offsetof(sg::GpuSkyParams, log_encoded)},
-      {"params.tab_present[0]", offsetof(sg::GpuSkyParams, tab_present)},
-      {"params.is_exponential[0]", offsetof(sg::GpuSkyParams, is_exponential)},
-      {"params.off_q[0]", offsetof(sg::GpuSkyParams, off_q)},
-      {"params.n_q[0]", offsetof(sg::GpuSkyParams, n_q)},
+      {"params.build_ramps[0].radius[0]", offsetof(sg::GpuSkyParams, build_ramps) + offsetof(sg::GpuRamps, radius)},
+      {"params.build_ramps[2].n", offsetof(sg::GpuSkyParams, build_ramps) + 2 * sizeof(sg::GpuRamps) + offsetof(sg::GpuRamps, n)},
   };
-  ASSERT_EQ(members.size(), 42u);
+  ASSERT_EQ(members.size(), 49u);  // every member, and the ends of the nested arrays
   for (const auto& [name, offset] : members) EXPECT_EQ(prog.buffer_variable_offset(name), int(offset)) << name;
-  EXPECT_EQ(offsetof(sg::GpuSkyParams, n_q) + 3 * sizeof(int), sizeof(sg::GpuSkyParams));
+  EXPECT_EQ(offsetof(sg::GpuSkyParams, log_encoded) + 3 * sizeof(int), sizeof(sg::GpuSkyParams));
 }
 
 // The GPU closed-form ozone column (sky_lib.glsl, float) against the CPU's
@@ -214,8 +221,6 @@ TEST(GpuSky, OzoneColumnMatchesTheCpu) {
   const double R = 6371e3, T = R + 100e3;
   const DensityProfile tent(DensityProfileSpec::tent(10e3, 25e3, 40e3));
   const PiecewiseLinearColumn cpu(tent, R);
-  std::vector<float> nodes = {float(R + 10e3), float(R + 25e3), float(R + 40e3), 0.f, 1.f, 0.f,
-                              float(1.0 / 15e3), float(-1.0 / 15e3), 0.f};
   std::vector<glm::vec4> rays;
   std::vector<double> ref;
   for (double h : {0.0, 5e3, 12e3, 30e3, 60e3})
@@ -226,16 +231,15 @@ TEST(GpuSky, OzoneColumnMatchesTheCpu) {
       rays.push_back(glm::vec4(r, muf, float(len), 0.f));
       ref.push_back(cpu(r, muf, double(float(len))));
     }
-  gpu::Buffer bn(nodes.size() * 4, nodes.data()), bi(rays.size() * 16, rays.data()), bo(rays.size() * 4);
-  bn.bind(2);
-  bi.bind(7);
-  bo.bind(8);
-  sg::GpuSkyParams params{};  // the parameter block (shared/sky_params.glsl.hpp)
-  params.off_oz = 0;
-  params.n_oz = 3;
+  gpu::Buffer bi(rays.size() * 16, rays.data()), bo(rays.size() * 4);
+  bi.bind(ATMOSH_BIND_CHECK_IN);
+  bo.bind(ATMOSH_BIND_CHECK_OUT);
+  sg::GpuSkyParams params{};  // the parameter block (shared/sky_params.glsl.hpp): the tent's nodes
+  params.ozone = {{float(R + 10e3), float(R + 25e3), float(R + 40e3)}, {0.f, 1.f, 0.f},
+                  {float(1.0 / 15e3), float(-1.0 / 15e3), 0.f}, 3};
   params.n_items = int(rays.size());
   gpu::Buffer bp(sizeof params, &params);
-  bp.bind(13);
+  bp.bind(ATMOSH_BIND_PARAMS);
   prog.dispatch(unsigned(rays.size() + 63) / 64);
   std::vector<float> out(rays.size());
   bo.download(out.data(), out.size() * 4);

@@ -258,6 +258,40 @@ struct AtomicStats {
     shadow.fetch_add(s.shadow_rays, std::memory_order_relaxed);
   }
 };
+
+// The per-query estimates of irradiance() and radiance_along(): query i of n gets its own
+// seeded stream and opt.samples estimates sample(tracer, rng, i, stats), averaged with
+// their standard error; the queries run in parallel in chunks of `grain`.
+template <class Sample>
+Irradiance estimate_per_query(const Scene& scene, std::size_t n, std::size_t grain, const TraceOptions& opt,
+                              Sample&& sample) {
+  const auto t_setup = Clock::now();
+  const Tracer tracer(scene, opt);
+  const auto t0 = Clock::now();
+  Irradiance out;
+  out.stats.setup_seconds = std::chrono::duration<double>(t0 - t_setup).count();
+  out.mean.assign(n, glm::dvec3(0.0));
+  out.stderr_.assign(n, glm::dvec3(0.0));
+  AtomicStats total;
+  parallel_for_ranges(
+      n, grain, opt.threads,
+      [&](std::size_t b, std::size_t e) {
+        Stats st;
+        for (std::size_t i = b; i < e; ++i) {
+          Rng rng(opt.seed, i);
+          Acc acc;
+          for (int s = 0; s < opt.samples; ++s) acc.add(sample(tracer, rng, i, st));
+          out.mean[i] = acc.mean;
+          out.stderr_[i] = acc.stderr_();
+        }
+        total.add(st);
+      },
+      opt.progress);
+  out.stats.rays = total.rays.load();
+  out.stats.shadow_rays = total.shadow.load();
+  out.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return out;
+}
 }  // namespace
 
 RadianceImage render(const Scene& scene, const Camera& cam, int width, int height, const TraceOptions& opt) {
@@ -325,32 +359,9 @@ Irradiance irradiance(const Scene& scene, const std::vector<glm::dvec3>& points,
     if (!std::isfinite(glm::length(points[i])) || !(ln > 0) || !std::isfinite(ln))
       throw InputError("gi irradiance: query " + std::to_string(i) + " has a non-finite point or a zero normal");
   }
-  const auto t_setup = Clock::now();
-  const Tracer tracer(scene, opt);
-  const auto t0 = Clock::now();
-  Irradiance out;
-  out.stats.setup_seconds = std::chrono::duration<double>(t0 - t_setup).count();
-  out.mean.assign(points.size(), glm::dvec3(0.0));
-  out.stderr_.assign(points.size(), glm::dvec3(0.0));
-  AtomicStats total;
-  parallel_for_ranges(
-      points.size(), 1, opt.threads,
-      [&](std::size_t b, std::size_t e) {
-        Stats st;
-        for (std::size_t i = b; i < e; ++i) {
-          Rng rng(opt.seed, i);
-          Acc acc;
-          for (int s = 0; s < opt.samples; ++s) acc.add(kPi * tracer.surface_path(rng, points[i], normals[i], st));
-          out.mean[i] = acc.mean;
-          out.stderr_[i] = acc.stderr_();
-        }
-        total.add(st);
-      },
-      opt.progress);
-  out.stats.rays = total.rays.load();
-  out.stats.shadow_rays = total.shadow.load();
-  out.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  return out;
+  return estimate_per_query(scene, points.size(), 1, opt, [&](const Tracer& tracer, Rng& rng, std::size_t i, Stats& st) {
+    return kPi * tracer.surface_path(rng, points[i], normals[i], st);
+  });
 }
 
 Irradiance radiance_along(const Scene& scene, const std::vector<glm::dvec3>& origins, const std::vector<glm::dvec3>& dirs,
@@ -374,40 +385,17 @@ Irradiance radiance_along(const Scene& scene, const std::vector<glm::dvec3>& ori
   for (std::size_t i = 0; i < origins.size(); ++i)
     if (!std::isfinite(glm::length(origins[i])))
       throw InputError("gi radiance: ray " + std::to_string(i) + " has a non-finite origin");
-  const auto t_setup = Clock::now();
-  const Tracer tracer(scene, opt);
-  const auto t0 = Clock::now();
-  Irradiance out;
-  out.stats.setup_seconds = std::chrono::duration<double>(t0 - t_setup).count();
-  out.mean.assign(origins.size(), glm::dvec3(0.0));
-  out.stderr_.assign(origins.size(), glm::dvec3(0.0));
-  AtomicStats total;
-  parallel_for_ranges(
-      origins.size(), 16, opt.threads,
-      [&](std::size_t b, std::size_t e) {
-        Stats st;
-        for (std::size_t i = b; i < e; ++i) {
-          Rng rng(opt.seed, i);
-          Acc acc;
-          for (int s = 0; s < opt.samples; ++s) {
-            const double u1 = rng.uniform(), u2 = rng.uniform();
-            double w = 1;
-            glm::dvec3 d = direction(i, u1, u2, w);
-            const double ln = glm::length(d);
-            if (!(ln > 0) || !std::isfinite(ln) || !std::isfinite(w))
-              throw InputError("gi radiance: ray " + std::to_string(i) + " got a zero or non-finite direction or weight");
-            acc.add(w * tracer.camera_path(rng, origins[i], d / ln, st));
-          }
-          out.mean[i] = acc.mean;
-          out.stderr_[i] = acc.stderr_();
-        }
-        total.add(st);
-      },
-      opt.progress);
-  out.stats.rays = total.rays.load();
-  out.stats.shadow_rays = total.shadow.load();
-  out.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  return out;
+  return estimate_per_query(scene, origins.size(), 16, opt,
+                            [&](const Tracer& tracer, Rng& rng, std::size_t i, Stats& st) {
+                              const double u1 = rng.uniform(), u2 = rng.uniform();
+                              double w = 1;
+                              glm::dvec3 d = direction(i, u1, u2, w);
+                              const double ln = glm::length(d);
+                              if (!(ln > 0) || !std::isfinite(ln) || !std::isfinite(w))
+                                throw InputError("gi radiance: ray " + std::to_string(i) +
+                                                 " got a zero or non-finite direction or weight");
+                              return w * tracer.camera_path(rng, origins[i], d / ln, st);
+                            });
 }
 
 }  // namespace atmosh::gi

@@ -286,6 +286,10 @@ class OpticalDepthLut {
   // lut_shell_weight), (shells - 3) x 4 values.
   const std::vector<double>& shell_rho() const { return rho_; }
   const std::vector<double>& shell_inverse_denominators() const { return lagrange_den_; }
+  // The scale height [m] by which the build splits a table ray's pieces (shared
+  // lut_piece_count): the smallest of the constituents built by quadrature; infinite
+  // when there is none (one sub-piece per piece).
+  double build_scale_height() const;
   const LutOptions& options() const { return opt_; }
   double build_time_s() const { return build_time_s_; }
   std::size_t table_bytes() const;

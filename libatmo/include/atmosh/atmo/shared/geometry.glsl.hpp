@@ -129,6 +129,13 @@ ATMOSH_FN real density_exponential(real h, real scale_height) {
   return glm::exp(-h / scale_height);
 }
 
+// Value at h of the function linear from (ha, va) to (hb, vb): a tabulated profile
+// between two of its nodes (DensityProfile, sky_lib.glsl's density_nodes); va where
+// hb <= ha.
+ATMOSH_FN real linear_between(real h, real ha, real hb, real va, real vb) {
+  return hb > ha ? va + (h - ha) / (hb - ha) * (vb - va) : va;
+}
+
 // 0 below bottom and above top, 1 at peak, linear in between.
 ATMOSH_FN real density_tent(real h, real bottom, real peak, real top) {
   if (h <= bottom || h >= top) return real(0);
@@ -145,18 +152,24 @@ ATMOSH_FN real density_tent(real h, real bottom, real peak, real top) {
 // 1 + x in [0.5, 2] the series log(1 + x) = 2 atanh(z) = 2 (z + z^3/3 + z^5/5
 // + ...) with z = x / (2 + x), |z| <= 1/3, is summed to 20 terms (truncation
 // < (1/9)^20 / 41 ~ 1e-20 relative); elsewhere log(1 + x) (1 + x exact for
-// x < -0.5 by Sterbenz's lemma, and log well conditioned for x > 1).
-// On the CPU (C++, ATMOSH_GLSL undefined) the C library's log1p is used: it is
-// correctly rounded to ~1 ulp and ~10x cheaper than the series, which matters
-// because the optical-depth tables call this per ray piece at every lookup.
-ATMOSH_FN real log1p_accurate(real x) {
-#ifdef ATMOSH_GLSL
+// x < -0.5 by Sterbenz's lemma, and log well conditioned for x > 1). Compiled on
+// both sides (the CPU tests it against log1p: test_shared_traversal.cpp).
+ATMOSH_FN real log1p_series(real x) {
   if (x < real(-0.5) || x > real(1)) return glm::log(real(1) + x);
   real z = x / (real(2) + x);
   real z2 = z * z;
   real sum = real(0);
   for (int k = 20; k >= 1; --k) sum = (sum + real(1) / real(2 * k + 1)) * z2;
   return real(2) * z * (real(1) + sum);
+}
+
+// log(1 + x): log1p_series on the GPU; on the CPU (C++, ATMOSH_GLSL undefined) the
+// C library's log1p, correctly rounded to ~1 ulp and ~10x cheaper than the series,
+// which matters because the optical-depth tables call this per ray piece at every
+// lookup.
+ATMOSH_FN real log1p_accurate(real x) {
+#ifdef ATMOSH_GLSL
+  return log1p_series(x);
 #else
   return std::log1p(x);
 #endif
@@ -350,6 +363,27 @@ ATMOSH_FN real quadratic_ramps_column(real r, real mu, real len, const real radi
   return sum;
 }
 
+// The ramps themselves at altitude h [m] (QuadraticRampsColumn::at, the GPU table
+// build's table_density): sum_k half_curv[k] ((radius[k] - R) - h)_+^2, 0 below the
+// ground (h < 0).
+ATMOSH_FN real quadratic_ramps_at(real h, const real radius[kMaxLinearNodes], const real half_curv[kMaxLinearNodes],
+                                  int n, real R) {
+  real q = real(0);
+  if (h < real(0)) return q;
+  for (int k = 0; k < n; ++k) {
+    real d = glm::max(real(0), (radius[k] - R) - h);
+    q += half_curv[k] * d * d;
+  }
+  return q;
+}
+
+// A table column with its subtracted kinks' closed-form columns added back (linear
+// pieces and quadratic ramps; OpticalDepthLut::add_closed_form, sky_lib.glsl's
+// sun_lookup): at least 0.
+ATMOSH_FN real column_added_back(real column, real linear, real ramps) {
+  return glm::max(real(0), column + linear + ramps);
+}
+
 // ---- phase functions [1/sr], cos_theta as defined in the header comment ----
 
 // Rayleigh with depolarisation factor rho_n (Chandrasekhar 1950, sec. 18):
@@ -385,6 +419,17 @@ ATMOSH_FN real phase_cornette_shanks(real cos_theta, real g) {
 // Two-lobe Henyey-Greenstein: w HG(g1) + (1 - w) HG(g2).
 ATMOSH_FN real phase_double_hg(real cos_theta, real g1, real g2, real w) {
   return w * phase_hg(cos_theta, g1) + (real(1) - w) * phase_hg(cos_theta, g2);
+}
+
+// The analytic phase function of model code `model` (the order of PhaseSpec::Model:
+// 0 Rayleigh, 1 Henyey-Greenstein, 2 Cornette-Shanks, 3 double HG) with parameters a
+// (the depolarisation factor for Rayleigh, else g), g2 and w (double HG's second lobe
+// and the first lobe's weight).
+ATMOSH_FN real phase_analytic(int model, real cos_theta, real a, real g2, real w) {
+  if (model == 0) return phase_rayleigh(cos_theta, a);
+  if (model == 1) return phase_hg(cos_theta, a);
+  if (model == 2) return phase_cornette_shanks(cos_theta, a);
+  return phase_double_hg(cos_theta, a, g2, w);
 }
 
 #endif  // ATMOSH_SHARED_GEOMETRY_ONCE

@@ -121,6 +121,61 @@ ATMOSH_FN int lut_window_start(int k, int S) { return glm::clamp(k - 1, 0, S - 4
     (k) = lut_lo_ - 1;                            \
   }
 
+// The lookup's window in rho (OpticalDepthLut::shell_weights, sky_lib.glsl's
+// interpolate): its first shell w for the shell interval k of S shells and the four
+// Lagrange weights lw[0..3] at rho; RHO_AT(i) the shells' rho, DEN_AT(i) their inverse
+// denominators (OpticalDepthLut::shell_inverse_denominators: window w, node i at 4 w + i).
+#define ATMOSH_LUT_SHELL_WEIGHTS(lw, w, k, S, rho, RHO_AT, DEN_AT)                                           \
+  {                                                                                                           \
+    (w) = lut_window_start((k), (S));                                                                         \
+    for (int lut_i_ = 0; lut_i_ < 4; ++lut_i_)                                                                \
+      (lw)[lut_i_] = lut_shell_weight((rho), DEN_AT((w) * 4 + lut_i_), RHO_AT(w), RHO_AT((w) + 1), RHO_AT((w) + 2), \
+                                      RHO_AT((w) + 3), lut_i_);                                               \
+  }
+
+// The lookup's window in x: its first direction sample jw of n around x and the four
+// cubic Lagrange weights xw[0..3] at x.
+#define ATMOSH_LUT_DIRECTION_WEIGHTS(xw, jw, x, n)                                                   \
+  {                                                                                                   \
+    (jw) = lut_direction_window((x), (n));                                                            \
+    for (int lut_m_ = 0; lut_m_ < 4; ++lut_m_)                                                        \
+      (xw)[lut_m_] = lagrange_cubic_weight(lut_direction_offset((x), (n), (jw)), lut_m_);             \
+  }
+
+// The lookup's 4 x 4 window sum (OpticalDepthLut::interpolate's window_sum,
+// sky_lib.glsl's interpolate): acc = sum_i lw[i] (xw[0] e_i0 + xw[1] e_i1 + xw[2] e_i2 +
+// xw[3] e_i3), e_im = ENTRY(i, m) the entry of shell w + i and direction jw + m (a
+// vector of the constituents, type T3; ZERO its zero), in this order on both sides.
+#define ATMOSH_LUT_WINDOW_SUM(T3, ZERO, acc, lw, xw, ENTRY)                                                     \
+  {                                                                                                           \
+    acc = ZERO;                                                                                               \
+    for (int lut_i_ = 0; lut_i_ < 4; ++lut_i_) {                                                              \
+      T3 lut_e0_ = ENTRY(lut_i_, 0), lut_e1_ = ENTRY(lut_i_, 1), lut_e2_ = ENTRY(lut_i_, 2), lut_e3_ = ENTRY(lut_i_, 3); \
+      acc += (lw)[lut_i_] * ((xw)[0] * lut_e0_ + (xw)[1] * lut_e1_ + (xw)[2] * lut_e2_ + (xw)[3] * lut_e3_);  \
+    }                                                                                                         \
+  }
+
+// A stored table value decoded to the mean relative density along the table ray: the
+// exponential where the table holds its logarithm, else the value (at least 0). Float
+// on the GPU (pasted once; GLSL has no double exp).
+ATMOSH_FN real lut_decode(real v, bool log_encoded) { return log_encoded ? glm::exp(v) : glm::max(v, real(0)); }
+
+// Table build: the sub-pieces of the piece [a, b] of the ray from radius r with
+// zenith cosine mu (squared tangent radius rt2), lut_piece_count of them for the scale
+// height H, each with the n-point rule of RULE_X(g) in (0, 1) and weights RULE_W(g)
+// summing to 1: NODE(s, w) for every node (distance s, weight w [m]), in order.
+#define ATMOSH_LUT_PIECE_NODES(T, r, mu, rt2, a, b, H, n, RULE_X, RULE_W, NODE)                      \
+  {                                                                                                 \
+    T lut_ra_ = radius_along((r), (mu), (a));                                                       \
+    T lut_rb_ = radius_along((r), (mu), (b));                                                       \
+    int lut_m_ = lut_piece_count(lut_ra_, lut_rb_, (b) - (a), (rt2), (H));                          \
+    T lut_h_ = ((b) - (a)) / T(lut_m_);                                                             \
+    for (int lut_p_ = 0; lut_p_ < lut_m_; ++lut_p_) {                                               \
+      T lut_lo_ = (a) + T(lut_p_) * lut_h_;                                                         \
+      for (int lut_g_ = 0; lut_g_ < (n); ++lut_g_) NODE(lut_lo_ + RULE_X(lut_g_) * lut_h_, RULE_W(lut_g_) * lut_h_); \
+    }                                                                                               \
+  }
+
 // Table build (OpticalDepthLut::build_column, gpu/shaders/lut_build.comp): the ray
 // from radius r with zenith cosine mu over s in [0, L] is cut at the tangent point
 // s_t = -r mu and wherever it crosses one of the N sorted radii (s = s_t -+ q,

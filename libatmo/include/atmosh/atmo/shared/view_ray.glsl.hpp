@@ -151,6 +151,12 @@ ATMOSH_FN SkyViewRay sky_view_ray(real r, real mu, real mu_s, real nu, real R, r
   return ray;
 }
 
+// The view ray of direction v from radius r with the sun in direction l (unit vectors
+// in the observer's frame, z up): sky_view_ray of their zenith cosines and cos(v, l).
+ATMOSH_FN SkyViewRay sky_view_ray_toward(real r, real3 v, real3 l, real R, real T) {
+  return sky_view_ray(r, v.z, l.z, glm::clamp(glm::dot(v, l), real(-1), real(1)), R, T);
+}
+
 // Altitude [m] of the point of radius rs above the ground sphere R as the densities
 // take it: rs - R, and the ground where rounding puts a ray's end on it below.
 ATMOSH_FN real sky_altitude(real rs, real R) { return glm::max(rs - R, real(0)); }
@@ -158,6 +164,13 @@ ATMOSH_FN real sky_altitude(real rs, real R) { return glm::max(rs - R, real(0));
 // Cosine of the sun's zenith angle where the ray meets the ground (ray.ground).
 ATMOSH_FN real sky_ground_sun_cosine(SkyViewRay ray) {
   return cos_zenith_along(ray.r, ray.mu_s, ray.nu, ray.s_end, radius_along(ray.r, ray.mu, ray.s_end));
+}
+
+// Whether the ground at the end of the ray reflects sunlight: the ray ends on it, the
+// albedo is positive and the sun is above the horizon there (mus_g =
+// sky_ground_sun_cosine(ray) > 0).
+ATMOSH_FN bool sky_ground_lit(SkyViewRay ray, real albedo, real mus_g) {
+  return ray.ground && albedo > real(0) && mus_g > real(0);
 }
 
 // ---- the walk along the ray: quadrature nodes, densities, view columns ----
@@ -174,6 +187,31 @@ struct SkyViewNode {
   real3 rho;
   real3 column;
 };
+
+// Cosine of the sun's zenith angle at the node nd of the ray.
+ATMOSH_FN real sky_node_sun_cosine(SkyViewRay ray, SkyViewNode nd) {
+  return cos_zenith_along(ray.r, ray.mu_s, ray.nu, nd.s, nd.r);
+}
+
+// What the spectral loop needs of a node outside the Earth's shadow, in single
+// precision: the column sun -> node -> observer x [m] (Rayleigh, Mie, ozone: the
+// node's view column plus sun_column, its column toward the sun) and the scattering
+// weights sr = rho_R P_R w and sm = rho_M P_M w (P [1/sr] the phase functions at nu).
+struct SkyNodeTerms {
+  float x[3];
+  float sr;
+  float sm;
+};
+ATMOSH_FN SkyNodeTerms sky_node_terms(SkyViewNode nd, real3 sun_column, real p_ray, real p_mie) {
+  SkyNodeTerms t;
+  real3 x = nd.column + sun_column;
+  t.x[0] = float(x[0]);
+  t.x[1] = float(x[1]);
+  t.x[2] = float(x[2]);
+  t.sr = float(nd.rho[0] * p_ray * nd.w);
+  t.sm = float(nd.rho[1] * p_mie * nd.w);
+  return t;
+}
 
 // The column from the start of a part (half its length: half_len [m]) to its node `row`
 // (row n_nodes: to its end), from the densities at the part's start, nodes and end
@@ -193,6 +231,7 @@ ATMOSH_FN real3 sky_part_column(const real part_w[kMaxPartWeights], int row, int
 #ifdef ATMOSH_GLSL
 #define ATMOSH_SKY_HOOK_TEMPLATE
 #define ATMOSH_SKY_HOOKS
+#define ATMOSH_SKY_HOOK_ARGS
 #ifdef ATMOSH_SKY_TRACE
 real3 sky_density(real h);
 void sky_visit(SkyViewNode nd);
@@ -200,6 +239,7 @@ void sky_visit(SkyViewNode nd);
 #else
 #define ATMOSH_SKY_HOOK_TEMPLATE template <class SkyDensity, class SkyVisit>
 #define ATMOSH_SKY_HOOKS , SkyDensity&& sky_density, SkyVisit&& sky_visit
+#define ATMOSH_SKY_HOOK_ARGS , sky_density, sky_visit
 #endif
 
 #if !defined(ATMOSH_GLSL) || defined(ATMOSH_SKY_TRACE)
@@ -256,6 +296,17 @@ ATMOSH_FN real3 sky_trace(SkyViewRay ray, const real cuts[kMaxViewCuts], int nc,
   }
   return column;
 }
+
+// The walk along the whole view ray (SkyIntegrator::radiance, sky.comp): its cuts at the
+// spheres cut_radii[0..n_cuts) (view_ray_cuts), then sky_trace along them.
+ATMOSH_SKY_HOOK_TEMPLATE
+ATMOSH_FN real3 sky_walk(SkyViewRay ray, const real cut_radii[kMaxCutSpheres], int n_cuts, real R, real3 ext_max,
+                         real max_tau, const real gx[kMaxPartNodes], const real gw[kMaxPartNodes], int n_nodes,
+                         const real part_w[kMaxPartWeights] ATMOSH_SKY_HOOKS) {
+  ViewRayCuts vc = view_ray_cuts(ray.r, ray.mu, ray.mu_s, ray.nu, R, ray.s_end, tangent_radius_sq(ray.r, ray.mu),
+                                 cut_radii, n_cuts);
+  return sky_trace(ray, vc.s, vc.n, R, ext_max, max_tau, gx, gw, n_nodes, part_w ATMOSH_SKY_HOOK_ARGS);
+}
 #endif
 
 // ATMOSH_GLSL_END
@@ -263,5 +314,6 @@ ATMOSH_FN real3 sky_trace(SkyViewRay ray, const real cuts[kMaxViewCuts], int nc,
 #undef ATMOSH_FN
 #undef ATMOSH_SKY_HOOK_TEMPLATE
 #undef ATMOSH_SKY_HOOKS
+#undef ATMOSH_SKY_HOOK_ARGS
 
 }  // namespace atmosh::atmo::shared
