@@ -6,11 +6,15 @@ id, so a regenerated notebook differs only where a cell changed):
 
     /usr/bin/python3 notebooks_export/make_notebook.py
 
-The notebook reads the CSV and OpenEXR outputs of `atmosh demo` (the main job,
-docs/outputs.md) from the folder named by the environment variable ATMOSH_RESULTS
+The notebook reads the netCDF-CF, CSV and OpenEXR outputs of the main job (`atmosh demo`
+and notebooks_export/netcdf_outputs.sh, docs/outputs.md) from the folder named by the
+environment variable ATMOSH_RESULTS
 (default: results/ at the top of the source tree) and saves every figure as PDF and PNG
-under $ATMOSH_RESULTS/figures/. EXR images are read with OpenImageIO (Debian
-python3-openimageio): all channels and all header attributes. The figures it writes are
+under $ATMOSH_RESULTS/figures/. netCDF files are read with xarray (Debian python3-xarray,
+python3-netcdf4) and preferred where the main job writes one (the sky image, the sun
+track, the sun-elevation and day studies); the CSV or EXR of `atmosh demo` is read where
+it does not. EXR images are read with OpenImageIO (Debian python3-openimageio): all
+channels and all header attributes. The figures it writes are
 listed in figures.txt; run_figures.sh executes the notebook headless and checks that list.
 """
 import json
@@ -42,6 +46,16 @@ FILES = [
     "stability.csv",
     "prt/relight/ao.exr",
     "prt/relight/frame_0000.exr",
+]
+
+# netCDF-CF files of the main job (notebooks_export/netcdf_outputs.sh, run after `atmosh
+# demo` by scripts/main-job.sh and the test figures_notebooks), read in preference to the
+# CSV/EXR of the same quantity.
+NC_FILES = [
+    "netcdf/sky.nc",
+    "netcdf/sun_track.nc",
+    "netcdf/sun_elevation_study/sun_elevation.nc",
+    "netcdf/day_study/day.nc",
 ]
 
 cells = []
@@ -83,6 +97,7 @@ FIGURES = RESULTS / "figures"
 FIGURES.mkdir(parents=True, exist_ok=True)
 # Files this notebook reads (kept in step with `atmosh demo` by the test suite):
 FILES = {json.dumps(FILES)}
+NC_FILES = {json.dumps(NC_FILES)}
 SAVED = []
 plt.rcParams.update({{"figure.dpi": 110, "savefig.dpi": 150, "font.size": 9, "axes.grid": True,
                       "grid.alpha": 0.3, "pdf.fonttype": 42}})
@@ -94,8 +109,31 @@ def have(*names):
         print("skipped: input absent:", ", ".join(missing))
     return not missing
 
+def pick(*names):
+    \"\"\"The first of the files that exists (netCDF first, then the CSV/EXR), or None.\"\"\"
+    for n in names:
+        if (RESULTS / n).is_file():
+            print("reading", n)
+            return n
+    print("skipped: input absent:", ", ".join(names))
+    return None
+
+def read_nc(name):
+    \"\"\"A netCDF-CF file as an xarray.Dataset (CF-decoded: `time` as datetime64) and its
+    provenance (the global attributes atmosh_<key>, plus history) as a dict.\"\"\"
+    import xarray as xr
+    ds = xr.open_dataset(RESULTS / name).load()
+    meta = {{k[len("atmosh_"):]: v for k, v in ds.attrs.items() if k.startswith("atmosh_")}}
+    meta["history"] = ds.attrs.get("history", "")
+    return ds, meta
+
 def read(name):
-    \"\"\"The CSV as a DataFrame and its '# key: value' provenance lines as a dict.\"\"\"
+    \"\"\"A table as a DataFrame and its provenance as a dict: a netCDF-CF table (one
+    variable per column, the coordinates as columns too) or a CSV with its '# key: value'
+    lines.\"\"\"
+    if name.endswith(".nc"):
+        ds, meta = read_nc(name)
+        return ds.to_dataframe().reset_index(), meta
     path = RESULTS / name
     meta = {{}}
     with open(path) as f:
@@ -160,22 +198,36 @@ def tonemap(rgb, exposure=None):
     return np.where(v <= 0.0031308, 12.92 * v, 1.055 * np.power(v, 1 / 2.4) - 0.055)
 
 print("results:", RESULTS)
-missing = [f for f in FILES if not (RESULTS / f).exists()]
+missing = [f for f in FILES + NC_FILES if not (RESULTS / f).exists()]
 print("missing inputs:", missing or "none")
 """)
 
 # --------------------------------------------------------------------------------------
 md("sky", """
-## The sky image (`sky.exr`)
+## The sky image (`netcdf/sky.nc`, else `sky.exr`)
 
 Equirect: azimuth 0..360° from north towards east, left to right; elevation +90° at the top.
 Left: the linear sRGB channels tone-mapped for display; right: log10 of the luminance Y.
 """)
 code("fig-sky", """
-if have("sky.exr"):
-    ch, attrs = read_exr("sky.exr")
+NAME = pick("netcdf/sky.nc", "sky.exr")
+if NAME and NAME.endswith(".nc"):
+    ds, meta = read_nc(NAME)
+    print(ds)
+    Y = ds["Y"].values
+    # XYZ -> linear sRGB (IEC 61966-2-1, D65), the scale of Y (cd/m^2)
+    M = np.array([[3.2406, -1.5372, -0.4986], [-0.9689, 1.8758, 0.0415], [0.0557, -0.2040, 1.0570]])
+    rgb = np.einsum("ij,jhw->hwi", M, np.stack([ds["X"].values, Y, ds["Z"].values]))
+    el, az = ds["elevation"].values, ds["azimuth"].values  # pixel centres [degree]
+    de, da = abs(el[0] - el[1]) / 2 if el.size > 1 else 90.0, (az[1] - az[0]) / 2 if az.size > 1 else 180.0
+    ext = [az[0] - da, az[-1] + da, el[-1] - de, el[0] + de]
+    sun_el = 90.0 - float(ds["solar_zenith_angle"]) if "solar_zenith_angle" in ds else np.nan
+    sun_az = float(ds["solar_azimuth_angle"]) if "solar_azimuth_angle" in ds else np.nan
+    unit, scattering, commit = "cd/m$^2$", meta.get("scattering", ""), meta.get("git_commit")
+elif NAME:
+    ch, attrs = read_exr(NAME)
     print("channels:", list(ch)); print("attributes:"); [print(f"  {k}: {v}") for k, v in attrs.items()]
-    Y = ch["Y"]; h, w = Y.shape
+    Y = ch["Y"]; rgb = np.dstack([ch["R"], ch["G"], ch["B"]])
     # 'projection' says: azimuth 0..360 deg from north towards east left to right,
     # elevation +90..-90 deg top to bottom
     m = re.search(r"elevation ([+-]?[0-9.]+)[.][.]([+-]?[0-9.]+)", str(attrs.get("projection", "")))
@@ -183,8 +235,10 @@ if have("sky.exr"):
     ext = [0, 360, el_bottom, el_top]
     sun_el = float(attrs.get("sun_elevation_deg", np.nan)); sun_az = float(attrs.get("sun_azimuth_deg", np.nan))
     unit = attrs.get("value_units", "cd/m^2").replace("^2", "$^2$")
+    scattering, commit = attrs.get("atmosh:scattering", ""), attrs.get("atmosh:git_commit")
+if NAME:
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 3.4))
-    a.imshow(tonemap(np.dstack([ch["R"], ch["G"], ch["B"]])), extent=ext, aspect="auto", interpolation="nearest")
+    a.imshow(tonemap(rgb), extent=ext, aspect="auto", interpolation="nearest")
     a.set_title("sky, linear sRGB tone-mapped (99th percentile of Y = 1)")
     floor = max(np.nanmax(Y) * 1e-8, np.nanmin(Y[Y > 0]) if np.any(Y > 0) else 1e-12)
     im = b.imshow(np.log10(np.maximum(Y, floor)), extent=ext, aspect="auto", cmap="magma", interpolation="nearest")
@@ -195,15 +249,16 @@ if have("sky.exr"):
         ax.set_xticks(np.arange(0, 361, 45)); ax.grid(False)
         if np.isfinite(sun_el):
             ax.plot([sun_az], [sun_el], marker="o", mfc="none", mec="cyan", ms=9)
-    fig.suptitle(f"Sky, sun at elevation {sun_el:.2f}°, azimuth {sun_az:.2f}° ({attrs.get('atmosh:scattering', '')}) — {cite('sky.exr', {'git_commit': attrs.get('atmosh:git_commit')})}", fontsize=9)
+    fig.suptitle(f"Sky, sun at elevation {sun_el:.2f}°, azimuth {sun_az:.2f}° ({scattering}) — {cite(NAME, {'git_commit': commit})}", fontsize=9)
     fig.tight_layout(); save(fig, "sky")
 """)
 
 # --------------------------------------------------------------------------------------
-md("day", "## The day study: the sun over the scene's UTC day (`sun_track.csv`, NREL SPA)")
+md("day", "## The sun over the scene's UTC day (`netcdf/sun_track.nc`, else `sun_track.csv`; NREL SPA)")
 code("fig-sun-track", """
-if have("sun_track.csv"):
-    df, meta = read("sun_track.csv")
+NAME = pick("netcdf/sun_track.nc", "sun_track.csv")
+if NAME:
+    df, meta = read(NAME)
     t = pd.to_datetime(df["time_utc"])
     fig, (a, b) = plt.subplots(1, 2, figsize=(10, 3.4))
     a.plot(t, df["elevation_deg"], label="geometric")
@@ -217,21 +272,21 @@ if have("sun_track.csv"):
     b.set_yticks(np.arange(0, 361, 90))
     for ax in (a, b):
         ax.xaxis.set_major_formatter(matplotlib.dates.DateFormatter("%H:%M"))
-    fig.suptitle(f"Sun at lat {meta.get('latitude_deg')}°, lon {meta.get('longitude_deg')}°, {meta.get('from_utc', '')[:10]} — {cite('sun_track.csv', meta)}", fontsize=9)
+    fig.suptitle(f"Sun at lat {meta.get('latitude_deg')}°, lon {meta.get('longitude_deg')}°, {meta.get('from_utc', '')[:10]} — {cite(NAME, meta)}", fontsize=9)
     fig.tight_layout(); save(fig, "sun_track")
 """)
 
 # --------------------------------------------------------------------------------------
 md("sun-elevation", """
-## Sky colour against sun elevation (`sun_elevation_study/sun_elevation.csv`)
+## Sky colour against sun elevation (`netcdf/sun_elevation_study/sun_elevation.nc`, else the CSV)
 
 Colour strips: the linear sRGB of each view divided by its largest channel (so the strip
 shows chromaticity, not brightness) and sRGB-encoded; luminance on a log scale (it spans
 many decades from night to noon); CIE 1931 chromaticity x and y.
 """)
 code("fig-sun-elevation", """
-NAME = "sun_elevation_study/sun_elevation.csv"
-if have(NAME):
+NAME = pick("netcdf/sun_elevation_study/sun_elevation.nc", "sun_elevation_study/sun_elevation.csv")
+if NAME:
     df, meta = read(NAME)
     df = df.sort_values("sun_elevation_deg")
     el = df["sun_elevation_deg"].to_numpy()
@@ -284,6 +339,40 @@ if have(NAME):
     a.legend(fontsize=7); b.legend(fontsize=7)
     fig.suptitle(f"Chromaticity against sun elevation — {cite(NAME, meta)}", fontsize=9)
     fig.tight_layout(); save(fig, "sun_elevation_chromaticity")
+""")
+
+# --------------------------------------------------------------------------------------
+md("day-study", """
+## The sky through the day (`netcdf/day_study/day.nc`)
+
+The day study at the scene's observer: luminance of the zenith and the horizon against
+UTC time (the file's CF time coordinate), and the zenith's colour strip (chromaticity,
+brightness normalised), blank where the sky is dark.
+""")
+code("fig-day-study", """
+NAME = pick("netcdf/day_study/day.nc")
+if NAME:
+    ds, meta = read_nc(NAME)
+    t = ds["time"].values
+    fig, (a, b) = plt.subplots(2, 1, figsize=(8, 4.8), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+    for col, what in [("zenith_luminance_cd_m2", "zenith"), ("horizon_sun_luminance_cd_m2", "horizon toward the sun"),
+                      ("horizon_away_luminance_cd_m2", "horizon away from the sun")]:
+        v = ds[col].values
+        a.semilogy(t[v > 0], v[v > 0], "o-", ms=3, label=what)
+    a2 = a.twinx(); a2.plot(t, ds["sun_elevation_deg"].values, "k:", label="sun elevation")
+    a2.set_ylabel(label("sun_elevation_deg")); a2.grid(False); a2.legend(loc="lower right", fontsize=7)
+    a.set_ylabel("luminance [cd/m$^2$]"); a.legend(loc="upper left", fontsize=7)
+    rgb = np.nan_to_num(np.maximum(np.stack([ds[f"zenith_{c}"].values for c in "rgb"], axis=1), 0))
+    peak = rgb.max(axis=1, keepdims=True)
+    sw = tonemap(np.where(peak > 0, rgb / np.where(peak > 0, peak, 1), 0), exposure=1.0)
+    step = (t[1] - t[0]) if t.size > 1 else np.timedelta64(3600, "s")
+    for i in range(t.size):
+        b.axvspan(t[i] - step / 2, t[i] + step / 2, color=sw[i], lw=0)
+    b.set_yticks([]); b.set_ylabel("zenith", rotation=0, ha="right", va="center"); b.grid(False)
+    b.set_xlabel("time [UTC]"); b.xaxis.set_major_formatter(matplotlib.dates.DateFormatter("%H:%M"))
+    fig.suptitle(f"Sky through {meta.get('date_utc', '')} at lat {float(ds['latitude']):.4f}°, "
+                 f"lon {float(ds['longitude']):.4f}° — {cite(NAME, meta)}", fontsize=9)
+    fig.tight_layout(); save(fig, "day_study")
 """)
 
 # --------------------------------------------------------------------------------------

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -16,6 +17,7 @@
 #include "atmosh/error.hpp"
 #include "atmosh/memory.hpp"
 #include "atmosh/parallel.hpp"
+#include "atmosh/io/netcdf.hpp"
 #include "atmosh/io/provenance.hpp"
 
 namespace atmosh::cli {
@@ -104,6 +106,18 @@ void check_memory(std::size_t bytes, const std::string& what) {
                           ? std::string("the cgroup's memory.max less its usage; set with --max-memory")
                           : std::string("MemAvailable; set with --max-memory")) +
                      ")");
+}
+
+void add_format_option(CLI::App* c, bool& netcdf) {
+  c->add_option_function<std::string>("--format", [&netcdf](const std::string& v) { netcdf = io::parse_table_format(v); },
+                                      "csv (default) | netcdf: the table also as netCDF-CF (.nc beside the .csv)");
+}
+
+void add_format_option(CLI::App* c, std::string& stem) {
+  static std::deque<bool> flags;  // one per command, alive as long as the program
+  bool& netcdf = flags.emplace_back(false);
+  add_format_option(c, netcdf);
+  c->parse_complete_callback([&netcdf, &stem] { if (netcdf && !stem.ends_with(".nc")) stem += ".nc"; });
 }
 
 }  // namespace atmosh::cli

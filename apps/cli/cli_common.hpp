@@ -59,6 +59,12 @@ void set_memory_budget(std::size_t bytes);  // --max-memory
 // 7.6 GiB (MemAvailable; set with --max-memory)" when bytes exceed the budget.
 void check_memory(std::size_t bytes, const std::string& what);
 
+// --format csv|netcdf of a table output (netCDF-CF beside the CSV, atmosh/io/netcdf.hpp),
+// checked when parsed. For an output folder it sets `netcdf` (handed to the writer); for
+// an output stem, `--format netcdf` is `-o STEM.nc` (the writers' io::table_output_stem).
+void add_format_option(CLI::App* c, bool& netcdf);
+void add_format_option(CLI::App* c, std::string& stem);
+
 // Output paths checked before any work (atmosh/io/output_check.hpp).
 using io::check_output_dir;
 using io::check_output_file;

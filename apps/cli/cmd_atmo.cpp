@@ -248,6 +248,7 @@ void register_atmo_commands(CLI::App& app) {
     c->add_option("--device", o->device,
                   "cpu, gpu or auto: with a GPU, each setting also gets a lut_gpu row (tables built on the GPU); "
                   "auto uses the GPU if a headless EGL device exists, else the CPU only");
+    add_format_option(c, o->stem);
     c->callback([o, os, od] {
       check_device(o->device);
       ProgressStep step("converge lut");

@@ -21,7 +21,7 @@ struct ConvergeMs {
   std::int64_t paths = 0;
   bool paths_given = false;  // else the default of the mode (quick: 16000, full: 128000)
   std::uint64_t seed = 1;
-  bool quick = false;
+  bool quick = false, netcdf = false;
 };
 
 std::vector<fs::path> run_converge_ms(const ConvergeMs& o) {
@@ -34,7 +34,7 @@ std::vector<fs::path> run_converge_ms(const ConvergeMs& o) {
   so.paths = paths;
   so.seed = o.seed;
   so.quick = o.quick;
-  return studies::write_converge_ms(studies::converge_ms(s, so), o.output);
+  return studies::write_converge_ms(studies::converge_ms(s, so), o.output, o.netcdf);
 }
 
 }  // namespace
@@ -49,6 +49,7 @@ void register_converge_ms_command(CLI::App& app) {
   c->add_flag("--quick", o.quick, "4 rows (zenith and horizon, sun 30 and 10 deg), 3 settings: a few seconds");
   c->add_option("-o,--output", o.output, "Output folder (ms_convergence.csv, .png, ms_convergence_points.csv)")
       ->required();
+  add_format_option(c, o.netcdf);
   c->callback([paths] {
     o.paths_given = paths->count() > 0;
     for (const auto& f : run_converge_ms(o)) std::cout << f.string() << "\n";

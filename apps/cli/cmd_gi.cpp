@@ -227,6 +227,7 @@ struct GiConvergeOptions {
   GiRenderOptions scene;  // scene, lights, size, seed, threads, probe settings shared with render
   std::string out_dir, bands_list = "1,2,3,4", grids = "2,3,4,6,8", path_samples = "4,16";
   int reference_samples = 256;
+  bool netcdf = false;
 };
 
 std::vector<int> int_list(const std::string& text, const std::string& what, int lo, int hi) {
@@ -374,7 +375,7 @@ void run_converge(const GiConvergeOptions& co) {
       .add("pixel_samples", std::to_string(o.pixel_samples)).add("window", o.window)
       .add("errors", "relative to the reference's mean radiance; leak_rel = sum max(0, a - r - 3 stderr) / sum r; "
                      "pixels seeing an emitter directly (and a 1-pixel border) left out");
-  for (const auto& f : io::write_study(dir / "gi_converge", spec, rows, sp)) std::printf("%s\n", f.string().c_str());
+  for (const auto& f : io::write_study(dir / "gi_converge", spec, rows, sp, co.netcdf)) std::printf("%s\n", f.string().c_str());
 }
 
 void add_probe_options(CLI::App* c, GiRenderOptions& o) {
@@ -449,6 +450,7 @@ void register_gi_commands(CLI::App& app) {
   v->add_option("--reference-samples", co->reference_samples, "reference paths per pixel (default 256)");
   v->add_option("--size", co->scene.size, "image size WxH (default 64x64)");
   v->add_option("-o,--output", co->out_dir, "output folder")->required();
+  add_format_option(v, co->netcdf);
   v->callback([co] { run_converge(*co); });
 }
 

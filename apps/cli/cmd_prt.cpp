@@ -296,6 +296,7 @@ void register_prt_commands(CLI::App& app) {
     c->add_option("--depth-maps", o->depth_maps, "GPU rows: depth-map sizes (default 256,1024)");
     c->add_option("--view", o->view, "per-pixel rows: direction from the scene centre to the camera");
     c->add_option("-o,--output", o->out, "output stem (writes STEM.csv and STEM.png)")->required();
+    add_format_option(c, o->out);
     c->callback([o] {
       check_device(o->device);
       ProgressStep step("prt converge");

@@ -228,6 +228,7 @@ void register_sh_commands(CLI::App& app) {
     c->add_option("--seed", o->seed, "random seed");
     c->add_option("--layout", o->layout, "auto | equirect | cross");
     c->add_flag("--quick", o->quick, "fewer sample counts");
+    add_format_option(c, o->stem);
     c->callback([o] {
       require_bands(o->bands);
       const studies::ShImage li = load_image(o->in, o->layout);

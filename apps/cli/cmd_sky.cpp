@@ -244,6 +244,7 @@ struct ElevationStudy {
   std::string scene_file, output;
   double from = -18, to = 90, step = 1, azimuth = 180;
   QualityOptions q;
+  bool netcdf = false;
 };
 
 std::vector<fs::path> run_elevation_study(const ElevationStudy& given_options, const ProgressCallback& progress) {
@@ -264,7 +265,7 @@ std::vector<fs::path> run_elevation_study(const ElevationStudy& given_options, c
   check_output_dir(o.output, "-o");
   const auto s = load_or_default(o.scene_file);
   e.sky = o.q.settings_for_studies();
-  return studies::write_elevation_study(studies::sun_elevation_study(s, e, progress), o.output);
+  return studies::write_elevation_study(studies::sun_elevation_study(s, e, progress), o.output, o.netcdf);
 }
 
 // ------------------------------------------------------------- study day
@@ -272,7 +273,7 @@ struct DayStudy {
   std::string scene_file, date, step = "10min", output, frame_size = "128x64";
   std::optional<double> lat, lon;
   double height = 0;
-  bool frames = true;
+  bool frames = true, netcdf = false;
   QualityOptions q;
 };
 
@@ -303,7 +304,7 @@ std::vector<fs::path> run_day_study(const DayStudy& given_options, const Progres
   std::vector<fs::path> frames;
   const auto st = studies::day_study(
       s, d, [&](studies::DayFrame&& f) { frames.push_back(studies::write_day_frame(f, dir)); }, progress);
-  const auto files = studies::write_day_study(st, dir);  // day.csv, then the plots
+  const auto files = studies::write_day_study(st, dir, o.netcdf);  // day.csv, then the plots
   std::vector<fs::path> written = {files.front()};
   written.insert(written.end(), frames.begin(), frames.end());
   written.insert(written.end(), files.begin() + 1, files.end());
@@ -363,6 +364,7 @@ void register_sky_commands(CLI::App& app) {
     s->add_option("--azimuth", o.azimuth, "Sun azimuth [deg]")->capture_default_str();
     s->add_option("-o,--output", o.output, "Output folder")->required();
     add_quality_options(s, o.q);
+    add_format_option(s, o.netcdf);
     s->callback([] {
       ProgressStep step("study sun-elevation");
       for (const auto& f : run_elevation_study(o, step.callback())) std::cout << f.string() << "\n";
@@ -381,6 +383,7 @@ void register_sky_commands(CLI::App& app) {
     s->add_flag("!--no-frames", o.frames, "Skip the EXR frames");
     s->add_option("-o,--output", o.output, "Output folder")->required();
     add_quality_options(s, o.q);
+    add_format_option(s, o.netcdf);
     s->callback([] {
       ProgressStep step("study day");
       for (const auto& f : run_day_study(o, step.callback())) std::cout << f.string() << "\n";
@@ -389,13 +392,14 @@ void register_sky_commands(CLI::App& app) {
   {
     auto* sw = app.add_subcommand("sweep", "Evaluate the sky over a grid or list of scene parameters (resumable, shardable)");
     static std::string file, out, shard = "1/1";
-    static bool resume = false;
+    static bool resume = false, netcdf = false;
     static QualityOptions q;
     sw->add_option("sweep", file, "Sweep file (TOML)");
     sw->add_option("-o,--output", out, "Output folder");
     sw->add_flag("--resume", resume, "Skip points already in the journal of an interrupted run");
     sw->add_option("--shard", shard, "Run shard k of N (k/N), merge later with `atmosh sweep merge`")->capture_default_str();
     add_quality_options(sw, q);
+    add_format_option(sw, netcdf);
     static std::vector<std::string> merge_in;
     static std::string merge_out;
     auto* merge = sw->add_subcommand("merge", "Join shard CSVs of one sweep (checks every point appears once)");
@@ -429,6 +433,7 @@ void register_sky_commands(CLI::App& app) {
       o.progress = step.callback();
       const studies::SkySettings k = qq.settings_for_studies();
       const auto r = scene::run_sweep(spec, [k](const scene::Scene& s) { return studies::sweep_point(s, k); }, o);
+      if (netcdf) io::write_sweep_csv_as_netcdf(r.csv, fs::path(r.csv).replace_extension(".nc"), spec.keys);
       std::cout << "sweep: " << r.points_in_shard << " point(s) of " << r.points_total << " in " << r.csv.string()
                 << " (" << r.points_resumed << " resumed, " << r.points_computed << " computed)\n";
     });
@@ -441,6 +446,7 @@ void register_sky_commands(CLI::App& app) {
     c->add_option("-o,--output", o.output, "Output stem (writes STEM.csv and STEM.png)")->capture_default_str();
     c->add_flag("--quick", o.quick, "Few rays and settings");
     c->add_option("--threads", o.threads, "Threads for the reference (0 = the CPUs this process may use)");
+    add_format_option(c, o.output);
     c->callback([] {
       ConvergeSky x = o;
       x.threads = threads_option(o.threads);

@@ -14,6 +14,15 @@ converge_lut(...)        atmosh converge lut -o STEM            (STEM.csv)
 converge_ms(...)         atmosh converge ms -o DIR              (DIR/ms_convergence.csv)
 converge_sh(exr, bands)  atmosh converge sh EXR --bands L -o STEM (STEM.csv)
 sun_accuracy(...)        atmosh sun accuracy -o STEM            (STEM.csv)
+sweep_file(path)         atmosh sweep FILE -o DIR               (DIR/sweep.csv, DIR/sweep.nc)
+zenith_sweep(...)        the scene output kind optical-depth    (STEM.csv)
+sh_windows(coeffs, L)    the main job's SH window table         (sh_windows.csv)
+prt_converge(...)        atmosh prt converge -o STEM            (STEM.csv)
+rt_slab(...)             atmosh rt slab --json                  (one row: the JSON's fields)
+rt_sky(...)              atmosh rt sky --json                   (a row per wavelength; scalars in attrs)
+
+Every table comes from the library's own table of the study (the one the CLI's CSV and
+netCDF files are written from), so the columns cannot drift from the CSV's.
 
 Bad input raises atmosh.InputError with the library's one-line message.
 """
@@ -24,8 +33,9 @@ from . import _atmosh
 
 _st = _atmosh.studies
 
-__all__ = ["sun_elevation", "day", "sweep_point", "sweep", "converge_sky", "converge_lut", "converge_ms",
-           "converge_sh", "sun_accuracy", "sky_dataset"]
+__all__ = ["sun_elevation", "day", "sweep_point", "sweep", "sweep_file", "converge_sky", "converge_lut",
+           "converge_ms", "converge_sh", "sun_accuracy", "sky_dataset", "zenith_sweep", "sh_windows", "prt_converge",
+           "rt_slab", "rt_sky"]
 
 
 def _frame(t):
@@ -130,3 +140,101 @@ def sky_dataset(sun, atmosphere=None, width=256, height=128, spectral=True, proj
     Equirect only (InputError otherwise)."""
     from . import sky
     return sky.image(sun, atmosphere, width, height, projection, spectral=spectral, as_xarray=True, **kwargs)
+
+
+def sweep_file(path, out_dir=None, shells=32, segments=16, samples=2, threads=0, netcdf=False):
+    """Runs a whole sweep file (TOML, docs/sweeps.md) as `atmosh sweep FILE -o DIR` does:
+    one row per point (point, one column per parameter key, the sky summary, time_s),
+    the sweep's provenance (sweep, sweep_id, base_scene, settings) in df.attrs and its
+    parameter keys in df.attrs["keys"]. out_dir: where the sweep writes its journal and
+    sweep.csv (a temporary folder, removed afterwards, when None; a folder holding an
+    earlier run of the same sweep is refused, as the CLI without --resume). netcdf: also
+    out_dir/sweep.nc (grid coordinates, see atmosh.io docs/outputs.md)."""
+    import tempfile
+    if out_dir is None:
+        if netcdf:
+            raise _atmosh.InputError("netcdf: give out_dir (the netCDF file is written there)")
+        with tempfile.TemporaryDirectory(prefix="atmosh_sweep_") as d:
+            t = _st.sweep_file(str(path), d, shells, segments, samples, threads, False)
+    else:
+        t = _st.sweep_file(str(path), str(out_dir), shells, segments, samples, threads, bool(netcdf))
+    df = _frame(t)
+    df.attrs["keys"] = list(t["keys"])
+    return df
+
+
+def zenith_sweep(scene=None, preset=None, altitude_m=1000.0):
+    """Optical depth at 550 nm against zenith angle 0..180 deg (0.5 deg steps) from
+    altitude_m [m] above the ground: the exact reference and the default tables
+    (columns zenith_deg, tau_reference, tau_lut, relative_error, hits_ground, as the scene
+    output kind optical-depth writes them). scene (TOML file) or preset (default
+    earth-graphics). df.attrs["lut"] names the tables."""
+    t, lut = _st.zenith_sweep(_scene(scene), preset, float(altitude_m))
+    df = _frame(t)
+    df.attrs["lut"] = lut
+    return df
+
+
+def sh_windows(coefficients, bands):
+    """What each SH window (none, hanning, lanczos, nonnegative) costs on one channel of
+    `bands` bands (coefficients: at least bands^2, index l(l+1)+m): delta_min_rel (the
+    ringing left: minimum of the windowed delta over its maximum), l2_change_rel and
+    irradiance_max_change_rel (largest change of the irradiance over a 64 x 32 grid of
+    directions, relative to its largest magnitude). Columns as the main job's
+    sh_windows.csv."""
+    c = np.asarray(coefficients, dtype=np.float64).ravel()
+    return _frame(_st.sh_windows(list(c), int(bands)))
+
+
+def prt_converge(mesh="sphere-on-plane", resolution=16, bands=3, mode="shadowed", reference_samples=16384,
+                 strata=(4, 8, 16, 32, 45), threads=0, pixels=(96, 96), view=(1.0, -1.6, 1.1), device="cpu",
+                 depth_maps=(256, 1024)):
+    """Transfer error against a high-sample reference versus run time, as `atmosh prt
+    converge` (columns method, setting, error_max_rel, error_rms_rel, time_s, samples,
+    rays, depth_map). mesh: a built-in scene name (atmosh.prt.builtin_scene_names(),
+    tessellated with `resolution`) or an .obj/.ply file path. reference_samples: a square
+    count (n x n jittered strata, seed 12345); strata: n of each row (n x n samples, seed
+    1). Per-pixel rows (shadowed only): a pixels = (W, H) camera image seen from `view`;
+    device "cpu" (ray casting only), "gpu" or "auto" (also the GPU depth-map rows)."""
+    import math
+    n = int(reference_samples)
+    s = int(round(math.sqrt(max(n, 0))))
+    if n < 1 or s * s != n or s > 2000:
+        raise _atmosh.InputError(f"reference_samples: {n} is not a square count of jittered strata n x n in "
+                                 "1..4000000 (e.g. 2025 = 45 x 45)")
+    from . import prt as _prt_mod
+    name = str(mesh)
+    builtin = name if name in _prt_mod.builtin_scene_names() else ""
+    w, h = (int(v) for v in pixels)
+    return _frame(_st.prt_converge(builtin, "" if builtin else name, int(resolution), int(bands), str(mode), s,
+                                   [int(v) for v in strata], int(threads), w, h, [float(v) for v in view],
+                                   str(device), [int(v) for v in depth_maps]))
+
+
+def rt_slab(tau, omega, phase, mu0, mu, g=0.0, ground_albedo=0.0, phi_deg=0.0, orders=0, paths=100000, seed=1,
+            threads=0):
+    """Monte-Carlo reflection R = pi I_up / (mu0 F0) and diffuse transmission
+    T = pi I_down / (mu0 F0) of a homogeneous plane-parallel slab over a Lambertian ground,
+    with standard errors: a one-row DataFrame with the fields of `atmosh rt slab --json`
+    (tau, omega, phase, g, ground_albedo, mu0, mu, phi_deg, reflection, reflection_stderr,
+    transmission, transmission_stderr, paths, seed, orders, threads, time_s).
+    phase: isotropic | hg | rayleigh; phi_deg: azimuth of the viewed light's propagation
+    relative to the beam's; orders 0 = all. Bit-identical for a seed on any thread count."""
+    return _frame(_st.rt_slab(float(tau), float(omega), str(phase), float(g), float(ground_albedo), float(mu0),
+                              float(mu), float(phi_deg), int(orders), int(paths), int(seed), int(threads)))
+
+
+def rt_sky(sun_elevation_deg, view_elevation_deg, view_azimuth_deg, sun_azimuth_deg=180.0, scene=None, height_m=0.0,
+           ground_albedo=None, orders=0, sun_depth="table", line_estimate="auto", paths=64000, seed=1, threads=0):
+    """Monte-Carlo spectral radiance of a scene's sky for one view, every scattering
+    order, as `atmosh rt sky --json`: a DataFrame with one row per wavelength
+    (wavelength_nm, radiance_w_m2_sr_nm, radiance_stderr_w_m2_sr_nm) and the JSON's scalar
+    fields (luminance_cd_m2 and its stderr, xyz, paths, mean_orders, ...) in df.attrs.
+    Angles in degrees (azimuths from north towards east), height_m above the ground,
+    ground_albedo None: the scene's; paths in total over the wavelengths."""
+    t = _st.rt_sky(_scene(scene), float(sun_elevation_deg), float(sun_azimuth_deg), float(view_elevation_deg),
+                   float(view_azimuth_deg), float(height_m), -1.0 if ground_albedo is None else float(ground_albedo),
+                   int(orders), str(sun_depth), str(line_estimate), int(paths), int(seed), int(threads))
+    df = _frame(t)
+    df.attrs.update(dict(t["scalars"]))
+    return df

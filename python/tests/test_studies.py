@@ -46,7 +46,7 @@ def provenance(path):
     return out
 
 
-def assert_same_table(df, csv_path, skip=()):
+def assert_same_table(df, csv_path, skip=(), prov_skip=()):
     """Same columns in the same order, same row count, every cell equal (numbers exactly:
     the CSV holds round-trip doubles; NaN where the CSV has NaN)."""
     ref = read_csv(csv_path)
@@ -62,7 +62,7 @@ def assert_same_table(df, csv_path, skip=()):
     # The provenance of the CSV, but for the entries that name this run (and the commit:
     # the module and the command line may be built at different states of the tree).
     prov = provenance(csv_path)
-    for k in set(prov) - {"command_line", "run_utc", "threads", "git_commit"}:
+    for k in set(prov) - {"command_line", "run_utc", "threads", "git_commit"} - set(prov_skip):
         if "time" in k:  # measured run times (reference_time_s, ...)
             continue
         assert df.attrs.get(k) == prov[k], k
@@ -185,3 +185,121 @@ def test_bad_input_names_the_value_as_the_cli_does(run_cli):
     with pytest.raises(atmosh.InputError) as e:
         studies.sun_elevation(from_deg=-100)
     assert "-100" in str(e.value) and "-100" in r.stderr
+
+
+# ---- the bindings added for the RT drivers, PRT converge, the zenith sweep, the SH
+# window study and whole sweep files ------------------------------------------------------
+
+def test_prt_converge_matches_cli(run_cli, tmp_path):
+    run_cli("prt", "converge", "--scene-builtin", "sphere-on-plane", "--resolution", 4, "--strata", "2,3",
+            "--reference-samples", 64, "--device", "cpu", "--pixels", "8x8", "--threads", 2, "-o", tmp_path / "prt")
+    df = studies.prt_converge("sphere-on-plane", resolution=4, strata=(2, 3), reference_samples=64, pixels=(8, 8),
+                              device="cpu", threads=2)
+    assert list(df["method"]) == ["cpu-shadowed-jittered"] * 2 + ["cpu-pixel-shadowed-jittered"] * 2
+    # gpu_method names how the device was chosen: "--device cpu" there, "device cpu" here
+    assert_same_table(df, tmp_path / "prt.csv", skip=("time_s",), prov_skip=("gpu_method",))
+    assert df.attrs["gpu_method"] == "not run (device cpu)"
+    # more samples, less error (a 2x2 against a 3x3 stratification of the same reference)
+    assert df["error_rms_rel"][1] < df["error_rms_rel"][0]
+
+
+def test_rt_slab_matches_cli_json(cli):
+    args = dict(tau=0.5, omega=0.9, phase="hg", g=0.6, mu0=0.8, mu=0.6, phi_deg=30.0, ground_albedo=0.2,
+                paths=4000, seed=7, threads=2)
+    j = cli.json("rt", "slab", "--tau", 0.5, "--omega", 0.9, "--phase", "hg", "--g", 0.6, "--mu0", 0.8, "--mu", 0.6,
+                 "--phi-deg", 30, "--ground-albedo", 0.2, "--paths", 4000, "--seed", 7, "--threads", 2)
+    df = studies.rt_slab(**args)
+    assert set(df.columns) == set(j)  # the JSON object's keys (printed sorted)
+    for k, v in j.items():
+        if k != "time_s":
+            assert df[k][0] == v, k
+    assert 0 < df["reflection"][0] < 1 and df["reflection_stderr"][0] > 0
+
+
+def test_rt_sky_matches_cli_json(cli):
+    j = cli.json("rt", "sky", "--sun-elevation", 20, "--view-elevation", 45, "--view-azimuth", 90, "--paths", 1600,
+                 "--seed", 3, "--threads", 2)
+    df = studies.rt_sky(20, 45, 90, paths=1600, seed=3, threads=2)
+    np.testing.assert_array_equal(df["wavelength_nm"], j["wavelengths_nm"])
+    np.testing.assert_array_equal(df["radiance_w_m2_sr_nm"], j["radiance_w_m2_sr_nm"])
+    np.testing.assert_array_equal(df["radiance_stderr_w_m2_sr_nm"], j["radiance_stderr_w_m2_sr_nm"])
+    for k, v in j.items():
+        if k in ("time_s", "wavelengths_nm", "radiance_w_m2_sr_nm", "radiance_stderr_w_m2_sr_nm"):
+            continue
+        assert df.attrs[k] == v, k
+
+
+def test_zenith_sweep_matches_the_scene_output(run_cli, tmp_path):
+    # A scene whose one output is the optical-depth sweep (at 1000 m, as run_scene runs it).
+    scene = tmp_path / "scene.toml"
+    scene.write_text('version = 1\nname = "od"\n[[output]]\nkind = "optical-depth"\nfile = "od.csv"\n')
+    run_cli("run", scene, "-o", tmp_path / "out")
+    df = studies.zenith_sweep(scene=scene, altitude_m=1000.0)
+    assert_same_table(df, tmp_path / "out" / "od.csv")
+    assert df.shape[0] == 361 and df["zenith_deg"].iloc[-1] == 180.0
+    # looking down from 1 km hits the ground; straight up the total is the vertical column
+    assert df["hits_ground"].iloc[-1] == 1 and df["hits_ground"].iloc[0] == 0
+
+
+def test_sh_windows_against_the_windowed_coefficients():
+    # An independent check of two columns: l2_change_rel = |c_w - c| / |c| with the window
+    # applied by atmosh.sh.apply_window, 0 for "none"; and the row order of the CSV.
+    rng = np.random.default_rng(5)
+    bands = 6
+    c = rng.normal(size=bands * bands)
+    c[0] = 4.0
+    df = studies.sh_windows(c, bands)
+    assert list(df.columns) == ["window", "delta_min_rel", "l2_change_rel", "irradiance_max_change_rel"]
+    assert list(df["window"])[0] == "none"
+    assert df["l2_change_rel"][0] == 0 and df["irradiance_max_change_rel"][0] == 0
+    for i, w in enumerate(df["window"]):
+        cw = atmosh.sh.apply_window(c, w)
+        np.testing.assert_allclose(df["l2_change_rel"][i], np.linalg.norm(cw - c) / np.linalg.norm(c), rtol=1e-12,
+                                   atol=1e-15, err_msg=w)
+    assert df.attrs["sh_bands"] == "6"
+
+
+SWEEP = """version = 1
+[[parameter]]
+key = "sun.elevation_deg"
+values = [5.0, 30.0]
+[[parameter]]
+key = "mie.scattering_per_m"
+values = [2e-6, 8e-6]
+[[parameter]]
+key = "scattering.method"
+values = ["single"]
+[[parameter]]
+key = "spectrum.count"
+values = [8]
+"""
+
+
+def test_sweep_file_matches_cli(run_cli, tmp_path):
+    f = tmp_path / "sweep.toml"
+    f.write_text(SWEEP)
+    run_cli("sweep", f, *QUALITY_ARGS, "--threads", 1, "-o", tmp_path / "cli")
+    df = studies.sweep_file(f, threads=1, **QUALITY)
+    assert df.attrs["keys"] == ["sun.elevation_deg", "mie.scattering_per_m", "scattering.method", "spectrum.count"]
+    assert list(df["sun.elevation_deg"]) == [5.0, 5.0, 30.0, 30.0]
+    assert_same_table(df, tmp_path / "cli" / "sweep.csv", skip=("time_s", "table_build_time_s"))
+    # with a folder: the CSV and the netCDF grid there
+    d = studies.sweep_file(f, out_dir=tmp_path / "py", threads=1, netcdf=True, **QUALITY)
+    assert (tmp_path / "py" / "sweep.csv").is_file() and (tmp_path / "py" / "sweep.nc").is_file()
+    assert d.attrs["sweep_id"] == df.attrs["sweep_id"]
+
+
+@pytest.mark.parametrize("call", [
+    lambda: studies.rt_slab(tau=-1, omega=0.5, phase="isotropic", mu0=1, mu=1),
+    lambda: studies.rt_slab(tau=1, omega=0.5, phase="mie", mu0=1, mu=1),
+    lambda: studies.rt_sky(100, 45, 0),
+    lambda: studies.rt_sky(20, 45, 0, sun_depth="fast"),
+    lambda: studies.prt_converge(reference_samples=50),
+    lambda: studies.prt_converge(mode="unshadowed"),
+    lambda: studies.zenith_sweep(preset="no-such-preset"),
+    lambda: studies.sh_windows([1.0, 0.0], 2),
+    lambda: studies.sweep_file("/nonexistent/sweep.toml"),
+])
+def test_bad_input_of_the_new_bindings_raises(call):
+    with pytest.raises(atmosh.InputError):
+        call()

@@ -6,6 +6,8 @@
 #include <cctype>
 #include <cstdint>
 #include <cstdlib>
+#include <limits>
+#include <numeric>
 #include <set>
 #include <stdexcept>
 
@@ -223,7 +225,11 @@ void write_table_netcdf(const std::filesystem::path& file, const CsvTable& table
   std::vector<Kind> kinds(cols.size(), Kind::Int);
   std::vector<std::string> names(cols.size());
   std::set<std::string> taken;
-  const bool with_time = !options.julian_date_column.empty();
+  const bool with_jd = !options.julian_date_column.empty();
+  const bool with_time = with_jd || !options.time_unix_s.empty();
+  if (!with_jd && with_time && options.time_unix_s.size() != rows.size())
+    throw InputError(file.string() + ": " + std::to_string(options.time_unix_s.size()) + " times for " +
+                     std::to_string(rows.size()) + " rows");
   if (with_time) taken.insert("time");
   for (const auto& [name, s] : options.scalars) taken.insert(name);
   std::size_t jd_col = cols.size();
@@ -241,11 +247,17 @@ void write_table_netcdf(const std::filesystem::path& file, const CsvTable& table
     if (!taken.insert(names[c]).second)
       throw InputError(file.string() + ": column '" + cols[c] + "' has the netCDF name '" + names[c] +
                        "' of another variable");
-    if (with_time && cols[c] == options.julian_date_column) jd_col = c;
+    if (with_jd && cols[c] == options.julian_date_column) jd_col = c;
   }
-  if (with_time && jd_col == cols.size())
+  if (with_jd && jd_col == cols.size())
     throw InputError(file.string() + ": no column '" + options.julian_date_column + "' for the time coordinate");
-  if (with_time && kinds[jd_col] == Kind::String)
+  const bool with_coordinate = !with_time && !options.coordinate_column.empty();
+  if (with_coordinate) {
+    const auto it = std::find(cols.begin(), cols.end(), options.coordinate_column);
+    if (it == cols.end() || kinds[static_cast<std::size_t>(it - cols.begin())] == Kind::String)
+      throw InputError(file.string() + ": no numeric column '" + options.coordinate_column + "' for the coordinate");
+  }
+  if (with_jd && kinds[jd_col] == Kind::String)
     throw InputError(file.string() + ": column '" + options.julian_date_column + "' is not numeric");
   auto number = [](const CsvCell& v) {
     return std::holds_alternative<double>(v) ? std::get<double>(v) : static_cast<double>(std::get<std::int64_t>(v));
@@ -256,7 +268,8 @@ void write_table_netcdf(const std::filesystem::path& file, const CsvTable& table
   write_atomically(file, [&](const std::filesystem::path& tmp) {
     NcFile f(tmp);
     global_attributes(f, options.title, provenance);
-    const int d = f.dim(with_time ? "time" : "row", nr);
+    const int d =
+        f.dim(with_time ? "time" : with_coordinate ? netcdf_variable_name(options.coordinate_column) : "row", nr);
     int vt = -1;
     if (with_time) {
       vt = f.var("time", NC_DOUBLE, {d});
@@ -290,7 +303,8 @@ void write_table_netcdf(const std::filesystem::path& file, const CsvTable& table
     if (with_time) {
       // Julian date 2440587.5 is 1970-01-01T00:00:00 UTC.
       std::vector<double> t(nr);
-      for (std::size_t r = 0; r < nr; ++r) t[r] = (number(rows[r][jd_col]) - 2440587.5) * 86400.0;
+      for (std::size_t r = 0; r < nr; ++r)
+        t[r] = with_jd ? (number(rows[r][jd_col]) - 2440587.5) * 86400.0 : options.time_unix_s[r];
       if (nr) f.check(nc_put_var_double(f.id(), vt, t.data()), "put_var time");
     }
     for (std::size_t c = 0; c < cols.size() && nr > 0; ++c) {
@@ -408,6 +422,206 @@ void write_csv_as_netcdf(const std::filesystem::path& csv_file, const std::files
   Provenance p;
   const CsvTable t = table_from_csv(read_csv(csv_file), p);
   write_table_netcdf(netcdf_file, t, p, options);
+}
+
+// ---- table outputs in CSV and netCDF-CF --------------------------------------------
+
+bool parse_table_format(const std::string& value, const std::string& what) {
+  if (value == "csv") return false;
+  if (value == "netcdf") return true;
+  throw InputError(what + ": '" + value + "' is not csv or netcdf");
+}
+
+std::filesystem::path table_output_stem(const std::filesystem::path& stem, bool& netcdf) {
+  if (stem.extension() != ".nc") return stem;
+  netcdf = true;
+  std::filesystem::path s = stem;
+  s.replace_extension();
+  return s;
+}
+
+std::vector<std::filesystem::path> write_table_files(const std::filesystem::path& csv_file, const CsvTable& table,
+                                                     const Provenance& provenance, bool netcdf,
+                                                     const NetcdfTableOptions& options) {
+  std::vector<std::filesystem::path> written = {csv_file};
+  table.write(csv_file, provenance);
+  if (netcdf) {
+    std::filesystem::path nc = csv_file;
+    nc.replace_extension(".nc");
+    write_table_netcdf(nc, table, provenance, options);
+    written.push_back(nc);
+  }
+  return written;
+}
+
+namespace {
+
+// A column's type in a netCDF file: strings, 64-bit integers where every cell is an
+// integer, else doubles. InputError for a column mixing text and numbers.
+enum class CellKind { Int, Double, String };
+CellKind column_kind(const CsvTable& t, std::size_t c, const std::filesystem::path& file) {
+  bool any_string = false, any_number = false, any_double = false;
+  for (const auto& r : t.rows()) {
+    if (std::holds_alternative<std::string>(r[c])) any_string = true;
+    else any_number = true;
+    if (std::holds_alternative<double>(r[c])) any_double = true;
+  }
+  if (any_string && any_number)
+    throw InputError(file.string() + ": column '" + t.columns()[c] + "' mixes text and numbers");
+  return any_string ? CellKind::String : any_double ? CellKind::Double : CellKind::Int;
+}
+
+double cell_number(const CsvCell& v) {
+  return std::holds_alternative<double>(v) ? std::get<double>(v) : static_cast<double>(std::get<std::int64_t>(v));
+}
+
+// Writes column c of the table into variable v, row r at flat position slot[r] of an
+// array of n values.
+void put_column(NcFile& f, int v, const CsvTable& t, std::size_t c, CellKind kind, const std::vector<std::size_t>& slot,
+                std::size_t n) {
+  if (n == 0) return;
+  const auto& rows = t.rows();
+  if (kind == CellKind::String) {
+    std::vector<std::string> s(n);
+    for (std::size_t r = 0; r < rows.size(); ++r) s[slot[r]] = std::get<std::string>(rows[r][c]);
+    std::vector<const char*> p(n);
+    for (std::size_t i = 0; i < n; ++i) p[i] = s[i].c_str();
+    f.check(nc_put_var_string(f.id(), v, p.data()), "put_var_string");
+  } else if (kind == CellKind::Double) {
+    std::vector<double> d(n, std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t r = 0; r < rows.size(); ++r) d[slot[r]] = cell_number(rows[r][c]);
+    f.check(nc_put_var_double(f.id(), v, d.data()), "put_var_double");
+  } else {
+    std::vector<long long> d(n, 0);
+    for (std::size_t r = 0; r < rows.size(); ++r) d[slot[r]] = std::get<std::int64_t>(rows[r][c]);
+    f.check(nc_put_var_longlong(f.id(), v, d.data()), "put_var_longlong");
+  }
+}
+
+nc_type nc_type_of(CellKind k) { return k == CellKind::String ? NC_STRING : k == CellKind::Double ? NC_DOUBLE : NC_INT64; }
+
+std::string cell_key(const CsvCell& v) {
+  std::string k = std::holds_alternative<std::string>(v) ? std::get<std::string>(v) : format_double(cell_number(v));
+  k.push_back(std::holds_alternative<std::string>(v) ? 's' : 'n');
+  return k;
+}
+
+}  // namespace
+
+void write_sweep_netcdf(const std::filesystem::path& file, const CsvTable& table, const Provenance& provenance,
+                        const std::vector<std::string>& keys) {
+  const auto& cols = table.columns();
+  const auto& rows = table.rows();
+  const std::size_t nr = rows.size(), nk = keys.size();
+  std::vector<std::size_t> key_col(nk);
+  for (std::size_t k = 0; k < nk; ++k) {
+    const auto it = std::find(cols.begin(), cols.end(), keys[k]);
+    if (it == cols.end()) throw InputError(file.string() + ": the sweep table has no column '" + keys[k] + "'");
+    key_col[k] = static_cast<std::size_t>(it - cols.begin());
+  }
+  std::vector<CellKind> kinds(cols.size());
+  std::vector<std::string> names(cols.size());
+  std::set<std::string> taken;
+  for (std::size_t c = 0; c < cols.size(); ++c) {
+    kinds[c] = column_kind(table, c, file);
+    names[c] = netcdf_variable_name(cols[c]);
+    if (!taken.insert(names[c]).second)
+      throw InputError(file.string() + ": column '" + cols[c] + "' has the netCDF name '" + names[c] +
+                       "' of another variable");
+  }
+  // A grid: each key's distinct values (in order of first appearance) and every
+  // combination exactly once.
+  std::vector<std::vector<std::size_t>> row_index(nk, std::vector<std::size_t>(nr));
+  std::vector<std::vector<std::size_t>> first_row(nk);  // per key: the row of each distinct value
+  for (std::size_t k = 0; k < nk; ++k) {
+    std::map<std::string, std::size_t> seen;
+    for (std::size_t r = 0; r < nr; ++r) {
+      const auto [it, fresh] = seen.emplace(cell_key(rows[r][key_col[k]]), seen.size());
+      if (fresh) first_row[k].push_back(r);
+      row_index[k][r] = it->second;
+    }
+  }
+  bool grid = nk > 0 && nr > 0;
+  std::size_t cells = 1;
+  for (std::size_t k = 0; k < nk && grid; ++k) {
+    cells *= first_row[k].size();
+    if (cells > nr) grid = false;
+  }
+  std::vector<std::size_t> slot(nr);
+  if (grid && cells == nr) {
+    std::vector<char> filled(nr, 0);
+    for (std::size_t r = 0; r < nr && grid; ++r) {
+      std::size_t flat = 0;
+      for (std::size_t k = 0; k < nk; ++k) flat = flat * first_row[k].size() + row_index[k][r];
+      if (filled[flat]) grid = false;
+      filled[flat] = 1;
+      slot[r] = flat;
+    }
+  } else {
+    grid = false;
+  }
+  if (!grid)
+    for (std::size_t r = 0; r < nr; ++r) slot[r] = r;
+
+  std::map<std::string, std::string> standard = default_standard_names();
+  standard["sun.elevation_deg"] = "solar_elevation_angle";
+  standard["sun.azimuth_deg"] = "solar_azimuth_angle";
+  auto describe = [&](NcFile& f, int v, std::size_t c) {
+    f.text(v, "long_name", cols[c]);
+    f.text(v, "atmosh_column", cols[c]);
+    if (kinds[c] == CellKind::String) return;
+    if (const auto it = standard.find(cols[c]); it != standard.end()) f.text(v, "standard_name", it->second);
+    const std::string leaf = cols[c].substr(cols[c].find_last_of('.') + 1);
+    if (const std::string u = units_from_column_name(leaf); !u.empty()) f.text(v, "units", u);
+  };
+
+  write_atomically(file, [&](const std::filesystem::path& tmp) {
+    NcFile f(tmp);
+    global_attributes(f, "atmosh sweep", provenance);
+    f.text(NC_GLOBAL, "atmosh_sweep_layout", grid ? "grid" : "points");
+    std::vector<int> dims;
+    std::vector<int> vars(cols.size(), -1);
+    std::vector<char> is_key(cols.size(), 0);
+    for (std::size_t c : key_col) is_key[c] = 1;
+    if (grid) {
+      for (std::size_t k = 0; k < nk; ++k) {
+        const std::size_t c = key_col[k];
+        dims.push_back(f.dim(names[c], first_row[k].size()));
+        vars[c] = f.var(names[c], nc_type_of(kinds[c]), {dims.back()});
+        describe(f, vars[c], c);
+      }
+    } else {
+      dims.push_back(f.dim("point", nr));
+    }
+    std::string coordinates;
+    for (std::size_t c : key_col) coordinates += (coordinates.empty() ? "" : " ") + names[c];
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      if (grid && is_key[c]) continue;
+      vars[c] = f.var(names[c], nc_type_of(kinds[c]), dims);
+      describe(f, vars[c], c);
+      if (!grid && !is_key[c] && !coordinates.empty()) f.text(vars[c], "coordinates", coordinates);
+    }
+    f.end_define();
+    if (grid) {
+      for (std::size_t k = 0; k < nk; ++k) {
+        std::vector<std::size_t> s(first_row[k].size());
+        std::iota(s.begin(), s.end(), std::size_t{0});
+        CsvTable one({cols[key_col[k]]});
+        for (std::size_t r : first_row[k]) one.add_row({rows[r][key_col[k]]});
+        put_column(f, vars[key_col[k]], one, 0, kinds[key_col[k]], s, s.size());
+      }
+    }
+    for (std::size_t c = 0; c < cols.size(); ++c)
+      if (!(grid && is_key[c])) put_column(f, vars[c], table, c, kinds[c], slot, nr);
+    f.close();
+  });
+}
+
+void write_sweep_csv_as_netcdf(const std::filesystem::path& csv_file, const std::filesystem::path& netcdf_file,
+                               const std::vector<std::string>& keys) {
+  Provenance p;
+  const CsvTable t = table_from_csv(read_csv(csv_file), p);
+  write_sweep_netcdf(netcdf_file, t, p, keys);
 }
 
 }  // namespace atmosh::io

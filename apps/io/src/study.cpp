@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "atmosh/io/csv.hpp"
+#include "atmosh/io/netcdf.hpp"
 #include "atmosh/io/plot.hpp"
 
 namespace atmosh::io {
@@ -43,8 +44,7 @@ PlotSpec study_plot_spec(const StudySpec& spec, const std::vector<StudyRow>& row
   return p;
 }
 
-std::vector<std::filesystem::path> write_study(const std::filesystem::path& stem, const StudySpec& spec,
-                                               const std::vector<StudyRow>& rows, const Provenance& provenance) {
+CsvTable study_table(const StudySpec& spec, const std::vector<StudyRow>& rows) {
   std::vector<std::string> cols = {"method", "setting", spec.error_max_column, spec.error_rms_column, spec.time_column};
   cols.insert(cols.end(), spec.extra_columns.begin(), spec.extra_columns.end());
   CsvTable t(cols);
@@ -54,12 +54,22 @@ std::vector<std::filesystem::path> write_study(const std::filesystem::path& stem
       row.emplace_back(i < r.extras.size() ? r.extras[i] : std::numeric_limits<double>::quiet_NaN());
     t.add_row(std::move(row));
   }
+  return t;
+}
+
+std::vector<std::filesystem::path> write_study(const std::filesystem::path& given_stem, const StudySpec& spec,
+                                               const std::vector<StudyRow>& rows, const Provenance& provenance,
+                                               bool netcdf) {
+  const std::filesystem::path stem = table_output_stem(given_stem, netcdf);
   std::filesystem::path csv = stem, png = stem;
   csv += ".csv";
   png += ".png";
-  t.write(csv, provenance);
+  NetcdfTableOptions o;
+  o.title = spec.title.empty() ? "atmosh error against run time" : spec.title;
+  auto written = write_table_files(csv, study_table(spec, rows), provenance, netcdf, o);
   write_plot_png(png, study_plot_spec(spec, rows));
-  return {csv, png};
+  written.push_back(png);
+  return written;
 }
 
 }  // namespace atmosh::io

@@ -297,13 +297,19 @@ ZenithSweep zenith_sweep(const AtmosphereSpec& spec, double altitude) {
   return out;
 }
 
+io::CsvTable zenith_sweep_table(const ZenithSweep& sweep) {
+  io::CsvTable t({"zenith_deg", "tau_reference", "tau_lut", "relative_error", "hits_ground"});
+  for (const ZenithRow& w : sweep.rows)
+    t.add_row({w.zenith_deg, w.tau_reference, w.tau_lut, w.relative_error, std::int64_t(w.hits_ground)});
+  return t;
+}
+
 std::vector<fs::path> write_zenith_sweep(const ZenithSweep& sweep, const std::string& atmosphere_name,
                                          double altitude, const fs::path& stem) {
-  io::CsvTable t({"zenith_deg", "tau_reference", "tau_lut", "relative_error", "hits_ground"});
+  const io::CsvTable t = zenith_sweep_table(sweep);
   io::Series sr{"reference", {}, {}, io::Series::Style::Line}, sl{sweep.lut_name, {}, {}, io::Series::Style::Scatter};
   for (std::size_t i = 0; i < sweep.rows.size(); ++i) {
     const ZenithRow& w = sweep.rows[i];
-    t.add_row({w.zenith_deg, w.tau_reference, w.tau_lut, w.relative_error, std::int64_t(w.hits_ground)});
     sr.x.push_back(w.zenith_deg);
     sr.y.push_back(w.tau_reference);
     if (i % 4 == 0) {

@@ -7,6 +7,7 @@
 #include "atmosh/atmo/sky_image.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/csv.hpp"
+#include "atmosh/io/netcdf.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/study.hpp"
 
@@ -51,19 +52,23 @@ ConvergeMs converge_ms(const scene::Scene& s, const ConvergeMsOptions& o) {
   return c;
 }
 
-std::vector<fs::path> write_converge_ms(const ConvergeMs& c, const fs::path& dir) {
-  const MsStudyResult& r = c.result;
-  const auto& prov = c.provenance;
-  const fs::path stem = dir / "ms_convergence";
-  std::vector<fs::path> written;
+io::CsvTable converge_ms_table(const ConvergeMs& c) {
   io::CsvTable csv({"method", "setting", "band", "error_max_rel", "error_rms_rel", "time_s",
                     "reference_rel_stderr_max", "error_max_sigma", "error_max_rel_minus_3sigma", "build_time_s",
                     "eval_time_s", "rows", "rows_skipped"});
-  std::vector<io::StudyRow> plot_rows;
-  for (const auto& row : r.rows) {
+  for (const auto& row : c.result.rows)
     csv.add_row({row.method, row.setting, row.band, row.error_max_rel, row.error_rms_rel, row.time_s,
                  row.reference_rel_stderr_max, row.error_max_sigma, row.error_max_rel_minus_3sigma,
                  row.build_time_s, row.eval_time_s, std::int64_t{row.rows}, std::int64_t{row.rows_skipped}});
+  return csv;
+}
+
+std::vector<fs::path> write_converge_ms(const ConvergeMs& c, const fs::path& dir, bool netcdf) {
+  const MsStudyResult& r = c.result;
+  const auto& prov = c.provenance;
+  const fs::path stem = dir / "ms_convergence";
+  std::vector<io::StudyRow> plot_rows;
+  for (const auto& row : r.rows) {
     // The plot: day and civil twilight (night rows, reference stderr 3-25 %, are in the CSV).
     if (row.band == "day" || row.band == "civil")
       plot_rows.push_back({row.method + " (" + row.band + ")", row.setting, row.error_max_rel, row.error_rms_rel,
@@ -71,8 +76,9 @@ std::vector<fs::path> write_converge_ms(const ConvergeMs& c, const fs::path& dir
   }
   fs::path csv_file = stem;
   csv_file += ".csv";
-  csv.write(csv_file, prov);
-  written.push_back(csv_file);
+  io::NetcdfTableOptions nc;
+  nc.title = "atmosh converge ms: the sky's scattering methods against the Monte-Carlo reference";
+  std::vector<fs::path> written = io::write_table_files(csv_file, converge_ms_table(c), prov, netcdf, nc);
 
   io::StudySpec spec;
   spec.title = "Sky scattering methods against Monte-Carlo RT: luminance error vs run time (sun >= -6 deg)";

@@ -232,10 +232,14 @@ std::vector<ShWindowRow> sh_window_study(const std::vector<double>& g, int bands
   return rows;
 }
 
-void write_sh_windows(const std::vector<ShWindowRow>& rows, const fs::path& file, const io::Provenance& prov) {
+io::CsvTable sh_window_table(const std::vector<ShWindowRow>& rows) {
   io::CsvTable t({"window", "delta_min_rel", "l2_change_rel", "irradiance_max_change_rel"});
   for (const auto& r : rows) t.add_row({r.window, r.delta_min_rel, r.l2_change_rel, r.irradiance_max_change_rel});
-  t.write(file, prov);
+  return t;
+}
+
+void write_sh_windows(const std::vector<ShWindowRow>& rows, const fs::path& file, const io::Provenance& prov) {
+  sh_window_table(rows).write(file, prov);
 }
 
 }  // namespace atmosh::studies

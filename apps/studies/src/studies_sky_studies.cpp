@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <sstream>
 
+#include "atmosh/atmo/multiple_scattering.hpp"
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/sun_disc.hpp"
@@ -110,6 +111,7 @@ ElevationStudy sun_elevation_study(const scene::Scene& s, const ElevationStudyOp
   const auto model = make_sky_model(o.sky.scene_for(s), o.sky.sky(s), 1.0);
   const double h = s.observer ? std::max(s.observer->height_m, 0.0) : 0.0;
   ElevationStudy st;
+  st.azimuth_deg = o.azimuth_deg;
   auto& elev = st.elevations_deg;
   for (double e = o.from_deg; e <= o.to_deg + 1e-9; e += o.step_deg) elev.push_back(e);
   st.rows.resize(elev.size());
@@ -131,21 +133,36 @@ ElevationStudy sun_elevation_study(const scene::Scene& s, const ElevationStudyOp
   return st;
 }
 
-std::vector<fs::path> write_elevation_study(const ElevationStudy& st, const fs::path& dir) {
+io::CsvTable elevation_study_table(const ElevationStudy& st) {
   std::vector<std::string> cols = {"sun_elevation_deg"};
   cols.insert(cols.end(), sky_summary_columns().begin(), sky_summary_columns().end());
   io::CsvTable t(cols);
-  std::vector<std::string> labels;
   for (std::size_t i = 0; i < st.elevations_deg.size(); ++i) {
     std::vector<io::CsvCell> r = {st.elevations_deg[i]};
     for (double v : sky_summary_values(st.rows[i])) r.emplace_back(v);
     t.add_row(std::move(r));
+  }
+  return t;
+}
+
+io::NetcdfTableOptions elevation_study_netcdf_options(const ElevationStudy& st) {
+  io::NetcdfTableOptions o;
+  o.title = "atmosh sun-elevation study: sky colour and luminance against sun elevation";
+  o.coordinate_column = "sun_elevation_deg";
+  o.scalars["solar_azimuth_angle"] = {st.azimuth_deg, "degree", "solar_azimuth_angle"};
+  return o;
+}
+
+std::vector<fs::path> write_elevation_study(const ElevationStudy& st, const fs::path& dir, bool netcdf) {
+  std::vector<std::string> labels;
+  for (double e : st.elevations_deg) {
     std::ostringstream l;
-    l << st.elevations_deg[i];
+    l << e;
     labels.push_back(l.str());
   }
-  std::vector<fs::path> written = {dir / "sun_elevation.csv"};
-  t.write(written[0], st.provenance);
+  std::vector<fs::path> written =
+      io::write_table_files(dir / "sun_elevation.csv", elevation_study_table(st), st.provenance, netcdf,
+                            elevation_study_netcdf_options(st));
   study_plots(dir, "sun elevation", "sun elevation [deg]", st.elevations_deg, st.rows, labels, written);
   return written;
 }
@@ -169,6 +186,7 @@ DayStudy day_study(const scene::Scene& s, const DayStudyOptions& o, const std::f
   const double h = std::max(o.height_m, 0.0);
   DayStudy st;
   st.date = o.date;
+  st.latitude_deg = o.latitude_deg, st.longitude_deg = o.longitude_deg, st.height_m = o.height_m;
   for (const auto& smp : series) {
     if (progress) progress(static_cast<double>(st.rows.size()) / static_cast<double>(series.size()));
     const glm::dvec3 sun(smp.east, smp.north, smp.up);
@@ -218,23 +236,44 @@ fs::path write_day_frame(const DayFrame& f, const fs::path& dir) {
   return exr;
 }
 
-std::vector<fs::path> write_day_study(const DayStudy& st, const fs::path& dir) {
+io::CsvTable day_study_table(const DayStudy& st) {
   std::vector<std::string> cols = {"time_utc", "sun_elevation_deg", "sun_azimuth_deg", "apparent_sun_elevation_deg"};
   cols.insert(cols.end(), sky_summary_columns().begin(), sky_summary_columns().end());
   io::CsvTable t(cols);
-  std::vector<SkySummary> rows;
-  std::vector<double> hours;
-  std::vector<std::string> labels;
   for (const auto& r : st.rows) {
     std::vector<io::CsvCell> c = {r.time_utc, r.sun.elevation_deg, r.sun.azimuth_deg, r.sun.apparent_elevation_deg};
     for (double v : sky_summary_values(r.summary)) c.emplace_back(v);
     t.add_row(std::move(c));
+  }
+  return t;
+}
+
+io::NetcdfTableOptions day_study_netcdf_options(const DayStudy& st) {
+  io::NetcdfTableOptions o;
+  o.title = "atmosh day study: sky colour and luminance through the UTC day " + st.date;
+  for (const auto& r : st.rows) {
+    // Julian date 2440587.5 is 1970-01-01T00:00:00 UTC; the ISO times hold whole
+    // milliseconds at most, so the Julian day's rounding (~40 us) is rounded away.
+    const double s = (parse_iso8601(r.time_utc).jd_utc - 2440587.5) * 86400.0;
+    o.time_unix_s.push_back(std::round(s * 1000.0) / 1000.0);
+  }
+  o.scalars["latitude"] = {st.latitude_deg, "degree_north", "latitude"};
+  o.scalars["longitude"] = {st.longitude_deg, "degree_east", "longitude"};
+  o.scalars["height"] = {st.height_m, "m", "height_above_reference_ellipsoid"};
+  return o;
+}
+
+std::vector<fs::path> write_day_study(const DayStudy& st, const fs::path& dir, bool netcdf) {
+  std::vector<SkySummary> rows;
+  std::vector<double> hours;
+  std::vector<std::string> labels;
+  for (const auto& r : st.rows) {
     rows.push_back(r.summary);
     hours.push_back(r.hours);
     labels.push_back(r.time_utc.substr(11, 5));
   }
-  std::vector<fs::path> written = {dir / "day.csv"};
-  t.write(written[0], st.provenance);
+  std::vector<fs::path> written =
+      io::write_table_files(dir / "day.csv", day_study_table(st), st.provenance, netcdf, day_study_netcdf_options(st));
   study_plots(dir, "UTC time on " + st.date, "hours since " + st.date + " 00:00 UTC", hours, rows, labels, written);
   return written;
 }
@@ -249,6 +288,16 @@ scene::SweepOutputs sweep_point(const scene::Scene& s, const SkySettings& q) {
   for (std::size_t i = 0; i < v.size(); ++i) out.emplace_back(sky_summary_columns()[i], v[i]);
   out.emplace_back("table_build_time_s", m->build_time_s);
   return out;
+}
+
+scene::SweepSettings sweep_settings(const SkySettings& q) {
+  return {{"lut_shells", std::to_string(q.shells)},
+          {"view_segments", std::to_string(q.segments)},
+          {"samples_per_segment", std::to_string(q.samples)},
+          {"max_piece_optical_depth", io::format_double(q.max_piece_tau)},
+          {"sun_model", q.sun_model ? sun_model_name(*q.sun_model) : "scene"},
+          {"scattering", q.scattering ? scattering_method_name(*q.scattering) : "scene"},
+          {"orders", q.orders ? std::to_string(*q.orders) : "scene"}};
 }
 
 // --------------------------------------------------------- converge sky
@@ -352,8 +401,8 @@ ConvergeSky converge_sky(const scene::Scene& s, const ConvergeSkyOptions& o) {
   return c;
 }
 
-std::vector<fs::path> write_converge_sky(const ConvergeSky& c, const fs::path& stem) {
-  return io::write_study(stem, c.spec, c.rows, c.provenance);
+std::vector<fs::path> write_converge_sky(const ConvergeSky& c, const fs::path& stem, bool netcdf) {
+  return io::write_study(stem, c.spec, c.rows, c.provenance, netcdf);
 }
 
 // ---------------------------------------------------- the sky's SH (sky -> SH)

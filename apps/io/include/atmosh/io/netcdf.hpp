@@ -64,6 +64,14 @@ struct NetcdfTableOptions {
   // 00:00:00 UTC" (standard_name time, calendar "standard") computed from it. "": the
   // dimension is `row` (0, 1, ...) and there is no time coordinate.
   std::string julian_date_column;
+  // A numeric column that is the table's dimension (e.g. the sun-elevation study's
+  // sun_elevation_deg): the dimension takes the column's netCDF name and the column is
+  // its coordinate variable. Used when there is no time coordinate; "": dimension `row`.
+  std::string coordinate_column;
+  // Explicit times for the `time` coordinate [s since 1970-01-01 00:00:00 UTC], one per
+  // row (e.g. the day study's time_utc column parsed); used when julian_date_column is
+  // empty. Empty: no time coordinate from this source.
+  std::vector<double> time_unix_s;
   // CF standard names by column name, on top of default_standard_names().
   std::map<std::string, std::string> standard_names;
   // Scalar variables (e.g. latitude, longitude of a sun track's site):
@@ -113,5 +121,38 @@ void write_exr_sky_as_netcdf(const std::filesystem::path& exr_file, const std::f
 CsvTable table_from_csv(const CsvData& csv, Provenance& provenance);
 void write_csv_as_netcdf(const std::filesystem::path& csv_file, const std::filesystem::path& netcdf_file,
                          const NetcdfTableOptions& options = {});
+
+// ---- table outputs in CSV and netCDF-CF ---------------------------------------------
+// A table output (a study's table, a sweep) is always written as CSV (the plots, the
+// sweep's journal and merges read it); with netCDF selected it is also written as
+// netCDF-CF beside it, from the same in-memory table (not converted from the CSV).
+//
+// The value of a `--format` option of a table output: "csv" -> false, "netcdf" -> true;
+// InputError "<what>: 'x' is not csv or netcdf" otherwise.
+bool parse_table_format(const std::string& value, const std::string& what = "--format");
+// An output stem or file given with the ending ".nc" (e.g. `-o results/sky_convergence.nc`):
+// returns it without the ending and sets netcdf; any other name is returned as it is.
+std::filesystem::path table_output_stem(const std::filesystem::path& stem, bool& netcdf);
+// Writes csv_file (CsvTable::write) and, when netcdf, csv_file with the extension
+// ".nc" (write_table_netcdf with `options`); returns the files written, CSV first.
+std::vector<std::filesystem::path> write_table_files(const std::filesystem::path& csv_file, const CsvTable& table,
+                                                     const Provenance& provenance, bool netcdf,
+                                                     const NetcdfTableOptions& options = {});
+
+// A sweep's table (the CSV of `atmosh sweep` or `sweep merge`: point, one column per
+// parameter key `keys`, the outputs, time_s) as netCDF-CF. When the points form a grid (every
+// combination of the keys' distinct values appears once, as mode = "grid" writes them)
+// each key is a dimension with its values as coordinate variable (the keys' netCDF
+// names: '.' -> "__"), and every other column a variable over those dimensions in the
+// keys' order; else (mode = "zip", a shard) the dimension is `point` and the keys are
+// auxiliary coordinate variables over it (CF `coordinates` attribute). The provenance
+// (sweep, sweep_id, base scene, settings) becomes global attributes.
+// InputError when a key is not a column of the table.
+void write_sweep_netcdf(const std::filesystem::path& file, const CsvTable& table, const Provenance& provenance,
+                        const std::vector<std::string>& keys);
+// The sweep's result file (its CSV: the journal's rows, or the merged shards) read
+// (table_from_csv) and written with write_sweep_netcdf.
+void write_sweep_csv_as_netcdf(const std::filesystem::path& csv_file, const std::filesystem::path& netcdf_file,
+                               const std::vector<std::string>& keys);
 
 }  // namespace atmosh::io

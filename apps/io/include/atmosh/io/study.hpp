@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "atmosh/io/csv.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
 
@@ -40,9 +41,17 @@ struct StudySpec {
 // points sorted by run time (the CSV keeps the rows' order).
 PlotSpec study_plot_spec(const StudySpec& spec, const std::vector<StudyRow>& rows);
 
-// Writes stem + ".csv" and stem + ".png"; returns the two paths.
+// The study's table: columns method, setting, spec.error_max_column,
+// spec.error_rms_column, spec.time_column, spec.extra_columns (NaN where a row has
+// fewer extras), one row per StudyRow. The one place these columns are made: the CSV,
+// the netCDF file and the Python module's DataFrames all come from it.
+CsvTable study_table(const StudySpec& spec, const std::vector<StudyRow>& rows);
+
+// Writes stem + ".csv", with netcdf also stem + ".nc" (netCDF-CF, dimension `row`,
+// atmosh/io/netcdf.hpp), and stem + ".png"; returns the paths. A stem ending in ".nc"
+// selects netCDF and loses the ending (io::table_output_stem).
 std::vector<std::filesystem::path> write_study(const std::filesystem::path& stem, const StudySpec& spec,
                                                const std::vector<StudyRow>& rows,
-                                               const Provenance& provenance);
+                                               const Provenance& provenance, bool netcdf = false);
 
 }  // namespace atmosh::io

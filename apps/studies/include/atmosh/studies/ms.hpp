@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "atmosh/atmo/ms_convergence.hpp"
+#include "atmosh/io/csv.hpp"
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/scene/scene.hpp"
 
@@ -26,9 +27,16 @@ struct ConvergeMs {
 };
 // InputError for paths outside [1, 2^40].
 ConvergeMs converge_ms(const scene::Scene& s, const ConvergeMsOptions& o);
-// dir/ms_convergence.csv, dir/ms_convergence.png (day and civil bands),
-// dir/ms_convergence_points.csv; returns the files written.
-std::vector<std::filesystem::path> write_converge_ms(const ConvergeMs& c, const std::filesystem::path& dir);
+// The study's table (ms_convergence.csv): method, setting, band, error_max_rel,
+// error_rms_rel, time_s, reference_rel_stderr_max, error_max_sigma,
+// error_max_rel_minus_3sigma, build_time_s, eval_time_s, rows, rows_skipped. The one
+// place its columns are made (CSV, netCDF, the Python module's DataFrame).
+io::CsvTable converge_ms_table(const ConvergeMs& c);
+// dir/ms_convergence.csv (with netcdf also dir/ms_convergence.nc, netCDF-CF),
+// dir/ms_convergence.png (day and civil bands), dir/ms_convergence_points.csv;
+// returns the files written.
+std::vector<std::filesystem::path> write_converge_ms(const ConvergeMs& c, const std::filesystem::path& dir,
+                                                     bool netcdf = false);
 // The demo's step: converge ms --quick on the default scene into dir.
 std::vector<std::filesystem::path> demo_ms(const std::filesystem::path& dir);
 

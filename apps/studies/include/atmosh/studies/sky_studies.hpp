@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "atmosh/atmo/sky_image.hpp"
+#include "atmosh/io/csv.hpp"
+#include "atmosh/io/netcdf.hpp"
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/io/study.hpp"
 #include "atmosh/progress.hpp"
@@ -35,6 +37,7 @@ struct ElevationStudyOptions {
   SkySettings sky;
 };
 struct ElevationStudy {
+  double azimuth_deg = 180;               // of the sun, fixed
   std::vector<double> elevations_deg;     // from, from + step, ... <= to
   std::vector<atmo::SkySummary> rows;     // one per elevation, at the scene's observer height (>= 0)
   io::Provenance provenance;
@@ -45,9 +48,18 @@ ElevationStudy sun_elevation_study(const scene::Scene& s, const ElevationStudyOp
                                    const ProgressCallback& progress = {});
 // Memory of the study (saturates for a hostile step).
 std::size_t elevation_study_bytes(const ElevationStudyOptions& o);
-// dir/sun_elevation.csv and the plots (horizon_colour.png, zenith_colour.png,
-// luminance.png, chromaticity.png); returns the files written.
-std::vector<std::filesystem::path> write_elevation_study(const ElevationStudy& st, const std::filesystem::path& dir);
+// The study's table (sun_elevation.csv): sun_elevation_deg, then sky_summary_columns().
+// The one place its columns are made (CSV, netCDF, the Python module's DataFrame).
+io::CsvTable elevation_study_table(const ElevationStudy& st);
+// Its netCDF-CF layout: dimension and coordinate sun_elevation_deg (standard name
+// solar_elevation_angle, degree), the sun's fixed azimuth as the scalar
+// solar_azimuth_angle.
+io::NetcdfTableOptions elevation_study_netcdf_options(const ElevationStudy& st);
+// dir/sun_elevation.csv (with netcdf also dir/sun_elevation.nc, netCDF-CF) and the
+// plots (horizon_colour.png, zenith_colour.png, luminance.png, chromaticity.png);
+// returns the files written.
+std::vector<std::filesystem::path> write_elevation_study(const ElevationStudy& st, const std::filesystem::path& dir,
+                                                         bool netcdf = false);
 
 // ------------------------------------------------------------- day study
 struct DayStudyOptions {
@@ -73,6 +85,7 @@ struct DayFrame {
 };
 struct DayStudy {
   std::string date;
+  double latitude_deg = 0, longitude_deg = 0, height_m = 0;  // the place
   std::vector<DayRow> rows;
   io::Provenance provenance;
 };
@@ -80,8 +93,18 @@ struct DayStudy {
 // handed to on_frame as it is rendered, so at most one frame is held.
 DayStudy day_study(const scene::Scene& s, const DayStudyOptions& o, const std::function<void(DayFrame&&)>& on_frame = {},
                    const ProgressCallback& progress = {});
-// dir/day.csv and the plots; returns the files written.
-std::vector<std::filesystem::path> write_day_study(const DayStudy& st, const std::filesystem::path& dir);
+// The study's table (day.csv): time_utc, sun_elevation_deg, sun_azimuth_deg,
+// apparent_sun_elevation_deg, then sky_summary_columns(). The one place its columns
+// are made.
+io::CsvTable day_study_table(const DayStudy& st);
+// Its netCDF-CF layout: dimension `time` with a CF time coordinate (seconds since
+// 1970-01-01 00:00:00 UTC, from time_utc), solar_elevation_angle / solar_azimuth_angle
+// standard names, the place as the scalars latitude [degree_north], longitude
+// [degree_east] and height [m].
+io::NetcdfTableOptions day_study_netcdf_options(const DayStudy& st);
+// dir/day.csv (with netcdf also dir/day.nc) and the plots; returns the files written.
+std::vector<std::filesystem::path> write_day_study(const DayStudy& st, const std::filesystem::path& dir,
+                                                   bool netcdf = false);
 // An EXR frame (no PNG) at dir/frames/sky_HHMMZ.exr; returns its path.
 std::filesystem::path write_day_frame(const DayFrame& f, const std::filesystem::path& dir);
 
@@ -89,6 +112,11 @@ std::filesystem::path write_day_frame(const DayFrame& f, const std::filesystem::
 // One point of a sweep: the sky summary of a scene (sun from the scene), its sun, and
 // the table build time.
 scene::SweepOutputs sweep_point(const scene::Scene& s, const SkySettings& q);
+// The settings that change a sky sweep's results, as its CSVs record them and its
+// identity hashes them (scene::sweep_identity): lut_shells, view_segments,
+// samples_per_segment, max_piece_optical_depth, sun_model, scattering, orders ("scene"
+// where the scene's own applies).
+scene::SweepSettings sweep_settings(const SkySettings& q);
 
 // --------------------------------------------------------- converge sky
 struct ConvergeSkyOptions {
@@ -103,8 +131,10 @@ struct ConvergeSky {
 // The fast integrator's error against the exact reference (adaptive Gauss-Kronrod,
 // rel tol 1e-6) and its run time, for a grid of table/quadrature settings.
 ConvergeSky converge_sky(const scene::Scene& s, const ConvergeSkyOptions& o);
-// <stem>.csv and <stem>.png (io::write_study).
-std::vector<std::filesystem::path> write_converge_sky(const ConvergeSky& c, const std::filesystem::path& stem);
+// <stem>.csv (with netcdf, or a stem ending in .nc, also <stem>.nc) and <stem>.png
+// (io::write_study).
+std::vector<std::filesystem::path> write_converge_sky(const ConvergeSky& c, const std::filesystem::path& stem,
+                                                      bool netcdf = false);
 
 // ---------------------------------------------------- the sky's SH (sky -> SH)
 struct SkySh {

@@ -16,6 +16,7 @@
 #include "atmosh/atmo/atmosphere.hpp"
 #include "atmosh/atmo/spec.hpp"
 #include "atmosh/atmo/stiff_cases.hpp"
+#include "atmosh/io/csv.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/io/study.hpp"
@@ -78,6 +79,9 @@ struct ZenithSweep {
   io::Provenance provenance;
 };
 ZenithSweep zenith_sweep(const atmo::AtmosphereSpec& spec, double altitude_m);
+// Its table (STEM.csv): zenith_deg, tau_reference, tau_lut, relative_error,
+// hits_ground (0/1). The one place its columns are made (CSV, the Python DataFrame).
+io::CsvTable zenith_sweep_table(const ZenithSweep& sweep);
 // STEM.csv and STEM.png (the reference as a line, every 4th table value as points).
 std::vector<std::filesystem::path> write_zenith_sweep(const ZenithSweep& sweep, const std::string& atmosphere_name,
                                                       double altitude_m, const std::filesystem::path& stem);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "atmosh/io/csv.hpp"
 #include "atmosh/io/exr.hpp"
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/io/sh_coefficients.hpp"
@@ -74,6 +75,9 @@ struct ShWindowRow {
   double delta_min_rel = 0.0, l2_change_rel = 0.0, irradiance_max_change_rel = 0.0;
 };
 std::vector<ShWindowRow> sh_window_study(const std::vector<double>& channel, int bands);
+// The window table (window, delta_min_rel, l2_change_rel, irradiance_max_change_rel):
+// the one place its columns are made (the CSV, the Python DataFrame).
+io::CsvTable sh_window_table(const std::vector<ShWindowRow>& rows);
 void write_sh_windows(const std::vector<ShWindowRow>& rows, const std::filesystem::path& file,
                       const io::Provenance& provenance);
 
