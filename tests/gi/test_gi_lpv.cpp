@@ -198,7 +198,7 @@ TEST(GiLpv, AWallBlocksThePropagation) {
   }
   const double blocked = beyond(acc);
   EXPECT_GT(open, 0);
-  EXPECT_LT(blocked, 0.2 * open) << blocked / open;  // measured 0.0xx (docs/gi.md)
+  EXPECT_LT(blocked, 0.03 * open) << blocked / open;  // measured 0.0074
 }
 
 TEST(GiLpv, CornellBoxAgainstOneIndirectBounceWithinMeasuredBounds) {
@@ -216,11 +216,11 @@ TEST(GiLpv, CornellBoxAgainstOneIndirectBounceWithinMeasuredBounds) {
   m.grid = 8;
   m.pixel_samples = 16;
   const gi::ImageError e = gi::image_error(gi::render_method(s, s.camera, 24, 24, m).image, ref, &mask);
-  EXPECT_NEAR(e.mean_rel, 1.05, 0.08) << e.mean_rel;
+  EXPECT_NEAR(e.mean_rel, 1.05, 0.08) << e.mean_rel;  // measured 1.049
   EXPECT_LT(e.rms_rel, 0.45) << e.rms_rel;
   m.lpv_blocking = false;  // without the geometry volume light leaks through the blocks
   const gi::ImageError n = gi::image_error(gi::render_method(s, s.camera, 24, 24, m).image, ref, &mask);
-  EXPECT_GT(n.leak_rel, 2 * e.leak_rel);
+  EXPECT_GT(n.leak_rel, 2 * e.leak_rel);  // measured 0.209 against 0.042
 }
 
 TEST(GiLpv, BadOptionsThrowInputError) {
