@@ -6,6 +6,7 @@
 #ifdef ATMOSH_GI_HAVE_GPU
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -15,6 +16,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "atmosh/gi/lpv.hpp"
+#include "atmosh/gi/scene.hpp"
 #include "atmosh/gi/shared/radiosity.glsl.hpp"
 #include "atmosh/gpu/context.hpp"
 #include "atmosh/gpu/program.hpp"
@@ -153,6 +156,38 @@ TEST(GiGlsl, SharedRadiosityMathAgreesWithTheCppBuild) {
                                                            static_cast<int>(k.bounces), glm::dvec3(-10, -10, 0),
                                                            glm::dvec3(10, 10, 1));
     EXPECT_NEAR(o[6], L.x, 1e-5 * (1 + L.x)) << "case " << i;
+  }
+}
+
+// LPV propagation on the GPU (gpu/shaders/gi_lpv_propagate.comp, float) against the CPU's
+// (double): the Cornell box's injected light, with the geometry volume, 16 iterations.
+TEST(GiGlsl, LpvPropagationOnTheGpuAgreesWithTheCpu) {
+  try {
+    gpu::Context probe;
+  } catch (const gpu::Unavailable& e) {
+    GTEST_SKIP() << e.what();
+  }
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::LpvOptions o;
+  o.grid = 8;
+  o.emitter_photons = 4096;
+  const gi::LpvGrid inj = gi::lpv_inject(s, o);
+  const gi::GeometryVolume gv = gi::lpv_geometry(s, inj);
+  for (const gi::GeometryVolume* g : {static_cast<const gi::GeometryVolume*>(nullptr), &gv}) {
+    const gi::LpvGrid cpu = gi::lpv_propagate(inj, g, 16);
+    double secs = -1;
+    const gi::LpvGrid gpu_grid = gi::lpv_propagate_gpu(inj, g, 16, &secs);
+    EXPECT_GE(secs, 0.0);
+    double scale = 0;
+    for (const auto& c : cpu.cells)
+      for (double v : c) scale = std::max(scale, std::abs(v));
+    ASSERT_GT(scale, 0);
+    double worst = 0;
+    for (std::size_t i = 0; i < cpu.cells.size(); ++i)
+      for (int q = 0; q < 12; ++q) worst = std::max(worst, std::abs(gpu_grid.cells[i][q] - cpu.cells[i][q]));
+    // float storage, float face constants and sums over 16 iterations: measured 3.5e-5 of
+    // the largest coefficient with blocking, below 1e-5 without
+    EXPECT_LT(worst, 1e-4 * scale) << (g ? "with" : "without") << " blocking";
   }
 }
 

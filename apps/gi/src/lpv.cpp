@@ -15,6 +15,11 @@
 #include "atmosh/prt/bake.hpp"
 #include "receivers.hpp"
 
+#ifdef ATMOSH_GI_HAVE_GPU
+#include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/program.hpp"
+#endif
+
 namespace atmosh::gi {
 
 namespace {
@@ -389,6 +394,47 @@ LpvGrid lpv_propagate(const LpvGrid& injected, const GeometryVolume* gv, int ite
       for (int q = 0; q < 12; ++q) acc.cells[c][q] += field.cells[c][q];
   }
   return acc;
+}
+
+LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int iterations, double* gpu_seconds) {
+  if (iterations < 0 || iterations > 1024)
+    throw InputError("gi lpv: iterations must be in 0..1024, got " + std::to_string(iterations));
+  check_grid(injected);
+  check_gv(injected, gv);
+#ifdef ATMOSH_GI_HAVE_GPU
+  const gpu::Context ctx;
+  gpu::Program prog({gpu::embedded_source("gpu/shaders/gi_lpv_propagate.comp")});
+  std::vector<float> vis(1, 1.0f);
+  if (gv != nullptr && iterations > 1) vis = visibility_table(injected, *gv);
+  const std::size_t n = injected.cells.size();
+  std::vector<float> cells(n * 12);
+  for (std::size_t c = 0; c < n; ++c)
+    for (int q = 0; q < 12; ++q) cells[c * 12 + q] = static_cast<float>(injected.cells[c][q]);
+  const auto t0 = Clock::now();
+  gpu::Buffer a(cells.size() * sizeof(float), cells.data()), b(cells.size() * sizeof(float)),
+      acc(cells.size() * sizeof(float), cells.data()), bv(vis.size() * sizeof(float), vis.data());
+  prog.use();
+  prog.set("nx", injected.nx);
+  prog.set("ny", injected.ny);
+  prog.set("nz", injected.nz);
+  bv.bind(1);
+  acc.bind(3);
+  for (int it = 0; it < iterations; ++it) {
+    (it % 2 == 0 ? a : b).bind(0);
+    (it % 2 == 0 ? b : a).bind(2);
+    prog.set("use_vis", it > 0 && gv != nullptr && iterations > 1 ? 1 : 0);
+    prog.dispatch(static_cast<unsigned>((n + 63) / 64));
+  }
+  acc.download(cells.data(), cells.size() * sizeof(float));
+  if (gpu_seconds != nullptr) *gpu_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  LpvGrid out = injected;
+  for (std::size_t c = 0; c < n; ++c)
+    for (int q = 0; q < 12; ++q) out.cells[c][q] = cells[c * 12 + q];
+  return out;
+#else
+  (void)gpu_seconds;
+  throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
+#endif
 }
 
 glm::dvec3 lpv_flux(const LpvGrid& g) {

@@ -112,6 +112,14 @@ GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g);
 LpvGrid lpv_step(const LpvGrid& field, const GeometryVolume* gv);
 /// injected + sum of `iterations` steps (blocking from the second step on, when gv is given).
 LpvGrid lpv_propagate(const LpvGrid& injected, const GeometryVolume* gv, int iterations);
+/// lpv_propagate on the GPU: one compute dispatch per iteration of
+/// gpu/shaders/gi_lpv_propagate.comp (the same gather in float), the blocking table computed on
+/// the CPU as for lpv_propagate. Makes its own EGL context (atmosh::gpu). gpu_seconds
+/// (optional): wall time of the uploads, dispatches and read-back (context and compilation
+/// excluded). Throws std::runtime_error (atmosh::gpu::Unavailable) where no EGL context can be
+/// made, InputError where atmosh was built without atmosh::gpu.
+LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int iterations,
+                          double* gpu_seconds = nullptr);
 /// Total flux sum over cells and channels' mean of sqrt(4 pi) c_00 (per channel).
 glm::dvec3 lpv_flux(const LpvGrid& g);
 /// Trilinear (cell centres, clamped) interpolation of the intensity coefficients at p.
