@@ -12,7 +12,10 @@
 #include <chrono>
 #include <vector>
 
+#include "atmosh/gi/lpv.hpp"
+#include "atmosh/gi/methods.hpp"
 #include "atmosh/gi/path_tracer.hpp"
+#include "atmosh/gi/radiosity.hpp"
 #include "atmosh/gi/probes.hpp"
 #include "atmosh/gi/scene.hpp"
 
@@ -123,4 +126,56 @@ void BM_ProbeShade512(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(gi::render_probes(s, s.camera, 512, 512, g, false, ro));
 }
 BENCHMARK(BM_ProbeShade512)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// One 512 x 512 frame (one camera ray per pixel) of the Cornell box lit by a radiosity volume
+// (16^3, 2 bands, 2 bounces) or an LPV (grid 16), the volume built once.
+void BM_RadiosityShade512(benchmark::State& state) {
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::RadiosityOptions o;
+  o.grid = 16;
+  o.bands = 2;
+  o.bounces = 2;
+  o.samples = 1;
+  o.threads = 1;
+  const gi::RadiosityVolume v = gi::build_radiosity_volume(s, o);
+  for (auto _ : state) benchmark::DoNotOptimize(gi::render_radiosity(s, s.camera, 512, 512, v, o));
+}
+BENCHMARK(BM_RadiosityShade512)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_LpvShade512(benchmark::State& state) {
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::LpvOptions o;
+  o.grid = 16;
+  o.samples = 1;
+  o.threads = 1;
+  const gi::Lpv l = gi::build_lpv(s, o);
+  for (auto _ : state) benchmark::DoNotOptimize(gi::render_lpv(s, s.camera, 512, 512, l, o));
+}
+BENCHMARK(BM_LpvShade512)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// LPV propagation (2 x grid iterations, with the geometry volume) of the Cornell box's
+// injected light: arg 0 the grid, arg 1: 0 CPU (all threads), 1 GPU (EGL; skipped without).
+void BM_LpvPropagate(benchmark::State& state) {
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::LpvOptions o;
+  o.grid = static_cast<int>(state.range(0));
+  const gi::LpvGrid inj = gi::lpv_inject(s, o);
+  const gi::GeometryVolume gv = gi::lpv_geometry(s, inj);
+  const int it = 2 * o.grid;
+  try {
+    for (auto _ : state) {
+      if (state.range(1) == 0) {
+        benchmark::DoNotOptimize(gi::lpv_propagate(inj, &gv, it));
+      } else {
+        double secs = 0;
+        benchmark::DoNotOptimize(gi::lpv_propagate_gpu(inj, &gv, it, &secs));
+        state.SetIterationTime(secs);
+      }
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+}
+BENCHMARK(BM_LpvPropagate)->Args({16, 0})->Args({32, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LpvPropagate)->Args({16, 1})->Args({32, 1})->Unit(benchmark::kMillisecond)->UseManualTime();
 }  // namespace

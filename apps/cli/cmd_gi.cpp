@@ -1,5 +1,6 @@
-// `atmosh gi render` — diffuse global illumination of a scene: the path-traced reference and
-// radiance probes (CPU ray casting, atmosh::gi); radiosity and lpv are named but not built yet.
+// `atmosh gi render` — diffuse global illumination of a scene: the path-traced reference,
+// radiance probes, the multi-bounce radiosity approximation and light propagation volumes
+// (CPU, atmosh::gi; radiosity and lpv through gi::render_method).
 // `atmosh gi converge` — probes (and the path tracer at fewer samples) against the path-traced
 // reference at matched lighting: error against run time (io::write_study) and the images.
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "atmosh/error.hpp"
+#include "atmosh/gi/methods.hpp"
 #include "atmosh/gi/path_tracer.hpp"
 #include "atmosh/gi/probes.hpp"
 #include "atmosh/gi/scene.hpp"
@@ -35,7 +37,7 @@ struct GiRenderOptions {
   double sun_radius_deg = 0, albedo = 0.8;
   int bounces = -1, samples = 16, threads = 0, resolution = 32;
   // probes
-  int bands = 3, grid = 4, cube_size = 8, pixel_samples = 4;
+  int bands = 3, grid = 4, cube_size = 8, pixel_samples = 4, iterations = -1;
   bool probe_visibility = false;
   std::string window = "none";
   std::uint64_t seed = 1;
@@ -58,11 +60,26 @@ void check_probe_options(const GiRenderOptions& o) {
   probe_window(o.window);
 }
 
+gi::MethodOptions method_options(const GiRenderOptions& o) {
+  gi::MethodOptions m;
+  m.method = o.method;
+  m.samples = o.samples;
+  m.bounces = o.bounces;
+  m.seed = o.seed;
+  m.threads = o.threads;
+  m.bands = o.bands;
+  m.grid = o.grid;
+  m.cube_size = o.cube_size;
+  m.pixel_samples = o.pixel_samples;
+  m.window = probe_window(o.window);
+  m.probe_visibility = o.probe_visibility;
+  m.iterations = o.iterations;
+  return m;
+}
+
 // Everything checked before any work; returns the scene to render.
 gi::Scene prepare(const GiRenderOptions& o, int& w, int& h) {
-  if (o.method == "radiosity" || o.method == "lpv")
-    throw InputError("--method: not implemented yet: '" + o.method + "' (path and probes are built)");
-  if (o.method != "path" && o.method != "probes")
+  if (o.method != "path" && o.method != "probes" && o.method != "radiosity" && o.method != "lpv")
     throw InputError("--method: unknown method '" + o.method + "' (path, probes, radiosity, lpv)");
   if (o.builtin.empty() == o.mesh.empty()) throw InputError("give exactly one of --scene-builtin NAME or --mesh FILE");
   if (o.samples < 2 || o.samples > 10000000)
@@ -71,6 +88,7 @@ gi::Scene prepare(const GiRenderOptions& o, int& w, int& h) {
     throw InputError("--bounces: must be -1 (unlimited) or 0..100000, got " + std::to_string(o.bounces));
   threads_option(o.threads);
   check_probe_options(o);
+  gi::check_method_options(method_options(o));
   const auto sz = parse_size(o.size, "--size");
   w = sz[0];
   h = sz[1];
@@ -162,6 +180,14 @@ void run_render(const GiRenderOptions& o) {
     img = gi::render_probes(s, s.camera, w, h, g, false, ro);
     img.stats.rays += g.stats.rays;
     img.stats.shadow_rays += g.stats.shadow_rays;
+  } else if (o.method != "path") {  // radiosity, lpv
+    ProgressStep step("gi " + o.method);
+    gi::MethodOptions m = method_options(o);
+    m.threads = opt.threads;
+    const gi::MethodResult r = gi::render_method(s, s.camera, w, h, m);
+    img = r.image;
+    img.stats.seconds = r.shade_seconds;
+    probe_seconds = r.build_seconds;
   } else {
     ProgressStep step("gi render");
     opt.progress = step.callback();
@@ -173,9 +199,11 @@ void run_render(const GiRenderOptions& o) {
     ex.data[3 + c] = img.stderr_[c];
   }
   ex.string_attributes["atmosh:quantity"] =
-      o.method == "path" ? "radiance (R, G, B) and its standard error (stderr.*), path tracer, pinhole camera"
-                         : "radiance (R, G, B), radiance probes (SH irradiance of a probe grid; direct sun by shadow "
-                           "rays), and the standard error over each pixel's camera rays (stderr.*), pinhole camera";
+      o.method == "path"     ? "radiance (R, G, B) and its standard error (stderr.*), path tracer, pinhole camera"
+      : o.method == "probes" ? "radiance (R, G, B), radiance probes (SH irradiance of a probe grid; direct sun by shadow "
+                               "rays), and the standard error over each pixel's camera rays (stderr.*), pinhole camera"
+                             : "radiance (R, G, B), " + o.method + " (docs/gi.md), and the standard error over each "
+                               "pixel's camera rays (stderr.*), pinhole camera";
   ex.string_attributes["atmosh:units"] = "units of the lights' radiance (W m^-2 sr^-1 for a sun in W m^-2)";
   auto prov = io::Provenance::current();
   prov.add("scene", s.name).add("method", o.method).add("samples", std::to_string(o.samples))
@@ -186,6 +214,10 @@ void run_render(const GiRenderOptions& o) {
         .add("cube_size", std::to_string(o.cube_size)).add("window", o.window)
         .add("pixel_samples", std::to_string(o.pixel_samples)).add("probe_seconds", probe_seconds)
         .add("visibility", o.probe_visibility ? "on" : "off");
+  if (o.method == "radiosity" || o.method == "lpv")
+    prov.add("grid", std::to_string(o.grid)).add("bands", std::to_string(o.bands))
+        .add("cube_size", std::to_string(o.cube_size)).add("iterations", std::to_string(o.iterations))
+        .add("pixel_samples", std::to_string(o.pixel_samples)).add("build_seconds", probe_seconds);
   if (s.sun)
     prov.add("sun_direction", io::format_double(s.sun->direction.x) + "," + io::format_double(s.sun->direction.y) + "," +
                                   io::format_double(s.sun->direction.z));
@@ -218,6 +250,12 @@ void run_render(const GiRenderOptions& o) {
       j["visibility"] = o.probe_visibility;
       j["shade_seconds"] = img.stats.seconds;
     }
+    if (o.method == "radiosity" || o.method == "lpv") {
+      j["grid"] = o.grid;
+      j["bands"] = o.bands;
+      j["build_seconds"] = probe_seconds;
+      j["shade_seconds"] = img.stats.seconds;
+    }
     print_json(j);
   }
 }
@@ -226,6 +264,7 @@ void run_render(const GiRenderOptions& o) {
 struct GiConvergeOptions {
   GiRenderOptions scene;  // scene, lights, size, seed, threads, probe settings shared with render
   std::string out_dir, bands_list = "1,2,3,4", grids = "2,3,4,6,8", path_samples = "4,16";
+  std::string radiosity_grids = "4,8,16", radiosity_bands = "1,2", radiosity_bounces = "0,1,2,3", lpv_grids = "8,16,32";
   int reference_samples = 256;
   bool netcdf = false;
 };
@@ -270,6 +309,14 @@ void run_converge(const GiConvergeOptions& co) {
   const auto bands = int_list(co.bands_list, "--bands-list", 1, 16);
   const auto grids = int_list(co.grids, "--grids", 1, 64);
   const auto pspp = int_list(co.path_samples, "--path-samples", 2, 10000000);
+  gi::StudyOptions study;  // radiosity and lpv rows ("none": no rows)
+  auto list_or_none = [](const std::string& t, const char* what, int lo, int hi) {
+    return t == "none" ? std::vector<int>{} : int_list(t, what, lo, hi);
+  };
+  study.radiosity_grids = list_or_none(co.radiosity_grids, "--radiosity-grids", 1, 64);
+  study.radiosity_bands = list_or_none(co.radiosity_bands, "--radiosity-bands", 1, 3);
+  study.radiosity_bounces = list_or_none(co.radiosity_bounces, "--radiosity-bounces", 0, 16);
+  study.lpv_grids = list_or_none(co.lpv_grids, "--lpv-grids", 1, 256);
   if (co.reference_samples < 2 || co.reference_samples > 10000000)
     throw InputError("--reference-samples: must be in 2..10000000, got " + std::to_string(co.reference_samples));
   check_output_dir(co.out_dir, "-o");
@@ -325,7 +372,7 @@ void run_converge(const GiConvergeOptions& co) {
 
   io::StudySpec spec;
   spec.title = "gi converge: " + s.name + " (reference: " + std::to_string(co.reference_samples) + " paths/pixel)";
-  spec.extra_columns = {"leak_rel", "build_s", "shade_s"};
+  spec.extra_columns = {"leak_rel", "build_s", "shade_s", "mean_rel"};
   std::vector<io::StudyRow> rows;
   for (int spp : pspp) {  // the path tracer itself at fewer samples, independent seed
     gi::TraceOptions t = to;
@@ -335,7 +382,8 @@ void run_converge(const GiConvergeOptions& co) {
     const gi::RadianceImage img = gi::render(s, s.camera, w, h, t);
     const gi::ImageError e = gi::image_error(img, ref, &mask);
     rows.push_back({"path", "spp=" + std::to_string(spp), e.max_rel, e.rms_rel,
-                    img.stats.seconds + img.stats.setup_seconds, {e.leak_rel, img.stats.setup_seconds, img.stats.seconds}});
+                    img.stats.seconds + img.stats.setup_seconds,
+                    {e.leak_rel, img.stats.setup_seconds, img.stats.seconds, e.mean_rel}});
   }
   ProgressStep step("gi converge: probes");
   for (int g : grids) {
@@ -361,7 +409,7 @@ void run_converge(const GiConvergeOptions& co) {
         const gi::ImageError e = gi::image_error(img, ref, &mask);
         const std::string method = vis ? "probes-visibility" : "probes";
         const std::string setting = "bands=" + std::to_string(b) + " grid=" + std::to_string(g);
-        rows.push_back({method, setting, e.max_rel, e.rms_rel, full.seconds + shade, {e.leak_rel, full.seconds, shade}});
+        rows.push_back({method, setting, e.max_rel, e.rms_rel, full.seconds + shade, {e.leak_rel, full.seconds, shade, e.mean_rel}});
         auto pp = prov;
         pp.add("method", method).add("bands", std::to_string(b)).add("grid", std::to_string(g))
             .add("cube_size", std::to_string(o.cube_size)).add("texel_samples", std::to_string(o.samples))
@@ -370,6 +418,21 @@ void run_converge(const GiConvergeOptions& co) {
                        "radiance (R, G, B), radiance probes" + std::string(vis ? " with visibility" : ""), pp);
       }
   }
+  study.cube_size = o.cube_size;
+  study.pixel_samples = o.pixel_samples;
+  study.threads = threads;
+  study.seed = o.seed;
+  gi::study_methods(s, w, h, study, [&](const gi::StudyRow& r) {
+    const gi::ImageError e = gi::image_error(r.result.image, ref, &mask);
+    rows.push_back({r.method, r.setting, e.max_rel, e.rms_rel, r.result.build_seconds + r.result.shade_seconds,
+                    {e.leak_rel, r.result.build_seconds, r.result.shade_seconds, e.mean_rel}});
+    auto pp = prov;
+    pp.add("method", r.method).add("setting", r.setting);
+    std::string stem = r.method + "_" + r.setting;
+    std::replace(stem.begin(), stem.end(), ' ', '_');
+    std::replace(stem.begin(), stem.end(), '=', '-');
+    write_radiance(dir / (stem + ".exr"), r.result.image, &ref, "radiance (R, G, B), " + r.method + " " + r.setting, pp);
+  });
   auto sp = prov;
   sp.add("cube_size", std::to_string(o.cube_size)).add("texel_samples", std::to_string(o.samples))
       .add("pixel_samples", std::to_string(o.pixel_samples)).add("window", o.window)
@@ -386,6 +449,7 @@ void add_probe_options(CLI::App* c, GiRenderOptions& o) {
   c->add_option("--window", o.window, "probes: window against ringing: none | hanning | lanczos | nonnegative");
   c->add_flag("--probe-visibility", o.probe_visibility,
               "probes: drop probes the receiver cannot see (behind its surface or occluded) from the interpolation");
+  c->add_option("--iterations", o.iterations, "lpv: propagation steps (default -1: 2 x grid)");
 }
 
 void add_scene_options(CLI::App* c, GiRenderOptions& o) {
@@ -413,7 +477,7 @@ void register_gi_commands(CLI::App& app) {
   CLI::App* c = gic->add_subcommand("render", "Radiance image of a scene (EXR): path tracing with standard errors, or radiance probes");
   c->add_option("--scene-builtin", o->builtin, "built-in scene: cornell-box | sphere-on-plane | box-occluder");
   c->add_option("--mesh", o->mesh, "mesh file (.obj, .ply), grey Lambertian");
-  c->add_option("--method", o->method, "path | probes (radiosity, lpv: not implemented yet)");
+  c->add_option("--method", o->method, "path | probes | radiosity | lpv");
   c->add_option("--light", o->light, "sun:AZ,EL — a sun at azimuth AZ (from north towards east) and elevation EL, degrees");
   c->add_option("--sun-irradiance", o->sun_irradiance, "sun irradiance R,G,B at normal incidence (default 1,1,1)");
   c->add_option("--sun-radius", o->sun_radius_deg, "sun angular radius in degrees (default 0: a point)");
@@ -447,6 +511,10 @@ void register_gi_commands(CLI::App& app) {
   v->add_option("--bands-list", co->bands_list, "probe SH bands to study (default 1,2,3,4)");
   v->add_option("--grids", co->grids, "probes per axis to study (default 2,3,4,6,8)");
   v->add_option("--path-samples", co->path_samples, "path tracer samples per pixel to study (default 4,16)");
+  v->add_option("--radiosity-grids", co->radiosity_grids, "radiosity probes per axis to study (default 4,8,16; none)");
+  v->add_option("--radiosity-bands", co->radiosity_bands, "radiosity distance SH bands to study (default 1,2; none)");
+  v->add_option("--radiosity-bounces", co->radiosity_bounces, "radiosity bounces to study (default 0,1,2,3; none)");
+  v->add_option("--lpv-grids", co->lpv_grids, "LPV cells along the longest axis to study (default 8,16,32; none)");
   v->add_option("--reference-samples", co->reference_samples, "reference paths per pixel (default 256)");
   v->add_option("--size", co->scene.size, "image size WxH (default 64x64)");
   v->add_option("-o,--output", co->out_dir, "output folder")->required();

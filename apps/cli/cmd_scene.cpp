@@ -8,6 +8,7 @@
 #include "atmosh/scene/outputs.hpp"
 #include "atmosh/scene/scene.hpp"
 #include "atmosh/studies/scene_run.hpp"
+#include "atmosh/studies/studies_gi.hpp"
 #include "cli_common.hpp"
 #include "progress.hpp"
 
@@ -134,6 +135,10 @@ void register_scene_commands(CLI::App& app) {
       demo_ms(ctx);
       demo_sh(ctx);
       demo_prt(ctx);
+      {
+        ProgressStep step("demo: scene lighting (Cornell box)");
+        for (const auto& f : studies::demo_gi(ctx.out_dir / "gi", ctx.quick)) ctx.written.push_back(f);
+      }
       studies::write_manifest(ctx.out_dir, "atmosh demo results (" + std::string(quick ? "quick" : "full") + " run)",
                               ctx.written);
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

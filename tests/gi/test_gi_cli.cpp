@@ -25,7 +25,8 @@ TEST(GiCli, BadInputExitsTwoNamingTheValue) {
   const auto dir = atmosh::test::scratch_dir("atmosh_gi_cli", "bad");
   const std::string out = " -o '" + (dir / "x.exr").string() + "'";
   expect_bad("gi render --scene-builtin no-such-box" + out, "no-such-box");
-  expect_bad("gi render --scene-builtin cornell-box --method radiosity" + out, "not implemented yet");
+  expect_bad("gi render --scene-builtin cornell-box --method radiosity --bands 4" + out, "--bands");
+  expect_bad("gi render --scene-builtin cornell-box --method lpv --iterations -2" + out, "--iterations");
   expect_bad("gi render --scene-builtin cornell-box --method probes --bands 0" + out, "--bands");
   expect_bad("gi render --scene-builtin cornell-box --method probes --grid 65" + out, "--grid");
   expect_bad("gi render --scene-builtin cornell-box --method probes --cube-size 0" + out, "--cube-size");
@@ -37,7 +38,7 @@ TEST(GiCli, BadInputExitsTwoNamingTheValue) {
   expect_bad("gi converge --scene-builtin sphere-on-plane --reference-samples 1" + od, "--reference-samples");
   expect_bad("gi converge --scene-builtin no-such-box" + od, "no-such-box");
   expect_bad("gi converge --scene-builtin sphere-on-plane --window boxcar" + od, "boxcar");
-  expect_bad("gi render --scene-builtin cornell-box --method lpv" + out, "lpv");
+  expect_bad("gi converge --scene-builtin sphere-on-plane --radiosity-bands 1,4" + od, "1,4");
   expect_bad("gi render --scene-builtin cornell-box --method magic" + out, "magic");
   expect_bad("gi render --scene-builtin cornell-box --samples 1" + out, "--samples");
   expect_bad("gi render --scene-builtin cornell-box --bounces -5" + out, "-5");
@@ -61,21 +62,46 @@ TEST(GiCli, ProbesRenderAndConvergeWriteTheirFiles) {
   EXPECT_NE(r.out.find("\"probe_seconds\""), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(exr));
   r = run_cli("gi converge --scene-builtin sphere-on-plane --resolution 8 --light sun:30,40 --bands-list 1,2 "
-              "--grids 1,2 --cube-size 4 --samples 2 --path-samples 2 --reference-samples 8 --size 12x8 -o '" +
+              "--grids 1,2 --cube-size 4 --samples 2 --path-samples 2 --reference-samples 8 --size 12x8 "
+              "--radiosity-grids 2 --radiosity-bands 1,2 --radiosity-bounces 0,2 --lpv-grids 2 -o '" +
               (dir / "conv").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(dir / "conv" / "reference.exr"));
   EXPECT_TRUE(std::filesystem::exists(dir / "conv" / "probes_b2_g2.exr"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "conv" / "radiosity_bands-2_grid-2_bounces-2.exr"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "conv" / "lpv_grid-2_iterations-4.exr"));
   std::ifstream csv(dir / "conv" / "gi_converge.csv");
   std::string line;
-  int rows = 0;
+  int rows = 0, rows_radiosity = 0, rows_lpv = 0;
   bool header = false;
   while (std::getline(csv, line)) {
-    if (line.rfind("method,setting,error_max_rel,error_rms_rel,time_s", 0) == 0) header = true;
+    if (line.rfind("method,setting,error_max_rel,error_rms_rel,time_s,leak_rel,build_s,shade_s,mean_rel", 0) == 0)
+      header = true;
+    if (line.rfind("radiosity,", 0) == 0) ++rows_radiosity;
+    if (line.rfind("lpv,", 0) == 0 || line.rfind("lpv-noblock,", 0) == 0) ++rows_lpv;
     if (line.rfind("probes,", 0) == 0 || line.rfind("probes-visibility,", 0) == 0 || line.rfind("path,", 0) == 0) ++rows;
   }
   EXPECT_TRUE(header);
   EXPECT_EQ(rows, 9);  // path spp=2, probes 2 bands x 2 grids x plain / visibility
+  EXPECT_EQ(rows_radiosity, 4);  // 2 bands x 2 bounce counts
+  EXPECT_EQ(rows_lpv, 2);        // with and without the geometry volume
+}
+
+TEST(GiCli, RadiosityAndLpvRender) {
+  const auto dir = atmosh::test::scratch_dir("atmosh_gi_cli", "methods");
+  for (const char* m : {"radiosity", "lpv"}) {
+    const auto exr = dir / (std::string(m) + ".exr");
+    const auto r = run_cli(std::string("gi render --scene-builtin cornell-box --method ") + m +
+                           " --grid 4 --bands 2 --bounces 2 --cube-size 4 --pixel-samples 2 --size 12x8 -o '" +
+                           exr.string() + "' --json");
+    ASSERT_EQ(r.exit_code, 0) << m << r.err;
+    EXPECT_NE(r.out.find("\"build_seconds\""), std::string::npos) << m;
+    const auto img = atmosh::io::read_exr(exr);
+    double sum = 0;
+    for (float v : img.channel("G")) sum += v;
+    EXPECT_GT(sum, 0) << m;
+    EXPECT_TRUE(std::isfinite(sum)) << m;
+  }
 }
 
 TEST(GiCli, RenderWritesRadianceAndStandardError) {

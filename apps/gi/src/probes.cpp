@@ -393,7 +393,7 @@ ImageError image_error(const RadianceImage& a, const RadianceImage& r, const std
   if (skip != nullptr && skip->size() != r.mean[0].size())
     throw InputError("gi image error: the pixel mask has " + std::to_string(skip->size()) + " entries for " +
                      std::to_string(r.mean[0].size()) + " pixels");
-  double sum_r = 0, max_d = 0, sum_d2 = 0, leak = 0;
+  double sum_r = 0, sum_a = 0, max_d = 0, sum_d2 = 0, leak = 0;
   std::size_t n = 0;
   for (int c = 0; c < 3; ++c)
     for (std::size_t i = 0; i < r.mean[c].size(); ++i) {
@@ -401,6 +401,7 @@ ImageError image_error(const RadianceImage& a, const RadianceImage& r, const std
       const double rv = r.mean[c][i], av = a.mean[c][i], se = r.stderr_[c].empty() ? 0.0 : r.stderr_[c][i];
       const double d = av - rv;
       sum_r += rv;
+      sum_a += av;
       max_d = std::max(max_d, std::abs(d));
       sum_d2 += d * d;
       leak += std::max(0.0, d - 3 * se);
@@ -412,6 +413,7 @@ ImageError image_error(const RadianceImage& a, const RadianceImage& r, const std
   e.max_rel = max_d / mean_r;
   e.rms_rel = std::sqrt(sum_d2 / n) / mean_r;
   e.leak_rel = leak / sum_r;
+  e.mean_rel = sum_a / sum_r;
   return e;
 }
 

@@ -133,9 +133,11 @@ RadianceImage render_probes(const Scene& scene, const Camera& camera, int width,
 ///   max_rel = max |a - r| / mean(r), rms_rel = sqrt(mean (a - r)^2) / mean(r),
 ///   leak_rel = sum max(0, a - r - 3 stderr_r) / sum r (light where the reference has less:
 ///   light leaking through walls, probes seeing past occluders; noise of the reference removed
-///   at 3 standard errors).
+///   at 3 standard errors),
+///   mean_rel = sum a / sum r (the share of the reference's light the image has: what each
+///   bounce of an approximation adds).
 struct ImageError {
-  double max_rel = 0, rms_rel = 0, leak_rel = 0;
+  double max_rel = 0, rms_rel = 0, leak_rel = 0, mean_rel = 0;
 };
 /// `skip` (optional, one entry per pixel): pixels where it is nonzero are left out of all
 /// three (e.g. directly seen emitters, whose edge pixels depend on the camera-ray jitter).

@@ -1,0 +1,141 @@
+// atmosh/gi/lpv.hpp — light propagation volumes (Kaplanyan & Dachsbacher 2010, "Cascaded
+// light propagation volumes for real-time indirect illumination", I3D), on the CPU.
+//
+// Volume: cubic cells of edge h = (longest extent of the scene's bounding box) / grid,
+// nx x ny x nz of them from the box's low corner (nx = ceil(extent_x / h), ...). Each cell
+// holds the radiant intensity I(w) [lights' radiance unit x length^2, i.e. W/sr for
+// radiance in W m^-2 sr^-1 and lengths in m] of the light travelling through it in
+// direction w, as 4 real SH coefficients per channel (bands 0 and 1, atmosh/sh/basis.hpp).
+//
+// Injection (the reflective-shadow-map step, by rays on the CPU): virtual point lights at
+// the surfaces the lights reach first —
+//   * the sun (its central direction; a disc sun is treated as a point): an M x M grid of
+//     jittered parallel rays over the box's cross-section seen from the sun, each ray a
+//     bundle of cross-section A_ray carrying flux E_sun A_ray; where it hits, a VPL of flux
+//     Phi = albedo E_sun A_ray;
+//   * area emitters: `emitter_photons` rays, a triangle chosen ∝ area x summed emission, a
+//     uniform point, a cosine-distributed direction on an emitting side, each carrying its
+//     share of the emitted power (pi L_e A per side); where it hits, a VPL of albedo x that.
+// A VPL of flux Phi at p with normal n (turned towards the light's side) is a Lambertian
+// emitter, I(w) = Phi / pi max(0, n . w), whose SH coefficients are Phi / pi A_l Y_lm(n)
+// (A_0 = pi, A_1 = 2 pi / 3); it goes into the cell holding p + h/2 n (the paper's half-cell
+// shift). The environment is not injected (its direct light is added at the receiver).
+//
+// Propagation (one iteration): every cell sends its intensity to its 6 face neighbours.
+// For the neighbour in direction e, the light that would cross each of the neighbour's 5
+// faces other than the shared one — the far face (normal e) and the 4 side faces (normals
+// a ⊥ e) — is the face's flux Phi_f = dOmega_f I(w_f) (1 - B(w_f)), w_f the unit direction
+// from the source cell's centre to the face's centre, dOmega_f the face's exact solid angle
+// seen from the source's centre (lpv_face_solid_angles(); derived in docs/gi.md), B the
+// geometry volume's blocking at the shared face; it is re-emitted from the neighbour's
+// centre as a Lambertian lobe about the face normal, coefficients Phi_f / pi A_l Y_lm(n_f)
+// (total flux Phi_f). The 30 faces of the 6 neighbours partition the sphere of directions
+// around the source's centre (their solid angles add up to 4 pi exactly), so without
+// blocking one iteration conserves the flux sqrt(4 pi) c_00 summed over the cells exactly
+// (band 1 integrates to 0 over the sphere and the face sum is symmetric), up to what leaves
+// the volume. The result of `iterations` steps is the sum of the injected field and every
+// iteration's field.
+//
+// Geometry volume: cells centred at the LPV cells' corners; surfels sampled on every
+// triangle (about 16 per h^2: the triangle cut into congruent sub-triangles, one at each centroid) add to the nearest one the
+// blocking A_s |n_s . w| / h^2 (the fraction of the cell's cross-section the surfel covers
+// seen along w) as 3-band SH (|cos| is even: bands 0 and 2). At a shared face the blocking
+// is the mean of its 4 corners, clamped to [0, 1]. No blocking in the first iteration (the
+// paper's guard against the injecting surfaces shadowing their own light).
+//
+// Receiver (x, normal n towards the camera, albedo a): the accumulated intensity
+// interpolated trilinearly at x + h/2 n (cell centres; clamped), read as radiance I / h^2:
+//   E_lpv = (1/h^2) sum_lm A_l c_lm Y_lm(-n)   (light travelling against n),
+//   L = L_e + a / pi (E_direct(x, n) + max(0, E_lpv)),
+// E_direct as the radiosity method's (radiosity.hpp). The LPV carries one bounce of the sun's
+// and the emitters' light (the light leaving the first surfaces they reach).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "atmosh/gi/path_tracer.hpp"
+#include "atmosh/gi/scene.hpp"
+
+namespace atmosh::gi {
+
+struct LpvOptions {
+  int grid = 32;                 ///< cells along the box's longest axis, 1..256
+  int iterations = -1;           ///< propagation steps, 0..1024 (-1: 2 x grid)
+  int sun_rays = 16;             ///< sun injection rays per cell edge of the box's cross-section, 1..256
+  int emitter_photons = 65536;   ///< injection rays from area emitters, 0..1e8
+  bool blocking = true;          ///< use the geometry volume
+  int samples = 4;               ///< camera rays per pixel, 1..1e6
+  std::uint64_t seed = 1;
+  int threads = 0;               ///< 0 = atmosh::resolve_threads(0)
+};
+
+/// Intensity SH per cell: [channel * 4 + i], i = sh_index(l, m) for l <= 1.
+using LpvCell = std::array<double, 12>;
+
+struct LpvGrid {
+  glm::dvec3 lo{0.0};  ///< low corner of cell (0, 0, 0)
+  double h = 1;        ///< cell edge
+  int nx = 1, ny = 1, nz = 1;
+  std::vector<LpvCell> cells;  ///< index (k ny + j) nx + i
+  std::size_t index(int i, int j, int k) const { return (static_cast<std::size_t>(k) * ny + j) * nx + i; }
+  glm::dvec3 centre(int i, int j, int k) const { return lo + h * glm::dvec3(i + 0.5, j + 0.5, k + 0.5); }
+};
+
+/// Blocking per LPV cell corner ((nx+1)(ny+1)(nz+1), index (k (ny+1) + j) (nx+1) + i),
+/// 3-band SH (9 coefficients).
+struct GeometryVolume {
+  int nx = 0, ny = 0, nz = 0;  ///< of the LPV it belongs to
+  std::vector<std::array<double, 9>> corners;
+};
+
+/// Exact solid angles of a destination cell's far face and of one side face, seen from the
+/// source cell's centre (unit cells: far face at distance 3/2, side faces at 1/2 from the axis):
+/// front = 4 asin(1/10), side = 2 (atan(3/sqrt(11)) - pi/6) (docs/gi.md), front + 4 side = 2 pi/3.
+struct LpvFaceAngles {
+  double front = 0, side = 0;
+};
+LpvFaceAngles lpv_face_solid_angles();
+
+/// An empty grid over the scene's bounding box (see above). InputError for a bad grid.
+LpvGrid lpv_grid(const Scene& scene, int grid);
+/// Adds a Lambertian VPL of flux `flux` (per channel) at p with unit normal n to the cell
+/// holding p (clamped into the grid); `isotropic`: I = flux / (4 pi) instead.
+void lpv_add_vpl(LpvGrid& g, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& flux, bool isotropic = false);
+/// Injection of the scene's lights (see above), deterministic for opt.seed.
+LpvGrid lpv_inject(const Scene& scene, const LpvOptions& opt, std::uint64_t* rays = nullptr);
+GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g);
+/// One propagation step of `field` (gv null: no blocking).
+LpvGrid lpv_step(const LpvGrid& field, const GeometryVolume* gv);
+/// injected + sum of `iterations` steps (blocking from the second step on, when gv is given).
+LpvGrid lpv_propagate(const LpvGrid& injected, const GeometryVolume* gv, int iterations);
+/// lpv_propagate on the GPU: one compute dispatch per iteration of
+/// gpu/shaders/gi_lpv_propagate.comp (the same gather in float), the blocking table computed on
+/// the CPU as for lpv_propagate. Makes its own EGL context (atmosh::gpu). gpu_seconds
+/// (optional): wall time of the uploads, dispatches and read-back (context and compilation
+/// excluded). Throws std::runtime_error (atmosh::gpu::Unavailable) where no EGL context can be
+/// made, InputError where atmosh was built without atmosh::gpu.
+LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int iterations,
+                          double* gpu_seconds = nullptr);
+/// Total flux sum over cells and channels' mean of sqrt(4 pi) c_00 (per channel).
+glm::dvec3 lpv_flux(const LpvGrid& g);
+/// Trilinear (cell centres, clamped) interpolation of the intensity coefficients at p.
+LpvCell lpv_sample(const LpvGrid& g, const glm::dvec3& p);
+
+struct Lpv {
+  LpvGrid injected, accumulated;
+  GeometryVolume geometry;
+  double inject_seconds = 0, propagate_seconds = 0;
+  std::uint64_t rays = 0;
+  int iterations = 0;
+};
+/// Injection, geometry volume and propagation.
+Lpv build_lpv(const Scene& scene, const LpvOptions& opt);
+/// Image lit by the LPV (opt.samples, seed, threads used here). stats.seconds: shading.
+RadianceImage render_lpv(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
+                         const LpvOptions& opt);
+
+}  // namespace atmosh::gi

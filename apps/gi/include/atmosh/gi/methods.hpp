@@ -1,0 +1,65 @@
+// atmosh/gi/methods.hpp — one entry point for every lighting method of atmosh::gi, by name:
+// path (path_tracer.hpp), probes (probes.hpp), radiosity (radiosity.hpp), lpv (lpv.hpp);
+// and the settings `atmosh gi converge` studies for radiosity and lpv.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "atmosh/gi/path_tracer.hpp"
+#include "atmosh/gi/scene.hpp"
+#include "atmosh/sh/convolution.hpp"
+
+namespace atmosh::gi {
+
+struct MethodOptions {
+  std::string method = "path";  ///< path | probes | radiosity | lpv
+  int samples = 16;             ///< path: paths per pixel; probes: paths per cube-map texel
+  int bounces = -1;             ///< path, probes: reflections (-1 unlimited); radiosity: walk steps (-1: 3)
+  std::uint64_t seed = 1;
+  int threads = 0;
+  int bands = 3;                ///< probes: SH bands 1..16; radiosity: distance SH bands 1..3
+  int grid = 4;                 ///< probes, radiosity: probes per axis; lpv: cells along the longest axis
+  int cube_size = 8;            ///< probes, radiosity: cube-map texels per face edge
+  int pixel_samples = 4;        ///< probes, radiosity, lpv: camera rays per pixel
+  sh::Window window = sh::Window::none;  ///< probes
+  bool probe_visibility = false;         ///< probes
+  int iterations = -1;          ///< lpv: propagation steps (-1: 2 x grid)
+  bool lpv_blocking = true;     ///< lpv: geometry volume
+};
+
+/// path, probes, radiosity, lpv.
+std::vector<std::string> method_names();
+/// InputError naming the option for a bad method name or a value outside the method's range.
+void check_method_options(const MethodOptions& opt);
+
+struct MethodResult {
+  RadianceImage image;
+  double build_seconds = 0;  ///< probe grid / radiosity volume / LPV injection + propagation
+  double shade_seconds = 0;  ///< the image (for path: the whole render)
+};
+/// Renders `scene` from `camera` by opt.method.
+MethodResult render_method(const Scene& scene, const Camera& camera, int width, int height, const MethodOptions& opt);
+
+/// The radiosity and LPV settings of `atmosh gi converge`:
+///   radiosity: every grid in `radiosity_grids` x bands in `radiosity_bands` (1..3) x
+///              bounces in `radiosity_bounces` (the volume built once per grid);
+///   lpv:       every grid in `lpv_grids`, with and without the geometry volume
+///              (method names "lpv" and "lpv-noblock"), iterations 2 x grid.
+struct StudyOptions {
+  std::vector<int> radiosity_grids{4, 8, 16}, radiosity_bands{1, 2}, radiosity_bounces{0, 1, 2, 3};
+  std::vector<int> lpv_grids{8, 16, 32};
+  int cube_size = 8, pixel_samples = 4, threads = 0;
+  std::uint64_t seed = 1;
+};
+struct StudyRow {
+  std::string method, setting;  ///< e.g. "radiosity", "bands=2 grid=8 bounces=2"
+  MethodResult result;
+};
+/// Calls `row` once per setting, in order (InputError for bad lists).
+void study_methods(const Scene& scene, int width, int height, const StudyOptions& opt,
+                   const std::function<void(const StudyRow&)>& row);
+
+}  // namespace atmosh::gi

@@ -1,0 +1,82 @@
+// atmosh/gi/radiosity.hpp — the real-time multi-bounce radiosity approximation, on the CPU:
+// a low-resolution volume of probes that stores, per probe, the SH projection of its
+// distance cube map and a bent normal from its normal cube map, and a material volume
+// (reflectivity); each receiver walks a few bounces through it (the per-receiver math is
+// atmosh/gi/shared/radiosity.glsl.hpp, written once for C++ and GLSL; the GPU pass is not built).
+//
+// Volume (n^3 probes at the cell centres of the scene's bounding box [lo, hi], as ProbeGrid):
+//   * distance cube map: cube_size^2 texels a face (libsh's layout), each the distance from
+//     the probe to the first surface along the texel-centre ray (Embree ray casting); rays
+//     that hit nothing store the box's diagonal (so a walk along them leaves the box);
+//   * distance SH: the cube projected with libsh's exact texel solid angles
+//     (sh::project_cube) to `bands` bands (1: the mean distance, 2: plus the linear band —
+//     SH orders 1 and 2 — or 3);
+//   * bent normal: sum_t w_t n_t / sum_t w_t, w_t = Omega_t / d_t^2, over the texels that
+//     hit, n_t the surface's normal turned towards the probe — the normal of the surfaces
+//     near the probe (1/d^2: near surfaces dominate); its length (0..1) says how coherent
+//     they are: a probe amid surfaces facing every way (the centre of a room) has a short
+//     one, and the walk does not trust a fetched normal shorter than 0.3 (it turns back,
+//     shared/radiosity.glsl.hpp); zero when every ray missed;
+//   * material volume: the albedo of the hit surfaces averaged with the same weights.
+// Fetches at a point are trilinear over the 8 surrounding probes (positions clamped to the
+// span of the centres, as interpolate() in probes.hpp). The trilinear blend of each probe's
+// distance from its own position needs no parallax term: the blended probe positions are
+// the point itself inside the span (trilinear interpolation reproduces linear functions).
+//
+// Receiver (first hit of a camera ray at x, normal n towards the camera, albedo a):
+//   L = L_e + a / pi (E_direct(x, n) + pi L_in(x, n)),  L_in by gi_radiosity_incident
+// (bounces B: the walk along n, reflections about the fetched normals; B = 0: direct light
+// only; the walk ends where it leaves the box grown by 10 % a side: the sky seen there is
+// direct light, already in the E_direct of the vertex it left). E_direct is a one-sample estimate per camera ray (sun and emitters with a shadow ray
+// each, the environment with one cosine-distributed shadow ray), at the receiver and at every
+// walk vertex — so the images are noisy at few camera rays; the noise is in stderr_.
+// Units: lengths in the scene's unit; radiance in the lights' units (scene.hpp).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "atmosh/gi/path_tracer.hpp"
+#include "atmosh/gi/scene.hpp"
+
+namespace atmosh::gi {
+
+struct RadiosityOptions {
+  int grid = 16;       ///< probes per axis, 1..64
+  int bands = 2;       ///< SH bands of the distance, 1..3
+  int cube_size = 8;   ///< distance / normal cube-map texels per face edge, 1..128
+  int bounces = 2;     ///< walk steps per receiver, 0..16
+  int samples = 4;     ///< camera rays per pixel, 1..1e6
+  std::uint64_t seed = 1;
+  int threads = 0;     ///< 0 = atmosh::resolve_threads(0)
+};
+
+struct RadiosityVolume {
+  glm::dvec3 lo{0.0}, hi{1.0};
+  int n = 1, bands = 1;
+  std::vector<std::array<double, 9>> distance;  ///< per probe, bands^2 used; index (k n + j) n + i
+  std::vector<glm::dvec3> normal;               ///< bent normal per probe (length 0..1: coherence)
+  std::vector<glm::dvec3> albedo;               ///< reflectivity per probe and channel
+  double seconds = 0;                           ///< wall time of the build
+  std::uint64_t rays = 0;
+  glm::dvec3 position(int i, int j, int k) const;
+};
+
+/// Builds the volume (InputError for bad options or an invalid scene).
+RadiosityVolume build_radiosity_volume(const Scene& scene, const RadiosityOptions& opt);
+/// The volume truncated to fewer distance bands (1 <= bands <= v.bands).
+RadiosityVolume truncate_volume(const RadiosityVolume& v, int bands);
+/// Trilinear fetches at p: SH distance along unit d, bent normal (not normalised), albedo.
+double volume_distance(const RadiosityVolume& v, const glm::dvec3& p, const glm::dvec3& d);
+glm::dvec3 volume_normal(const RadiosityVolume& v, const glm::dvec3& p);
+glm::dvec3 volume_albedo(const RadiosityVolume& v, const glm::dvec3& p);
+
+/// Image lit by the volume; opt.bounces, samples, seed, threads are used here. stats.seconds:
+/// the shading loop.
+RadianceImage render_radiosity(const Scene& scene, const Camera& camera, int width, int height,
+                               const RadiosityVolume& volume, const RadiosityOptions& opt);
+
+}  // namespace atmosh::gi

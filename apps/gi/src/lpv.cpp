@@ -1,0 +1,506 @@
+// Light propagation volumes on the CPU (see lpv.hpp).
+#include "atmosh/gi/lpv.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+
+#include "atmosh/error.hpp"
+#include "atmosh/gi/shared/radiosity.glsl.hpp"
+#include "atmosh/parallel.hpp"
+#include "atmosh/prt/bake.hpp"
+#include "receivers.hpp"
+
+#ifdef ATMOSH_GI_HAVE_GPU
+#include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/program.hpp"
+#endif
+
+namespace atmosh::gi {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kY00 = 0.28209479177387814;  // 1 / (2 sqrt(pi))
+constexpr double kY1 = 0.48860251190291992;   // sqrt(3 / (4 pi))
+using Clock = std::chrono::steady_clock;
+
+// Y_00, Y_1-1, Y_10, Y_11 at unit d (Condon–Shortley phase, basis.hpp).
+std::array<double, 4> sh4(const glm::dvec3& d) { return {kY00, -kY1 * d.y, kY1 * d.z, -kY1 * d.x}; }
+
+void check(const LpvOptions& o) {
+  if (o.grid < 1 || o.grid > 256) throw InputError("gi lpv: grid must be in 1..256, got " + std::to_string(o.grid));
+  if (o.iterations < -1 || o.iterations > 1024)
+    throw InputError("gi lpv: iterations must be -1 (2 x grid) or 0..1024, got " + std::to_string(o.iterations));
+  if (o.sun_rays < 1 || o.sun_rays > 256)
+    throw InputError("gi lpv: sun rays per cell must be in 1..256, got " + std::to_string(o.sun_rays));
+  if (o.emitter_photons < 0 || o.emitter_photons > 100000000)
+    throw InputError("gi lpv: emitter photons must be in 0..1e8, got " + std::to_string(o.emitter_photons));
+  if (o.samples < 1 || o.samples > 1000000)
+    throw InputError("gi lpv: camera rays per pixel must be in 1..1000000, got " + std::to_string(o.samples));
+}
+
+void check_grid(const LpvGrid& g) {
+  if (g.nx < 1 || g.ny < 1 || g.nz < 1 || !(g.h > 0) ||
+      g.cells.size() != static_cast<std::size_t>(g.nx) * g.ny * g.nz)
+    throw InputError("gi lpv: the grid's cells do not match its size");
+}
+
+// One of the 5 faces a source cell's light crosses into the neighbour in direction e.
+struct Face {
+  double omega;                   // exact solid angle from the source's centre
+  glm::dvec3 dir;                 // unit direction source centre -> face centre
+  std::array<double, 4> y;        // SH of dir
+  std::array<double, 4> reemit;   // coefficients of a unit-flux Lambertian lobe about the face normal
+};
+struct Direction {
+  int di, dj, dk;
+  int axis;  // 0, 1, 2
+  Face faces[5];
+};
+
+std::array<Direction, 6> directions() {
+  const LpvFaceAngles a = lpv_face_solid_angles();
+  std::array<Direction, 6> out{};
+  int q = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sgn : {1, -1}) {
+      Direction& D = out[q++];
+      glm::dvec3 e(0.0);
+      e[axis] = sgn;
+      D.di = static_cast<int>(e.x), D.dj = static_cast<int>(e.y), D.dk = static_cast<int>(e.z);
+      D.axis = axis;
+      auto lobe = [](const glm::dvec3& n) {  // Phi / pi A_l Y_lm(n) at Phi = 1: Y_00, 2/3 Y_1m
+        const auto y = sh4(n);
+        return std::array<double, 4>{y[0], 2.0 / 3 * y[1], 2.0 / 3 * y[2], 2.0 / 3 * y[3]};
+      };
+      D.faces[0] = {a.front, e, sh4(e), lobe(e)};
+      int f = 1;
+      for (int other = 0; other < 3; ++other) {
+        if (other == axis) continue;
+        for (int s2 : {1, -1}) {
+          glm::dvec3 n(0.0);
+          n[other] = s2;
+          const glm::dvec3 dir = glm::normalize(e + 0.5 * n);  // face centre at e + n/2 (unit cells)
+          D.faces[f++] = {a.side, dir, sh4(dir), lobe(n)};
+        }
+      }
+    }
+  return out;
+}
+
+// Blocking (0..1) at the face shared by cell (i, j, k) and its neighbour along `axis` with
+// step sgn, for light travelling along unit w.
+double blocking(const GeometryVolume& gv, int i, int j, int k, int axis, int sgn, const glm::dvec3& w) {
+  int c[3] = {i, j, k};
+  if (sgn > 0) c[axis] += 1;
+  const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+  double sum = 0;
+  double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  for (int u = 0; u < 2; ++u)
+    for (int v = 0; v < 2; ++v) {
+      int p[3] = {c[0], c[1], c[2]};
+      p[a1] += u;
+      p[a2] += v;
+      const std::size_t idx = (static_cast<std::size_t>(p[2]) * (gv.ny + 1) + p[1]) * (gv.nx + 1) + p[0];
+      for (int q = 0; q < 9; ++q) acc[q] += 0.25 * gv.corners[idx][q];
+    }
+  sum = shared::gi_sh_eval(acc, 3, w);
+  return std::clamp(sum, 0.0, 1.0);
+}
+}  // namespace
+
+LpvFaceAngles lpv_face_solid_angles() {
+  // Unit cells, source centre at the origin, neighbour centre at (0, 0, 1).
+  // Far face: the square |x|, |y| <= 1/2 in the plane z = 3/2, centred on the axis. A
+  // rectangle a x b at distance d centred on the axis subtends 4 asin(ab / sqrt((a^2 + 4 d^2)
+  // (b^2 + 4 d^2))): 4 asin(1 / sqrt(10 * 10)) = 4 asin(1/10).
+  // Side face: x = 1/2, |y| <= 1/2, 1/2 <= z <= 3/2. A rectangle [0, a] x [0, b] in a plane at
+  // distance d with a corner at the foot of the perpendicular subtends
+  // F(a, b) = atan(ab / (d sqrt(d^2 + a^2 + b^2))); by symmetry in y and subtraction in z,
+  // side = 2 (F(1/2, 3/2) - F(1/2, 1/2)) at d = 1/2 = 2 (atan(3 / sqrt(11)) - atan(1 / sqrt(3))).
+  LpvFaceAngles a;
+  a.front = 4 * std::asin(0.1);
+  a.side = 2 * (std::atan(3 / std::sqrt(11.0)) - kPi / 6);
+  return a;
+}
+
+LpvGrid lpv_grid(const Scene& scene, int grid) {
+  if (grid < 1 || grid > 256) throw InputError("gi lpv: grid must be in 1..256, got " + std::to_string(grid));
+  glm::dvec3 lo, hi;
+  detail::mesh_bounds(scene.mesh, lo, hi);
+  const glm::dvec3 ext = hi - lo;
+  const double longest = std::max(ext.x, std::max(ext.y, ext.z));
+  if (!(longest > 0) || !std::isfinite(longest)) throw InputError("gi lpv: the scene's bounding box is empty");
+  LpvGrid g;
+  g.lo = lo;
+  g.h = longest / grid;
+  auto cells = [&](double e) { return std::max(1, static_cast<int>(std::ceil(e / g.h - 1e-9))); };
+  g.nx = cells(ext.x), g.ny = cells(ext.y), g.nz = cells(ext.z);
+  g.cells.assign(static_cast<std::size_t>(g.nx) * g.ny * g.nz, LpvCell{});
+  return g;
+}
+
+namespace {
+void cell_of(const LpvGrid& g, const glm::dvec3& p, int& i, int& j, int& k) {
+  const glm::dvec3 f = (p - g.lo) / g.h;
+  auto c = [](double x, int n) {
+    if (!std::isfinite(x)) return 0;
+    return std::clamp(static_cast<int>(std::floor(x)), 0, n - 1);
+  };
+  i = c(f.x, g.nx), j = c(f.y, g.ny), k = c(f.z, g.nz);
+}
+}  // namespace
+
+void lpv_add_vpl(LpvGrid& g, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& flux, bool isotropic) {
+  check_grid(g);
+  int i, j, k;
+  cell_of(g, p, i, j, k);
+  LpvCell& c = g.cells[g.index(i, j, k)];
+  const auto y = sh4(n);
+  for (int ch = 0; ch < 3; ++ch) {
+    if (isotropic) {  // I = Phi / (4 pi): c_00 = Phi / (4 pi) sqrt(4 pi)
+      c[ch * 4] += flux[ch] / std::sqrt(4 * kPi);
+      continue;
+    }
+    c[ch * 4] += flux[ch] * y[0];  // Phi / pi * pi * Y_00
+    for (int q = 1; q < 4; ++q) c[ch * 4 + q] += flux[ch] * (2.0 / 3) * y[q];  // Phi / pi * 2 pi / 3 * Y_1m
+  }
+}
+
+LpvGrid lpv_inject(const Scene& scene, const LpvOptions& opt, std::uint64_t* nrays) {
+  check(opt);
+  validate(scene);
+  LpvGrid g = lpv_grid(scene, opt.grid);
+  const prt::RayScene rays(scene.mesh);
+  const detail::DirectLight dl(scene, rays);
+  const std::vector<glm::dvec3>& normal = dl.normals();
+  const double off = rays.offset();
+  std::uint64_t count = 0;
+  glm::dvec3 lo, hi;
+  detail::mesh_bounds(scene.mesh, lo, hi);
+  const double diag = glm::length(hi - lo);
+  auto deposit = [&](const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& flux) {
+    std::uint32_t prim;
+    float u, v;
+    double t;
+    ++count;
+    if (!rays.intersect(o, d, off, prim, u, v, t)) return;
+    const glm::dvec3 p = o + t * d;
+    const glm::dvec3 n = glm::dot(normal[prim], d) < 0 ? normal[prim] : -normal[prim];
+    const glm::dvec3 phi = scene.materials[scene.material[prim]].albedo * flux;
+    if (phi.x + phi.y + phi.z > 0) lpv_add_vpl(g, p + 0.5 * g.h * n, n, phi);
+  };
+  if (scene.sun && scene.sun->irradiance.x + scene.sun->irradiance.y + scene.sun->irradiance.z > 0) {
+    const glm::dvec3 s = glm::normalize(scene.sun->direction);
+    glm::dvec3 t, b;
+    detail::onb(s, t, b);
+    double t0 = 1e300, t1 = -1e300, b0 = 1e300, b1 = -1e300;
+    for (int c = 0; c < 8; ++c) {
+      const glm::dvec3 q(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+      t0 = std::min(t0, glm::dot(q, t)), t1 = std::max(t1, glm::dot(q, t));
+      b0 = std::min(b0, glm::dot(q, b)), b1 = std::max(b1, glm::dot(q, b));
+    }
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    const double ct = glm::dot(centre, t), cb = glm::dot(centre, b);
+    const int m = std::max(1, opt.sun_rays * static_cast<int>(std::ceil(std::max(t1 - t0, b1 - b0) / g.h)));
+    const double dt = (t1 - t0) / m, db = (b1 - b0) / m;
+    const glm::dvec3 flux = scene.sun->irradiance * (dt * db);
+    detail::Rng rng(opt.seed, 0, detail::kLightSalt);
+    for (int r = 0; r < m; ++r)
+      for (int c = 0; c < m; ++c) {
+        const double tt = t0 + (c + rng.uniform()) * dt - ct, bb = b0 + (r + rng.uniform()) * db - cb;
+        deposit(centre + tt * t + bb * b + 2 * diag * s, -s, flux);
+      }
+  }
+  const auto& em = dl.emitters();
+  if (!em.empty() && opt.emitter_photons > 0) {
+    const double total = dl.emitter_cdf().back();
+    detail::Rng rng(opt.seed, 1, detail::kLightSalt);
+    const int np = opt.emitter_photons;
+    for (int q = 0; q < np; ++q) {
+      const double u = (q + rng.uniform()) / np * total;  // stratified over the cdf
+      const std::size_t k = std::min<std::size_t>(
+          em.size() - 1, static_cast<std::size_t>(std::upper_bound(dl.emitter_cdf().begin(), dl.emitter_cdf().end(), u) -
+                                                   dl.emitter_cdf().begin()));
+      const std::uint32_t tri = em[k];
+      const Material& m = scene.materials[scene.material[tri]];
+      double b1 = rng.uniform(), b2 = rng.uniform();
+      if (b1 + b2 > 1) b1 = 1 - b1, b2 = 1 - b2;
+      const auto& tv = scene.mesh.triangles[tri];
+      const glm::dvec3 y = scene.mesh.positions[tv[0]] + b1 * (scene.mesh.positions[tv[1]] - scene.mesh.positions[tv[0]]) +
+                           b2 * (scene.mesh.positions[tv[2]] - scene.mesh.positions[tv[0]]);
+      glm::dvec3 n = normal[tri];
+      const int sides = m.one_sided ? 1 : 2;
+      if (!m.one_sided && rng.uniform() < 0.5) n = -n;
+      glm::dvec3 tt, bb;
+      detail::onb(n, tt, bb);
+      const double u1 = rng.uniform(), u2 = rng.uniform(), r = std::sqrt(u1), phi = 2 * kPi * u2;
+      const glm::dvec3 d = r * std::cos(phi) * tt + r * std::sin(phi) * bb + std::sqrt(std::max(0.0, 1 - u1)) * n;
+      // power of the triangle pi L_e A x sides, over its selection probability, over np
+      const double w_tri = dl.area[tri] * (m.emission.x + m.emission.y + m.emission.z);
+      const glm::dvec3 flux = m.emission * (kPi * dl.area[tri] * sides) * (total / w_tri) / static_cast<double>(np);
+      deposit(y, d, flux);
+    }
+  }
+  if (nrays != nullptr) *nrays = count;
+  return g;
+}
+
+GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g) {
+  check_grid(g);
+  GeometryVolume gv;
+  gv.nx = g.nx, gv.ny = g.ny, gv.nz = g.nz;
+  gv.corners.assign(static_cast<std::size_t>(g.nx + 1) * (g.ny + 1) * (g.nz + 1), {});
+  const std::vector<glm::dvec3> normal = detail::triangle_normals(scene.mesh);
+  // Funk–Hecke factors of |cos|: 2 pi int_{-1}^{1} |mu| P_l(mu) dmu = 2 pi, 0, pi / 2.
+  const double lam0 = 2 * kPi, lam2 = kPi / 2;
+  const double h2 = g.h * g.h;
+  for (std::size_t tri = 0; tri < scene.mesh.triangles.size(); ++tri) {
+    const auto& tv = scene.mesh.triangles[tri];
+    const glm::dvec3 a = scene.mesh.positions[tv[0]], e1 = scene.mesh.positions[tv[1]] - a,
+                     e2 = scene.mesh.positions[tv[2]] - a;
+    const double area = 0.5 * glm::length(glm::cross(e1, e2));
+    if (!(area > 0)) continue;
+    // the triangle cut into s^2 congruent triangles (edges in s parts): s^2 surfels at their
+    // centroids, about 16 per h^2
+    const int s = std::clamp(static_cast<int>(std::ceil(std::sqrt(16 * area / h2))), 1, 1024);
+    const double as = area / (static_cast<double>(s) * s);
+    double c9[9];
+    {
+      const glm::dvec3 n = normal[tri];
+      const double yv[9] = {kY00,
+                            -kY1 * n.y,
+                            kY1 * n.z,
+                            -kY1 * n.x,
+                            1.0925484305920792 * n.x * n.y,
+                            -1.0925484305920792 * n.y * n.z,
+                            0.31539156525252005 * (3 * n.z * n.z - 1),
+                            -1.0925484305920792 * n.x * n.z,
+                            0.54627421529603959 * (n.x * n.x - n.y * n.y)};
+      for (int q = 0; q < 9; ++q) c9[q] = (q == 0 ? lam0 : q >= 4 ? lam2 : 0.0) * yv[q] * as / h2;
+    }
+    for (int r = 0; r < s; ++r)
+      for (int c = 0; c < s - r; ++c)
+        for (int up = 0; up < 2; ++up) {
+          if (up == 1 && c + r + 1 >= s) continue;
+          // centroid of the small triangle in barycentric coordinates (u along e1, v along e2)
+          const double u = up == 0 ? (c + 1.0 / 3) / s : (c + 2.0 / 3) / s;
+          const double v = up == 0 ? (r + 1.0 / 3) / s : (r + 2.0 / 3) / s;
+          const glm::dvec3 p = a + u * e1 + v * e2;
+          const glm::dvec3 f = (p - g.lo) / g.h;
+          const int i = std::clamp(static_cast<int>(std::lround(f.x)), 0, g.nx),
+                    j = std::clamp(static_cast<int>(std::lround(f.y)), 0, g.ny),
+                    k = std::clamp(static_cast<int>(std::lround(f.z)), 0, g.nz);
+          auto& dst = gv.corners[(static_cast<std::size_t>(k) * (g.ny + 1) + j) * (g.nx + 1) + i];
+          for (int q = 0; q < 9; ++q) dst[q] += c9[q];
+        }
+  }
+  return gv;
+}
+
+namespace {
+void check_gv(const LpvGrid& in, const GeometryVolume* gv) {
+  if (gv != nullptr && (gv->nx != in.nx || gv->ny != in.ny || gv->nz != in.nz ||
+                        gv->corners.size() != static_cast<std::size_t>(in.nx + 1) * (in.ny + 1) * (in.nz + 1)))
+    throw InputError("gi lpv: the geometry volume does not match the grid");
+}
+
+const std::array<Direction, 6>& all_directions() {
+  static const std::array<Direction, 6> dirs = directions();
+  return dirs;
+}
+
+// 1 - blocking for every (target cell, direction, face): [(t * 6 + d) * 5 + f].
+std::vector<float> visibility_table(const LpvGrid& in, const GeometryVolume& gv) {
+  const auto& dirs = all_directions();
+  std::vector<float> vis(in.cells.size() * 30, 1.0f);
+  parallel_for_ranges(in.cells.size(), 64, 0, [&](std::size_t b, std::size_t e) {
+    for (std::size_t t = b; t < e; ++t) {
+      const int i = static_cast<int>(t % in.nx), j = static_cast<int>(t / in.nx % in.ny),
+                k = static_cast<int>(t / in.nx / in.ny);
+      for (int d = 0; d < 6; ++d) {
+        const Direction& D = dirs[d];
+        const int si = i - D.di, sj = j - D.dj, sk = k - D.dk;
+        if (si < 0 || sj < 0 || sk < 0 || si >= in.nx || sj >= in.ny || sk >= in.nz) continue;
+        for (int f = 0; f < 5; ++f)
+          vis[(t * 6 + d) * 5 + f] =
+              static_cast<float>(1.0 - blocking(gv, si, sj, sk, D.axis, D.di + D.dj + D.dk, D.faces[f].dir));
+      }
+    }
+  });
+  return vis;
+}
+
+LpvGrid step(const LpvGrid& in, const std::vector<float>* vis) {
+  const auto& dirs = all_directions();
+  LpvGrid out = in;
+  for (auto& c : out.cells) c.fill(0.0);
+  std::vector<unsigned char> lit(in.cells.size(), 0);
+  for (std::size_t c = 0; c < in.cells.size(); ++c)
+    for (double v : in.cells[c]) lit[c] = lit[c] || v != 0;
+  parallel_for_ranges(in.cells.size(), 64, 0, [&](std::size_t b, std::size_t e) {
+    for (std::size_t t = b; t < e; ++t) {
+      const int i = static_cast<int>(t % in.nx), j = static_cast<int>(t / in.nx % in.ny),
+                k = static_cast<int>(t / in.nx / in.ny);
+      LpvCell& dst = out.cells[t];
+      for (int d = 0; d < 6; ++d) {  // light arriving from the source cell t - e
+        const Direction& D = dirs[d];
+        const int si = i - D.di, sj = j - D.dj, sk = k - D.dk;
+        if (si < 0 || sj < 0 || sk < 0 || si >= in.nx || sj >= in.ny || sk >= in.nz) continue;
+        const std::size_t s = in.index(si, sj, sk);
+        if (!lit[s]) continue;
+        const LpvCell& src = in.cells[s];
+        for (int f = 0; f < 5; ++f) {
+          const Face& F = D.faces[f];
+          const double v = vis == nullptr ? 1.0 : (*vis)[(t * 6 + d) * 5 + f];
+          if (v <= 0) continue;
+          for (int ch = 0; ch < 3; ++ch) {
+            const double I = src[ch * 4] * F.y[0] + src[ch * 4 + 1] * F.y[1] + src[ch * 4 + 2] * F.y[2] +
+                             src[ch * 4 + 3] * F.y[3];
+            const double flux = F.omega * I * v;
+            for (int q = 0; q < 4; ++q) dst[ch * 4 + q] += flux * F.reemit[q];
+          }
+        }
+      }
+    }
+  });
+  return out;
+}
+}  // namespace
+
+LpvGrid lpv_step(const LpvGrid& in, const GeometryVolume* gv) {
+  check_grid(in);
+  check_gv(in, gv);
+  if (gv == nullptr) return step(in, nullptr);
+  const std::vector<float> vis = visibility_table(in, *gv);
+  return step(in, &vis);
+}
+
+LpvGrid lpv_propagate(const LpvGrid& injected, const GeometryVolume* gv, int iterations) {
+  if (iterations < 0 || iterations > 1024)
+    throw InputError("gi lpv: iterations must be in 0..1024, got " + std::to_string(iterations));
+  check_grid(injected);
+  check_gv(injected, gv);
+  std::vector<float> vis;
+  if (gv != nullptr && iterations > 1) vis = visibility_table(injected, *gv);
+  LpvGrid acc = injected, field = injected;
+  for (int it = 0; it < iterations; ++it) {
+    field = step(field, it == 0 || gv == nullptr ? nullptr : &vis);
+    for (std::size_t c = 0; c < acc.cells.size(); ++c)
+      for (int q = 0; q < 12; ++q) acc.cells[c][q] += field.cells[c][q];
+  }
+  return acc;
+}
+
+LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int iterations, double* gpu_seconds) {
+  if (iterations < 0 || iterations > 1024)
+    throw InputError("gi lpv: iterations must be in 0..1024, got " + std::to_string(iterations));
+  check_grid(injected);
+  check_gv(injected, gv);
+#ifdef ATMOSH_GI_HAVE_GPU
+  const gpu::Context ctx;
+  gpu::Program prog({gpu::embedded_source("gpu/shaders/gi_lpv_propagate.comp")});
+  std::vector<float> vis(1, 1.0f);
+  if (gv != nullptr && iterations > 1) vis = visibility_table(injected, *gv);
+  const std::size_t n = injected.cells.size();
+  std::vector<float> cells(n * 12);
+  for (std::size_t c = 0; c < n; ++c)
+    for (int q = 0; q < 12; ++q) cells[c * 12 + q] = static_cast<float>(injected.cells[c][q]);
+  const auto t0 = Clock::now();
+  gpu::Buffer a(cells.size() * sizeof(float), cells.data()), b(cells.size() * sizeof(float)),
+      acc(cells.size() * sizeof(float), cells.data()), bv(vis.size() * sizeof(float), vis.data());
+  prog.use();
+  prog.set("nx", injected.nx);
+  prog.set("ny", injected.ny);
+  prog.set("nz", injected.nz);
+  bv.bind(1);
+  acc.bind(3);
+  for (int it = 0; it < iterations; ++it) {
+    (it % 2 == 0 ? a : b).bind(0);
+    (it % 2 == 0 ? b : a).bind(2);
+    prog.set("use_vis", it > 0 && gv != nullptr && iterations > 1 ? 1 : 0);
+    prog.dispatch(static_cast<unsigned>((n + 63) / 64));
+  }
+  acc.download(cells.data(), cells.size() * sizeof(float));
+  if (gpu_seconds != nullptr) *gpu_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  LpvGrid out = injected;
+  for (std::size_t c = 0; c < n; ++c)
+    for (int q = 0; q < 12; ++q) out.cells[c][q] = cells[c * 12 + q];
+  return out;
+#else
+  (void)gpu_seconds;
+  throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+glm::dvec3 lpv_flux(const LpvGrid& g) {
+  glm::dvec3 s(0.0);
+  for (const auto& c : g.cells)
+    for (int ch = 0; ch < 3; ++ch) s[ch] += c[ch * 4];
+  return s * std::sqrt(4 * kPi);
+}
+
+LpvCell lpv_sample(const LpvGrid& g, const glm::dvec3& p) {
+  check_grid(g);
+  int i0[3], i1[3];
+  double f[3];
+  const int n[3] = {g.nx, g.ny, g.nz};
+  for (int a = 0; a < 3; ++a) {
+    double x = (p[a] - g.lo[a]) / g.h - 0.5;
+    if (!std::isfinite(x)) x = 0;
+    x = std::clamp(x, 0.0, static_cast<double>(n[a] - 1));
+    i0[a] = std::min(static_cast<int>(std::floor(x)), n[a] - 1);
+    i1[a] = std::min(i0[a] + 1, n[a] - 1);
+    f[a] = x - i0[a];
+  }
+  LpvCell out{};
+  for (int c = 0; c < 8; ++c) {
+    const double w = (c & 1 ? f[0] : 1 - f[0]) * (c & 2 ? f[1] : 1 - f[1]) * (c & 4 ? f[2] : 1 - f[2]);
+    if (w == 0) continue;
+    const LpvCell& q = g.cells[g.index(c & 1 ? i1[0] : i0[0], c & 2 ? i1[1] : i0[1], c & 4 ? i1[2] : i0[2])];
+    for (int k = 0; k < 12; ++k) out[k] += w * q[k];
+  }
+  return out;
+}
+
+Lpv build_lpv(const Scene& scene, const LpvOptions& opt) {
+  check(opt);
+  Lpv l;
+  const auto t0 = Clock::now();
+  l.injected = lpv_inject(scene, opt, &l.rays);
+  if (opt.blocking) l.geometry = lpv_geometry(scene, l.injected);
+  const auto t1 = Clock::now();
+  l.iterations = opt.iterations < 0 ? 2 * opt.grid : opt.iterations;
+  l.accumulated = lpv_propagate(l.injected, opt.blocking ? &l.geometry : nullptr, l.iterations);
+  l.inject_seconds = std::chrono::duration<double>(t1 - t0).count();
+  l.propagate_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+  return l;
+}
+
+RadianceImage render_lpv(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
+                         const LpvOptions& opt) {
+  check(opt);
+  validate(scene);
+  check_grid(lpv.accumulated);
+  const prt::RayScene rays(scene.mesh);
+  const detail::DirectLight direct(scene, rays);
+  const LpvGrid& g = lpv.accumulated;
+  const double inv_h2 = 1.0 / (g.h * g.h);
+  return detail::render_receivers(
+      scene, rays, camera, width, height, opt.samples, opt.seed, opt.threads,
+      [&](detail::Rng& rng, const glm::dvec3& p, const glm::dvec3& n, std::uint32_t, std::uint64_t& nr) {
+        const LpvCell c = lpv_sample(g, p + 0.5 * g.h * n);
+        glm::dvec3 E(0.0);
+        for (int ch = 0; ch < 3; ++ch) {
+          const double co[9] = {c[ch * 4], c[ch * 4 + 1], c[ch * 4 + 2], c[ch * 4 + 3], 0, 0, 0, 0, 0};
+          E[ch] = std::max(0.0, shared::gi_sh_irradiance(co, 2, -n) * inv_h2);
+        }
+        return direct.irradiance(rng, p, n, nr) + E;
+      });
+}
+
+}  // namespace atmosh::gi

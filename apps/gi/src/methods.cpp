@@ -1,0 +1,175 @@
+// One entry point for every lighting method (see methods.hpp).
+#include "atmosh/gi/methods.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "atmosh/error.hpp"
+#include "atmosh/gi/lpv.hpp"
+#include "atmosh/gi/probes.hpp"
+#include "atmosh/gi/radiosity.hpp"
+
+namespace atmosh::gi {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+RadiosityOptions radiosity_options(const MethodOptions& o) {
+  RadiosityOptions r;
+  r.grid = o.grid;
+  r.bands = o.bands;
+  r.cube_size = o.cube_size;
+  r.bounces = o.bounces < 0 ? 3 : o.bounces;
+  r.samples = o.pixel_samples;
+  r.seed = o.seed;
+  r.threads = o.threads;
+  return r;
+}
+
+LpvOptions lpv_options(const MethodOptions& o) {
+  LpvOptions l;
+  l.grid = o.grid;
+  l.iterations = o.iterations;
+  l.blocking = o.lpv_blocking;
+  l.samples = o.pixel_samples;
+  l.seed = o.seed;
+  l.threads = o.threads;
+  return l;
+}
+
+void need(bool ok, const std::string& msg) {
+  if (!ok) throw InputError(msg);
+}
+}  // namespace
+
+std::vector<std::string> method_names() { return {"path", "probes", "radiosity", "lpv"}; }
+
+void check_method_options(const MethodOptions& o) {
+  const auto names = method_names();
+  need(std::find(names.begin(), names.end(), o.method) != names.end(),
+       "gi: unknown method '" + o.method + "' (path, probes, radiosity, lpv)");
+  need(o.pixel_samples >= 1 && o.pixel_samples <= 1000000,
+       "gi: --pixel-samples must be in 1..1000000, got " + std::to_string(o.pixel_samples));
+  if (o.method == "radiosity") {
+    need(o.grid >= 1 && o.grid <= 64, "gi radiosity: --grid must be in 1..64, got " + std::to_string(o.grid));
+    need(o.bands >= 1 && o.bands <= 3, "gi radiosity: --bands must be in 1..3, got " + std::to_string(o.bands));
+    need(o.cube_size >= 1 && o.cube_size <= 128,
+         "gi radiosity: --cube-size must be in 1..128, got " + std::to_string(o.cube_size));
+    need(o.bounces >= -1 && o.bounces <= 16,
+         "gi radiosity: --bounces must be -1 (3) or 0..16, got " + std::to_string(o.bounces));
+  }
+  if (o.method == "lpv") {
+    need(o.grid >= 1 && o.grid <= 256, "gi lpv: --grid must be in 1..256, got " + std::to_string(o.grid));
+    need(o.iterations >= -1 && o.iterations <= 1024,
+         "gi lpv: --iterations must be -1 (2 x grid) or 0..1024, got " + std::to_string(o.iterations));
+  }
+}
+
+MethodResult render_method(const Scene& scene, const Camera& camera, int width, int height, const MethodOptions& o) {
+  check_method_options(o);
+  MethodResult r;
+  if (o.method == "path") {
+    TraceOptions t;
+    t.samples = o.samples;
+    t.bounces = o.bounces;
+    t.seed = o.seed;
+    t.threads = o.threads;
+    const auto t0 = Clock::now();
+    r.image = render(scene, camera, width, height, t);
+    r.shade_seconds = since(t0);
+  } else if (o.method == "probes") {
+    ProbeOptions p;
+    p.bands = o.bands;
+    p.cube_size = o.cube_size;
+    p.samples = o.samples;
+    p.bounces = o.bounces;
+    p.seed = o.seed;
+    p.window = o.window;
+    p.threads = o.threads;
+    const ProbeGrid g = build_probe_grid(scene, o.grid, p);
+    r.build_seconds = g.seconds;
+    ProbeRenderOptions ro;
+    ro.samples = o.pixel_samples;
+    ro.seed = o.seed;
+    ro.threads = o.threads;
+    ro.visibility = o.probe_visibility;
+    const auto t0 = Clock::now();
+    r.image = render_probes(scene, camera, width, height, g, false, ro);
+    r.shade_seconds = since(t0);
+    r.image.stats.rays += g.stats.rays;
+    r.image.stats.shadow_rays += g.stats.shadow_rays;
+  } else if (o.method == "radiosity") {
+    const RadiosityOptions ro = radiosity_options(o);
+    const RadiosityVolume v = build_radiosity_volume(scene, ro);
+    r.build_seconds = v.seconds;
+    const auto t0 = Clock::now();
+    r.image = render_radiosity(scene, camera, width, height, v, ro);
+    r.shade_seconds = since(t0);
+    r.image.stats.rays += v.rays;
+  } else {
+    const LpvOptions lo = lpv_options(o);
+    const Lpv l = build_lpv(scene, lo);
+    r.build_seconds = l.inject_seconds + l.propagate_seconds;
+    const auto t0 = Clock::now();
+    r.image = render_lpv(scene, camera, width, height, l, lo);
+    r.shade_seconds = since(t0);
+    r.image.stats.rays += l.rays;
+  }
+  r.image.stats.seconds = r.build_seconds + r.shade_seconds;
+  return r;
+}
+
+void study_methods(const Scene& scene, int width, int height, const StudyOptions& o,
+                   const std::function<void(const StudyRow&)>& row) {
+  for (int b : o.radiosity_bands) need(b >= 1 && b <= 3, "gi converge: radiosity bands must be in 1..3, got " + std::to_string(b));
+  for (int g : o.radiosity_grids) need(g >= 1 && g <= 64, "gi converge: radiosity grids must be in 1..64, got " + std::to_string(g));
+  for (int b : o.radiosity_bounces)
+    need(b >= 0 && b <= 16, "gi converge: radiosity bounces must be in 0..16, got " + std::to_string(b));
+  for (int g : o.lpv_grids) need(g >= 1 && g <= 256, "gi converge: lpv grids must be in 1..256, got " + std::to_string(g));
+  for (int g : o.radiosity_grids) {
+    if (o.radiosity_bands.empty()) break;
+    RadiosityOptions ro;
+    ro.grid = g;
+    ro.bands = *std::max_element(o.radiosity_bands.begin(), o.radiosity_bands.end());
+    ro.cube_size = o.cube_size;
+    ro.samples = o.pixel_samples;
+    ro.seed = o.seed;
+    ro.threads = o.threads;
+    const RadiosityVolume full = build_radiosity_volume(scene, ro);
+    for (int b : o.radiosity_bands) {
+      const RadiosityVolume v = truncate_volume(full, b);
+      for (int B : o.radiosity_bounces) {
+        ro.bounces = B;
+        StudyRow r;
+        r.method = "radiosity";
+        r.setting = "bands=" + std::to_string(b) + " grid=" + std::to_string(g) + " bounces=" + std::to_string(B);
+        const auto t0 = Clock::now();
+        r.result.image = render_radiosity(scene, scene.camera, width, height, v, ro);
+        r.result.shade_seconds = since(t0);
+        r.result.build_seconds = full.seconds;
+        row(r);
+      }
+    }
+  }
+  for (int g : o.lpv_grids)
+    for (bool block : {true, false}) {
+      LpvOptions lo;
+      lo.grid = g;
+      lo.blocking = block;
+      lo.samples = o.pixel_samples;
+      lo.seed = o.seed;
+      lo.threads = o.threads;
+      StudyRow r;
+      r.method = block ? "lpv" : "lpv-noblock";
+      const Lpv l = build_lpv(scene, lo);
+      r.setting = "grid=" + std::to_string(g) + " iterations=" + std::to_string(l.iterations);
+      const auto t0 = Clock::now();
+      r.result.image = render_lpv(scene, scene.camera, width, height, l, lo);
+      r.result.shade_seconds = since(t0);
+      r.result.build_seconds = l.inject_seconds + l.propagate_seconds;
+      row(r);
+    }
+}
+
+}  // namespace atmosh::gi
