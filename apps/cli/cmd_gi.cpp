@@ -39,7 +39,7 @@ struct GiRenderOptions {
   // probes
   int bands = 3, grid = 4, cube_size = 8, pixel_samples = 4, iterations = -1;
   bool probe_visibility = false;
-  std::string window = "none";
+  std::string window = "none", device = "cpu";
   std::uint64_t seed = 1;
   bool json = false;
 };
@@ -74,6 +74,7 @@ gi::MethodOptions method_options(const GiRenderOptions& o) {
   m.window = probe_window(o.window);
   m.probe_visibility = o.probe_visibility;
   m.iterations = o.iterations;
+  m.device = check_device(o.device);
   return m;
 }
 
@@ -153,6 +154,10 @@ void run_render(const GiRenderOptions& o) {
   opt.seed = o.seed;
   opt.threads = threads_option(o.threads);
   io::set_threads(opt.threads);
+  if (o.method == "path" || o.method == "probes")  // CPU only: gpu is an error, auto a notice
+    device_notice(resolve_device(check_device(o.device), GpuUnusable{GpuUnusable::Why::unsupported,
+                                                                     "method '" + o.method + "'", ""},
+                                 "rendering on the CPU"));
   gi::RadianceImage img;
   double probe_seconds = 0;
   if (o.method == "probes") {
@@ -185,6 +190,7 @@ void run_render(const GiRenderOptions& o) {
     gi::MethodOptions m = method_options(o);
     m.threads = opt.threads;
     const gi::MethodResult r = gi::render_method(s, s.camera, w, h, m);
+    device_notice(r.device);
     img = r.image;
     img.stats.seconds = r.shade_seconds;
     probe_seconds = r.build_seconds;
@@ -491,6 +497,7 @@ void register_gi_commands(CLI::App& app) {
   c->add_option("--bounces", o->bounces, "largest number of reflections (default -1: unlimited, Russian roulette)");
   c->add_option("--samples", o->samples, "paths per pixel (path) or per probe cube-map texel (probes) (default 16)");
   add_probe_options(c, *o);
+  c->add_option("--device", o->device, "cpu | gpu | auto: lpv propagates on the GPU (other passes: CPU only)");
   c->add_option("--seed", o->seed, "random seed (default 1)");
   c->add_option("--threads", o->threads, "worker threads (0 = the CPUs this process may use)");
   c->add_option("--size", o->size, "image size WxH (default 256x256)");

@@ -27,6 +27,7 @@ TEST(GiCli, BadInputExitsTwoNamingTheValue) {
   expect_bad("gi render --scene-builtin no-such-box" + out, "no-such-box");
   expect_bad("gi render --scene-builtin cornell-box --method radiosity --bands 4" + out, "--bands");
   expect_bad("gi render --scene-builtin cornell-box --method lpv --iterations -2" + out, "--iterations");
+  expect_bad("gi render --scene-builtin cornell-box --method lpv --device tpu" + out, "tpu");
   expect_bad("gi render --scene-builtin cornell-box --method probes --bands 0" + out, "--bands");
   expect_bad("gi render --scene-builtin cornell-box --method probes --grid 65" + out, "--grid");
   expect_bad("gi render --scene-builtin cornell-box --method probes --cube-size 0" + out, "--cube-size");
@@ -102,6 +103,18 @@ TEST(GiCli, RadiosityAndLpvRender) {
     EXPECT_GT(sum, 0) << m;
     EXPECT_TRUE(std::isfinite(sum)) << m;
   }
+  // --device auto: the LPV propagates on the GPU where an EGL context can be made, else on
+  // the CPU with a one-line notice; either way an image. gpu for a CPU-only method: exit 1.
+  const auto exr = dir / "lpv_auto.exr";
+  auto r = run_cli("gi render --scene-builtin cornell-box --method lpv --grid 4 --device auto --pixel-samples 2 "
+                   "--size 12x8 -o '" + exr.string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(exr));
+  r = run_cli("gi render --scene-builtin cornell-box --method radiosity --device gpu --size 12x8 -o '" +
+              (dir / "no.exr").string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("radiosity"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "no.exr"));
 }
 
 TEST(GiCli, RenderWritesRadianceAndStandardError) {

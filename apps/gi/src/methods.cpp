@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
+#include <stdexcept>
 
 #include "atmosh/error.hpp"
 #include "atmosh/gi/lpv.hpp"
@@ -69,6 +71,9 @@ void check_method_options(const MethodOptions& o) {
 MethodResult render_method(const Scene& scene, const Camera& camera, int width, int height, const MethodOptions& o) {
   check_method_options(o);
   MethodResult r;
+  if (o.method != "lpv" && o.device != DeviceRequest::cpu)
+    r.device = resolve_device(o.device, GpuUnusable{GpuUnusable::Why::unsupported, "method '" + o.method + "'", ""},
+                              "rendering on the CPU");
   if (o.method == "path") {
     TraceOptions t;
     t.samples = o.samples;
@@ -109,7 +114,28 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     r.image.stats.rays += v.rays;
   } else {
     const LpvOptions lo = lpv_options(o);
-    const Lpv l = build_lpv(scene, lo);
+    Lpv l;
+    if (o.device == DeviceRequest::cpu) {
+      l = build_lpv(scene, lo);
+    } else {  // injection and geometry on the CPU, propagation on the GPU where it can run
+      const auto t0 = Clock::now();
+      l.injected = lpv_inject(scene, lo, &l.rays);
+      if (lo.blocking) l.geometry = lpv_geometry(scene, l.injected);
+      l.iterations = lo.iterations < 0 ? 2 * lo.grid : lo.iterations;
+      const auto t1 = Clock::now();
+      l.inject_seconds = std::chrono::duration<double>(t1 - t0).count();
+      std::optional<GpuUnusable> unusable;
+      try {
+        l.accumulated = lpv_propagate_gpu(l.injected, lo.blocking ? &l.geometry : nullptr, l.iterations);
+      } catch (const InputError& e) {  // built without atmosh::gpu
+        unusable = GpuUnusable{GpuUnusable::Why::not_built, e.what(), ""};
+      } catch (const std::runtime_error& e) {  // no EGL context (gpu::Unavailable) or the driver refused
+        unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), ""};
+      }
+      r.device = resolve_device(o.device, unusable, "propagating the LPV on the CPU");
+      if (!r.device.gpu) l.accumulated = lpv_propagate(l.injected, lo.blocking ? &l.geometry : nullptr, l.iterations);
+      l.propagate_seconds = since(t1);
+    }
     r.build_seconds = l.inject_seconds + l.propagate_seconds;
     const auto t0 = Clock::now();
     r.image = render_lpv(scene, camera, width, height, l, lo);

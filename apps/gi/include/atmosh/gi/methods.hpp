@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "atmosh/device.hpp"
 #include "atmosh/gi/path_tracer.hpp"
 #include "atmosh/gi/scene.hpp"
 #include "atmosh/sh/convolution.hpp"
@@ -28,6 +29,10 @@ struct MethodOptions {
   bool probe_visibility = false;         ///< probes
   int iterations = -1;          ///< lpv: propagation steps (-1: 2 x grid)
   bool lpv_blocking = true;     ///< lpv: geometry volume
+  /// cpu | gpu | auto (atmosh/device.hpp): the LPV propagation runs on the GPU
+  /// (lpv_propagate_gpu); every other pass of every method is CPU only, so gpu is an error
+  /// for path, probes and radiosity and auto falls back with a notice.
+  DeviceRequest device = DeviceRequest::cpu;
 };
 
 /// path, probes, radiosity, lpv.
@@ -39,8 +44,10 @@ struct MethodResult {
   RadianceImage image;
   double build_seconds = 0;  ///< probe grid / radiosity volume / LPV injection + propagation
   double shade_seconds = 0;  ///< the image (for path: the whole render)
+  DeviceDecision device;     ///< gpu: the LPV propagated on the GPU; notice: auto's fallback, for the caller
 };
-/// Renders `scene` from `camera` by opt.method.
+/// Renders `scene` from `camera` by opt.method. A gpu request the method cannot meet throws
+/// std::runtime_error ("--device gpu: ..."), as resolve_device says.
 MethodResult render_method(const Scene& scene, const Camera& camera, int width, int height, const MethodOptions& opt);
 
 /// The radiosity and LPV settings of `atmosh gi converge`:
