@@ -347,7 +347,7 @@ md("day-study", """
 
 The day study at the scene's observer: luminance of the zenith and the horizon against
 UTC time (the file's CF time coordinate), and the zenith's colour strip (chromaticity,
-brightness normalised), blank where the sky is dark.
+brightness normalised: a night sky keeps its colour here; its luminance is in the plot).
 """)
 code("fig-day-study", """
 NAME = pick("netcdf/day_study/day.nc")

@@ -1,4 +1,5 @@
-"""Files atmosh writes, read into numpy (atmosh/io/exr.hpp)."""
+"""Files atmosh writes, read into numpy (atmosh/io/exr.hpp), and a sweep's CSV as
+netCDF-CF (atmosh/io/netcdf.hpp)."""
 
 import os
 
@@ -6,7 +7,7 @@ import numpy as np
 
 from . import _atmosh
 
-__all__ = ["read_exr"]
+__all__ = ["read_exr", "sweep_to_netcdf"]
 
 
 def read_exr(path, stack=None):
@@ -25,3 +26,12 @@ def read_exr(path, stack=None):
                                                                     ", ".join(d["channels"])))
         d["image"] = np.stack([d["channels"][c] for c in stack], axis=-1)
     return d
+
+
+def sweep_to_netcdf(csv, netcdf, keys=None):
+    """Writes a sweep's CSV (of `atmosh sweep`, or shards joined by `atmosh sweep merge`,
+    e.g. after a Slurm array) as netCDF-CF, as `atmosh sweep --format netcdf` does: a grid
+    of the parameter keys as coordinates, else a `point` dimension (docs/outputs.md).
+    keys: the parameter keys (columns); None: those of the sweep file the CSV's `sweep`
+    provenance line names. InputError for a key that is not a column."""
+    _atmosh.io.sweep_to_netcdf(os.fspath(csv), os.fspath(netcdf), None if keys is None else [str(k) for k in keys])

@@ -106,7 +106,7 @@ def test_day_study_has_a_cf_time_coordinate(run_cli, tmp_path):
 @pytest.fixture(scope="module")
 def sky_exr(run_cli, tmp_path_factory):
     p = tmp_path_factory.mktemp("exr") / "sky.exr"
-    run_cli("sky", "--sun-elevation", 20, "--size", "32x16", "--shells", 16, "--segments", 8, "-o", p)
+    run_cli("sky", "--sun-elevation", 20, "--size", "32x16", *FAST, "-o", p)
     return p
 
 

@@ -287,6 +287,13 @@ def test_sweep_file_matches_cli(run_cli, tmp_path):
     d = studies.sweep_file(f, out_dir=tmp_path / "py", threads=1, netcdf=True, **QUALITY)
     assert (tmp_path / "py" / "sweep.csv").is_file() and (tmp_path / "py" / "sweep.nc").is_file()
     assert d.attrs["sweep_id"] == df.attrs["sweep_id"]
+    # a sweep CSV (e.g. merged shards) converted afterwards: the keys from its sweep file
+    xr = pytest.importorskip("xarray")
+    atmosh.io.sweep_to_netcdf(tmp_path / "cli" / "sweep.csv", tmp_path / "merged.nc")
+    with xr.open_dataset(tmp_path / "merged.nc") as ds, xr.open_dataset(tmp_path / "py" / "sweep.nc") as py:
+        assert ds.attrs["atmosh_sweep_layout"] == "grid" == py.attrs["atmosh_sweep_layout"]
+        assert ds["zenith_luminance_cd_m2"].dims == py["zenith_luminance_cd_m2"].dims
+        np.testing.assert_array_equal(ds["zenith_luminance_cd_m2"].values, py["zenith_luminance_cd_m2"].values)
 
 
 @pytest.mark.parametrize("call", [

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -529,5 +530,85 @@ TEST(Netcdf, CliSkyWritesNetcdf) {
     EXPECT_EQ(r.doubles("solar_zenith_angle", 1)[0], 90.0 - 12.0);
     EXPECT_EQ(r.text(NC_GLOBAL, "Conventions"), "CF-1.8");
   }
+  fs::remove_all(dir);
+}
+
+// write_sweep_netcdf decides grid or points from the table alone: a complete grid (rows in
+// any order) gets one dimension per key with every value at its coordinates; a grid with a
+// point missing, or a combination twice, gets the `point` dimension. Values are placed by
+// the keys' values, so a shuffled grid reads back at the right coordinates.
+TEST(Netcdf, SweepGridOrPoints) {
+  const fs::path dir = fresh_dir("sweep_layout");
+  const std::vector<std::string> keys = {"sun.elevation_deg", "mie.scattering_per_m"};
+  auto table = [](const std::vector<std::array<double, 2>>& pts) {
+    CsvTable t({"point", "sun.elevation_deg", "mie.scattering_per_m", "zenith_luminance_cd_m2"});
+    std::int64_t i = 0;
+    // The output is a known function of the keys: 1000 * elevation + 1e6 * mie.
+    for (const auto& p : pts) t.add_row({i++, p[0], p[1], 1000.0 * p[0] + 1e6 * p[1]});
+    return t;
+  };
+  Provenance prov;
+  prov.add("sweep_id", "0123456789abcdef");
+  // 3 x 2 grid, rows shuffled (e.g. merged in another order).
+  write_sweep_netcdf(dir / "grid.nc", table({{40, 2e-6}, {5, 2e-6}, {5, 8e-6}, {60, 8e-6}, {40, 8e-6}, {60, 2e-6}}),
+                     prov, keys);
+  {
+    Reader r(dir / "grid.nc");
+    EXPECT_EQ(r.text(NC_GLOBAL, "atmosh_sweep_layout"), "grid");
+    EXPECT_EQ(r.text(NC_GLOBAL, "atmosh_sweep_id"), "0123456789abcdef");
+    EXPECT_EQ(r.dims_of(r.var("zenith_luminance_cd_m2")),
+              (std::vector<std::string>{"sun__elevation_deg", "mie__scattering_per_m"}));
+    const auto el = r.doubles("sun__elevation_deg", 3), mie = r.doubles("mie__scattering_per_m", 2);
+    EXPECT_EQ(el, (std::vector<double>{40, 5, 60}));  // order of first appearance
+    EXPECT_EQ(mie, (std::vector<double>{2e-6, 8e-6}));
+    const auto z = r.doubles("zenith_luminance_cd_m2", 6);
+    for (std::size_t i = 0; i < 3; ++i)
+      for (std::size_t j = 0; j < 2; ++j) EXPECT_EQ(z[i * 2 + j], 1000.0 * el[i] + 1e6 * mie[j]) << i << "," << j;
+    EXPECT_EQ(r.text(r.var("sun__elevation_deg"), "standard_name"), "solar_elevation_angle");
+    EXPECT_EQ(r.text(r.var("mie__scattering_per_m"), "units"), "m-1");
+  }
+  // A point missing, and a combination twice: points.
+  for (const auto& pts : {std::vector<std::array<double, 2>>{{5, 2e-6}, {5, 8e-6}, {40, 2e-6}},
+                          std::vector<std::array<double, 2>>{{5, 2e-6}, {5, 8e-6}, {5, 2e-6}, {5, 8e-6}}}) {
+    write_sweep_netcdf(dir / "points.nc", table(pts), prov, keys);
+    Reader r(dir / "points.nc");
+    EXPECT_EQ(r.text(NC_GLOBAL, "atmosh_sweep_layout"), "points");
+    EXPECT_EQ(r.dim("point"), pts.size());
+    EXPECT_EQ(r.text(r.var("zenith_luminance_cd_m2"), "coordinates"), "sun__elevation_deg mie__scattering_per_m");
+    const auto z = r.doubles("zenith_luminance_cd_m2", pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_EQ(z[i], 1000.0 * pts[i][0] + 1e6 * pts[i][1]);
+  }
+  EXPECT_THROW(write_sweep_netcdf(dir / "x.nc", table({{5, 2e-6}}), prov, {"no.such_key"}), atmosh::InputError);
+  fs::remove_all(dir);
+}
+
+// write_table_files writes the CSV and the netCDF from one table; a stem ending in .nc
+// selects netCDF; --format values other than csv and netcdf are refused.
+TEST(Netcdf, TableFilesAndFormatOption) {
+  const fs::path dir = fresh_dir("table_files");
+  bool nc = false;
+  EXPECT_EQ(table_output_stem(dir / "a.nc", nc), dir / "a");
+  EXPECT_TRUE(nc);
+  nc = false;
+  EXPECT_EQ(table_output_stem(dir / "a", nc), dir / "a");
+  EXPECT_FALSE(nc);
+  EXPECT_FALSE(parse_table_format("csv"));
+  EXPECT_TRUE(parse_table_format("netcdf"));
+  EXPECT_THROW(parse_table_format("hdf5"), atmosh::InputError);
+  CsvTable t({"sun_elevation_deg", "zenith_luminance_cd_m2"});
+  t.add_row({-3.0, 0.25});
+  t.add_row({4.0, 1e3});
+  NetcdfTableOptions o;
+  o.coordinate_column = "sun_elevation_deg";
+  const auto files = write_table_files(dir / "t.csv", t, Provenance{}, true, o);
+  ASSERT_EQ(files.size(), 2u);
+  EXPECT_EQ(files[1], dir / "t.nc");
+  Reader r(dir / "t.nc");
+  EXPECT_EQ(r.dim("sun_elevation_deg"), 2u);
+  EXPECT_EQ(r.doubles("sun_elevation_deg", 2), (std::vector<double>{-3.0, 4.0}));
+  EXPECT_EQ(r.doubles("zenith_luminance_cd_m2", 2), (std::vector<double>{0.25, 1e3}));
+  EXPECT_EQ(r.text(r.var("sun_elevation_deg"), "standard_name"), "solar_elevation_angle");
+  const CsvData back = read_csv(dir / "t.csv");
+  EXPECT_EQ(back.rows.size(), 2u);
   fs::remove_all(dir);
 }
