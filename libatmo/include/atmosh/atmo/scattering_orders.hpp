@@ -31,7 +31,8 @@
 //   sun:      mu_s over [sin(-36 deg), 1] (below: clamped), ~6x denser near the
 //             horizon than uniform (the terminator; ScatteringOrders::Impl::mus_of_u);
 //   azimuth:  phi in [0, pi] between the view's and the sun's vertical planes, uniform
-//             (nu = mu mu_s + sqrt((1 - mu^2)(1 - mu_s^2)) cos phi: every sample valid);
+//             in cos phi (nu = mu mu_s + sqrt((1 - mu^2)(1 - mu_s^2)) cos phi: every
+//             sample valid; the twilight sky's log is close to linear in cos phi);
 // multilinear interpolation of the logarithms with a second-order correction toward the
 // arithmetic mean where the corners are close (the plain geometric mean of log
 // interpolation is biased low and the bias compounds through the orders; see
