@@ -1240,7 +1240,7 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
     fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
     // X_k = conj(w_k) z_(k mod M), w_-k = w_k
     auto fix = [&](int k) {
-      double* v = z + 2 * static_cast<std::size_t>(((k % m) + m) % m);
+      double* v = z + 2 * static_cast<std::size_t>(k < 0 ? k + m : k);
       const int a = k < 0 ? -k : k;
       const double c = w[2 * a], d = w[2 * a + 1], x = v[0], y = v[1];
       v[0] = x * c + y * d;
@@ -1252,7 +1252,7 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
   // F1_k = (X_k + conj(X_-k)) / 2, F2_k = (X_k - conj(X_-k)) / (2 i)
   for (int k = 0; k < cm; ++k) {
     const double* xp = z + 2 * static_cast<std::size_t>(k);
-    const double* xm = z + 2 * static_cast<std::size_t>((period - k) % period);
+    const double* xm = z + 2 * static_cast<std::size_t>(k == 0 ? 0 : period - k);
     spec_[2 * k] = 0.5 * (xp[0] + xm[0]);
     spec_[2 * k + 1] = 0.5 * (xp[1] - xm[1]);
     spec2_[2 * k] = 0.5 * (xp[1] + xm[1]);
@@ -1297,7 +1297,7 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
   // Z_k = V1_k + i V2_k, V_0 = C_0, V_k = (C_k - i S_k) / 2, V_-k = conj(V_k); for the
   // chirp, y_k = Z_k w_k
   auto put = [&](int k, double re, double im) {
-    double* v = z + 2 * static_cast<std::size_t>(((k % m) + m) % m);
+    double* v = z + 2 * static_cast<std::size_t>(k < 0 ? k + m : k);
     if (chirp) {
       const int a = k < 0 ? -k : k;
       const double c = w[2 * a], d = w[2 * a + 1];
