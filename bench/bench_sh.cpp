@@ -174,8 +174,8 @@ void BM_RotationApply(benchmark::State& st) {
 }
 
 // Arguments: bands, threads, nphi (0: the default power of two >= 2L - 1).
-// Bands at or above the cache (256 by default) are rebuilt in every application; with
-// reserve_rotation_cache(L) first (second argument 1) nothing is rebuilt.
+// Bands from 256 on apply Ry(90) on the fly in every application (no stored matrices);
+// second argument 1: reserve_rotation_cache(L) first (it now keeps only bands < 256).
 void BM_RotationApplyHigh(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0));
   if (st.range(1)) reserve_rotation_cache(L);

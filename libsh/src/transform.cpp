@@ -470,6 +470,56 @@ static void ana_kernel8(int K0, int kmax, const int* nact, const double* ap, con
 }
 #undef ATMOSH_V4_KERNEL
 
+// Number of leading extended blocks (ids[0..nx), ring order, pole first) none of whose
+// lanes reaches 2^-kJoinExp by step kmax, i.e. that contribute nothing. Near the pole
+// |Pbar_lm| decreases towards the pole at every degree (beyond its last maximum), so these
+// blocks are the poleward part of the extended ones: found by bisection, each probe a
+// replay of ana_extended's stepping and checks for one block (stopping where a lane joins).
+template <int W>
+__attribute__((always_inline)) inline int ana_skip(int kmax, const double* ap, const double* bp,
+                                                   const AnaGroup<W>* grp, const int* ids, int nx) {
+  using D = typename Lanes<W>::D;
+  auto reaches = [&](const AnaGroup<W>& g) {
+    D l1 = g.lam1, l2 = g.lam2, e = g.e;
+    const D csq = g.csq;
+    for (int k = 0; k <= kmax; k += 2) {
+      if (k % kFoldEvery == 0) {
+        for (int j = 0; j < W; ++j) {
+          if (e[j] < 0.0 && (std::abs(l1[j]) > kJoinFold || std::abs(l2[j]) > kJoinFold)) {
+            l1[j] *= kScaleDown;
+            l2[j] *= kScaleDown;
+            e[j] += kScaleExp;
+          }
+          if (e[j] == 0.0) return true;
+        }
+      }
+      const D t1 = (ap[k] * csq + bp[k]) * l2 + l1;
+      l1 = t1;
+      l2 = (ap[k + 1] * csq + bp[k + 1]) * t1 + l2;
+    }
+    return false;
+  };
+  int lo = 0, hi = nx;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (reaches(grp[ids[mid]]))
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  return lo;
+}
+ATMOSH_DISPATCH
+static int ana_skip4(int kmax, const double* ap, const double* bp, const AnaGroup<4>* grp, const int* ids, int nx) {
+  return ana_skip<4>(kmax, ap, bp, grp, ids, nx);
+}
+#if ATMOSH_HAS_DISPATCH
+ATMOSH_TARGET_AVX512
+#endif
+static int ana_skip8(int kmax, const double* ap, const double* bp, const AnaGroup<8>* grp, const int* ids, int nx) {
+  return ana_skip<8>(kmax, ap, bp, grp, ids, nx);
+}
+
 // Per-thread work space of the column sums for blocks of W ring pairs.
 template <int W>
 struct AnaWork {
@@ -515,11 +565,21 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
     w.join[gi] = 0;
     if (!plain) w.ids[nx++] = gi;
   }
-  if (nx > 0) {
+  // Blocks none of whose lanes reach 2^-kJoinExp by step kmax contribute nothing
+  // (ana_skip): they are skipped instead of being stepped to kmax for nothing.
+  int skip = 0;
+  if (nx > 1) {
     if constexpr (W == 8)
-      ana_extended8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
+      skip = ana_skip8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
     else
-      ana_extended4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx, w.join.data(), w.live.data(), sums);
+      skip = ana_skip4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
+    for (int i = 0; i < skip; ++i) w.join[w.ids[i]] = kmax + 1;
+  }
+  if (nx > skip) {
+    if constexpr (W == 8)
+      ana_extended8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), w.live.data(), sums);
+    else
+      ana_extended4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), w.live.data(), sums);
   }
   // the plain blocks in ring order, then the others by the step they join at
   int nlive = 0;
@@ -665,7 +725,34 @@ template <int W>
 __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, const double* x, const double* mant,
                                                       const int* ex, const double* ap, const double* bp,
                                                       const double* cf, double* out) {
-  for (int gi = 0; gi < ngroups; gi += 2) {
+  // Leading blocks none of whose lanes reaches 2^-kJoinExp by kmax (see ana_skip) add
+  // nothing to their rings: their sums are zero.
+  int g0 = 0;
+  {
+    int lo = 0, hi = ngroups;
+    while (lo < hi) {
+      const int mid = (lo + hi) / 2;
+      AnaGroup<W> g;
+      for (int j = 0; j < W; ++j) {
+        const int q = W * mid + j;
+        double lm, le;
+        lane_start(mant[q], ex[q], lm, le);
+        g.csq[j] = x[q] * x[q];
+        g.lam1[j] = 0.0;
+        g.lam2[j] = lm;
+        g.e[j] = le;
+      }
+      const int id = 0;
+      if (ana_skip<W>(kmax, ap, bp, &g, &id, 1) == 0)
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    g0 = lo;
+  }
+  for (int q = 0; q < W * g0; ++q)
+    for (int f = 0; f < 4; ++f) out[4 * static_cast<std::size_t>(q) + f] = 0.0;
+  for (int gi = g0; gi < ngroups; gi += 2) {
     SynState<W> st[2];
     int k[2] = {kmax + 1, kmax + 1};
     const int nb = std::min(2, ngroups - gi);
@@ -1240,7 +1327,7 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
     fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
     // X_k = conj(w_k) z_(k mod M), w_-k = w_k
     auto fix = [&](int k) {
-      double* v = z + 2 * static_cast<std::size_t>(((k % m) + m) % m);
+      double* v = z + 2 * static_cast<std::size_t>(k < 0 ? k + m : k);
       const int a = k < 0 ? -k : k;
       const double c = w[2 * a], d = w[2 * a + 1], x = v[0], y = v[1];
       v[0] = x * c + y * d;
@@ -1252,7 +1339,7 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
   // F1_k = (X_k + conj(X_-k)) / 2, F2_k = (X_k - conj(X_-k)) / (2 i)
   for (int k = 0; k < cm; ++k) {
     const double* xp = z + 2 * static_cast<std::size_t>(k);
-    const double* xm = z + 2 * static_cast<std::size_t>((period - k) % period);
+    const double* xm = z + 2 * static_cast<std::size_t>(k == 0 ? 0 : period - k);
     spec_[2 * k] = 0.5 * (xp[0] + xm[0]);
     spec_[2 * k + 1] = 0.5 * (xp[1] - xm[1]);
     spec2_[2 * k] = 0.5 * (xp[1] + xm[1]);
@@ -1297,7 +1384,7 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
   // Z_k = V1_k + i V2_k, V_0 = C_0, V_k = (C_k - i S_k) / 2, V_-k = conj(V_k); for the
   // chirp, y_k = Z_k w_k
   auto put = [&](int k, double re, double im) {
-    double* v = z + 2 * static_cast<std::size_t>(((k % m) + m) % m);
+    double* v = z + 2 * static_cast<std::size_t>(k < 0 ? k + m : k);
     if (chirp) {
       const int a = k < 0 ? -k : k;
       const double c = w[2 * a], d = w[2 * a + 1];

@@ -10,7 +10,7 @@
 //
 // Method: per ring a real FFT in p (FFTW3, any nphi, plans made once per size; sizes with
 // a prime factor above 5 take two rings per complex FFT, and above 13 Bluestein's chirp
-// convolution through power-of-two FFTs: within ~1.3x of the power-of-two time), then the
+// convolution through power-of-two FFTs: 1.0-1.9x the power-of-two time, docs/sh.md), then the
 // Legendre sums, m outer, vectorised over
 // blocks of ring pairs and using the equatorial symmetry Pbar_lm(-x) = (-1)^(l+m)
 // Pbar_lm(x). Analysis recurs only the degrees of the parity of m, in x^2 (two FMAs per
