@@ -45,6 +45,8 @@ ElevationStudy sun_elevation_study(const scene::Scene& s, const ElevationStudyOp
                                    const ProgressCallback& progress = {});
 // Memory of the study (saturates for a hostile step).
 std::size_t elevation_study_bytes(const ElevationStudyOptions& o);
+// Work of the study on scene s (atmosh/work.hpp): its rows' sky summaries.
+WorkEstimate elevation_study_work(const scene::Scene& s, const ElevationStudyOptions& o);
 // dir/sun_elevation.csv and the plots (horizon_colour.png, zenith_colour.png,
 // luminance.png, chromaticity.png); returns the files written.
 std::vector<std::filesystem::path> write_elevation_study(const ElevationStudy& st, const std::filesystem::path& dir);
@@ -78,6 +80,9 @@ struct DayStudy {
 };
 // The sky every step over the UTC day (00:00 <= t < 24:00); each frame (when asked) is
 // handed to on_frame as it is rendered, so at most one frame is held.
+// Work of the study on scene s (atmosh/work.hpp): per time step a sky summary and, with
+// frames, an image of frame_width x frame_height.
+WorkEstimate day_study_work(const scene::Scene& s, const DayStudyOptions& o);
 DayStudy day_study(const scene::Scene& s, const DayStudyOptions& o, const std::function<void(DayFrame&&)>& on_frame = {},
                    const ProgressCallback& progress = {});
 // dir/day.csv and the plots; returns the files written.
