@@ -121,3 +121,36 @@ void add_format_option(CLI::App* c, std::string& stem) {
 }
 
 }  // namespace atmosh::cli
+
+// ---- the time budget -----------------------------------------------------------------
+namespace atmosh::cli {
+
+namespace {
+std::optional<double> g_time_budget;  // --max-time
+std::string estimate_detail(const WorkEstimate& w, int workers) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%.3g %s at %.3g s each on one core, %d worker%s", w.units, w.unit.c_str(),
+                w.seconds_per_unit, std::max(workers, 1), workers > 1 ? "s" : "");
+  return buf;
+}
+}  // namespace
+
+double time_budget() { return g_time_budget ? *g_time_budget : kDefaultTimeBudgetS; }
+
+void set_time_budget(double seconds) { g_time_budget = seconds; }
+
+std::string describe_work(const WorkEstimate& w, int workers) {
+  if (workers <= 0) workers = available_cpus();
+  return "about " + format_duration(w.wall_seconds(workers)) + " (estimate: " + estimate_detail(w, workers) + ")";
+}
+
+void check_time(const WorkEstimate& w, int workers, const std::string& what) {
+  if (workers <= 0) workers = available_cpus();
+  const double wall = w.wall_seconds(workers);
+  if (!(wall <= time_budget()))
+    throw InputError(what + " needs about " + format_duration(wall) + " of computing (estimate: " +
+                     estimate_detail(w, workers) + "), more than the time budget of " + format_duration(time_budget()) +
+                     (g_time_budget ? " (--max-time)" : " (the default; set with --max-time)"));
+}
+
+}  // namespace atmosh::cli

@@ -21,6 +21,7 @@
 #include "atmosh/device.hpp"
 #include "atmosh/io/output_check.hpp"
 #include "atmosh/memory.hpp"
+#include "atmosh/work.hpp"
 #include "atmosh/scene/scene.hpp"
 
 namespace atmosh::cli {
@@ -58,6 +59,18 @@ void set_memory_budget(std::size_t bytes);  // --max-memory
 // InputError "<what> needs about 12.3 GiB (estimate), more than the memory budget of
 // 7.6 GiB (MemAvailable; set with --max-memory)" when bytes exceed the budget.
 void check_memory(std::size_t bytes, const std::string& what);
+// The time budget of one command [s of wall time]: --max-time when given, else
+// atmosh::kDefaultTimeBudgetS (24 h). Commands whose work is clear from their sizes
+// estimate it (atmosh/work.hpp; the estimators live next to what they estimate) and call
+// check_time before they start: InputError "<what> needs about 3.2 days of computing
+// (estimate: 2.1e+13 ray nodes x wavelengths at 1.4e-08 s each on one core, 2 workers),
+// more than the time budget of 24 h (set with --max-time)".
+double time_budget();
+void set_time_budget(double seconds);  // --max-time
+// workers: the threads that share the work (0: the CPUs this process may use).
+void check_time(const WorkEstimate& work, int workers, const std::string& what);
+// "about 3.2 h on 2 workers (estimate: ...)" for `plan`.
+std::string describe_work(const WorkEstimate& work, int workers);
 
 // --format csv|netcdf of a table output (netCDF-CF beside the CSV, atmosh/io/netcdf.hpp),
 // checked when parsed. For an output folder it sets `netcdf` (handed to the writer); for
@@ -68,6 +81,7 @@ void add_format_option(CLI::App* c, std::string& stem);
 // Output paths checked before any work (atmosh/io/output_check.hpp).
 using io::check_output_dir;
 using io::check_output_file;
+using io::check_study_stem;
 
 // What the main job (atmosh demo) passes to each part of the toolkit.
 struct DemoContext {

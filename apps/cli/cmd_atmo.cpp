@@ -106,6 +106,8 @@ void register_atmo_commands(CLI::App& app) {
         lo.view_directions = lo.sun_directions = o->directions;
         check_memory(OpticalDepthLut::estimate_table_bytes(lo), "--method lut --shells " + std::to_string(o->shells) +
                                                                     " --directions " + std::to_string(o->directions));
+        check_time(OpticalDepthLut::estimate_build_work(lo), 0,
+                   "--method lut --shells " + std::to_string(o->shells) + " --directions " + std::to_string(o->directions));
       }
       double nm = require_range(o->wavelength, 1.0, 1e5, "--wavelength");
       double zen = require_range(o->zenith, 0.0, 180.0, "--zenith");
@@ -251,6 +253,7 @@ void register_atmo_commands(CLI::App& app) {
     add_format_option(c, o->stem);
     c->callback([o, os, od] {
       check_device(o->device);
+      check_study_stem(o->stem, "-o");
       ProgressStep step("converge lut");
       if (o->quick && (os->count() > 0 || od->count() > 0))
         throw InputError("--quick: sweeps its own two settings; drop --shells/--directions or --quick");

@@ -29,6 +29,7 @@ std::vector<fs::path> run_converge_ms(const ConvergeMs& o) {
   if (paths < 1 || paths > (std::int64_t{1} << 40))
     throw InputError("--paths " + std::to_string(paths) + ": must be in [1, 2^40]");
   if (o.output.empty()) throw InputError("-o is required (output folder)");
+  check_output_dir(o.output, "-o");
   const scene::Scene s = o.scene_file.empty() ? scene::default_scene() : scene::load_scene(o.scene_file);
   studies::ConvergeMsOptions so;
   so.paths = paths;

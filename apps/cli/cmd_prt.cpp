@@ -187,6 +187,7 @@ void register_prt_commands(CLI::App& app) {
       const std::string ext = fs::path(o->out).extension().string();
       if (ext != ".ply" && ext != ".exr")
         throw InputError("-o: '" + o->out + "' must end in .ply (per-vertex) or .exr (per-pixel)");
+      check_output_file(o->out, {".ply", ".exr"}, "-o");
       if (bo.device == prt::Device::gpu && ext != ".exr")
         throw InputError("--device gpu: the depth-map method is per-pixel; write an .exr (per-vertex bakes use --device cpu)");
       if (ext == ".exr" && bo.mode == sh::prt::TransferMode::interreflected)
@@ -299,6 +300,7 @@ void register_prt_commands(CLI::App& app) {
     add_format_option(c, o->out);
     c->callback([o] {
       check_device(o->device);
+      check_study_stem(o->out, "-o");
       ProgressStep step("prt converge");
       PixelStudy px;
       px.device = o->device;

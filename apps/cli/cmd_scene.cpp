@@ -7,6 +7,7 @@
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/scene/outputs.hpp"
 #include "atmosh/scene/scene.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/studies/scene_run.hpp"
 #include "atmosh/studies/studies_gi.hpp"
 #include "cli_common.hpp"
@@ -34,6 +35,7 @@ void run_scene(const scene::Scene& s, const std::filesystem::path& dir, bool qui
   // Before any work: a runner for every output, and the memory the largest one holds.
   studies::check_scene_runnable(s, o);
   if (const auto m = studies::scene_peak_memory(s, o); m.bytes > 0) check_memory(m.bytes, m.what);
+  check_time(studies::scene_work(s, o), 0, s.source + ": the scene");
   const auto r = studies::run_scene(s, dir, o);
   written.insert(written.end(), r.written.begin(), r.written.end());
 }
@@ -81,11 +83,16 @@ void register_scene_commands(CLI::App& app) {
       const auto s = scene_from(file);
       scene::check_outputs(s);  // the plan of a scene that `run` refuses is refused too
       const auto passes = scene::plan(s);
+      const auto mem = studies::scene_peak_memory(s, {});  // the estimates `run` checks against its budgets
+      const auto work = studies::scene_work(s, {});
       if (json) {
         nlohmann::json j;
         j["scene"] = s.source;
         j["passes"] = nlohmann::json::array();
         for (const auto& p : passes) j["passes"].push_back({{"pass", p.name}, {"needed", p.needed}, {"reason", p.reason}});
+        j["estimate"] = {{"peak_memory_bytes", mem.bytes}, {"cpu_seconds", work.cpu_seconds()},
+                         {"workers", available_cpus()}, {"wall_seconds", work.wall_seconds(available_cpus())},
+                         {"units", work.units}, {"unit", work.unit}, {"seconds_per_unit", work.seconds_per_unit}};
         print_json(j);
         return;
       }
@@ -93,6 +100,9 @@ void register_scene_commands(CLI::App& app) {
       for (const auto& p : passes)
         std::cout << (p.needed ? "  run   " : "  skip  ") << p.name << std::string(p.name.size() < 34 ? 34 - p.name.size() : 1, ' ')
                   << p.reason << "\n";
+      std::cout << "  estimate: memory "
+                << (mem.bytes > 0 ? format_bytes(static_cast<double>(mem.bytes)) + " at most (" + mem.what + ")" : "small")
+                << ", computing " << (work.units > 0 ? describe_work(work, 0) : "small") << "\n";
     });
   }
   {

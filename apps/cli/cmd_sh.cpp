@@ -92,6 +92,7 @@ void register_sh_commands(CLI::App& app) {
       check_output_file(o->out, {".csv"}, "-o");
       if (!o->reconstruct.empty()) check_output_file(o->reconstruct, {".exr"}, "--reconstruct");
       check_memory(sh::sampler_bytes(po, 3), "--method " + o->method + " --samples " + std::to_string(o->samples));
+      check_time(sh::sampler_work(po, o->bands, 3), 1, "--method " + o->method + " --samples " + std::to_string(o->samples));
       const studies::ShImage li = load_image(o->in, o->layout);
       CoeffFile cf{o->bands, li.names, studies::project_sh_image(li, o->bands, po), li.value_units};
       auto prov = prov_with({{"input", o->in}, {"method", o->method}, {"seed", std::to_string(o->seed)},
@@ -231,6 +232,7 @@ void register_sh_commands(CLI::App& app) {
     add_format_option(c, o->stem);
     c->callback([o] {
       require_bands(o->bands);
+      check_study_stem(o->stem, "-o");
       const studies::ShImage li = load_image(o->in, o->layout);
       ProgressStep step("converge sh");
       const studies::StudyTable t = studies::converge_sh(li, o->bands, o->quick, o->seed, o->in);

@@ -189,6 +189,8 @@ void run_sky(const SkyCmd& cmd) {
   const auto size = parse_size(c.size, "--size");
   check_memory(sky_output_bytes(size[0], size[1], spectrum_wavelengths(s.atmosphere.spectrum).size(), c.spectral),
                "--size " + c.size + (c.spectral ? " --spectral" : ""));
+  if (c.device == "cpu")  // the estimate is of the CPU's loop
+    check_time(studies::sky_rays_work(s, c.q.settings_for_studies(), mul_units(size[0], size[1])), c.q.threads, "--size " + c.size);
   const auto model = make_sky_model(s, c.q.sky(s), sun.distance_au);
   const double h = std::max(sun.observer_height_m, 0.0);
   std::string used;
@@ -265,6 +267,7 @@ std::vector<fs::path> run_elevation_study(const ElevationStudy& given_options, c
   check_output_dir(o.output, "-o");
   const auto s = load_or_default(o.scene_file);
   e.sky = o.q.settings_for_studies();
+  check_time(studies::elevation_study_work(s, e), o.q.threads, "--step " + io::format_double(o.step));
   return studies::write_elevation_study(studies::sun_elevation_study(s, e, progress), o.output, o.netcdf);
 }
 
@@ -300,6 +303,7 @@ std::vector<fs::path> run_day_study(const DayStudy& given_options, const Progres
   d.frame_height = fsize[1];
   const auto s = load_or_default(o.scene_file);
   d.sky = o.q.settings_for_studies();
+  check_time(studies::day_study_work(s, d), o.q.threads, "--step " + o.step + (o.frames ? " --frame-size " + o.frame_size : ""));
   const fs::path dir = o.output;
   std::vector<fs::path> frames;
   const auto st = studies::day_study(
@@ -319,6 +323,7 @@ struct ConvergeSky {
 };
 
 std::vector<fs::path> run_converge_sky(const ConvergeSky& o) {
+  check_study_stem(o.output, "-o");
   const auto s = load_or_default(o.scene_file);
   studies::ConvergeSkyOptions c;
   c.quick = o.quick;

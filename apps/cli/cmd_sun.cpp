@@ -86,6 +86,7 @@ void run_sun(const SunOptions& o) {
     if (!o.time.empty()) throw InputError("--time cannot be combined with --from/--to");
     const double from = parse_iso8601(o.from).jd_utc, to = parse_iso8601(o.to).jd_utc;
     const double step = parse_duration_s(o.step);
+    if (!o.output.empty() && o.output != "-") check_output_file(o.output, {o.format == "netcdf" ? ".nc" : ".csv", ".nc"}, "-o");
     const auto samples = sun_series(base, from, to, step);
     io::Provenance prov = place_provenance(base);
     const int decimals = studies::sun_time_decimals(step, o.from);
@@ -200,6 +201,7 @@ void register_sun_commands(CLI::App& app) {
       throw InputError("--year " + std::to_string(acc->year) + " is outside 2010..2110, the fast algorithms' range");
     if (acc->samples < 1 || acc->samples > 10000000)
       throw InputError("--samples " + std::to_string(acc->samples) + " is outside 1..10000000");
+    check_study_stem(acc->output, "-o");
     ProgressStep step("sun accuracy");
     for (const auto& p : write_accuracy(acc->output, acc->year, lats, acc->samples)) std::cerr << "wrote " << p.string() << "\n";
   });

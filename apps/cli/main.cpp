@@ -43,6 +43,12 @@ int main(int argc, char** argv) {
          "/proc/meminfo MemAvailable and the cgroup's limit). Requests estimated above it are refused "
          "(exit 2) before any work")
       ->trigger_on_parse();
+  app.add_option_function<std::string>(
+         "--max-time", [](const std::string& v) { atmosh::cli::set_time_budget(atmosh::parse_time_budget(v)); },
+         "Time budget of the command, e.g. 24h, 90m, 45s (default 24h). Requests whose computing is estimated "
+         "from their sizes above it (sky images, studies, optical-depth tables, sh project sampling) are "
+         "refused (exit 2) before any work")
+      ->trigger_on_parse();
   app.add_flag_callback("-q,--quiet", [] { atmosh::cli::set_progress_quiet(true); },
                         "No progress lines or bars on stderr (also ATMOSH_QUIET=1)");
   app.footer(

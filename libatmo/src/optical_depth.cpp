@@ -441,6 +441,15 @@ std::size_t OpticalDepthLut::estimate_table_bytes(const LutOptions& o) {
   return b >= static_cast<long double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(b);
 }
 
+WorkEstimate OpticalDepthLut::estimate_build_work(const LutOptions& o) {
+  // One table entry on one core: a + b x shells [s] (an entry's ray crosses up to all the
+  // shells), fitted to bench_work BM_WorkLutBuild at 40 to 160 shells, 64 and 256
+  // directions (docs/hostile-input.md, "Work estimates").
+  constexpr double a = 3.3e-6, b = 0.032e-6;
+  const double dirs = (o.view_tables ? 2.0 * std::max(o.view_directions, 0) : 0.0) + std::max(o.sun_directions, 0);
+  return {mul_units(std::max(o.shells, 0), dirs), a + b * std::max(o.shells, 0), "optical-depth table entries"};
+}
+
 std::size_t OpticalDepthLut::table_bytes() const {
   return (view_up_.v.size() + view_ground_.v.size() + sun_up_.v.size()) * sizeof(double);
 }

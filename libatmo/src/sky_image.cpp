@@ -74,6 +74,29 @@ std::size_t sky_image_bytes(int width, int height, std::size_t wavelengths, bool
   return b >= static_cast<long double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(b);
 }
 
+// One view-ray node of render_sky's equirect loop on one core: a + b x wavelengths [s],
+// by method (bench_work BM_WorkSkyImage, fitted; docs/hostile-input.md, "Work estimates").
+namespace {
+struct NodeCost {
+  double a, b;
+};
+constexpr NodeCost kSingle{134e-9, 0.84e-9};       // 8, 16, 47 wavelengths at 32 nodes; 16 to 64 nodes
+constexpr NodeCost kApproximate{139e-9, 9.7e-9};   // 16 and 47 wavelengths at 32 nodes
+constexpr NodeCost kOrders{134e-9, 0.84e-9};       // as single: 1.02 x at 16 wavelengths
+}  // namespace
+
+WorkEstimate sky_rays_work(double rays, std::size_t wavelengths, const SkyOptions& o) {
+  const double nodes = mul_units(std::max(o.segments, 1), std::max(o.samples_per_segment, 1));
+  const NodeCost c = o.scattering.method == ScatteringMethod::Approximate ? kApproximate
+                     : o.scattering.method == ScatteringMethod::Orders && o.scattering.orders >= 2 ? kOrders
+                                                                                                   : kSingle;
+  return {mul_units(rays, nodes), c.a + c.b * static_cast<double>(wavelengths), "view-ray nodes"};
+}
+
+WorkEstimate sky_image_work(int width, int height, std::size_t wavelengths, const SkyOptions& options) {
+  return sky_rays_work(mul_units(std::max(width, 0), std::max(height, 0)), wavelengths, options);
+}
+
 void store_sky_pixel(SkyImage& img, std::size_t p, const SpectralToXyz& cmf, std::span<const double> L, bool add) {
   const Xyz c = cmf(L);
   const Rgb rgb = linear_srgb_from_xyz(c);

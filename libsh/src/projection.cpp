@@ -71,6 +71,19 @@ std::size_t sampler_bytes(const ProjectOptions& opt, int channels) {
   return b >= static_cast<long double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(b);
 }
 
+WorkEstimate sampler_work(const ProjectOptions& opt, int bands, int channels) {
+  // project_equirect_sampled on one core: a per sample (direction, image lookup) + b per
+  // coefficient and channel, fitted to bench_work BM_WorkShUniform at 3, 8 and 16 bands
+  // (docs/hostile-input.md, "Work estimates"); as a cost per unit, b + a / (bands^2 channels).
+  constexpr double a = 174e-9, b = 0.72e-9;
+  double n = 0;
+  if (opt.method == Method::jittered) n = mul_units(opt.samples > 0 ? opt.samples : 45, opt.samples > 0 ? opt.samples : 45);
+  else if (opt.method == Method::uniform) n = opt.samples > 0 ? opt.samples : 2025;
+  const double per_sample = mul_units(std::max(bands, 1), std::max(bands, 1), std::max(channels, 1));
+  return {mul_units(n, mul_units(std::max(bands, 0), std::max(bands, 0)), std::max(channels, 1)), b + a / per_sample,
+          "samples x SH coefficients x channels"};
+}
+
 void sampler_directions(const ProjectOptions& opt, std::vector<glm::dvec3>& dirs, std::vector<double>& weights) {
   if (opt.method != Method::jittered && opt.method != Method::uniform)
     throw InputError("sampler_directions: only jittered and uniform are Monte Carlo samplers");

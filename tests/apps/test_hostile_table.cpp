@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "run_cli.hpp"
 
 namespace fs = std::filesystem;
@@ -94,8 +96,11 @@ void make_fixtures(const fs::path& d) {
   write("cut.ply", ply.substr(0, 3000));
   write("header.ply", ply.substr(0, ply.find("end_header\n") + 11));
   write("bad_index.ply", grid_ply(30, 1000000000));
+  write("big_image.toml", "version = 1\n[sun]\nelevation_deg = 10\n" + sky + "size = [8192, 4096]\n");
   write("file.txt", "a file\n");
   fs::create_directories(d / "folder");
+  fs::create_directories(d / "stem.png");   // STEM.png of a study is a folder
+  fs::create_directories(d / "folder.ply"); // a folder with a file's name
 }
 }  // namespace
 
@@ -112,7 +117,8 @@ TEST(HostileInput, DocumentedRowsExitTwoNamingTheFault) {
     EXPECT_EQ(atmosh::test::count_lines(res.err), 1) << r.command << "\n" << res.err;
     EXPECT_NE(res.err.find(r.names), std::string::npos) << r.command << ": '" << res.err << "' does not name '" << r.names << "'";
     // Refused before any work: nothing written.
-    for (const char* out : {"out", "sky.exr", "st", "day", "c.csv", "t.ply"})
+    for (const char* out : {"out", "sky.exr", "st", "day", "c.csv", "t.ply", "stem.csv", "track.txt", "track.csv",
+                            "folder.csv", "folder.png"})
       EXPECT_FALSE(fs::exists(d / out)) << r.command << " wrote " << out;
   }
   fs::current_path(here);
@@ -146,4 +152,30 @@ TEST(HostileInput, SkySceneUsesTheAtmosphereNotTheOutputs) {
   const auto r = run_cli("sky --scene " + scene + " --sun-elevation 10 --size 8x4 -o '" + (d / "sky.exr").string() + "'");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(d / "sky.exr"));
+}
+
+// `plan` reports the estimates `run` checks against its budgets: for one 8192 x 4096 sky
+// image, rays x view-ray nodes = 8192 x 4096 x (16 segments x 2 samples, the defaults of
+// atmo::SkyOptions) steps, and at least the image's six float channels in memory.
+TEST(HostileInput, PlanReportsTheEstimates) {
+  const fs::path d = atmosh::test::scratch_dir("atmosh_hostile", "plan_estimate");
+  std::ofstream(d / "big.toml") << "version = 1\n[sun]\nelevation_deg = 10\n[[output]]\nkind = \"sky-image\"\n"
+                                   "file = \"sky.exr\"\nsize = [8192, 4096]\n";
+  const auto j = run_cli("plan --json '" + (d / "big.toml").string() + "'");
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  const auto p = nlohmann::json::parse(j.out);
+  EXPECT_DOUBLE_EQ(p["estimate"]["units"].get<double>(), 8192.0 * 4096 * 16 * 2);
+  EXPECT_EQ(p["estimate"]["unit"], "view-ray nodes");
+  EXPECT_GT(p["estimate"]["cpu_seconds"].get<double>(), 10.0);  // ~1e9 nodes at > 10 ns each
+  EXPECT_LE(p["estimate"]["wall_seconds"].get<double>(), p["estimate"]["cpu_seconds"].get<double>());
+  EXPECT_GE(p["estimate"]["peak_memory_bytes"].get<double>(), 8192.0 * 4096 * 6 * 4);
+  const auto t = run_cli("plan '" + (d / "big.toml").string() + "'");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_NE(t.out.find("estimate: memory"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("computing about"), std::string::npos) << t.out;
+  // The run is refused by the same estimate under a small budget, before any work.
+  const auto r = run_cli("--max-time 1m run '" + (d / "big.toml").string() + "' -o '" + (d / "out").string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("of computing"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "out" / "sky.exr"));
 }

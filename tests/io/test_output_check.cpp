@@ -57,3 +57,25 @@ TEST(OutputCheck, RefusalsNameTheOptionAndThePath) {
   EXPECT_EQ(refusal([&] { atmosh::io::check_output_file(fs::path(), {".exr"}, "-o"); }), "-o '': not a file name");
   fs::remove_all(d);
 }
+
+// A study's stem (STEM.csv and STEM.png, io::write_study): a stem in a writable folder
+// passes; a stem that is a folder, a STEM.png that is a folder, or a stem under a file
+// is refused, naming the option and the path.
+TEST(OutputCheck, StudyStems) {
+  const fs::path d = scratch();
+  const fs::path file = d / "plain.txt";
+  std::ofstream(file) << "x";
+  EXPECT_NO_THROW(atmosh::io::check_study_stem(d / "convergence", "-o"));
+  EXPECT_NO_THROW(atmosh::io::check_study_stem(d / "new" / "convergence", "-o"));  // a folder made by the writer
+  EXPECT_EQ(refusal([&] { atmosh::io::check_study_stem(d, "-o"); }),
+            "-o '" + d.string() + "': is a folder; give a stem such as " + (d / "convergence").string() +
+                " (writes STEM.csv and STEM.png)");
+  fs::create_directories(d / "sky.png");
+  EXPECT_EQ(refusal([&] { atmosh::io::check_study_stem(d / "sky", "-o"); }),
+            "-o '" + (d / "sky.png").string() + "': is a folder, not a file");
+  EXPECT_EQ(refusal([&] { atmosh::io::check_study_stem(file / "sky", "-o"); }),
+            "-o '" + file.string() + "': exists and is not a folder");
+  EXPECT_EQ(refusal([&] { atmosh::io::check_study_stem(fs::path(), "-o"); }),
+            "-o '': not a file name (the stem of STEM.csv and STEM.png)");
+  fs::remove_all(d);
+}

@@ -53,4 +53,18 @@ void check_output_file(const std::filesystem::path& file, const std::vector<std:
   check_output_dir(parent, what);
 }
 
+void check_study_stem(const std::filesystem::path& stem, const std::string& what) {
+  std::error_code ec;
+  const std::string name = stem.string();
+  if (stem.empty() || !stem.has_filename()) throw InputError(what + " '" + name + "': not a file name (the stem of STEM.csv and STEM.png)");
+  if (std::filesystem::is_directory(stem, ec))
+    throw InputError(what + " '" + name + "': is a folder; give a stem such as " + (stem / "convergence").string() +
+                     " (writes STEM.csv and STEM.png)");
+  for (const char* ext : {".csv", ".png"}) {
+    std::filesystem::path f = stem;
+    f += ext;
+    check_output_file(f, {ext}, what);
+  }
+}
+
 }  // namespace atmosh::io

@@ -128,6 +128,13 @@ SceneMemory scene_peak_memory(const scene::Scene& s, const SceneRunOptions& o) {
   return m;
 }
 
+WorkEstimate scene_work(const scene::Scene& s, const SceneRunOptions& o) {
+  SceneRunContext ctx(s, o);
+  WorkEstimate w;
+  for (const auto& out : s.outputs) w = w + scene_output_work(s, out, ctx.image_size(out), o.quick);
+  return w;
+}
+
 SceneRun run_scene(const scene::Scene& s, const fs::path& dir, const SceneRunOptions& o) {
   check_scene_runnable(s, o);
   SceneRunContext ctx(s, o);

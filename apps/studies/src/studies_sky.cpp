@@ -273,6 +273,26 @@ std::size_t scene_output_bytes(const scene::Scene& s, const scene::Output& out, 
   return 0;
 }
 
+WorkEstimate sky_rays_work(const scene::Scene& s, const SkySettings& k, double rays) {
+  atmo::SkyOptions o = k.sky(s);
+  o.scattering = k.scene_for(s).scattering;  // as make_sky_model
+  return atmo::sky_rays_work(rays, atmo::spectrum_wavelengths(s.atmosphere.spectrum).size(), o);
+}
+
+WorkEstimate scene_output_work(const scene::Scene& s, const scene::Output& out, std::array<int, 2> size, bool quick) {
+  const scene::OutputKind* k = scene::find_output_kind(out.kind);
+  if (k == nullptr) return {};
+  if (k->image) return sky_rays_work(s, SkySettings{}, mul_units(std::max(size[0], 0), std::max(size[1], 0)));
+  if (k->bands) {
+    const double bands = out.bands > 0 ? out.bands : k->default_bands;
+    const double nlat = std::max(4 * bands, 64.0);
+    return sky_rays_work(s, SkySettings{}, mul_units(nlat, 2 * nlat));
+  }
+  if (out.kind == "sun-elevation-study")  // -18..90 deg by 1 (quick: by 12)
+    return sky_rays_work(s, SkySettings{}, mul_units(quick ? 10 : 109, kSummaryRays));
+  return {};
+}
+
 std::array<double, 3> display_colour(const atmo::Rgb& c) {
   const double m = std::max({c.r, c.g, c.b});
   if (!(m > 0)) return {0, 0, 0};

@@ -103,6 +103,17 @@ std::size_t elevation_study_bytes(const ElevationStudyOptions& o) {
   return rows * kPerRow >= static_cast<double>(SIZE_MAX) ? SIZE_MAX : static_cast<std::size_t>(rows * kPerRow);
 }
 
+WorkEstimate elevation_study_work(const scene::Scene& s, const ElevationStudyOptions& o) {
+  const double rows = std::floor((o.to_deg - o.from_deg) / o.step_deg + 1e-9) + 1;
+  return sky_rays_work(s, o.sky, mul_units(rows, kSummaryRays));
+}
+
+WorkEstimate day_study_work(const scene::Scene& s, const DayStudyOptions& o) {
+  const double rows = o.step_s > 0 ? std::min(std::ceil(86400.0 / o.step_s), 100000.0) : 0.0;  // day_study's cap
+  const double frame = o.frames ? mul_units(std::max(o.frame_width, 0), std::max(o.frame_height, 0)) : 0.0;
+  return sky_rays_work(s, o.sky, mul_units(rows, kSummaryRays + frame));
+}
+
 ElevationStudy sun_elevation_study(const scene::Scene& s, const ElevationStudyOptions& o, const ProgressCallback& progress) {
   for (double v : {o.from_deg, o.to_deg})
     if (!(v >= -90 && v <= 90)) throw InputError("sun-elevation study: elevation " + io::format_double(v) + " is outside [-90, 90]");

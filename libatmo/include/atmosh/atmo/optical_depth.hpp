@@ -47,6 +47,7 @@
 #include "atmosh/atmo/atmosphere.hpp"
 #include "atmosh/atmo/chebyshev.hpp"
 #include "atmosh/atmo/sorted_index.hpp"
+#include "atmosh/work.hpp"
 
 namespace atmosh::atmo {
 
@@ -297,6 +298,11 @@ class OpticalDepthLut {
   // directions x 4 doubles per table: two view tables when view_tables, and the sun
   // table). Saturates at SIZE_MAX.
   static std::size_t estimate_table_bytes(const LutOptions& options);
+  // The work of building a table with these options, before building it
+  // (atmosh/work.hpp): shells x (2 view tables when view_tables + 1 sun table) x
+  // directions entries, each an optical-depth quadrature, at the cost of one entry
+  // measured on the default atmosphere (docs/hostile-input.md, "Work estimates").
+  static WorkEstimate estimate_build_work(const LutOptions& options);
   // Max relative error of the total optical depth at `wavelength_nm` (default, 0:
   // the middle wavelength of the atmosphere's grid) at the midpoints of every shell
   // interval (in rho) and every direction interval (in x) of the view tables (or the

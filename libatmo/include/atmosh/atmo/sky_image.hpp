@@ -24,6 +24,7 @@
 #include "atmosh/atmo/colour.hpp"
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/sky.hpp"
+#include "atmosh/work.hpp"
 
 namespace atmosh::atmo {
 
@@ -54,6 +55,16 @@ struct SkyImage {
 // allocates, for callers that check a memory budget before rendering. Saturates at
 // SIZE_MAX instead of wrapping.
 std::size_t sky_image_bytes(int width, int height, std::size_t wavelengths, bool keep_spectral);
+
+// The work of `rays` view rays through the sky (atmosh/work.hpp), before tracing them:
+// rays x view-ray nodes (segments x samples_per_segment), a node costing on one core
+// a + b x wavelengths, a and b measured for render_sky's loop with options.scattering's
+// method (bench/bench_work.cpp; docs/hostile-input.md, "Work estimates": within -35 %
+// to +20 % of 4 to 64 nodes and 8 to 47 wavelengths). Not counted: the tables built
+// first (optical depths, the approximate and orders methods' tables).
+WorkEstimate sky_rays_work(double rays, std::size_t wavelengths, const SkyOptions& options);
+// sky_rays_work of a width x height image (every pixel a ray; a fisheye traces pi/4 of them).
+WorkEstimate sky_image_work(int width, int height, std::size_t wavelengths, const SkyOptions& options);
 
 // The one spectrum -> colour step of every sky image (render_sky, gpu::render_sky,
 // add_sun_disc): pixel p of img from its spectral radiance L [W m^-2 sr^-1 nm^-1, one

@@ -60,6 +60,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "atmosh/work.hpp"
+
 namespace atmosh::sh {
 
 enum class Method { quadrature, jittered, uniform, solid_angle, pixel_integrated };
@@ -87,6 +89,11 @@ void sampler_directions(const ProjectOptions& opt, std::vector<glm::dvec3>& dirs
 /// samples: directions and weights (sampler_directions) and `channels` values per
 /// sample; 0 for Method::quadrature. Saturates at SIZE_MAX. For a budget check first.
 std::size_t sampler_bytes(const ProjectOptions& opt, int channels);
+/// The work of a Monte Carlo projection of an image (atmosh/work.hpp), before it:
+/// samples x bands^2 x channels, at the cost of one unit measured for
+/// project_equirect_sampled (docs/hostile-input.md, "Work estimates"); units 0 for the
+/// image rules (Method::quadrature, solid_angle, pixel_integrated).
+WorkEstimate sampler_work(const ProjectOptions& opt, int bands, int channels);
 
 /// Coefficients (bands^2) of a scalar function of direction.
 std::vector<double> project_function(const std::function<double(const glm::dvec3&)>& f, int bands,

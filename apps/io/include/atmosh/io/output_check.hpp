@@ -20,4 +20,10 @@ void check_output_dir(const std::filesystem::path& dir, const std::string& what)
 void check_output_file(const std::filesystem::path& file, const std::vector<std::string>& extensions,
                        const std::string& what);
 
+/// An output stem that a study writes as STEM.csv and STEM.png (io::write_study: error
+/// against run time, `converge *`, `sun accuracy`, `prt converge`): `stem` names a file
+/// name (not a folder), neither STEM.csv nor STEM.png is a folder, and the stem's folder
+/// passes check_output_dir. InputError naming `what` otherwise.
+void check_study_stem(const std::filesystem::path& stem, const std::string& what);
+
 }  // namespace atmosh::io

@@ -72,6 +72,9 @@ struct SceneMemory {
   std::string what;
 };
 SceneMemory scene_peak_memory(const scene::Scene& s, const SceneRunOptions& o);
+// The work of all its outputs (atmosh/work.hpp; studies::scene_output_work), one after
+// the other.
+WorkEstimate scene_work(const scene::Scene& s, const SceneRunOptions& o);
 
 struct SceneRun {
   std::vector<std::filesystem::path> written;

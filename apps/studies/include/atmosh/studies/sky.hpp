@@ -18,6 +18,7 @@
 #include <glm/glm.hpp>
 
 #include "atmosh/memory.hpp"
+#include "atmosh/work.hpp"
 #include "atmosh/atmo/sky.hpp"
 #include "atmosh/atmo/multiple_scattering.hpp"
 #include "atmosh/atmo/sky_image.hpp"
@@ -106,6 +107,16 @@ std::size_t sky_output_bytes(int width, int height, std::size_t nw, bool spectra
 // Memory of one scene output at its image size (sky-image, sh-coefficients; 0 for the
 // kinds whose sizes are fixed).
 std::size_t scene_output_bytes(const scene::Scene& s, const scene::Output& out, std::array<int, 2> size);
+// Work (atmosh/work.hpp) of `rays` view rays through scene s's sky with settings k, as
+// make_sky_model builds it (the scene's spectrum and [scattering]): atmo::sky_rays_work.
+WorkEstimate sky_rays_work(const scene::Scene& s, const SkySettings& k, double rays);
+// One sky summary (atmo::summarize_sky: three view rays on the single-ray path) in rays
+// of an image row: kSummaryRays (docs/hostile-input.md, "Work estimates").
+inline constexpr double kSummaryRays = 3 * 4.0;
+// Work of one scene output at its image size (sky-image: its pixels; sh-coefficients:
+// the nlat x 2 nlat grid of project_sky_sh; sun-elevation-study: its rows' summaries;
+// 0 for the kinds whose work is small and fixed).
+WorkEstimate scene_output_work(const scene::Scene& s, const scene::Output& out, std::array<int, 2> size, bool quick);
 
 // Display colour: linear sRGB scaled so its largest component is 1, then encoded.
 std::array<double, 3> display_colour(const atmo::Rgb& c);

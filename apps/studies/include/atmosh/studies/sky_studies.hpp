@@ -48,6 +48,8 @@ ElevationStudy sun_elevation_study(const scene::Scene& s, const ElevationStudyOp
                                    const ProgressCallback& progress = {});
 // Memory of the study (saturates for a hostile step).
 std::size_t elevation_study_bytes(const ElevationStudyOptions& o);
+// Work of the study on scene s (atmosh/work.hpp): its rows' sky summaries.
+WorkEstimate elevation_study_work(const scene::Scene& s, const ElevationStudyOptions& o);
 // The study's table (sun_elevation.csv): sun_elevation_deg, then sky_summary_columns().
 // The one place its columns are made (CSV, netCDF, the Python module's DataFrame).
 io::CsvTable elevation_study_table(const ElevationStudy& st);
@@ -91,6 +93,9 @@ struct DayStudy {
 };
 // The sky every step over the UTC day (00:00 <= t < 24:00); each frame (when asked) is
 // handed to on_frame as it is rendered, so at most one frame is held.
+// Work of the study on scene s (atmosh/work.hpp): per time step a sky summary and, with
+// frames, an image of frame_width x frame_height.
+WorkEstimate day_study_work(const scene::Scene& s, const DayStudyOptions& o);
 DayStudy day_study(const scene::Scene& s, const DayStudyOptions& o, const std::function<void(DayFrame&&)>& on_frame = {},
                    const ProgressCallback& progress = {});
 // The study's table (day.csv): time_utc, sun_elevation_deg, sun_azimuth_deg,
