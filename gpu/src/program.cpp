@@ -23,10 +23,19 @@ std::vector<std::string> embedded_source_paths() {
   return p;
 }
 
-ShaderPart real_type_part(const std::string& type) {
+// The GLSL side of the shared headers' `using real`, `real3`, `real_array`, ATMOSH_GET and
+// ATMOSH_PUT: in double, arrays indexed at run time hold packed uvec2 (view_ray.glsl.hpp).
+static std::string real_type_defines(const std::string& type) {
   const std::string vec3 = type == "double" ? "dvec3" : type == "float" ? "vec3" : type + "3";
-  return ShaderPart{"<real = " + type + ">", 1,
-                    "#undef real\n#define real " + type + "\n#undef real3\n#define real3 " + vec3 + "\n"};
+  const bool packed = type == "double";
+  return "#undef real\n#define real " + type + "\n#undef real3\n#define real3 " + vec3 +
+         "\n#undef real_array\n#define real_array " + (packed ? "uvec2" : type) +
+         "\n#undef ATMOSH_GET\n#define ATMOSH_GET(a, i) " + (packed ? "packDouble2x32((a)[i])" : "(a)[i]") +
+         "\n#undef ATMOSH_PUT\n#define ATMOSH_PUT(v) " + (packed ? "unpackDouble2x32(v)" : "(v)") + "\n";
+}
+
+ShaderPart real_type_part(const std::string& type) {
+  return ShaderPart{"<real = " + type + ">", 1, real_type_defines(type)};
 }
 
 std::string map_shader_log(const std::string& log, const std::vector<ShaderPart>& parts) {
@@ -69,7 +78,7 @@ void check_gl(const char* what) {
 
 namespace {
 std::string assemble(const std::vector<ShaderPart>& parts, const std::string& defines) {
-  std::string src = "#version 430 core\n#define real float\n#define real3 vec3\n#define ATMOSH_FN\n#define ATMOSH_GLSL 1\n";
+  std::string src = "#version 430 core\n" + real_type_defines("float") + "#define ATMOSH_FN\n#define ATMOSH_GLSL 1\n";
   src += defines;
   if (!src.empty() && src.back() != '\n') src += '\n';
   for (std::size_t i = 0; i < parts.size(); ++i) {

@@ -81,10 +81,11 @@ struct GpuSkyParams {
   double horizon_rho_d;
   // The view ray's cut radii (SkyIntegrator::cut_radii), the Gauss-Legendre rule of a
   // part on [-1, 1] and the part column weights (sky_part_column_weights).
-  double cut_radii[kMaxCutSpheres];
-  double gauss_x[kMaxPartNodes];
-  double gauss_w[kMaxPartNodes];
-  double part_w[kMaxPartWeights];
+  // real_array: double, stored as uvec2 in GLSL (shared/view_ray.glsl.hpp), same layout.
+  real_array cut_radii[kMaxCutSpheres];
+  real_array gauss_x[kMaxPartNodes];
+  real_array gauss_w[kMaxPartNodes];
+  real_array part_w[kMaxPartWeights];
   double build_scale_height;       // the table build's scale height (OpticalDepthLut::build_scale_height)
   // The same radii in float (closed-form columns, densities).
   float ground_radius;

@@ -20,6 +20,14 @@ namespace atmosh::atmo::shared {
 
 using real = double;
 using real3 = glm::dvec3;  // GLSL: dvec3 (gpu::real_type_part)
+// Arrays of real indexed at run time hold real_array elements, read by ATMOSH_GET(a, i)
+// and written as ATMOSH_PUT(value): plain doubles here; in GLSL's double build uvec2
+// through packDouble2x32 / unpackDouble2x32 (gpu::real_type_part), because NVIDIA's
+// driver 580 keeps dynamically indexed local double arrays, and struct member arrays
+// of doubles, at float precision (docs/gpu.md, "Double-precision local arrays").
+using real_array = double;
+#define ATMOSH_GET(a, i) (a)[i]
+#define ATMOSH_PUT(v) (v)
 #define ATMOSH_FN inline
 
 // ATMOSH_GLSL_BEGIN
@@ -39,41 +47,41 @@ const int kMaxViewCuts = 2 * kMaxCutSpheres + 5;  // + 2 shadow edges, the tange
 // also after rounding), the two shadow edges are inserted, so no sort is needed.
 // Pieces of zero length (repeated values) may occur; callers skip them.
 struct ViewRayCuts {
-  real s[kMaxViewCuts];
+  real_array s[kMaxViewCuts];
   int n;
 };
 
 // The cuts without the shadow edges: they depend on the view ray only (an image
 // row of one zenith angle shares them; SkyIntegrator::radiance_same_zenith).
-ATMOSH_FN ViewRayCuts view_ray_sphere_cuts(real r, real mu, real s_end, real rt2, const real radii[kMaxCutSpheres],
-                                           int n_radii) {
+ATMOSH_FN ViewRayCuts view_ray_sphere_cuts(real r, real mu, real s_end, real rt2,
+                                           const real_array radii[kMaxCutSpheres], int n_radii) {
   ViewRayCuts c;
-  c.s[0] = real(0);
+  c.s[0] = ATMOSH_PUT(real(0));
   c.n = 1;
   real t = -r * mu;  // tangent_distance
   for (int k = n_radii - 1; k >= 0; --k) {
-    real disc = radii[k] * radii[k] - rt2;
+    real disc = ATMOSH_GET(radii, k) * ATMOSH_GET(radii, k) - rt2;
     if (disc < real(0)) continue;
     real s = t - glm::sqrt(disc);
     if (s > real(0) && s < s_end) {
-      c.s[c.n] = s;
+      c.s[c.n] = ATMOSH_PUT(s);
       c.n += 1;
     }
   }
   if (t > real(0) && t < s_end) {
-    c.s[c.n] = t;
+    c.s[c.n] = ATMOSH_PUT(t);
     c.n += 1;
   }
   for (int k = 0; k < n_radii; ++k) {
-    real disc = radii[k] * radii[k] - rt2;
+    real disc = ATMOSH_GET(radii, k) * ATMOSH_GET(radii, k) - rt2;
     if (disc < real(0)) continue;
     real s = t + glm::sqrt(disc);
     if (s > real(0) && s < s_end) {
-      c.s[c.n] = s;
+      c.s[c.n] = ATMOSH_PUT(s);
       c.n += 1;
     }
   }
-  c.s[c.n] = s_end;
+  c.s[c.n] = ATMOSH_PUT(s_end);
   c.n += 1;
   return c;
 }
@@ -89,17 +97,18 @@ ATMOSH_FN bool view_ray_crosses_shadow(real r, real mu, real mu_s, real nu, real
 }
 
 ATMOSH_FN ViewRayCuts view_ray_cuts(real r, real mu, real mu_s, real nu, real R, real s_end, real rt2,
-                                    const real radii[kMaxCutSpheres], int n_radii) {
+                                    const real_array radii[kMaxCutSpheres], int n_radii) {
   ViewRayCuts c = view_ray_sphere_cuts(r, mu, s_end, rt2, radii, n_radii);
   for (int i = 0; i < 2; ++i) {
     real se = shadow_edge_distance(r, mu, mu_s, nu, R, i);
     if (se > real(0) && se < s_end) {
       int j = c.n;
-      while (j > 0 && c.s[j - 1] > se) {
+      for (; j > 0; j -= 1) {  // read, then compare: a packed read in a while condition gave
+        real prev = ATMOSH_GET(c.s, j - 1);  // wrong cuts on Mesa 22.3 llvmpipe
+        if (!(prev > se)) break;
         c.s[j] = c.s[j - 1];
-        j -= 1;
       }
-      c.s[j] = se;
+      c.s[j] = ATMOSH_PUT(se);
       c.n += 1;
     }
   }
@@ -216,11 +225,14 @@ ATMOSH_FN SkyNodeTerms sky_node_terms(SkyViewNode nd, real3 sun_column, real p_r
 // The column from the start of a part (half its length: half_len [m]) to its node `row`
 // (row n_nodes: to its end), from the densities at the part's start, nodes and end
 // and the weights part_w of sky_part_column_weights ((n + 1) x (n + 2), row-major).
-ATMOSH_FN real3 sky_part_column(const real part_w[kMaxPartWeights], int row, int n_nodes, real half_len,
-                                real3 rho_start, const SkyViewNode nq[kMaxPartNodes], real3 rho_end) {
+// nq_rho: the nodes' densities, 3 per node.
+ATMOSH_FN real3 sky_part_column(const real_array part_w[kMaxPartWeights], int row, int n_nodes, real half_len,
+                                real3 rho_start, const real_array nq_rho[3 * kMaxPartNodes], real3 rho_end) {
   int o = row * (n_nodes + 2);
-  real3 x = part_w[o] * rho_start + part_w[o + n_nodes + 1] * rho_end;
-  for (int j = 0; j < n_nodes; ++j) x += part_w[o + j + 1] * nq[j].rho;
+  real3 x = ATMOSH_GET(part_w, o) * rho_start + ATMOSH_GET(part_w, o + n_nodes + 1) * rho_end;
+  for (int j = 0; j < n_nodes; ++j)
+    x += ATMOSH_GET(part_w, o + j + 1) *
+         real3(ATMOSH_GET(nq_rho, 3 * j), ATMOSH_GET(nq_rho, 3 * j + 1), ATMOSH_GET(nq_rho, 3 * j + 2));
   return half_len * x;
 }
 
@@ -251,16 +263,16 @@ void sky_visit(SkyViewNode nd);
 // with the part weights part_w. Returns the ray's whole view column [m]. The density
 // at a piece's end that is its densest point is evaluated once.
 ATMOSH_SKY_HOOK_TEMPLATE
-ATMOSH_FN real3 sky_trace(SkyViewRay ray, const real cuts[kMaxViewCuts], int nc, real R, real3 ext_max, real max_tau,
-                          const real gx[kMaxPartNodes], const real gw[kMaxPartNodes], int n_nodes,
-                          const real part_w[kMaxPartWeights] ATMOSH_SKY_HOOKS) {
+ATMOSH_FN real3 sky_trace(SkyViewRay ray, const real_array cuts[kMaxViewCuts], int nc, real R, real3 ext_max,
+                          real max_tau, const real_array gx[kMaxPartNodes], const real_array gw[kMaxPartNodes],
+                          int n_nodes, const real_array part_w[kMaxPartWeights] ATMOSH_SKY_HOOKS) {
   real st = tangent_distance(ray.r, ray.mu);
   real3 column = real3(0);
   real3 rho_start = sky_density(ray.r - R);  // r >= R
-  SkyViewNode nq[kMaxPartNodes];
+  real_array nq_s[kMaxPartNodes], nq_r[kMaxPartNodes], nq_w[kMaxPartNodes], nq_rho[3 * kMaxPartNodes];  // a part's nodes
   for (int k = 1; k < nc; ++k) {
-    real a0 = cuts[k - 1];
-    real b0 = cuts[k];
+    real a0 = ATMOSH_GET(cuts, k - 1);
+    real b0 = ATMOSH_GET(cuts, k);
     if (!(b0 > a0)) continue;
     real sd = piece_densest_point(ray.r, ray.mu, st, a0, b0);
     bool end_known = false;  // the density at b0, when it is the densest point
@@ -279,18 +291,25 @@ ATMOSH_FN real3 sky_trace(SkyViewRay ray, const real cuts[kMaxViewCuts], int nc,
       real half_len = real(0.5) * (b - a);
       real mid = real(0.5) * (a + b);
       for (int q = 0; q < n_nodes; ++q) {
-        nq[q].s = mid + half_len * gx[q];
-        nq[q].r = radius_along(ray.r, ray.mu, nq[q].s);
-        nq[q].rho = sky_density(sky_altitude(nq[q].r, R));
-        nq[q].w = half_len * gw[q];
+        real s = mid + half_len * ATMOSH_GET(gx, q);
+        real rs = radius_along(ray.r, ray.mu, s);
+        real3 rho = sky_density(sky_altitude(rs, R));
+        nq_s[q] = ATMOSH_PUT(s);
+        nq_r[q] = ATMOSH_PUT(rs);
+        nq_w[q] = ATMOSH_PUT(half_len * ATMOSH_GET(gw, q));
+        for (int c = 0; c < 3; ++c) nq_rho[3 * q + c] = ATMOSH_PUT(rho[c]);
       }
       real3 rho_end = (end_known && b == b0) ? rho_b0 : sky_density(sky_altitude(radius_along(ray.r, ray.mu, b), R));
       for (int q = 0; q < n_nodes; ++q) {
-        real3 part = sky_part_column(part_w, q, n_nodes, half_len, rho_start, nq, rho_end);
-        nq[q].column = column + glm::max(part, real3(0));
-        sky_visit(nq[q]);
+        SkyViewNode nd;
+        nd.s = ATMOSH_GET(nq_s, q);
+        nd.r = ATMOSH_GET(nq_r, q);
+        nd.w = ATMOSH_GET(nq_w, q);
+        nd.rho = real3(ATMOSH_GET(nq_rho, 3 * q), ATMOSH_GET(nq_rho, 3 * q + 1), ATMOSH_GET(nq_rho, 3 * q + 2));
+        nd.column = column + glm::max(sky_part_column(part_w, q, n_nodes, half_len, rho_start, nq_rho, rho_end), real3(0));
+        sky_visit(nd);
       }
-      column += glm::max(sky_part_column(part_w, n_nodes, n_nodes, half_len, rho_start, nq, rho_end), real3(0));
+      column += glm::max(sky_part_column(part_w, n_nodes, n_nodes, half_len, rho_start, nq_rho, rho_end), real3(0));
       rho_start = rho_end;
     }
   }
@@ -300,9 +319,10 @@ ATMOSH_FN real3 sky_trace(SkyViewRay ray, const real cuts[kMaxViewCuts], int nc,
 // The walk along the whole view ray (SkyIntegrator::radiance, sky.comp): its cuts at the
 // spheres cut_radii[0..n_cuts) (view_ray_cuts), then sky_trace along them.
 ATMOSH_SKY_HOOK_TEMPLATE
-ATMOSH_FN real3 sky_walk(SkyViewRay ray, const real cut_radii[kMaxCutSpheres], int n_cuts, real R, real3 ext_max,
-                         real max_tau, const real gx[kMaxPartNodes], const real gw[kMaxPartNodes], int n_nodes,
-                         const real part_w[kMaxPartWeights] ATMOSH_SKY_HOOKS) {
+ATMOSH_FN real3 sky_walk(SkyViewRay ray, const real_array cut_radii[kMaxCutSpheres], int n_cuts, real R,
+                         real3 ext_max, real max_tau, const real_array gx[kMaxPartNodes],
+                         const real_array gw[kMaxPartNodes], int n_nodes,
+                         const real_array part_w[kMaxPartWeights] ATMOSH_SKY_HOOKS) {
   ViewRayCuts vc = view_ray_cuts(ray.r, ray.mu, ray.mu_s, ray.nu, R, ray.s_end, tangent_radius_sq(ray.r, ray.mu),
                                  cut_radii, n_cuts);
   return sky_trace(ray, vc.s, vc.n, R, ext_max, max_tau, gx, gw, n_nodes, part_w ATMOSH_SKY_HOOK_ARGS);
@@ -315,5 +335,7 @@ ATMOSH_FN real3 sky_walk(SkyViewRay ray, const real cut_radii[kMaxCutSpheres], i
 #undef ATMOSH_SKY_HOOK_TEMPLATE
 #undef ATMOSH_SKY_HOOKS
 #undef ATMOSH_SKY_HOOK_ARGS
+#undef ATMOSH_GET
+#undef ATMOSH_PUT
 
 }  // namespace atmosh::atmo::shared
