@@ -1,72 +1,30 @@
 #include "cli_common.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <deque>
-#include <fstream>
 #include <iostream>
-#include <limits>
 #include <optional>
-#include <sstream>
 
-#include "atmosh/device.hpp"
 #include "atmosh/error.hpp"
-#include "atmosh/memory.hpp"
 #include "atmosh/parallel.hpp"
 #include "atmosh/io/netcdf.hpp"
 #include "atmosh/io/provenance.hpp"
+#include "progress.hpp"
 
 namespace atmosh::cli {
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
 
-std::vector<double> parse_list(const std::string& text, const std::string& what) {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    const char* b = item.c_str();
-    char* e = nullptr;
-    const double v = std::strtod(b, &e);
-    while (e && *e == ' ') ++e;
-    if (e == b || *e != '\0' || !std::isfinite(v))
-      throw InputError(what + ": '" + text + "' is not a list of finite numbers");
-    out.push_back(v);
-  }
-  if (out.empty()) throw InputError(what + ": '" + text + "' is empty");
-  return out;
+void print_files(const std::vector<std::filesystem::path>& files, const std::string& prefix) {
+  for (const auto& f : files) std::cout << prefix << f.string() << "\n";
 }
 
-std::array<double, 3> parse_triple(const std::string& text, const std::string& what) {
-  const auto v = parse_list(text, what);
-  if (v.size() != 3) throw InputError(what + ": '" + text + "' is not three numbers x,y,z");
-  return {v[0], v[1], v[2]};
-}
+void notice(const std::string& message) { std::cerr << "atmosh: " << message << "\n"; }
 
-std::array<int, 2> parse_size(const std::string& text, const std::string& what) {
-  const auto x = text.find_first_of("xX");
-  auto bad = [&] { return InputError(what + ": '" + text + "' is not a size WxH (each 1..65536)"); };
-  if (x == std::string::npos) throw bad();
-  try {
-    std::size_t p1 = 0, p2 = 0;
-    const std::string a = text.substr(0, x), b = text.substr(x + 1);
-    const long w = std::stol(a, &p1), h = std::stol(b, &p2);
-    if (p1 != a.size() || p2 != b.size() || w < 1 || h < 1 || w > 65536 || h > 65536) throw bad();
-    return {static_cast<int>(w), static_cast<int>(h)};
-  } catch (const std::logic_error&) {
-    throw bad();
-  }
-}
-
-double require_range(double v, double lo, double hi, const std::string& what) {
-  if (!std::isfinite(v) || v < lo || v > hi)
-    throw InputError(what + ": " + io::format_double(v) + " is out of range [" + io::format_double(lo) + ", " +
-                     io::format_double(hi) + "]");
-  return v;
+void run_step(const std::string& name, const std::function<void(const ProgressCallback&)>& work) {
+  ProgressStep step(name);
+  work(step.callback());
 }
 
 int threads_option(int requested, const std::string& option) {
@@ -77,15 +35,52 @@ int threads_option(int requested, const std::string& option) {
 
 DeviceRequest check_device(const std::string& device) { return parse_device_request(device, "--device"); }
 
-void device_notice(const DeviceDecision& decision) {
-  if (!decision.notice.empty()) std::cerr << "atmosh: " << decision.notice << "\n";
+scene::Scene scene_or_default(const std::string& file) {
+  return file.empty() ? scene::default_scene() : scene::load_scene(file);
 }
 
-}  // namespace atmosh::cli
+CLI::Option* add_scene_option(CLI::App* c, std::string& file) {
+  return c->add_option("--scene", file, "Scene file (default: the built-in scene)");
+}
+
+CLI::Option* add_json_flag(CLI::App* c, bool& json) { return c->add_flag("--json", json, "Print one JSON object"); }
+
+CLI::Option* add_threads_option(CLI::App* c, int& threads) {
+  return c->add_option("--threads", threads, "Worker threads (0 = the CPUs this process may use)")
+      ->capture_default_str();
+}
+
+CLI::Option* add_device_option(CLI::App* c, std::string& device, const std::string& what) {
+  return c->add_option("--device", device, "cpu, gpu or auto (GPU if a headless EGL device exists, else CPU): " + what)
+      ->capture_default_str();
+}
+
+void add_quality_options(CLI::App* c, studies::SkySettings& q) {
+  c->add_option("--shells", q.shells, "Shells of the optical-depth tables")->capture_default_str();
+  c->add_option("--segments", q.segments, "Shells that cut each view ray")->capture_default_str();
+  c->add_option("--samples", q.samples, "Gauss-Legendre points per view-ray piece")->capture_default_str();
+  c->add_option("--max-piece-tau", q.max_piece_tau,
+                "Largest extinction optical depth of one view-ray piece before it is split (accuracy vs speed: "
+                "see atmosh converge sky)")
+      ->capture_default_str();
+  add_threads_option(c, q.threads);
+  c->add_option_function<std::string>(
+      "--sun-model", [&q](const std::string& v) { q.sun_model = atmo::parse_sun_model(v); },
+      "disc (limb-darkened solar disc: direct beam, sun colour, the sun in images) or point; "
+      "default: the scene's sun_model (disc)");
+  c->add_option_function<std::string>(
+      "--scattering", [&q](const std::string& v) { q.scattering = atmo::parse_scattering_method(v, "--scattering"); },
+      "Scattering method: single | orders | approximate (default: the scene's [scattering] method)");
+  c->add_option("--orders", q.orders, "Highest order of scattering for --scattering orders (default: the scene's)");
+}
+
+studies::SkySettings checked_quality(const studies::SkySettings& q) {
+  const studies::SkySettings k = q.checked();
+  io::set_threads(k.threads);
+  return k;
+}
 
 // ---- limits checked before work ------------------------------------------------------
-namespace atmosh::cli {
-
 namespace {
 std::optional<std::size_t> g_budget;  // --max-memory
 }  // namespace
@@ -120,11 +115,7 @@ void add_format_option(CLI::App* c, std::string& stem) {
   c->parse_complete_callback([&netcdf, &stem] { if (netcdf && !stem.ends_with(".nc")) stem += ".nc"; });
 }
 
-}  // namespace atmosh::cli
-
 // ---- the time budget -----------------------------------------------------------------
-namespace atmosh::cli {
-
 namespace {
 std::optional<double> g_time_budget;  // --max-time
 std::string estimate_detail(const WorkEstimate& w, int workers) {

@@ -3,49 +3,69 @@
 // Conventions every subcommand follows:
 //  * bad user input -> throw atmosh::InputError("--dir: 'a,b' is not three numbers")
 //    (one line, naming the option/key and the value); main() prints
-//    "atmosh: error: <message>" and exits 2. Other failures exit 1.
+//    "atmosh: error: <message>" and exits 2. Other failures exit 1. The libraries'
+//    option checks (SkySettings::checked, rt_slab, prt_bake_options, ...) name the
+//    options the same way.
 //  * scalar queries take --json and print exactly one JSON object via print_json
-//    (doubles round-trip, >= 17 significant digits).
+//    (doubles round-trip, >= 17 significant digits); the objects come from the
+//    libraries (atmosh/studies/summaries.hpp, atmosh/gi/driver.hpp).
 //  * every file goes through atmosh::io writers (atomic, with provenance).
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include <array>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
-#include "atmosh/atmo/spec.hpp"
+#include "atmosh/check.hpp"  // require_range, parse_list, parse_triple, parse_size
 #include "atmosh/device.hpp"
 #include "atmosh/io/output_check.hpp"
 #include "atmosh/memory.hpp"
+#include "atmosh/progress.hpp"
 #include "atmosh/work.hpp"
 #include "atmosh/scene/scene.hpp"
+#include "atmosh/studies/sky.hpp"
 
 namespace atmosh::cli {
 
 void print_json(const nlohmann::json& j);
+// Each file on its own line of stdout, after `prefix`.
+void print_files(const std::vector<std::filesystem::path>& files, const std::string& prefix = "");
+// A library's one-line notice on stderr: "atmosh: <message>".
+void notice(const std::string& message);
+// A ProgressStep (progress.hpp) around work(its callback): the libraries' step runners.
+void run_step(const std::string& name, const std::function<void(const ProgressCallback&)>& work);
 
-// "x,y,z" -> three finite doubles; InputError naming `what` otherwise.
-std::array<double, 3> parse_triple(const std::string& text, const std::string& what);
-// Comma-separated finite doubles.
-std::vector<double> parse_list(const std::string& text, const std::string& what);
-// "WxH" -> {W, H}, both in [1, 65536].
-std::array<int, 2> parse_size(const std::string& text, const std::string& what);
 // --device cpu|gpu|auto: InputError naming any other value. (Meaning, everywhere:
 // "cpu" never touches EGL; "gpu" needs a headless EGL device, else exit 1; "auto"
 // falls back to the CPU with a one-line notice on stderr: atmosh::resolve_device.)
 DeviceRequest check_device(const std::string& device);
-// Prints the decision's fallback notice, if any, as one "atmosh: ..." line on stderr.
-void device_notice(const DeviceDecision& decision);
 // --threads: the worker count for a requested one, by the toolkit's one policy
 // (atmosh::resolve_threads: 0 = the CPUs this process may use, affinity and cgroup
-// quota included); InputError naming the option for a negative count or one > 1024.
+// quota included), also recorded in the provenance; InputError naming the option for
+// a negative count or one > 1024.
 int threads_option(int requested, const std::string& option = "--threads");
-// Throws InputError unless v is finite and lo <= v <= hi.
-double require_range(double v, double lo, double hi, const std::string& what);
+// The scene of --scene FILE, or the built-in scene when none is given.
+scene::Scene scene_or_default(const std::string& file);
+
+// ---- option groups that several subcommands share ---------------------------------
+// --scene FILE (default: the built-in scene).
+CLI::Option* add_scene_option(CLI::App* c, std::string& file);
+// --json: print one JSON object.
+CLI::Option* add_json_flag(CLI::App* c, bool& json);
+// --threads N (0 = the CPUs this process may use).
+CLI::Option* add_threads_option(CLI::App* c, int& threads);
+// --device cpu|gpu|auto, with what the device does for this command.
+CLI::Option* add_device_option(CLI::App* c, std::string& device, const std::string& what);
+// The sky integrator's quality options (--shells, --segments, --samples,
+// --max-piece-tau, --threads, --sun-model, --scattering, --orders) into the studies'
+// one settings struct; names are parsed as given (InputError naming the option).
+void add_quality_options(CLI::App* c, studies::SkySettings& q);
+// The settings checked (studies::SkySettings::checked), threads recorded in the provenance.
+studies::SkySettings checked_quality(const studies::SkySettings& q);
 
 // ---- limits checked before work ---------------------------------------------------
 // The memory budget of one command: --max-memory when given, else the memory this
@@ -71,7 +91,6 @@ void set_time_budget(double seconds);  // --max-time
 void check_time(const WorkEstimate& work, int workers, const std::string& what);
 // "about 3.2 h on 2 workers (estimate: ...)" for `plan`.
 std::string describe_work(const WorkEstimate& work, int workers);
-
 // --format csv|netcdf of a table output (netCDF-CF beside the CSV, atmosh/io/netcdf.hpp),
 // checked when parsed. For an output folder it sets `netcdf` (handed to the writer); for
 // an output stem, `--format netcdf` is `-o STEM.nc` (the writers' io::table_output_stem).
@@ -83,13 +102,6 @@ using io::check_output_dir;
 using io::check_output_file;
 using io::check_study_stem;
 
-// What the main job (atmosh demo) passes to each part of the toolkit.
-struct DemoContext {
-  std::filesystem::path out_dir;
-  bool quick = false;  // small, fast version (used by the test suite)
-  std::vector<std::filesystem::path> written;  // files produced, announced at the end
-};
-
 // Subcommand registration, one function per area (each in its own .cpp).
 void register_scene_commands(CLI::App& app);   // scene show, plan, demo
 void register_sh_commands(CLI::App& app);      // sh project|eval|rotate|irradiance|bands|converge
@@ -99,19 +111,7 @@ void register_gpu_commands(CLI::App& app);     // gpu info
 void register_sky_commands(CLI::App& app);     // sky, study, sweep, converge sky
 void register_prt_commands(CLI::App& app);     // prt bake|relight|converge
 void register_rt_commands(CLI::App& app);      // rt slab|sky (Monte-Carlo radiative transfer)
+void register_gi_commands(CLI::App& app);      // gi render|converge
 void register_converge_ms_command(CLI::App& app);  // converge ms (scattering methods against the MC reference)
-
-// Computes exactly the outputs a scene lists (and the tables they need) into dir;
-// sky images on `device` (cpu | gpu | auto, as render_sky_on).
-void run_scene(const scene::Scene& scene, const std::filesystem::path& dir, bool quick,
-               std::vector<std::filesystem::path>& written, const std::string& device = "cpu");
-
-// Parts of the main job, run in this order by `atmosh demo`.
-void demo_sun(DemoContext& ctx);
-void demo_atmo(DemoContext& ctx);
-void demo_sh(DemoContext& ctx);
-void demo_sky(DemoContext& ctx);
-void demo_ms(DemoContext& ctx);  // converge ms --quick
-void demo_prt(DemoContext& ctx);
 
 }  // namespace atmosh::cli

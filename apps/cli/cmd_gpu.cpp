@@ -12,7 +12,7 @@ void register_gpu_commands(CLI::App& app) {
   auto* g = app.add_subcommand("gpu", "Headless OpenGL (EGL) device information")->require_subcommand(1);
   auto* info = g->add_subcommand("info", "Create a headless EGL context and report vendor, renderer, GL version");
   static bool json = false;
-  info->add_flag("--json", json, "Print one JSON object");
+  add_json_flag(info, json);
   info->callback([] {
     nlohmann::json j;
 #ifdef ATMOSH_HAVE_GPU
@@ -28,10 +28,7 @@ void register_gpu_commands(CLI::App& app) {
 #else
     j = {{"available", false}, {"reason", "atmosh was built without ATMOSH_WITH_GPU"}};
 #endif
-    if (json) {
-      print_json(j);
-      return;
-    }
+    if (json) return print_json(j);
     if (!j["available"].get<bool>()) {
       std::cout << "no headless OpenGL device: " << j["reason"].get<std::string>() << "\n";
       return;

@@ -4,34 +4,35 @@
 
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/scene/outputs.hpp"
 #include "atmosh/scene/scene.hpp"
-#include "atmosh/parallel.hpp"
+#include "atmosh/studies/ms.hpp"
 #include "atmosh/studies/scene_run.hpp"
+#include "atmosh/studies/sky_studies.hpp"
+#include "atmosh/studies/studies_atmo.hpp"
 #include "atmosh/studies/studies_gi.hpp"
+#include "atmosh/studies/studies_prt.hpp"
+#include "atmosh/studies/studies_sh.hpp"
+#include "atmosh/studies/studies_sun.hpp"
+#include "atmosh/studies/summaries.hpp"
 #include "cli_common.hpp"
 #include "progress.hpp"
 
 namespace atmosh::cli {
 
 namespace {
-scene::Scene scene_from(const std::string& file) {
-  return file.empty() ? scene::default_scene() : scene::load_scene(file);
-}
-}  // namespace
-
+// Exactly the outputs a scene lists (and the tables they need) into dir; sky images on
+// `device` (cpu | gpu | auto).
 void run_scene(const scene::Scene& s, const std::filesystem::path& dir, bool quick,
-               std::vector<std::filesystem::path>& written, const std::string& device) {
+               std::vector<std::filesystem::path>& written, const std::string& device = "cpu") {
   check_device(device);
   studies::SceneRunOptions o;
   o.quick = quick;
   o.device = device;
-  o.notice = [](const std::string& m) { std::cerr << "atmosh: " << m << "\n"; };
-  o.step = [](const std::string& name, const std::function<void()>& work) {
-    ProgressStep step(name);
-    work();
-  };
+  o.notice = notice;
+  o.step = [](const std::string& name, const std::function<void()>& work) { run_step(name, [&](auto&) { work(); }); };
   // Before any work: a runner for every output, and the memory the largest one holds.
   studies::check_scene_runnable(s, o);
   if (const auto m = studies::scene_peak_memory(s, o); m.bytes > 0) check_memory(m.bytes, m.what);
@@ -39,6 +40,7 @@ void run_scene(const scene::Scene& s, const std::filesystem::path& dir, bool qui
   const auto r = studies::run_scene(s, dir, o);
   written.insert(written.end(), r.written.begin(), r.written.end());
 }
+}  // namespace
 
 void register_scene_commands(CLI::App& app) {
   auto* sc = app.add_subcommand("scene", "Show or check scene files (TOML, version 1)")->require_subcommand(1);
@@ -60,7 +62,7 @@ void register_scene_commands(CLI::App& app) {
         std::cout << scene::default_scene_toml();
         return;
       }
-      std::cout << scene::to_toml(scene_from(file));
+      std::cout << scene::to_toml(scene_or_default(file));
     });
   }
   {
@@ -78,23 +80,19 @@ void register_scene_commands(CLI::App& app) {
     static std::string file;
     static bool json = false;
     pl->add_option("scene", file, "Scene file (default: the built-in scene)");
-    pl->add_flag("--json", json, "Print one JSON object");
+    add_json_flag(pl, json);
     pl->callback([] {
-      const auto s = scene_from(file);
+      const auto s = scene_or_default(file);
       scene::check_outputs(s);  // the plan of a scene that `run` refuses is refused too
       const auto passes = scene::plan(s);
       const auto mem = studies::scene_peak_memory(s, {});  // the estimates `run` checks against its budgets
       const auto work = studies::scene_work(s, {});
       if (json) {
-        nlohmann::json j;
-        j["scene"] = s.source;
-        j["passes"] = nlohmann::json::array();
-        for (const auto& p : passes) j["passes"].push_back({{"pass", p.name}, {"needed", p.needed}, {"reason", p.reason}});
+        nlohmann::json j = studies::plan_json(s, passes);
         j["estimate"] = {{"peak_memory_bytes", mem.bytes}, {"cpu_seconds", work.cpu_seconds()},
                          {"workers", available_cpus()}, {"wall_seconds", work.wall_seconds(available_cpus())},
                          {"units", work.units}, {"unit", work.unit}, {"seconds_per_unit", work.seconds_per_unit}};
-        print_json(j);
-        return;
+        return print_json(j);
       }
       std::cout << "plan for " << s.source << "\n";
       for (const auto& p : passes)
@@ -112,15 +110,14 @@ void register_scene_commands(CLI::App& app) {
     run->add_option("scene", file, "Scene file (default: the built-in scene)");
     run->add_option("-o,--output", out, "Output folder")->required();
     run->add_flag("--quick", quick, "Small images and coarse steps");
-    run->add_option("--device", device, "sky images on cpu, gpu or auto (GPU if a headless EGL device exists)")
-        ->capture_default_str();
+    add_device_option(run, device, "where the sky images are rendered");
     run->callback([] {
-      const auto s = scene_from(file);
+      const auto s = scene_or_default(file);
       std::vector<std::filesystem::path> written;
       run_scene(s, out, quick, written, device);
       for (const auto& p : scene::plan(s))
         std::cout << (p.needed ? "  ran   " : "  skip  ") << p.name << ": " << p.reason << "\n";
-      for (const auto& f : written) std::cout << f.string() << "\n";
+      print_files(written);
     });
   }
   {
@@ -131,31 +128,30 @@ void register_scene_commands(CLI::App& app) {
     demo->add_flag("--quick", quick, "Small, fast version (what the test suite runs)");
     demo->callback([] {
       const auto t0 = std::chrono::steady_clock::now();
-      DemoContext ctx;
-      ctx.out_dir = out;
-      ctx.quick = quick;
+      const std::filesystem::path dir = out;
+      std::vector<std::filesystem::path> written = {dir / "scene.toml"};
       const auto s = scene::default_scene();
-      io::write_text_atomically(ctx.out_dir / "scene.toml", std::string(scene::default_scene_toml()));
-      ctx.written.push_back(ctx.out_dir / "scene.toml");
-      ctx.written.push_back(studies::write_plan_csv(s, ctx.out_dir / "plan.csv"));
-      run_scene(s, ctx.out_dir, ctx.quick, ctx.written);  // the scene's own outputs
-      demo_sun(ctx);                                     // then every study the toolkit has
-      demo_atmo(ctx);
-      demo_sky(ctx);
-      demo_ms(ctx);
-      demo_sh(ctx);
-      demo_prt(ctx);
-      {
-        ProgressStep step("demo: scene lighting (Cornell box)");
-        for (const auto& f : studies::demo_gi(ctx.out_dir / "gi", ctx.quick)) ctx.written.push_back(f);
-      }
-      studies::write_manifest(ctx.out_dir, "atmosh demo results (" + std::string(quick ? "quick" : "full") + " run)",
-                              ctx.written);
+      io::write_text_atomically(dir / "scene.toml", std::string(scene::default_scene_toml()));
+      written.push_back(studies::write_plan_csv(s, dir / "plan.csv"));
+      run_scene(s, dir, quick, written);  // the scene's own outputs, then every study the toolkit has
+      auto step = [&](const std::string& name, const std::function<std::vector<std::filesystem::path>()>& work) {
+        run_step(name, [&](auto&) { for (const auto& f : work()) written.push_back(f); });
+      };
+      step("demo: sun positions", [&] {
+        return studies::write_sun_accuracy(dir / "sun_accuracy", 2026, {-75.0, -45.0, 0.0, 30.0, 60.0, 85.0},
+                                           quick ? 500 : 20000);
+      });
+      step("demo: optical depth and its tables", [&] { return studies::demo_atmo(dir); });
+      step("demo: sky error against run time", [&] { return studies::demo_sky(dir, quick); });
+      for (const auto& f : studies::demo_ms(dir)) written.push_back(f);
+      step("demo: spherical harmonics", [&] { return studies::demo_sh(dir, quick, memory_budget() / 2); });
+      step("demo: precomputed radiance transfer", [&] { return studies::demo_prt(dir / "prt", quick, notice); });
+      step("demo: scene lighting (Cornell box)", [&] { return studies::demo_gi(dir / "gi", quick); });
+      studies::write_manifest(dir, "atmosh demo results (" + std::string(quick ? "quick" : "full") + " run)", written);
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      std::cout << "atmosh demo: wrote " << ctx.written.size() << " files to " << ctx.out_dir.string() << "/ in "
-                << secs << " s:\n";
-      for (const auto& f : ctx.written) std::cout << "  " << f.string() << "\n";
-      std::cout << "  (list in " << (ctx.out_dir / "MANIFEST.txt").string() << ")\n";
+      std::cout << "atmosh demo: wrote " << written.size() << " files to " << dir.string() << "/ in " << secs << " s:\n";
+      print_files(written, "  ");
+      std::cout << "  (list in " << (dir / "MANIFEST.txt").string() << ")\n";
     });
   }
 }

@@ -12,8 +12,6 @@
 #include "cli_common.hpp"
 #include "progress.hpp"
 
-namespace atmosh::cli { void register_gi_commands(CLI::App& app); }  // cmd_gi.cpp
-
 namespace {
 std::string first_line(std::string s) {
   if (auto p = s.find('\n'); p != std::string::npos) s.resize(p);

@@ -11,9 +11,12 @@
 #include <vector>
 
 #include "atmosh/atmo/optical_depth.hpp"
+#include "atmosh/atmo/rayleigh.hpp"
+#include "atmosh/check.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/device.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/scene/scene.hpp"
 #include "atmosh/io/csv.hpp"
 #include "atmosh/parallel.hpp"
 #ifdef ATMOSH_HAVE_GPU
@@ -335,6 +338,71 @@ void write_stability_csv(const std::vector<StiffCase>& cases, const fs::path& fi
   for (const auto& k : cases)
     t.add_row({k.name, k.quantity, k.value, k.reference, k.error, k.bound, std::int64_t(k.pass)});
   t.write(file, io::Provenance::current());
+}
+
+OpticalDepthAnswer optical_depth_at(atmo::AtmosphereSpec spec, double nm, const OpticalDepthQuery& query) {
+  require_range(nm, 1.0, 1e5, "--wavelength");
+  require_range(query.zenith_deg, 0.0, 180.0, "--zenith");
+  require_range(query.altitude_m, -1e3, 1e9, "--altitude");
+  spec.spectrum.wavelengths_nm = {nm};
+  if (spec.ozone && (nm < 360.0 || nm > 830.0))
+    throw InputError("--wavelength " + io::format_double(nm) + ": outside the ozone table (360-830 nm)");
+  if (spec.rayleigh && spec.rayleigh->model == atmo::RayleighSpec::Model::Physical &&
+      (nm < atmo::kRayleighPhysicalFirstNm || nm > atmo::kRayleighPhysicalLastNm))
+    throw InputError("--wavelength " + io::format_double(nm) + ": outside the physical Rayleigh model's range (240-1690 nm)");
+  const atmo::Atmosphere atm(spec);
+  if (query.altitude_m < 0.0) throw InputError("--altitude " + io::format_double(query.altitude_m) + ": below the ground");
+  return optical_depth_query(atm, query);
+}
+
+atmo::PhaseSpec phase_spec(const PhaseRequest& o) {
+  using M = atmo::PhaseSpec::Model;
+  atmo::PhaseSpec s;
+  if (o.model == "rayleigh") s.model = M::Rayleigh;
+  else if (o.model == "hg") s.model = M::HenyeyGreenstein;
+  else if (o.model == "cornette-shanks") s.model = M::CornetteShanks;
+  else if (o.model == "double-hg") s.model = M::DoubleHenyeyGreenstein;
+  else throw InputError("--model: '" + o.model + "' is not rayleigh, hg, cornette-shanks or double-hg");
+  // An option the model does not use is an error, not silently ignored; g has no
+  // default (a silent 0.8 would answer a question nobody asked).
+  const bool uses_g = s.model != M::Rayleigh, two_lobes = s.model == M::DoubleHenyeyGreenstein;
+  if (uses_g && !o.g_given) throw InputError("--g: required for --model " + o.model);
+  auto unused = [&](bool given, bool used, const char* name) {
+    if (!used && given) throw InputError(std::string(name) + ": not a parameter of --model " + o.model);
+  };
+  unused(o.g_given, uses_g, "--g");
+  unused(o.g2_given, two_lobes, "--g2");
+  unused(o.weight_given, two_lobes, "--weight");
+  unused(o.depolarization_given, s.model == M::Rayleigh, "--depolarization");
+  auto open_unit = [](double v, const char* name) {
+    if (!(std::isfinite(v) && std::abs(v) < 1.0))
+      throw InputError(std::string(name) + " = " + io::format_double(v) + ": must be in (-1, 1)");
+  };
+  if (uses_g) open_unit(o.g, "--g");
+  if (two_lobes) {
+    open_unit(o.g2, "--g2");
+    require_range(o.weight, 0.0, 1.0, "--weight");
+  }
+  if (s.model == M::Rayleigh && !(std::isfinite(o.depolarization) && o.depolarization >= 0.0 && o.depolarization < 0.5))
+    throw InputError("--depolarization = " + io::format_double(o.depolarization) + ": must be in [0, 0.5)");
+  s.g = o.g;
+  s.g2 = o.g2;
+  s.weight = o.weight;
+  s.depolarization = o.depolarization;
+  return s;
+}
+
+std::vector<std::filesystem::path> demo_atmo(const std::filesystem::path& dir) {
+  // (The default scene's LUT convergence study is one of its outputs, run by run_scene.)
+  const auto s = scene::default_scene();
+  auto written = write_zenith_sweep(zenith_sweep(s.atmosphere, 1000.0), s.atmosphere.name, 1000.0,
+                                    dir / "optical_depth_vs_zenith");
+  const auto cases = atmo::run_stiff_cases();  // the stiff and extreme cases, with their bounds
+  write_stability_csv(cases, dir / "stability.csv");
+  written.push_back(dir / "stability.csv");
+  for (const auto& k : cases)
+    if (!k.pass) throw std::runtime_error("stiff case '" + k.name + "' fails its bound");
+  return written;
 }
 
 }  // namespace atmosh::studies

@@ -13,13 +13,18 @@
 
 #include "atmosh/device.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/parallel.hpp"
 #ifdef ATMOSH_HAVE_GPU
 #include "atmosh/gpu/context.hpp"
 #include "atmosh/gpu/sky.hpp"  // gpu::Unsupported
 #endif
 #include "atmosh/io/exr.hpp"
+#include "atmosh/io/output_check.hpp"
 #include "atmosh/io/plot.hpp"
+#include "atmosh/io/rgb_image.hpp"
 #include "atmosh/io/study.hpp"
+#include "atmosh/studies/summaries.hpp"
+#include "atmosh/check.hpp"
 
 namespace atmosh::studies {
 
@@ -39,11 +44,7 @@ std::vector<fs::path> write_image(const fs::path& stem, const std::vector<std::v
   ex.string_attributes["atmosh:quantity"] = what;
   ex.string_attributes["atmosh:units"] = "units of the light (exit radiance = transfer . light)";
   const fs::path exr = stem.string() + ".exr", png = stem.string() + ".png";
-  io::write_exr(exr, ex, prov);
-  io::write_tonemapped_png(png, w, h, ex.data[0], ex.data[1], ex.data[2], exposure, "reinhard");
-  const fs::path side = io::write_tone_map_side_file(png, "reinhard v/(1+v) on linear RGB, then the sRGB transfer curve",
-                                                     exposure, exposure_rule, exr.filename().string());
-  return {exr, png, side};
+  return io::write_rgb_image(exr, ex, png, exposure, exposure_rule, prov);
 }
 
 // Writes the frames of `lights` rendered by `render(light)` and returns the files.
@@ -81,11 +82,7 @@ std::vector<ShLight> turning_lights(const std::vector<glm::dvec3>& directions, i
   return lights;
 }
 
-double auto_exposure(std::vector<float> v) {
-  std::sort(v.begin(), v.end());
-  const double p = v.empty() ? 1.0 : v[static_cast<std::size_t>(0.99 * (v.size() - 1))];
-  return p > 0 ? 1.0 / p : 1.0;
-}
+double auto_exposure(std::vector<float> v) { return io::percentile_exposure(std::move(v)); }
 
 std::vector<fs::path> relight_vertices_to(const prt::Transfer& t, const std::vector<ShLight>& lights,
                                           const RelightImageOptions& o, const fs::path& dir) {
@@ -336,6 +333,66 @@ std::vector<fs::path> demo_prt(const fs::path& dir, bool quick, const std::funct
   const StudyTable st = prt_convergence(prt::builtin_scene("sphere-on-plane", quick ? 6 : 16), c);
   for (const auto& f : io::write_study(dir / "converge", st.spec, st.rows, st.provenance)) written.push_back(f);
   return written;
+}
+
+prt::Mesh prt_input_mesh(const std::string& mesh_file, const std::string& builtin, int resolution) {
+  if (!mesh_file.empty() && !builtin.empty()) throw InputError("give either MESH or --scene-builtin, not both");
+  if (mesh_file.empty() && builtin.empty()) throw InputError("no mesh: give MESH (.obj, .ply) or --scene-builtin NAME");
+  return builtin.empty() ? prt::load_mesh(mesh_file) : prt::builtin_scene(builtin, resolution);
+}
+
+int strata_of_samples(int n, const std::string& option) {
+  const int s = static_cast<int>(std::lround(std::sqrt(static_cast<double>(std::max(n, 0)))));
+  if (n < 1 || s * s != n || s > 2000)
+    throw InputError(option + ": " + std::to_string(n) +
+                     " is not a square count of jittered strata n x n in 1..4000000 (e.g. 2025 = 45 x 45)");
+  return s;
+}
+
+prt::BakeOptions prt_bake_options(const PrtBakeRequest& o) {
+  prt::BakeOptions bo;
+  if (o.device != "cpu" && o.device != "gpu") throw InputError("--device: unknown device '" + o.device + "' (cpu, gpu)");
+  bo.device = prt::parse_device(o.device);
+  if (o.bounces < 0 || o.bounces > 100) throw InputError("--bounces: must be in 0..100, got " + std::to_string(o.bounces));
+  if (!(o.albedo >= 0 && o.albedo <= 1)) throw InputError("--albedo: must be in [0, 1], got " + std::to_string(o.albedo));
+  bo.depth_resolution = o.depth_map;
+  if (o.depth_map < 16 || o.depth_map > 16384)
+    throw InputError("--depth-map: must be in 16..16384, got " + std::to_string(o.depth_map));
+  bo.mode = sh::prt::parse_transfer_mode(o.mode);
+  bo.bands = o.bands;
+  if (o.bands < 1 || o.bands > 16) throw InputError("--bands: must be in 1..16, got " + std::to_string(o.bands));
+  bo.strata = strata_of_samples(o.samples);
+  bo.bounces = o.bounces;
+  bo.default_albedo = o.albedo;
+  bo.seed = o.seed;
+  bo.threads = resolve_threads(o.threads, "--threads");
+  const std::string ext = fs::path(o.output).extension().string();
+  if (ext != ".ply" && ext != ".exr")
+    throw InputError("-o: '" + o.output + "' must end in .ply (per-vertex) or .exr (per-pixel)");
+  io::check_output_file(o.output, {".ply", ".exr"}, "-o");
+  if (bo.device == prt::Device::gpu && ext != ".exr")
+    throw InputError("--device gpu: the depth-map method is per-pixel; write an .exr (per-vertex bakes use --device cpu)");
+  if (ext == ".exr" && bo.mode == sh::prt::TransferMode::interreflected)
+    throw InputError("--mode interreflected: per-pixel transfer is unshadowed or shadowed");
+  return bo;
+}
+
+nlohmann::json prt_bake_to(const prt::Mesh& mesh, const prt::BakeOptions& bo, const std::string& file,
+                           std::array<int, 2> size, const std::string& view) {
+  const auto vv = parse_triple(view, "--view");
+  auto prov = [&] { return io::Provenance::current().add("mesh", mesh.name); };
+  const auto t0 = Clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  if (fs::path(file).extension() == ".exr") {  // per-pixel transfer: CPU ray casting or the GPU depth-map method
+    const prt::PixelTransfer px = prt::bake_pixels(mesh, bo, size[0], size[1], {vv[0], vv[1], vv[2]});
+    const double dt = seconds();
+    io::write_transfer_exr(file, transfer_image(px, bo.mode, view), prov());
+    return prt_pixel_bake_json(px, bo.mode, file, dt);
+  }
+  const prt::Transfer t = prt::bake(mesh, bo);
+  const double dt = seconds();
+  prt::write_transfer(file, t, prov());
+  return prt_bake_json(t, file, dt);
 }
 
 }  // namespace atmosh::studies

@@ -9,11 +9,17 @@
 #include <string>
 #include <vector>
 
+#include "atmosh/check.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/csv.hpp"
+#include "atmosh/sh/projection.hpp"
+#include "atmosh/io/sh_coefficients.hpp"
+#include "atmosh/io/study.hpp"
+#include "atmosh/io/exr.hpp"
 #include "atmosh/io/plot.hpp"
 #include "atmosh/sh/basis.hpp"
 #include "atmosh/sh/convolution.hpp"
+#include "atmosh/sh/gaunt.hpp"
 
 namespace atmosh::studies {
 
@@ -240,6 +246,76 @@ io::CsvTable sh_window_table(const std::vector<ShWindowRow>& rows) {
 
 void write_sh_windows(const std::vector<ShWindowRow>& rows, const fs::path& file, const io::Provenance& prov) {
   sh_window_table(rows).write(file, prov);
+}
+
+glm::dvec3 sh_eval_direction(const std::string& text) {
+  const auto t = parse_triple(text, "--dir");
+  const glm::dvec3 d(t[0], t[1], t[2]);
+  if (!(glm::dvec3(0) != d)) throw InputError("--dir: '" + text + "' has zero length");
+  return sh::checked_direction(d, "--dir");
+}
+
+nlohmann::json sh_eval_json(const io::ShCoefficients& cf, const glm::dvec3& u) {
+  nlohmann::json values = nlohmann::json::object();
+  for (std::size_t c = 0; c < cf.channels.size(); ++c) values[cf.names[c]] = sh::reconstruct(cf.bands, cf.channels[c].data(), u);
+  return {{"bands", cf.bands}, {"direction", {u.x, u.y, u.z}}, {"values", values}};
+}
+
+nlohmann::json gaunt_json(const std::vector<int>& lm) {
+  const char* names[6] = {"L1", "M1", "L2", "M2", "L3", "M3"};
+  for (int k = 0; k < 6; k += 2) {
+    const int l = lm[k], m = lm[k + 1];
+    if (l < 0 || l > 100000) throw InputError(std::string(names[k]) + " must be in [0, 100000], got " + std::to_string(l));
+    if (std::abs(m) > l)
+      throw InputError(std::string(names[k + 1]) + " must satisfy |" + names[k + 1] + "| <= " + names[k] + ", got " +
+                       std::to_string(m));
+  }
+  return {{"l1", lm[0]}, {"m1", lm[1]}, {"l2", lm[2]}, {"m2", lm[3]}, {"l3", lm[4]}, {"m3", lm[5]},
+          {"convention", "real orthonormal SH, Condon-Shortley phase"},
+          {"value", sh::gaunt(lm[0], lm[1], lm[2], lm[3], lm[4], lm[5])}};
+}
+
+std::vector<std::filesystem::path> demo_sh(const std::filesystem::path& dir, bool quick, std::size_t max_image_bytes) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> written;
+  const int W = quick ? 128 : 512;
+  const int bands = quick ? 8 : 16;
+  const io::ExrImage img = synthetic_sky(W);
+  io::Provenance prov = io::Provenance::current();
+  prov.add("content", "synthetic sky: gradient + vMF sun lobe (kappa 400) at elevation 30 deg, azimuth 40 deg from +x");
+  prov.add("value_units", "arbitrary radiance units");
+  const fs::path exr = dir / "sh_sky_input.exr";
+  io::write_exr(exr, img, prov);
+  written.push_back(exr);
+
+  const ShImage li = load_sh_image(exr, "equirect", max_image_bytes);
+  io::ShCoefficients cf{bands, li.names, sh::project_equirect(li.view(), bands), "arbitrary radiance units"};
+  const fs::path coeffs = dir / "sh_coeffs.csv", recon = dir / "sh_reconstruct.exr";
+  io::write_sh_coefficients(coeffs, cf, prov);
+  written.push_back(coeffs);
+  write_sh_reconstruction(recon, cf, W, prov);
+  written.push_back(recon);
+
+  io::ShCoefficients irr = cf;
+  for (auto& ch : irr.channels) ch = sh::irradiance(ch, bands);
+  const fs::path irr_csv = dir / "sh_irradiance.csv";
+  io::write_sh_coefficients(irr_csv, irr, prov);
+  written.push_back(irr_csv);
+
+  const fs::path bcsv = dir / "sh_bands.csv", bpng = dir / "sh_bands.png";
+  write_sh_bands(cf, bcsv, bpng, prov);
+  written.insert(written.end(), {bcsv, bpng});
+
+  // windows: what each costs in accuracy and the ringing left, on the green channel.
+  const fs::path wcsv = dir / "sh_windows.csv";
+  io::Provenance wp = prov;
+  wp.add("sh_bands", std::to_string(bands));
+  write_sh_windows(sh_window_study(cf.channels[1], bands), wcsv, wp);
+  written.push_back(wcsv);
+
+  const StudyTable t = converge_sh(li, bands, quick, 1, exr.string());
+  for (const auto& p : io::write_study(dir / "sh_converge", t.spec, t.rows, t.provenance)) written.push_back(p);
+  return written;
 }
 
 }  // namespace atmosh::studies

@@ -13,6 +13,9 @@
 
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/shared/view_ray.glsl.hpp"
+#include "atmosh/check.hpp"
+#include "atmosh/parallel.hpp"
 #include "atmosh/atmo/sun_disc.hpp"
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
@@ -42,6 +45,48 @@ void write_sky_netcdf_image(const atmo::SkyImage& img, const std::filesystem::pa
   nc.sun_zenith_deg = 90.0 - sun.elevation_deg;
   nc.sun_azimuth_deg = sun.azimuth_deg;
   io::write_sky_netcdf(file, nc, prov);
+}
+
+SkySettings SkySettings::checked() const {
+  SkySettings q = *this;
+  if (shells < 4 || shells > 4096) throw InputError("--shells " + std::to_string(shells) + " is outside [4, 4096]");
+  const int max_segments = std::min(shells - 1, atmo::shared::kMaxCutSpheres);
+  if (segments < 1 || segments > max_segments)
+    throw InputError("--segments " + std::to_string(segments) + " is outside [1, " + std::to_string(max_segments) +
+                     "] (at most --shells - 1 and " + std::to_string(atmo::shared::kMaxCutSpheres) + ")");
+  if (samples < 1 || samples > 8) throw InputError("--samples " + std::to_string(samples) + " is outside [1, 8]");
+  if (!std::isfinite(max_piece_tau) || !(max_piece_tau > 0))
+    throw InputError("--max-piece-tau " + io::format_double(max_piece_tau) + " must be finite and > 0");
+  q.threads = resolve_threads(threads, "--threads");
+  if (orders && (*orders < 1 || *orders > 64))
+    throw InputError("--orders " + std::to_string(*orders) + " is outside [1, 64]");
+  return q;
+}
+
+scene::SweepSettings SkySettings::sweep_settings() const {
+  return {{"lut_shells", std::to_string(shells)},
+          {"view_segments", std::to_string(segments)},
+          {"samples_per_segment", std::to_string(samples)},
+          {"max_piece_optical_depth", io::format_double(max_piece_tau)},
+          {"sun_model", sun_model ? atmo::sun_model_name(*sun_model) : "scene"},
+          {"scattering", scattering ? atmo::scattering_method_name(*scattering) : "scene"},
+          {"orders", orders ? std::to_string(*orders) : "scene"}};
+}
+
+SunPlacement place_sun(const scene::Scene& s, const SunRequest& r) {
+  const bool place = r.lat_deg || r.lon_deg || !r.time_utc.empty();
+  if (place && r.elevation_deg) throw InputError("give either --lat/--lon/--time or --sun-elevation, not both");
+  if (place) {
+    if (!r.lat_deg || !r.lon_deg || r.time_utc.empty()) throw InputError("--lat, --lon and --time go together");
+    return sun_from_place(require_range(*r.lat_deg, -90, 90, "--lat"), require_range(*r.lon_deg, -180, 180, "--lon"),
+                          require_range(r.height_m, -500, 1e8, "--height"), r.time_utc);
+  }
+  if (!r.elevation_deg) return sun_of_scene(s);
+  SunPlacement p;
+  p.elevation_deg = require_range(*r.elevation_deg, -90, 90, "--sun-elevation");
+  p.azimuth_deg = require_range(r.azimuth_deg, -360, 360, "--sun-azimuth");
+  p.observer_height_m = require_range(r.height_m, -500, 1e8, "--height");
+  return p;
 }
 
 scene::Scene SkySettings::scene_for(scene::Scene s) const {

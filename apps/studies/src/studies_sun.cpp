@@ -1,6 +1,8 @@
 // The sun's tables (atmosh/studies/studies_sun.hpp).
 #include "atmosh/studies/studies_sun.hpp"
 
+#include "atmosh/io/study.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -92,6 +94,21 @@ double in_range(double v, double lo, double hi, const std::string& what) {
 }
 }  // namespace
 
+SunQuery sun_query(const SunPlaceRequest& o) {
+  if (!o.lat_deg) throw InputError("--lat is required");
+  if (!o.lon_deg) throw InputError("--lon is required");
+  SunQuery q;
+  q.latitude_deg = in_range(*o.lat_deg, -90.0, 90.0, "--lat");
+  q.longitude_deg = in_range(*o.lon_deg, -180.0, 180.0, "--lon");
+  q.height_m = in_range(o.height_m, -12000.0, 1e8, "--height");
+  q.pressure_hpa = in_range(o.pressure_hpa, 0.0, 5000.0, "--pressure");
+  q.temperature_c = in_range(o.temperature_c, -272.999, 6000.0, "--temperature");
+  if (o.delta_t_s) q.delta_t_s = in_range(*o.delta_t_s, -1e6, 1e6, "--delta-t");
+  q.delta_ut1_s = in_range(o.delta_ut1_s, -1.0, 1.0, "--delta-ut1");
+  q.algorithm = atmo::parse_sun_algorithm(o.algorithm);
+  return q;
+}
+
 SunDayTrack sun_day_track(double latitude_deg, double longitude_deg, double height_m, const std::string& time_utc,
                           double step_s) {
   SunQuery q;
@@ -156,6 +173,12 @@ StudyTable sun_accuracy_table(int year, const std::vector<double>& lats, std::si
   prov.add("time_s", "mean wall time per evaluation of the core algorithm (one thread)");
   prov.add("methods", "fast = Grena 2012 algorithm 5; grena3, grena1 = Grena 2012 algorithms 3 and 1");
   return out;
+}
+
+std::vector<std::filesystem::path> write_sun_accuracy(const std::filesystem::path& stem, int year,
+                                                      const std::vector<double>& lats, std::size_t samples) {
+  const StudyTable t = sun_accuracy_table(year, lats, samples);
+  return io::write_study(stem, t.spec, t.rows, t.provenance);
 }
 
 }  // namespace atmosh::studies

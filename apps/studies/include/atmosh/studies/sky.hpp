@@ -26,6 +26,7 @@
 #include "atmosh/atmo/sun_position.hpp"
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/scene/scene.hpp"
+#include "atmosh/scene/sweep.hpp"
 
 namespace atmosh::studies {
 
@@ -45,6 +46,17 @@ SunPlacement sun_of_scene(const scene::Scene& s);
 // SPA at a place and time (ISO 8601 UTC; geometric elevation; apparent reported in spa).
 SunPlacement sun_from_place(double lat_deg, double lon_deg, double height_m, const std::string& time_utc);
 
+// The sun a user asks for: a place and a time (lat, lon, time together: SPA), or an
+// elevation and azimuth; neither: the scene's sun (sun_of_scene). InputError naming the
+// option (--lat, --lon, --time, --height, --sun-elevation, --sun-azimuth) for a value out
+// of range or a mix of the two ways.
+struct SunRequest {
+  std::optional<double> lat_deg, lon_deg, elevation_deg;
+  double height_m = 0.0, azimuth_deg = 180.0;
+  std::string time_utc;
+};
+SunPlacement place_sun(const scene::Scene& s, const SunRequest& r);
+
 // The settings of the sky integrator that change results (the CLI's quality options,
 // parsed). Unset optionals take the scene's value.
 struct SkySettings {
@@ -54,6 +66,14 @@ struct SkySettings {
   std::optional<atmo::ScatteringMethod> scattering;      // else the scene's [scattering] method
   std::optional<int> orders;                             // else the scene's orders
   int threads = 0;                                       // worker threads (0 = every CPU this process may use)
+  // Checked, the messages naming the options as typed (--shells 4..4096, --segments
+  // 1..min(shells - 1, the cut spheres), --samples 1..8, --max-piece-tau > 0, --orders
+  // 1..64, --threads 0..1024): InputError otherwise. The copy returned has its thread
+  // count resolved by atmosh::resolve_threads (0 = the CPUs this process may use).
+  SkySettings checked() const;
+  // The settings that change results, as recorded in CSVs and hashed into a sweep's
+  // identity ("scene" for an override not given).
+  scene::SweepSettings sweep_settings() const;
   // The scene with the scattering overrides applied.
   scene::Scene scene_for(scene::Scene s) const;
   // The integrator's options for a scene (its sun model unless overridden).

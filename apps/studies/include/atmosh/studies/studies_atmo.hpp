@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "atmosh/atmo/phase.hpp"
 #include "atmosh/atmo/atmosphere.hpp"
 #include "atmosh/atmo/spec.hpp"
 #include "atmosh/atmo/stiff_cases.hpp"
@@ -104,7 +105,31 @@ struct OpticalDepthAnswer {
 };
 OpticalDepthAnswer optical_depth_query(const atmo::Atmosphere& atmosphere, const OpticalDepthQuery& query);
 
+// `atmosh optical-depth`: the query at one wavelength of an atmosphere, checked first
+// (InputError naming --wavelength 1..1e5 nm and inside the ozone table and the physical
+// Rayleigh model's range where the atmosphere has them, --zenith 0..180 deg, --altitude
+// 0..1e9 m).
+OpticalDepthAnswer optical_depth_at(atmo::AtmosphereSpec spec, double wavelength_nm, const OpticalDepthQuery& query);
+
+// `atmosh phase`: the phase function of a model as the command line names it
+// (rayleigh | hg | cornette-shanks | double-hg) with its parameters. g has no default
+// (required for the Henyey-Greenstein models); a parameter the model does not take is an
+// error when given (*_given). InputError naming --model, --g, --g2, --weight or
+// --depolarization.
+struct PhaseRequest {
+  std::string model;
+  double g = 0.8, g2 = -0.3, weight = 0.9, depolarization = 0.0279;
+  bool g_given = false, g2_given = false, weight_given = false, depolarization_given = false;
+};
+atmo::PhaseSpec phase_spec(const PhaseRequest& request);
+
 // The stiff/extreme-case table (atmo::run_stiff_cases) as CSV with provenance.
 void write_stability_csv(const std::vector<atmo::StiffCase>& cases, const std::filesystem::path& file);
+
+// The atmosphere step of the main job (`atmosh demo`) into `dir`: optical depth against
+// zenith angle 1 km above the default scene's ground (optical_depth_vs_zenith.csv/.png)
+// and the stiff-case table (stability.csv); std::runtime_error if a case fails its bound.
+// Returns the files in order.
+std::vector<std::filesystem::path> demo_atmo(const std::filesystem::path& dir);
 
 }  // namespace atmosh::studies

@@ -6,6 +6,8 @@
 // the output folder (its files: ao.exr/.png/.png.json and frame_NNNN.exr/.png/.png.json).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -14,6 +16,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
 
 #include "atmosh/io/provenance.hpp"
 #include "atmosh/io/transfer_exr.hpp"
@@ -88,6 +91,30 @@ struct PrtConvergenceOptions {
 // Rows cpu-<mode>-jittered (per vertex), cpu-pixel-<mode>-jittered and
 // gpu-depthmap<N>-<mode>-jittered (per pixel), extra columns samples, rays, depth_map.
 StudyTable prt_convergence(const prt::Mesh& mesh, const PrtConvergenceOptions& options);
+
+// The mesh of a PRT command: a file (.obj, .ply) or a built-in scene, exactly one
+// (InputError naming MESH and --scene-builtin otherwise).
+prt::Mesh prt_input_mesh(const std::string& mesh_file, const std::string& builtin, int resolution);
+// n x n jittered strata for a sample count n^2 (1..4000000); InputError naming `option`.
+int strata_of_samples(int samples, const std::string& option = "--samples");
+
+// `atmosh prt bake` as its options give it, checked into the bake's options (InputError
+// naming --device cpu | gpu, --bounces 0..100, --albedo [0, 1], --depth-map 16..16384,
+// --mode, --bands 1..16, --samples, --threads, and -o: .ply (per vertex, CPU) or .exr
+// (per pixel, unshadowed or shadowed)). Threads resolved (0 = the CPUs this process may use).
+struct PrtBakeRequest {
+  std::string mode = "shadowed", device = "cpu", output;
+  int bands = 3, samples = 2025, bounces = 2, threads = 0, depth_map = 1024;
+  double albedo = 0.8;
+  std::uint64_t seed = 1;
+};
+prt::BakeOptions prt_bake_options(const PrtBakeRequest& request);
+// Bakes the mesh and writes the transfer to `file` (with the mesh's name in the
+// provenance): .exr a per-pixel transfer image of `size` seen from `view` ("x,y,z",
+// recorded as given; prt::bake_pixels), else a per-vertex .ply (prt::bake). Returns the
+// JSON summary (prt_pixel_bake_json / prt_bake_json; time_s: the bake's wall clock).
+nlohmann::json prt_bake_to(const prt::Mesh& mesh, const prt::BakeOptions& options, const std::string& file,
+                           std::array<int, 2> size, const std::string& view);
 
 // The PRT step of the main job (`atmosh demo`) into `dir`: an interreflected bake of
 // the built-in sphere-on-plane (resolution 40, 4 bands, 45 x 45 samples, 2 bounces;

@@ -7,6 +7,8 @@
 #include "atmosh/atmo/radiative_transfer.hpp"
 #include "atmosh/atmo/spec.hpp"
 
+#include <string>
+
 namespace atmosh::studies {
 
 // R = pi I_up / (mu0 F0) and T = pi I_down / (mu0 F0) (diffuse) of the slab, with
@@ -27,5 +29,24 @@ struct RtSkyView {
 // (atmo::solar_spectrum_for_bins).
 atmo::RtSkyResult rt_sky_view(const atmo::AtmosphereSpec& atmosphere, const RtSkyView& view,
                               const atmo::RtSkyOptions& options);
+
+// The requests of `atmosh rt slab` and `atmosh rt sky` as their options give them; the
+// runs below check them first, InputError naming the option as typed (--tau, --phase,
+// --paths, --sun-depth, ...), then run the drivers above.
+struct RtSlabRequest {
+  double tau = 1, omega = 1, g = 0, ground_albedo = 0, mu0 = 1, mu = 1, phi_deg = 0;
+  std::string phase = "isotropic";  // isotropic | hg | rayleigh
+  atmo::RtOptions run;              // paths, seed, threads (0 = the CPUs this process may use)
+  int orders = 0;                   // 0 = all
+};
+atmo::SlabResult rt_slab(const RtSlabRequest& request);
+struct RtSkyRequest {
+  RtSkyView view;
+  double ground_albedo = -1;  // < 0: the scene's
+  std::string sun_depth = "table", line_estimate = "auto";  // table | exact; auto | on | off
+  atmo::RtOptions run;
+  int orders = 0;
+};
+atmo::RtSkyResult rt_sky_view(const atmo::AtmosphereSpec& atmosphere, const RtSkyRequest& request);
 
 }  // namespace atmosh::studies

@@ -7,6 +7,9 @@
 
 #include <cstdint>
 #include <filesystem>
+
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -80,5 +83,22 @@ std::vector<ShWindowRow> sh_window_study(const std::vector<double>& channel, int
 io::CsvTable sh_window_table(const std::vector<ShWindowRow>& rows);
 void write_sh_windows(const std::vector<ShWindowRow>& rows, const std::filesystem::path& file,
                       const io::Provenance& provenance);
+
+// `atmosh sh eval`: the unit direction of --dir "x,y,z" (InputError naming --dir for
+// three numbers of zero length), and the coefficients' values there as JSON: bands,
+// direction, values (one per channel, by name).
+glm::dvec3 sh_eval_direction(const std::string& text);
+nlohmann::json sh_eval_json(const io::ShCoefficients& c, const glm::dvec3& direction);
+// `atmosh sh gaunt L1 M1 L2 M2 L3 M3`: the Gaunt coefficient (integral of the three real
+// orthonormal SH over the sphere) as JSON, its indices checked (0 <= l <= 100000,
+// |m| <= l; InputError naming L1 ... M3).
+nlohmann::json gaunt_json(const std::vector<int>& lm);
+
+// The SH step of the main job (`atmosh demo`) into `dir`: the synthetic sky
+// (sh_sky_input.exr; 512 wide, 16 bands; quick: 128, 8), its coefficients, their
+// reconstruction and irradiance, band energies, the windows' costs and converge_sh.
+// max_image_bytes: the memory the input image may take when read back. Returns the
+// files in order.
+std::vector<std::filesystem::path> demo_sh(const std::filesystem::path& dir, bool quick, std::size_t max_image_bytes);
 
 }  // namespace atmosh::studies

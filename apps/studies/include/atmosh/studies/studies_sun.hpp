@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,16 @@
 #include "atmosh/studies/study_table.hpp"
 
 namespace atmosh::studies {
+
+// The place and the models of `atmosh sun` as its options give them; sun_query checks
+// them, InputError naming the option as typed (--lat, --lon required; --height,
+// --pressure, --temperature, --delta-t, --delta-ut1 in range; --algorithm spa | fast).
+struct SunPlaceRequest {
+  std::optional<double> lat_deg, lon_deg, delta_t_s;
+  double height_m = 0.0, pressure_hpa = 1013.25, temperature_c = 15.0, delta_ut1_s = 0.0;
+  std::string algorithm = "spa";
+};
+atmo::SunQuery sun_query(const SunPlaceRequest& request);
 
 // The place and the models of a query: latitude, longitude, height, pressure,
 // temperature, delta T (or the model's), UT1 - UTC, algorithm and frame.
@@ -46,5 +57,8 @@ std::vector<std::filesystem::path> write_sun_day_track(const SunDayTrack& track,
 // The fast algorithms' error against SPA over a year at the given latitudes, as a study
 // table (error_max_deg, error_rms_deg, time per evaluation, samples).
 StudyTable sun_accuracy_table(int year, const std::vector<double>& latitudes_deg, std::size_t samples);
+// The table as STEM.csv and STEM.png (io::write_study); returns the files.
+std::vector<std::filesystem::path> write_sun_accuracy(const std::filesystem::path& stem, int year,
+                                                      const std::vector<double>& latitudes_deg, std::size_t samples);
 
 }  // namespace atmosh::studies
