@@ -71,7 +71,7 @@ void check_method_options(const MethodOptions& o) {
 MethodResult render_method(const Scene& scene, const Camera& camera, int width, int height, const MethodOptions& o) {
   check_method_options(o);
   MethodResult r;
-  if (o.method != "lpv" && o.device != DeviceRequest::cpu)
+  if (o.method != "lpv" && o.method != "radiosity" && o.device != DeviceRequest::cpu)
     r.device = resolve_device(o.device, GpuUnusable{GpuUnusable::Why::unsupported, "method '" + o.method + "'", ""},
                               "rendering on the CPU");
   if (o.method == "path") {
@@ -106,11 +106,29 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     r.image.stats.shadow_rays += g.stats.shadow_rays;
   } else if (o.method == "radiosity") {
     const RadiosityOptions ro = radiosity_options(o);
-    const RadiosityVolume v = build_radiosity_volume(scene, ro);
+    RadiosityVolume v = build_radiosity_volume(scene, ro);
+    bool done = false;
+    if (o.device != DeviceRequest::cpu) {  // the walk as a GPU pass over a G-buffer
+      add_direct_volume(scene, v, 32, 4, ro.seed, ro.threads);
+      std::optional<GpuUnusable> unusable;
+      const auto t0 = Clock::now();
+      try {
+        r.image = render_radiosity_gbuffer(scene, camera, width, height, v, ro, true);
+        done = true;
+      } catch (const InputError& e) {  // built without atmosh::gpu
+        unusable = GpuUnusable{GpuUnusable::Why::not_built, e.what(), ""};
+      } catch (const std::runtime_error& e) {  // no EGL context (gpu::Unavailable) or the driver refused
+        unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), ""};
+      }
+      r.device = resolve_device(o.device, unusable, "rendering on the CPU");
+      r.shade_seconds = since(t0);
+    }
     r.build_seconds = v.seconds;
-    const auto t0 = Clock::now();
-    r.image = render_radiosity(scene, camera, width, height, v, ro);
-    r.shade_seconds = since(t0);
+    if (!done) {
+      const auto t0 = Clock::now();
+      r.image = render_radiosity(scene, camera, width, height, v, ro);
+      r.shade_seconds = since(t0);
+    }
     r.image.stats.rays += v.rays;
   } else {
     const LpvOptions lo = lpv_options(o);
