@@ -135,24 +135,24 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     Lpv l;
     if (o.device == DeviceRequest::cpu) {
       l = build_lpv(scene, lo);
-    } else {  // injection and geometry on the CPU, propagation on the GPU where it can run
-      const auto t0 = Clock::now();
-      l.injected = lpv_inject(scene, lo, &l.rays);
-      if (lo.blocking) l.geometry = lpv_geometry(scene, l.injected);
+    } else {  // injection (VPLs found by rays on the CPU), geometry and propagation on the GPU where it can run
       l.iterations = lo.iterations < 0 ? 2 * lo.grid : lo.iterations;
-      const auto t1 = Clock::now();
-      l.inject_seconds = std::chrono::duration<double>(t1 - t0).count();
+      const auto t0 = Clock::now();
       std::optional<GpuUnusable> unusable;
       try {
+        l.injected = lpv_inject_gpu(scene, lo, &l.rays);
+        if (lo.blocking) l.geometry = lpv_geometry_gpu(scene, l.injected);
+        l.inject_seconds = since(t0);
+        const auto t1 = Clock::now();
         l.accumulated = lpv_propagate_gpu(l.injected, lo.blocking ? &l.geometry : nullptr, l.iterations);
+        l.propagate_seconds = since(t1);
       } catch (const InputError& e) {  // built without atmosh::gpu
         unusable = GpuUnusable{GpuUnusable::Why::not_built, e.what(), ""};
       } catch (const std::runtime_error& e) {  // no EGL context (gpu::Unavailable) or the driver refused
         unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), ""};
       }
-      r.device = resolve_device(o.device, unusable, "propagating the LPV on the CPU");
-      if (!r.device.gpu) l.accumulated = lpv_propagate(l.injected, lo.blocking ? &l.geometry : nullptr, l.iterations);
-      l.propagate_seconds = since(t1);
+      r.device = resolve_device(o.device, unusable, "building the LPV on the CPU");
+      if (!r.device.gpu) l = build_lpv(scene, lo);
     }
     r.build_seconds = l.inject_seconds + l.propagate_seconds;
     const auto t0 = Clock::now();
