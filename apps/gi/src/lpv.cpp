@@ -554,6 +554,105 @@ GeometryVolume lpv_geometry_gpu(const Scene& scene, const LpvGrid& g, double* gp
 #endif
 }
 
+namespace {
+void check_receivers(const RadiosityReceivers& r) {
+  const std::size_t n = r.size();
+  if (r.normal.size() != n || r.albedo.size() != n || r.emission.size() != n || r.direct.size() != n)
+    throw InputError("gi lpv: the receivers' arrays differ in length");
+  if (n > 0x7fffffffu / 15) throw InputError("gi lpv: too many receivers for one pass");
+}
+}  // namespace
+
+std::vector<glm::dvec3> shade_lpv_receivers_cpu(const LpvGrid& g, const RadiosityReceivers& r) {
+  check_grid(g);
+  check_receivers(r);
+  const double inv_h2 = 1.0 / (g.h * g.h);
+  std::vector<glm::dvec3> out(r.size());
+  parallel_for_ranges(r.size(), 256, 0, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const glm::dvec3& n = r.normal[i];
+      const LpvCell c = lpv_sample(g, r.position[i] + 0.5 * g.h * n);
+      glm::dvec3 E(0.0);
+      for (int ch = 0; ch < 3; ++ch) {
+        const double co[9] = {c[ch * 4], c[ch * 4 + 1], c[ch * 4 + 2], c[ch * 4 + 3], 0, 0, 0, 0, 0};
+        E[ch] = std::max(0.0, shared::gi_sh_irradiance(co, 2, -n) * inv_h2);
+      }
+      out[i] = r.emission[i] + r.albedo[i] / kPi * glm::max(r.direct[i] + E, glm::dvec3(0.0));
+    }
+  });
+  return out;
+}
+
+std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& g, const RadiosityReceivers& r, double* gpu_seconds) {
+  check_grid(g);
+  check_receivers(r);
+#ifdef ATMOSH_GI_HAVE_GPU
+  const gpu::Context ctx;
+  gpu::Program prog({gpu::embedded_source("gpu/shaders/gi_radiosity_fetch.glsl"),
+                     gpu::embedded_source("apps/gi/include/atmosh/gi/shared/radiosity.glsl.hpp"),
+                     gpu::embedded_source("gpu/shaders/gi_lpv_apply.comp")});
+  const std::size_t nr = r.size();
+  std::vector<float> rec(std::max<std::size_t>(nr, 1) * 15, 0.0f), cells(g.cells.size() * 12);
+  for (std::size_t i = 0; i < nr; ++i)
+    for (int c = 0; c < 3; ++c) {
+      rec[i * 15 + c] = static_cast<float>(r.position[i][c]);
+      rec[i * 15 + 3 + c] = static_cast<float>(r.normal[i][c]);
+      rec[i * 15 + 6 + c] = static_cast<float>(r.albedo[i][c]);
+      rec[i * 15 + 9 + c] = static_cast<float>(r.emission[i][c]);
+      rec[i * 15 + 12 + c] = static_cast<float>(r.direct[i][c]);
+    }
+  for (std::size_t c = 0; c < g.cells.size(); ++c)
+    for (int q = 0; q < 12; ++q) cells[c * 12 + q] = static_cast<float>(g.cells[c][q]);
+  const auto t0 = Clock::now();
+  gpu::Buffer brec(rec.size() * sizeof(float), rec.data()), bout(std::max<std::size_t>(nr, 1) * 4 * sizeof(float)),
+      bl(cells.size() * sizeof(float), cells.data());
+  brec.bind(4);
+  bout.bind(5);
+  bl.bind(6);
+  prog.use();
+  prog.set("n_receivers", static_cast<int>(nr));
+  prog.set("lpv_lo", static_cast<float>(g.lo.x), static_cast<float>(g.lo.y), static_cast<float>(g.lo.z));
+  prog.set("lpv_h", static_cast<float>(g.h));
+  prog.set("lpv_nx", g.nx);
+  prog.set("lpv_ny", g.ny);
+  prog.set("lpv_nz", g.nz);
+  if (nr > 0) prog.dispatch(static_cast<unsigned>((nr + 63) / 64));
+  std::vector<float> out(std::max<std::size_t>(nr, 1) * 4);
+  bout.download(out.data(), out.size() * sizeof(float));
+  if (gpu_seconds != nullptr) *gpu_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::vector<glm::dvec3> L(nr);
+  for (std::size_t i = 0; i < nr; ++i) L[i] = {out[i * 4], out[i * 4 + 1], out[i * 4 + 2]};
+  return L;
+#else
+  (void)gpu_seconds;
+  throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
+                                 const LpvOptions& opt, bool gpu) {
+  check(opt);
+  check_grid(lpv.accumulated);
+  const auto t0 = Clock::now();
+  const RadiosityGBuffer g = radiosity_gbuffer(scene, camera, width, height, opt.samples, opt.seed, opt.threads);
+  const std::vector<glm::dvec3> L =
+      gpu ? shade_lpv_receivers_gpu(lpv.accumulated, g.receivers) : shade_lpv_receivers_cpu(lpv.accumulated, g.receivers);
+  RadianceImage img;
+  img.width = width;
+  img.height = height;
+  img.samples = 1;
+  const std::size_t np = static_cast<std::size_t>(width) * height;
+  for (int c = 0; c < 3; ++c) {
+    img.mean[c].assign(np, 0.0f);
+    img.stderr_[c].assign(np, 0.0f);
+    for (std::size_t i = 0; i < np; ++i) img.mean[c][i] = static_cast<float>(g.background[i][c]);
+    for (std::size_t k = 0; k < L.size(); ++k) img.mean[c][g.pixel[k]] = static_cast<float>(L[k][c]);
+  }
+  img.stats.rays = g.rays;
+  img.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return img;
+}
+
 glm::dvec3 lpv_flux(const LpvGrid& g) {
   glm::dvec3 s(0.0);
   for (const auto& c : g.cells)

@@ -133,6 +133,7 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
   } else {
     const LpvOptions lo = lpv_options(o);
     Lpv l;
+    bool shaded = false;  // the GPU path shades its G-buffer
     if (o.device == DeviceRequest::cpu) {
       l = build_lpv(scene, lo);
     } else {  // injection (VPLs found by rays on the CPU), geometry and propagation on the GPU where it can run
@@ -146,18 +147,27 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
         const auto t1 = Clock::now();
         l.accumulated = lpv_propagate_gpu(l.injected, lo.blocking ? &l.geometry : nullptr, l.iterations);
         l.propagate_seconds = since(t1);
+        const auto t2 = Clock::now();
+        r.image = render_lpv_gbuffer(scene, camera, width, height, l, lo, true);
+        r.shade_seconds = since(t2);
+        shaded = true;
       } catch (const InputError& e) {  // built without atmosh::gpu
         unusable = GpuUnusable{GpuUnusable::Why::not_built, e.what(), ""};
       } catch (const std::runtime_error& e) {  // no EGL context (gpu::Unavailable) or the driver refused
         unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), ""};
       }
       r.device = resolve_device(o.device, unusable, "building the LPV on the CPU");
-      if (!r.device.gpu) l = build_lpv(scene, lo);
+      if (!r.device.gpu) {
+        l = build_lpv(scene, lo);
+        shaded = false;
+      }
     }
     r.build_seconds = l.inject_seconds + l.propagate_seconds;
-    const auto t0 = Clock::now();
-    r.image = render_lpv(scene, camera, width, height, l, lo);
-    r.shade_seconds = since(t0);
+    if (!shaded) {
+      const auto t0 = Clock::now();
+      r.image = render_lpv(scene, camera, width, height, l, lo);
+      r.shade_seconds = since(t0);
+    }
     r.image.stats.rays += l.rays;
   }
   r.image.stats.seconds = r.build_seconds + r.shade_seconds;

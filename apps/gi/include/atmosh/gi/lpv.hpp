@@ -58,6 +58,7 @@
 #include <glm/vec3.hpp>
 
 #include "atmosh/gi/path_tracer.hpp"
+#include "atmosh/gi/radiosity.hpp"
 #include "atmosh/gi/scene.hpp"
 
 namespace atmosh::gi {
@@ -155,5 +156,19 @@ Lpv build_lpv(const Scene& scene, const LpvOptions& opt);
 /// Image lit by the LPV (opt.samples, seed, threads used here). stats.seconds: shading.
 RadianceImage render_lpv(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
                          const LpvOptions& opt);
+
+/// The LPV applied to receivers (a G-buffer, radiosity.hpp's RadiosityReceivers with their
+/// direct light): L = L_e + a / pi max(0, E_direct + max(0, E_lpv)), E_lpv as render_lpv's,
+/// from lpv_sample at x + h/2 n — in double on the CPU and in float on the GPU
+/// (gpu/shaders/gi_lpv_apply.comp; errors as lpv_propagate_gpu; gpu_seconds: uploads,
+/// dispatch and read-back).
+std::vector<glm::dvec3> shade_lpv_receivers_cpu(const LpvGrid& accumulated, const RadiosityReceivers& r);
+std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& accumulated, const RadiosityReceivers& r,
+                                                double* gpu_seconds = nullptr);
+/// The image by the G-buffer (radiosity_gbuffer: one ray per pixel centre, opt.samples
+/// direct-light estimates) and shade_lpv_receivers_gpu (gpu) or _cpu. stats.seconds: G-buffer +
+/// shading.
+RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
+                                 const LpvOptions& opt, bool gpu);
 
 }  // namespace atmosh::gi
