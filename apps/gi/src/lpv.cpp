@@ -453,6 +453,7 @@ LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int
 #endif
 }
 
+#ifdef ATMOSH_GI_HAVE_GPU
 namespace {
 // Stable counting sort of items by bin: start (bins + 1 offsets) and the order of the items.
 void bin_items(const std::vector<std::size_t>& bin, std::size_t bins, std::vector<std::uint32_t>& start,
@@ -465,7 +466,6 @@ void bin_items(const std::vector<std::size_t>& bin, std::size_t bins, std::vecto
   for (std::size_t i = 0; i < bin.size(); ++i) order[fill[bin[i]]++] = i;
 }
 
-#ifdef ATMOSH_GI_HAVE_GPU
 // One dispatch of `shader` over `bins` bins: start (binding 0), items (binding 1, `stride`
 // floats each), out (binding 2, `out_stride` floats a bin).
 std::vector<float> binned_sum_gpu(const char* shader, const std::vector<std::uint32_t>& start,
@@ -489,8 +489,8 @@ std::vector<float> binned_sum_gpu(const char* shader, const std::vector<std::uin
   if (gpu_seconds != nullptr) *gpu_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return out;
 }
-#endif
 }  // namespace
+#endif
 
 LpvGrid lpv_inject_gpu(const Scene& scene, const LpvOptions& opt, std::uint64_t* nrays, double* gpu_seconds) {
   check(opt);
