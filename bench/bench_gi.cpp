@@ -178,4 +178,66 @@ void BM_LpvPropagate(benchmark::State& state) {
 }
 BENCHMARK(BM_LpvPropagate)->Args({16, 0})->Args({32, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LpvPropagate)->Args({16, 1})->Args({32, 1})->Unit(benchmark::kMillisecond)->UseManualTime();
+// One 512 x 512 frame of the Cornell box on the GPU (EGL; llvmpipe where no GPU is present) or
+// its CPU twin, the G-buffer (one ray per pixel centre, CPU) and the volumes made once:
+// arg 0: 0 CPU twin (all threads, wall time), 1 GPU (uploads + dispatch + read-back per frame;
+// context and shader compilation excluded).
+//   BM_RadiosityFrame512: the radiosity walk (16^3, 2 bands, 2 bounces, the volume's direct
+//                         light at the walk's vertices: 16 normals, 1 sample);
+//   BM_LpvFrame512:       LPV propagation (grid 16, 32 iterations, geometry volume) + its
+//                         application to the G-buffer.
+void BM_RadiosityFrame512(benchmark::State& state) {
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::RadiosityOptions o;
+  o.grid = 16;
+  o.bands = 2;
+  o.bounces = 2;
+  gi::RadiosityVolume v = gi::build_radiosity_volume(s, o);
+  gi::add_direct_volume(s, v, 16, 1, 1);
+  const gi::RadiosityGBuffer g = gi::radiosity_gbuffer(s, s.camera, 512, 512, 1, 1);
+  try {
+    for (auto _ : state) {
+      if (state.range(0) == 0) {
+        benchmark::DoNotOptimize(gi::shade_receivers_cpu(v, g.receivers, o.bounces));
+      } else {
+        double secs = 0;
+        benchmark::DoNotOptimize(gi::shade_receivers_gpu(v, g.receivers, o.bounces, &secs));
+        state.SetIterationTime(secs);
+      }
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+  state.counters["receivers"] = static_cast<double>(g.receivers.size());
+}
+BENCHMARK(BM_RadiosityFrame512)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_RadiosityFrame512)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
+
+void BM_LpvFrame512(benchmark::State& state) {
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::LpvOptions o;
+  o.grid = 16;
+  const gi::LpvGrid inj = gi::lpv_inject(s, o);
+  const gi::GeometryVolume gv = gi::lpv_geometry(s, inj);
+  const int it = 2 * o.grid;
+  const gi::RadiosityGBuffer g = gi::radiosity_gbuffer(s, s.camera, 512, 512, 1, 1);
+  try {
+    for (auto _ : state) {
+      if (state.range(0) == 0) {
+        const gi::LpvGrid acc = gi::lpv_propagate(inj, &gv, it);
+        benchmark::DoNotOptimize(gi::shade_lpv_receivers_cpu(acc, g.receivers));
+      } else {
+        double s1 = 0, s2 = 0;
+        const gi::LpvGrid acc = gi::lpv_propagate_gpu(inj, &gv, it, &s1);
+        benchmark::DoNotOptimize(gi::shade_lpv_receivers_gpu(acc, g.receivers, &s2));
+        state.SetIterationTime(s1 + s2);
+      }
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+}
+BENCHMARK(BM_LpvFrame512)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_LpvFrame512)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
+
 }  // namespace

@@ -104,16 +104,22 @@ TEST(GiCli, RadiosityAndLpvRender) {
     EXPECT_TRUE(std::isfinite(sum)) << m;
   }
   // --device auto: the LPV propagates on the GPU where an EGL context can be made, else on
-  // the CPU with a one-line notice; either way an image. gpu for a CPU-only method: exit 1.
+  // the CPU with a one-line notice; either way an image. gpu for a CPU-only method (probes): exit 1.
   const auto exr = dir / "lpv_auto.exr";
   auto r = run_cli("gi render --scene-builtin cornell-box --method lpv --grid 4 --device auto --pixel-samples 2 "
                    "--size 12x8 -o '" + exr.string() + "'");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(exr));
-  r = run_cli("gi render --scene-builtin cornell-box --method radiosity --device gpu --size 12x8 -o '" +
+  // radiosity's walk runs as a GPU pass too (auto: on the CPU where no context is made)
+  const auto exr_r = dir / "radiosity_auto.exr";
+  r = run_cli("gi render --scene-builtin cornell-box --method radiosity --grid 4 --cube-size 4 --device auto "
+              "--pixel-samples 1 --size 12x8 -o '" + exr_r.string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(exr_r));
+  r = run_cli("gi render --scene-builtin cornell-box --method probes --device gpu --size 12x8 -o '" +
               (dir / "no.exr").string() + "'");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("radiosity"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("probes"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "no.exr"));
 }
 

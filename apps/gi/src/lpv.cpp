@@ -171,10 +171,11 @@ void lpv_add_vpl(LpvGrid& g, const glm::dvec3& p, const glm::dvec3& n, const glm
   }
 }
 
-LpvGrid lpv_inject(const Scene& scene, const LpvOptions& opt, std::uint64_t* nrays) {
+std::vector<Vpl> lpv_vpls(const Scene& scene, const LpvOptions& opt, const LpvGrid& g, std::uint64_t* nrays) {
   check(opt);
   validate(scene);
-  LpvGrid g = lpv_grid(scene, opt.grid);
+  check_grid(g);
+  std::vector<Vpl> out;
   const prt::RayScene rays(scene.mesh);
   const detail::DirectLight dl(scene, rays);
   const std::vector<glm::dvec3>& normal = dl.normals();
@@ -192,7 +193,7 @@ LpvGrid lpv_inject(const Scene& scene, const LpvOptions& opt, std::uint64_t* nra
     const glm::dvec3 p = o + t * d;
     const glm::dvec3 n = glm::dot(normal[prim], d) < 0 ? normal[prim] : -normal[prim];
     const glm::dvec3 phi = scene.materials[scene.material[prim]].albedo * flux;
-    if (phi.x + phi.y + phi.z > 0) lpv_add_vpl(g, p + 0.5 * g.h * n, n, phi);
+    if (phi.x + phi.y + phi.z > 0) out.push_back({p + 0.5 * g.h * n, n, phi});
   };
   if (scene.sun && scene.sun->irradiance.x + scene.sun->irradiance.y + scene.sun->irradiance.z > 0) {
     const glm::dvec3 s = glm::normalize(scene.sun->direction);
@@ -247,17 +248,22 @@ LpvGrid lpv_inject(const Scene& scene, const LpvOptions& opt, std::uint64_t* nra
     }
   }
   if (nrays != nullptr) *nrays = count;
+  return out;
+}
+
+LpvGrid lpv_inject(const Scene& scene, const LpvOptions& opt, std::uint64_t* nrays) {
+  check(opt);
+  validate(scene);
+  LpvGrid g = lpv_grid(scene, opt.grid);
+  for (const Vpl& v : lpv_vpls(scene, opt, g, nrays)) lpv_add_vpl(g, v.p, v.n, v.flux);
   return g;
 }
 
-GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g) {
-  check_grid(g);
-  GeometryVolume gv;
-  gv.nx = g.nx, gv.ny = g.ny, gv.nz = g.nz;
-  gv.corners.assign(static_cast<std::size_t>(g.nx + 1) * (g.ny + 1) * (g.nz + 1), {});
-  const std::vector<glm::dvec3> normal = detail::triangle_normals(scene.mesh);
-  // Funk–Hecke factors of |cos|: 2 pi int_{-1}^{1} |mu| P_l(mu) dmu = 2 pi, 0, pi / 2.
-  const double lam0 = 2 * kPi, lam2 = kPi / 2;
+namespace {
+// The geometry volume's surfels (see lpv.hpp): surfel(corner, triangle, as / h^2) per surfel,
+// triangles in order, each triangle's surfels in row order.
+template <class F>
+void geometry_surfels(const Scene& scene, const LpvGrid& g, F&& surfel) {
   const double h2 = g.h * g.h;
   for (std::size_t tri = 0; tri < scene.mesh.triangles.size(); ++tri) {
     const auto& tv = scene.mesh.triangles[tri];
@@ -269,20 +275,6 @@ GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g) {
     // centroids, about 16 per h^2
     const int s = std::clamp(static_cast<int>(std::ceil(std::sqrt(16 * area / h2))), 1, 1024);
     const double as = area / (static_cast<double>(s) * s);
-    double c9[9];
-    {
-      const glm::dvec3 n = normal[tri];
-      const double yv[9] = {kY00,
-                            -kY1 * n.y,
-                            kY1 * n.z,
-                            -kY1 * n.x,
-                            1.0925484305920792 * n.x * n.y,
-                            -1.0925484305920792 * n.y * n.z,
-                            0.31539156525252005 * (3 * n.z * n.z - 1),
-                            -1.0925484305920792 * n.x * n.z,
-                            0.54627421529603959 * (n.x * n.x - n.y * n.y)};
-      for (int q = 0; q < 9; ++q) c9[q] = (q == 0 ? lam0 : q >= 4 ? lam2 : 0.0) * yv[q] * as / h2;
-    }
     for (int r = 0; r < s; ++r)
       for (int c = 0; c < s - r; ++c)
         for (int up = 0; up < 2; ++up) {
@@ -295,10 +287,34 @@ GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g) {
           const int i = std::clamp(static_cast<int>(std::lround(f.x)), 0, g.nx),
                     j = std::clamp(static_cast<int>(std::lround(f.y)), 0, g.ny),
                     k = std::clamp(static_cast<int>(std::lround(f.z)), 0, g.nz);
-          auto& dst = gv.corners[(static_cast<std::size_t>(k) * (g.ny + 1) + j) * (g.nx + 1) + i];
-          for (int q = 0; q < 9; ++q) dst[q] += c9[q];
+          surfel((static_cast<std::size_t>(k) * (g.ny + 1) + j) * (g.nx + 1) + i, tri, as / h2);
         }
   }
+}
+}  // namespace
+
+GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g) {
+  check_grid(g);
+  GeometryVolume gv;
+  gv.nx = g.nx, gv.ny = g.ny, gv.nz = g.nz;
+  gv.corners.assign(static_cast<std::size_t>(g.nx + 1) * (g.ny + 1) * (g.nz + 1), {});
+  const std::vector<glm::dvec3> normal = detail::triangle_normals(scene.mesh);
+  // Funk–Hecke factors of |cos|: 2 pi int_{-1}^{1} |mu| P_l(mu) dmu = 2 pi, 0, pi / 2.
+  const double lam0 = 2 * kPi, lam2 = kPi / 2;
+  geometry_surfels(scene, g, [&](std::size_t corner, std::size_t tri, double w) {
+    const glm::dvec3 n = normal[tri];
+    const double yv[9] = {kY00,
+                          -kY1 * n.y,
+                          kY1 * n.z,
+                          -kY1 * n.x,
+                          1.0925484305920792 * n.x * n.y,
+                          -1.0925484305920792 * n.y * n.z,
+                          0.31539156525252005 * (3 * n.z * n.z - 1),
+                          -1.0925484305920792 * n.x * n.z,
+                          0.54627421529603959 * (n.x * n.x - n.y * n.y)};
+    auto& dst = gv.corners[corner];
+    for (int q = 0; q < 9; ++q) dst[q] += (q == 0 ? lam0 : q >= 4 ? lam2 : 0.0) * yv[q] * w;
+  });
   return gv;
 }
 
@@ -435,6 +451,206 @@ LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int
   (void)gpu_seconds;
   throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
 #endif
+}
+
+#ifdef ATMOSH_GI_HAVE_GPU
+namespace {
+// Stable counting sort of items by bin: start (bins + 1 offsets) and the order of the items.
+void bin_items(const std::vector<std::size_t>& bin, std::size_t bins, std::vector<std::uint32_t>& start,
+               std::vector<std::size_t>& order) {
+  start.assign(bins + 1, 0);
+  for (std::size_t b : bin) ++start[b + 1];
+  for (std::size_t b = 0; b < bins; ++b) start[b + 1] += start[b];
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  order.assign(bin.size(), 0);
+  for (std::size_t i = 0; i < bin.size(); ++i) order[fill[bin[i]]++] = i;
+}
+
+// One dispatch of `shader` over `bins` bins: start (binding 0), items (binding 1, `stride`
+// floats each), out (binding 2, `out_stride` floats a bin).
+std::vector<float> binned_sum_gpu(const char* shader, const std::vector<std::uint32_t>& start,
+                                  const std::vector<float>& items, std::size_t bins, int out_stride,
+                                  double* gpu_seconds) {
+  const gpu::Context ctx;
+  gpu::Program prog({gpu::embedded_source(shader)});
+  const auto t0 = Clock::now();
+  const std::vector<float> one(1, 0.0f);
+  gpu::Buffer bs(start.size() * sizeof(std::uint32_t), start.data()),
+      bi(std::max<std::size_t>(items.size(), 1) * sizeof(float), items.empty() ? one.data() : items.data()),
+      bo(bins * out_stride * sizeof(float));
+  bs.bind(0);
+  bi.bind(1);
+  bo.bind(2);
+  prog.use();
+  prog.set("n_bins", static_cast<int>(bins));
+  prog.dispatch(static_cast<unsigned>((bins + 63) / 64));
+  std::vector<float> out(bins * out_stride);
+  bo.download(out.data(), out.size() * sizeof(float));
+  if (gpu_seconds != nullptr) *gpu_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return out;
+}
+}  // namespace
+#endif
+
+LpvGrid lpv_inject_gpu(const Scene& scene, const LpvOptions& opt, std::uint64_t* nrays, double* gpu_seconds) {
+  check(opt);
+  validate(scene);
+  LpvGrid g = lpv_grid(scene, opt.grid);
+#ifdef ATMOSH_GI_HAVE_GPU
+  const std::vector<Vpl> vpls = lpv_vpls(scene, opt, g, nrays);
+  std::vector<std::size_t> bin(vpls.size()), order;
+  for (std::size_t v = 0; v < vpls.size(); ++v) {
+    int i, j, k;
+    cell_of(g, vpls[v].p, i, j, k);
+    bin[v] = g.index(i, j, k);
+  }
+  std::vector<std::uint32_t> start;
+  bin_items(bin, g.cells.size(), start, order);
+  std::vector<float> items(vpls.size() * 6);
+  for (std::size_t r = 0; r < order.size(); ++r)
+    for (int c = 0; c < 3; ++c) {
+      items[r * 6 + c] = static_cast<float>(vpls[order[r]].n[c]);
+      items[r * 6 + 3 + c] = static_cast<float>(vpls[order[r]].flux[c]);
+    }
+  const std::vector<float> out = binned_sum_gpu("gpu/shaders/gi_lpv_inject.comp", start, items, g.cells.size(), 12,
+                                                gpu_seconds);
+  for (std::size_t c = 0; c < g.cells.size(); ++c)
+    for (int q = 0; q < 12; ++q) g.cells[c][q] = out[c * 12 + q];
+  return g;
+#else
+  (void)nrays;
+  (void)gpu_seconds;
+  throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+GeometryVolume lpv_geometry_gpu(const Scene& scene, const LpvGrid& g, double* gpu_seconds) {
+  check_grid(g);
+  GeometryVolume gv;
+  gv.nx = g.nx, gv.ny = g.ny, gv.nz = g.nz;
+  const std::size_t nc = static_cast<std::size_t>(g.nx + 1) * (g.ny + 1) * (g.nz + 1);
+  gv.corners.assign(nc, {});
+#ifdef ATMOSH_GI_HAVE_GPU
+  const std::vector<glm::dvec3> normal = detail::triangle_normals(scene.mesh);
+  std::vector<std::size_t> bin, order;
+  std::vector<std::array<double, 4>> surfel;
+  geometry_surfels(scene, g, [&](std::size_t corner, std::size_t tri, double w) {
+    bin.push_back(corner);
+    surfel.push_back({normal[tri].x, normal[tri].y, normal[tri].z, w});
+  });
+  std::vector<std::uint32_t> start;
+  bin_items(bin, nc, start, order);
+  std::vector<float> items(surfel.size() * 4);
+  for (std::size_t r = 0; r < order.size(); ++r)
+    for (int q = 0; q < 4; ++q) items[r * 4 + q] = static_cast<float>(surfel[order[r]][q]);
+  const std::vector<float> out = binned_sum_gpu("gpu/shaders/gi_lpv_geometry.comp", start, items, nc, 9, gpu_seconds);
+  for (std::size_t c = 0; c < nc; ++c)
+    for (int q = 0; q < 9; ++q) gv.corners[c][q] = out[c * 9 + q];
+  return gv;
+#else
+  (void)scene;
+  (void)gpu_seconds;
+  throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+namespace {
+void check_receivers(const RadiosityReceivers& r) {
+  const std::size_t n = r.size();
+  if (r.normal.size() != n || r.albedo.size() != n || r.emission.size() != n || r.direct.size() != n)
+    throw InputError("gi lpv: the receivers' arrays differ in length");
+  if (n > 0x7fffffffu / 15) throw InputError("gi lpv: too many receivers for one pass");
+}
+}  // namespace
+
+std::vector<glm::dvec3> shade_lpv_receivers_cpu(const LpvGrid& g, const RadiosityReceivers& r) {
+  check_grid(g);
+  check_receivers(r);
+  const double inv_h2 = 1.0 / (g.h * g.h);
+  std::vector<glm::dvec3> out(r.size());
+  parallel_for_ranges(r.size(), 256, 0, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const glm::dvec3& n = r.normal[i];
+      const LpvCell c = lpv_sample(g, r.position[i] + 0.5 * g.h * n);
+      glm::dvec3 E(0.0);
+      for (int ch = 0; ch < 3; ++ch) {
+        const double co[9] = {c[ch * 4], c[ch * 4 + 1], c[ch * 4 + 2], c[ch * 4 + 3], 0, 0, 0, 0, 0};
+        E[ch] = std::max(0.0, shared::gi_sh_irradiance(co, 2, -n) * inv_h2);
+      }
+      out[i] = r.emission[i] + r.albedo[i] / kPi * glm::max(r.direct[i] + E, glm::dvec3(0.0));
+    }
+  });
+  return out;
+}
+
+std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& g, const RadiosityReceivers& r, double* gpu_seconds) {
+  check_grid(g);
+  check_receivers(r);
+#ifdef ATMOSH_GI_HAVE_GPU
+  const gpu::Context ctx;
+  gpu::Program prog({gpu::embedded_source("gpu/shaders/gi_radiosity_fetch.glsl"),
+                     gpu::embedded_source("apps/gi/include/atmosh/gi/shared/radiosity.glsl.hpp"),
+                     gpu::embedded_source("gpu/shaders/gi_lpv_apply.comp")});
+  const std::size_t nr = r.size();
+  std::vector<float> rec(std::max<std::size_t>(nr, 1) * 15, 0.0f), cells(g.cells.size() * 12);
+  for (std::size_t i = 0; i < nr; ++i)
+    for (int c = 0; c < 3; ++c) {
+      rec[i * 15 + c] = static_cast<float>(r.position[i][c]);
+      rec[i * 15 + 3 + c] = static_cast<float>(r.normal[i][c]);
+      rec[i * 15 + 6 + c] = static_cast<float>(r.albedo[i][c]);
+      rec[i * 15 + 9 + c] = static_cast<float>(r.emission[i][c]);
+      rec[i * 15 + 12 + c] = static_cast<float>(r.direct[i][c]);
+    }
+  for (std::size_t c = 0; c < g.cells.size(); ++c)
+    for (int q = 0; q < 12; ++q) cells[c * 12 + q] = static_cast<float>(g.cells[c][q]);
+  const auto t0 = Clock::now();
+  gpu::Buffer brec(rec.size() * sizeof(float), rec.data()), bout(std::max<std::size_t>(nr, 1) * 4 * sizeof(float)),
+      bl(cells.size() * sizeof(float), cells.data());
+  brec.bind(4);
+  bout.bind(5);
+  bl.bind(6);
+  prog.use();
+  prog.set("n_receivers", static_cast<int>(nr));
+  prog.set("lpv_lo", static_cast<float>(g.lo.x), static_cast<float>(g.lo.y), static_cast<float>(g.lo.z));
+  prog.set("lpv_h", static_cast<float>(g.h));
+  prog.set("lpv_nx", g.nx);
+  prog.set("lpv_ny", g.ny);
+  prog.set("lpv_nz", g.nz);
+  if (nr > 0) prog.dispatch(static_cast<unsigned>((nr + 63) / 64));
+  std::vector<float> out(std::max<std::size_t>(nr, 1) * 4);
+  bout.download(out.data(), out.size() * sizeof(float));
+  if (gpu_seconds != nullptr) *gpu_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::vector<glm::dvec3> L(nr);
+  for (std::size_t i = 0; i < nr; ++i) L[i] = {out[i * 4], out[i * 4 + 1], out[i * 4 + 2]};
+  return L;
+#else
+  (void)gpu_seconds;
+  throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
+                                 const LpvOptions& opt, bool gpu) {
+  check(opt);
+  check_grid(lpv.accumulated);
+  const auto t0 = Clock::now();
+  const RadiosityGBuffer g = radiosity_gbuffer(scene, camera, width, height, opt.samples, opt.seed, opt.threads);
+  const std::vector<glm::dvec3> L =
+      gpu ? shade_lpv_receivers_gpu(lpv.accumulated, g.receivers) : shade_lpv_receivers_cpu(lpv.accumulated, g.receivers);
+  RadianceImage img;
+  img.width = width;
+  img.height = height;
+  img.samples = 1;
+  const std::size_t np = static_cast<std::size_t>(width) * height;
+  for (int c = 0; c < 3; ++c) {
+    img.mean[c].assign(np, 0.0f);
+    img.stderr_[c].assign(np, 0.0f);
+    for (std::size_t i = 0; i < np; ++i) img.mean[c][i] = static_cast<float>(g.background[i][c]);
+    for (std::size_t k = 0; k < L.size(); ++k) img.mean[c][g.pixel[k]] = static_cast<float>(L[k][c]);
+  }
+  img.stats.rays = g.rays;
+  img.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return img;
 }
 
 glm::dvec3 lpv_flux(const LpvGrid& g) {

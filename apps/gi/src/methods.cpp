@@ -71,7 +71,7 @@ void check_method_options(const MethodOptions& o) {
 MethodResult render_method(const Scene& scene, const Camera& camera, int width, int height, const MethodOptions& o) {
   check_method_options(o);
   MethodResult r;
-  if (o.method != "lpv" && o.device != DeviceRequest::cpu)
+  if (o.method != "lpv" && o.method != "radiosity" && o.device != DeviceRequest::cpu)
     r.device = resolve_device(o.device, GpuUnusable{GpuUnusable::Why::unsupported, "method '" + o.method + "'", ""},
                               "rendering on the CPU");
   if (o.method == "path") {
@@ -106,40 +106,68 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     r.image.stats.shadow_rays += g.stats.shadow_rays;
   } else if (o.method == "radiosity") {
     const RadiosityOptions ro = radiosity_options(o);
-    const RadiosityVolume v = build_radiosity_volume(scene, ro);
-    r.build_seconds = v.seconds;
-    const auto t0 = Clock::now();
-    r.image = render_radiosity(scene, camera, width, height, v, ro);
-    r.shade_seconds = since(t0);
-    r.image.stats.rays += v.rays;
-  } else {
-    const LpvOptions lo = lpv_options(o);
-    Lpv l;
-    if (o.device == DeviceRequest::cpu) {
-      l = build_lpv(scene, lo);
-    } else {  // injection and geometry on the CPU, propagation on the GPU where it can run
-      const auto t0 = Clock::now();
-      l.injected = lpv_inject(scene, lo, &l.rays);
-      if (lo.blocking) l.geometry = lpv_geometry(scene, l.injected);
-      l.iterations = lo.iterations < 0 ? 2 * lo.grid : lo.iterations;
-      const auto t1 = Clock::now();
-      l.inject_seconds = std::chrono::duration<double>(t1 - t0).count();
+    RadiosityVolume v = build_radiosity_volume(scene, ro);
+    bool done = false;
+    if (o.device != DeviceRequest::cpu) {  // the walk as a GPU pass over a G-buffer
+      add_direct_volume(scene, v, 32, 4, ro.seed, ro.threads);
       std::optional<GpuUnusable> unusable;
+      const auto t0 = Clock::now();
       try {
-        l.accumulated = lpv_propagate_gpu(l.injected, lo.blocking ? &l.geometry : nullptr, l.iterations);
+        r.image = render_radiosity_gbuffer(scene, camera, width, height, v, ro, true);
+        done = true;
       } catch (const InputError& e) {  // built without atmosh::gpu
         unusable = GpuUnusable{GpuUnusable::Why::not_built, e.what(), ""};
       } catch (const std::runtime_error& e) {  // no EGL context (gpu::Unavailable) or the driver refused
         unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), ""};
       }
-      r.device = resolve_device(o.device, unusable, "propagating the LPV on the CPU");
-      if (!r.device.gpu) l.accumulated = lpv_propagate(l.injected, lo.blocking ? &l.geometry : nullptr, l.iterations);
-      l.propagate_seconds = since(t1);
+      r.device = resolve_device(o.device, unusable, "rendering on the CPU");
+      r.shade_seconds = since(t0);
+    }
+    r.build_seconds = v.seconds;
+    if (!done) {
+      const auto t0 = Clock::now();
+      r.image = render_radiosity(scene, camera, width, height, v, ro);
+      r.shade_seconds = since(t0);
+    }
+    r.image.stats.rays += v.rays;
+  } else {
+    const LpvOptions lo = lpv_options(o);
+    Lpv l;
+    bool shaded = false;  // the GPU path shades its G-buffer
+    if (o.device == DeviceRequest::cpu) {
+      l = build_lpv(scene, lo);
+    } else {  // injection (VPLs found by rays on the CPU), geometry and propagation on the GPU where it can run
+      l.iterations = lo.iterations < 0 ? 2 * lo.grid : lo.iterations;
+      const auto t0 = Clock::now();
+      std::optional<GpuUnusable> unusable;
+      try {
+        l.injected = lpv_inject_gpu(scene, lo, &l.rays);
+        if (lo.blocking) l.geometry = lpv_geometry_gpu(scene, l.injected);
+        l.inject_seconds = since(t0);
+        const auto t1 = Clock::now();
+        l.accumulated = lpv_propagate_gpu(l.injected, lo.blocking ? &l.geometry : nullptr, l.iterations);
+        l.propagate_seconds = since(t1);
+        const auto t2 = Clock::now();
+        r.image = render_lpv_gbuffer(scene, camera, width, height, l, lo, true);
+        r.shade_seconds = since(t2);
+        shaded = true;
+      } catch (const InputError& e) {  // built without atmosh::gpu
+        unusable = GpuUnusable{GpuUnusable::Why::not_built, e.what(), ""};
+      } catch (const std::runtime_error& e) {  // no EGL context (gpu::Unavailable) or the driver refused
+        unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), ""};
+      }
+      r.device = resolve_device(o.device, unusable, "building the LPV on the CPU");
+      if (!r.device.gpu) {
+        l = build_lpv(scene, lo);
+        shaded = false;
+      }
     }
     r.build_seconds = l.inject_seconds + l.propagate_seconds;
-    const auto t0 = Clock::now();
-    r.image = render_lpv(scene, camera, width, height, l, lo);
-    r.shade_seconds = since(t0);
+    if (!shaded) {
+      const auto t0 = Clock::now();
+      r.image = render_lpv(scene, camera, width, height, l, lo);
+      r.shade_seconds = since(t0);
+    }
     r.image.stats.rays += l.rays;
   }
   r.image.stats.seconds = r.build_seconds + r.shade_seconds;

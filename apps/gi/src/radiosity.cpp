@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 
@@ -200,6 +201,193 @@ RadianceImage render_radiosity(const Scene& scene, const Camera& camera, int wid
         const glm::dvec3 Ed = direct.irradiance(rng, p, n, nr);
         return Ed + 3.14159265358979323846 * shared::gi_radiosity_incident(ctx, p, n, opt.bounces, lo, hi);
       });
+}
+
+// ---- The GPU pass's CPU twin and its inputs --------------------------------------------
+
+void add_direct_volume(const Scene& scene, RadiosityVolume& v, int normals, int samples, std::uint64_t seed,
+                       int threads) {
+  if (normals < 4 || normals > 4096)
+    throw InputError("gi radiosity: direct-light normals must be in 4..4096, got " + std::to_string(normals));
+  if (samples < 1 || samples > 4096)
+    throw InputError("gi radiosity: direct-light samples must be in 1..4096, got " + std::to_string(samples));
+  validate(scene);
+  const std::size_t np = static_cast<std::size_t>(v.n) * v.n * v.n;
+  if (v.n < 1 || v.normal.size() != np) throw InputError("gi radiosity: the volume's arrays do not match its size");
+  const auto t0 = Clock::now();
+  const prt::RayScene rays(scene.mesh);
+  const detail::DirectLight direct(scene, rays);
+  // Spherical Fibonacci directions (golden-angle spiral, equal-area bands in z).
+  std::vector<glm::dvec3> dir(static_cast<std::size_t>(normals));
+  const double ga = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  for (int k = 0; k < normals; ++k) {
+    const double z = 1.0 - (2.0 * k + 1.0) / normals, r = std::sqrt(std::max(0.0, 1 - z * z));
+    dir[static_cast<std::size_t>(k)] = {r * std::cos(ga * k), r * std::sin(ga * k), z};
+  }
+  const double w = 4 * std::numbers::pi / normals;
+  v.direct.assign(np, {});
+  std::vector<std::uint64_t> counts(np, 0);
+  parallel_for_ranges(np, 1, threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      const int i = static_cast<int>(p % v.n), j = static_cast<int>(p / v.n % v.n), k = static_cast<int>(p / v.n / v.n);
+      const glm::dvec3 x = v.position(i, j, k);
+      detail::Rng rng(seed, p, detail::kLightSalt ^ 0x5bd1e995ULL);
+      std::array<double, 12> c{};
+      for (const glm::dvec3& n : dir) {
+        glm::dvec3 E(0.0);
+        for (int s = 0; s < samples; ++s) E += direct.irradiance(rng, x, n, counts[p]);
+        E /= samples;
+        const double y[4] = {0.28209479177387814, -0.48860251190291992 * n.y, 0.48860251190291992 * n.z,
+                             -0.48860251190291992 * n.x};
+        for (int ch = 0; ch < 3; ++ch)
+          for (int q = 0; q < 4; ++q) c[static_cast<std::size_t>(ch * 4 + q)] += w * E[ch] * y[q];
+      }
+      v.direct[p] = c;
+    }
+  });
+  for (auto c : counts) v.rays += c;
+  v.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+void radiosity_walk_box(const RadiosityVolume& v, glm::dvec3& lo, glm::dvec3& hi) {
+  const glm::dvec3 margin = 0.1 * (v.hi - v.lo) + 1e-9 * glm::length(v.hi - v.lo);
+  lo = v.lo - margin;
+  hi = v.hi + margin;
+}
+
+namespace detail {
+// The CPU twin's context: the volume's fetches and its direct-light SH at the walk vertices.
+struct VolumeDirectCtx {
+  const RadiosityVolume* v;
+};
+inline double gi_fetch_distance(const VolumeDirectCtx& c, const glm::dvec3& p, const glm::dvec3& d) {
+  return volume_distance(*c.v, p, d);
+}
+inline glm::dvec3 gi_fetch_normal(const VolumeDirectCtx& c, const glm::dvec3& q) { return volume_normal(*c.v, q); }
+inline glm::dvec3 gi_fetch_albedo(const VolumeDirectCtx& c, const glm::dvec3& q) { return volume_albedo(*c.v, q); }
+inline glm::dvec3 gi_direct_irradiance(const VolumeDirectCtx& c, const glm::dvec3& q, const glm::dvec3& n) {
+  std::size_t idx[8];
+  double w[8];
+  corners(*c.v, q, idx, w);
+  glm::dvec3 E(0.0);
+  for (int ch = 0; ch < 3; ++ch) {
+    double s[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    for (int k = 0; k < 8; ++k)
+      if (w[k] != 0)
+        for (int i = 0; i < 4; ++i) s[i] += w[k] * c.v->direct[idx[k]][static_cast<std::size_t>(ch * 4 + i)];
+    E[ch] = std::max(shared::gi_sh_eval(s, 2, n), 0.0);
+  }
+  return E;
+}
+}  // namespace detail
+
+std::vector<glm::dvec3> shade_receivers_cpu(const RadiosityVolume& v, const RadiosityReceivers& r, int bounces) {
+  const std::size_t np = static_cast<std::size_t>(v.n) * v.n * v.n;
+  if (v.n < 1 || v.distance.size() != np || v.normal.size() != np || v.albedo.size() != np || v.direct.size() != np)
+    throw InputError("gi radiosity: the volume's arrays (direct light included) do not match its size");
+  if (bounces < 0 || bounces > 16) throw InputError("gi radiosity: bounces must be in 0..16, got " + std::to_string(bounces));
+  glm::dvec3 lo, hi;
+  radiosity_walk_box(v, lo, hi);
+  const detail::VolumeDirectCtx ctx{&v};
+  std::vector<glm::dvec3> out(r.size());
+  parallel_for_ranges(r.size(), 256, 0, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const glm::dvec3 Lin = shared::gi_radiosity_incident(ctx, r.position[i], r.normal[i], bounces, lo, hi);
+      const glm::dvec3 E = glm::max(r.direct[i] + std::numbers::pi * Lin, glm::dvec3(0.0));
+      out[i] = r.emission[i] + r.albedo[i] / std::numbers::pi * E;
+    }
+  });
+  return out;
+}
+
+RadiosityGBuffer radiosity_gbuffer(const Scene& scene, const Camera& cam, int width, int height, int samples,
+                                   std::uint64_t seed, int threads) {
+  validate(scene);
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw InputError("gi: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  if (samples < 1 || samples > 1000000)
+    throw InputError("gi radiosity: direct-light samples per pixel must be in 1..1000000, got " + std::to_string(samples));
+  const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
+  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
+      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
+    throw InputError("gi: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
+  const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(rx), up = glm::cross(right, f);
+  const double th = std::tan(0.5 * cam.vertical_fov_deg * std::numbers::pi / 180),
+               aspect = static_cast<double>(width) / height;
+  const prt::RayScene rays(scene.mesh);
+  const detail::DirectLight direct(scene, rays);
+  const std::vector<glm::dvec3>& normal = direct.normals();
+  const bool has_env = scene.env_bands > 0 || scene.env_map.has_value();
+  const std::size_t np = static_cast<std::size_t>(width) * height;
+  // Per pixel first (hit or not), compacted afterwards in pixel order.
+  std::vector<char> hit(np, 0);
+  RadiosityReceivers all;
+  for (auto* a : {&all.position, &all.normal, &all.albedo, &all.emission, &all.direct}) a->assign(np, glm::dvec3(0.0));
+  RadiosityGBuffer g;
+  g.background.assign(np, glm::dvec3(0.0));
+  std::vector<std::uint64_t> counts(np, 0);
+  parallel_for_ranges(np, 64, threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
+      const double x = (2.0 * (col + 0.5) / width - 1.0) * th * aspect, y = (1.0 - 2.0 * (row + 0.5) / height) * th;
+      const glm::dvec3 d = glm::normalize(f + x * right + y * up);
+      std::uint32_t prim;
+      float u, vv;
+      double t;
+      ++counts[i];
+      if (!rays.intersect(cam.eye, d, rays.offset(), prim, u, vv, t)) {
+        if (has_env) g.background[i] = environment_radiance(scene, d);
+        continue;
+      }
+      hit[i] = 1;
+      const glm::dvec3 p = cam.eye + t * d;
+      const glm::dvec3 n = glm::dot(normal[prim], d) < 0 ? normal[prim] : -normal[prim];
+      const Material& mat = scene.materials[scene.material[prim]];
+      all.position[i] = p;
+      all.normal[i] = n;
+      all.albedo[i] = mat.albedo;
+      if (!mat.one_sided || glm::dot(normal[prim], -d) > 0) all.emission[i] = mat.emission;
+      detail::Rng rng(seed, i, detail::kReceiverSalt);
+      glm::dvec3 E(0.0);
+      for (int s = 0; s < samples; ++s) E += direct.irradiance(rng, p, n, counts[i]);
+      all.direct[i] = E / static_cast<double>(samples);
+    }
+  });
+  for (std::size_t i = 0; i < np; ++i) {
+    g.rays += counts[i];
+    if (!hit[i]) continue;
+    g.pixel.push_back(i);
+    g.receivers.position.push_back(all.position[i]);
+    g.receivers.normal.push_back(all.normal[i]);
+    g.receivers.albedo.push_back(all.albedo[i]);
+    g.receivers.emission.push_back(all.emission[i]);
+    g.receivers.direct.push_back(all.direct[i]);
+  }
+  return g;
+}
+
+RadianceImage render_radiosity_gbuffer(const Scene& scene, const Camera& camera, int width, int height,
+                                       RadiosityVolume& volume, const RadiosityOptions& opt, bool gpu) {
+  check(opt);
+  if (volume.direct.empty()) add_direct_volume(scene, volume, 32, 4, opt.seed, opt.threads);
+  const auto t0 = Clock::now();
+  const RadiosityGBuffer g = radiosity_gbuffer(scene, camera, width, height, opt.samples, opt.seed, opt.threads);
+  const std::vector<glm::dvec3> L =
+      gpu ? shade_receivers_gpu(volume, g.receivers, opt.bounces) : shade_receivers_cpu(volume, g.receivers, opt.bounces);
+  RadianceImage img;
+  img.width = width;
+  img.height = height;
+  img.samples = 1;
+  const std::size_t np = static_cast<std::size_t>(width) * height;
+  for (int c = 0; c < 3; ++c) {
+    img.mean[c].assign(np, 0.0f);
+    img.stderr_[c].assign(np, 0.0f);
+    for (std::size_t i = 0; i < np; ++i) img.mean[c][i] = static_cast<float>(g.background[i][c]);
+    for (std::size_t r = 0; r < L.size(); ++r) img.mean[c][g.pixel[r]] = static_cast<float>(L[r][c]);
+  }
+  img.stats.rays = g.rays;
+  img.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return img;
 }
 
 }  // namespace atmosh::gi

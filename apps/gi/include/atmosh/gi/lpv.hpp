@@ -58,6 +58,7 @@
 #include <glm/vec3.hpp>
 
 #include "atmosh/gi/path_tracer.hpp"
+#include "atmosh/gi/radiosity.hpp"
 #include "atmosh/gi/scene.hpp"
 
 namespace atmosh::gi {
@@ -105,9 +106,27 @@ LpvGrid lpv_grid(const Scene& scene, int grid);
 /// Adds a Lambertian VPL of flux `flux` (per channel) at p with unit normal n to the cell
 /// holding p (clamped into the grid); `isotropic`: I = flux / (4 pi) instead.
 void lpv_add_vpl(LpvGrid& g, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& flux, bool isotropic = false);
+/// A virtual point light of the injection: position (already moved h/2 along n, the cell
+/// it goes into holds it), unit normal, flux per channel.
+struct Vpl {
+  glm::dvec3 p, n, flux;
+};
+/// The VPLs of the injection (the rays described above, in their order; deterministic for
+/// opt.seed); lpv_inject adds them to `g`'s cells with lpv_add_vpl.
+std::vector<Vpl> lpv_vpls(const Scene& scene, const LpvOptions& opt, const LpvGrid& g, std::uint64_t* rays = nullptr);
 /// Injection of the scene's lights (see above), deterministic for opt.seed.
 LpvGrid lpv_inject(const Scene& scene, const LpvOptions& opt, std::uint64_t* rays = nullptr);
 GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g);
+/// The injection and the geometry volume on the GPU (atmosh::gpu, its own EGL context; errors
+/// as lpv_propagate_gpu): the VPLs (lpv_vpls, found by rays on the CPU: the stand-in of a
+/// reflective shadow map) and the geometry volume's surfels are binned by cell / corner on the
+/// CPU (a stable counting sort: each bin in the CPU's order), then one compute invocation
+/// per cell (gpu/shaders/gi_lpv_inject.comp) sums its VPLs' Lambertian lobes, one per corner
+/// (gi_lpv_geometry.comp) its surfels' |cos| SH, in float. gpu_seconds: uploads, dispatch
+/// and read-back.
+LpvGrid lpv_inject_gpu(const Scene& scene, const LpvOptions& opt, std::uint64_t* rays = nullptr,
+                       double* gpu_seconds = nullptr);
+GeometryVolume lpv_geometry_gpu(const Scene& scene, const LpvGrid& g, double* gpu_seconds = nullptr);
 /// One propagation step of `field` (gv null: no blocking).
 LpvGrid lpv_step(const LpvGrid& field, const GeometryVolume* gv);
 /// injected + sum of `iterations` steps (blocking from the second step on, when gv is given).
@@ -137,5 +156,19 @@ Lpv build_lpv(const Scene& scene, const LpvOptions& opt);
 /// Image lit by the LPV (opt.samples, seed, threads used here). stats.seconds: shading.
 RadianceImage render_lpv(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
                          const LpvOptions& opt);
+
+/// The LPV applied to receivers (a G-buffer, radiosity.hpp's RadiosityReceivers with their
+/// direct light): L = L_e + a / pi max(0, E_direct + max(0, E_lpv)), E_lpv as render_lpv's,
+/// from lpv_sample at x + h/2 n — in double on the CPU and in float on the GPU
+/// (gpu/shaders/gi_lpv_apply.comp; errors as lpv_propagate_gpu; gpu_seconds: uploads,
+/// dispatch and read-back).
+std::vector<glm::dvec3> shade_lpv_receivers_cpu(const LpvGrid& accumulated, const RadiosityReceivers& r);
+std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& accumulated, const RadiosityReceivers& r,
+                                                double* gpu_seconds = nullptr);
+/// The image by the G-buffer (radiosity_gbuffer: one ray per pixel centre, opt.samples
+/// direct-light estimates) and shade_lpv_receivers_gpu (gpu) or _cpu. stats.seconds: G-buffer +
+/// shading.
+RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
+                                 const LpvOptions& opt, bool gpu);
 
 }  // namespace atmosh::gi

@@ -44,7 +44,7 @@ struct MethodResult {
   RadianceImage image;
   double build_seconds = 0;  ///< probe grid / radiosity volume / LPV injection + propagation
   double shade_seconds = 0;  ///< the image (for path: the whole render)
-  DeviceDecision device;     ///< gpu: the LPV propagated on the GPU; notice: auto's fallback, for the caller
+  DeviceDecision device;     ///< gpu: the GPU passes ran; notice: auto's fallback, for the caller
 };
 /// Renders `scene` from `camera` by opt.method. A gpu request the method cannot meet throws
 /// std::runtime_error ("--device gpu: ..."), as resolve_device says.

@@ -2,7 +2,7 @@
 // a low-resolution volume of probes that stores, per probe, the SH projection of its
 // distance cube map and a bent normal from its normal cube map, and a material volume
 // (reflectivity); each receiver walks a few bounces through it (the per-receiver math is
-// atmosh/gi/shared/radiosity.glsl.hpp, written once for C++ and GLSL; the GPU pass is not built).
+// atmosh/gi/shared/radiosity.glsl.hpp, written once for C++ and GLSL; the GPU pass: render_radiosity_gbuffer below).
 //
 // Volume (n^3 probes at the cell centres of the scene's bounding box [lo, hi], as ProbeGrid):
 //   * distance cube map: cube_size^2 texels a face (libsh's layout), each the distance from
@@ -60,6 +60,10 @@ struct RadiosityVolume {
   std::vector<std::array<double, 9>> distance;  ///< per probe, bands^2 used; index (k n + j) n + i
   std::vector<glm::dvec3> normal;               ///< bent normal per probe (length 0..1: coherence)
   std::vector<glm::dvec3> albedo;               ///< reflectivity per probe and channel
+  /// Per probe the direct irradiance at the probe as an SH function of the surface normal,
+  /// bands 0-1 per channel ([channel 4 + i]); empty unless add_direct_volume filled it. It
+  /// is the direct light of the GPU pass's walk vertices (see below).
+  std::vector<std::array<double, 12>> direct;
   double seconds = 0;                           ///< wall time of the build
   std::uint64_t rays = 0;
   glm::dvec3 position(int i, int j, int k) const;
@@ -78,5 +82,55 @@ glm::dvec3 volume_albedo(const RadiosityVolume& v, const glm::dvec3& p);
 /// the shading loop.
 RadianceImage render_radiosity(const Scene& scene, const Camera& camera, int width, int height,
                                const RadiosityVolume& volume, const RadiosityOptions& opt);
+
+// ---- The GPU pass (and its CPU twin) ---------------------------------------------------
+// The per-receiver walk runs in a compute shader (gpu/shaders/gi_radiosity_shade.comp) that
+// pastes the shared block of atmosh/gi/shared/radiosity.glsl.hpp; the volume goes up as
+// storage buffers. A shader casts no shadow rays, so at the walk's vertices the direct
+// irradiance is the volume's: E(q, n) = max(0, sum_i e_i(q) Y_i(n)), e(q) the trilinear blend
+// of the probes' `direct` SH (bands 0-1). The receivers' own direct light comes with them.
+
+/// Fills v.direct: at each probe, E_direct at `normals` directions (a spherical Fibonacci
+/// set), each the mean of `samples` one-sample estimates (the CPU's DirectLight: sun,
+/// emitters, sky with shadow rays), projected to SH bands 0-1 with equal weights 4 pi /
+/// normals. Seeded; InputError for bad counts. Adds its wall time to v.seconds.
+void add_direct_volume(const Scene& scene, RadiosityVolume& v, int normals = 32, int samples = 4,
+                       std::uint64_t seed = 1, int threads = 0);
+
+/// Receivers of the pass (a G-buffer's texels): position, unit normal (the side the light
+/// comes from), albedo, emitted radiance towards the camera, direct irradiance E_direct.
+struct RadiosityReceivers {
+  std::vector<glm::dvec3> position, normal, albedo, emission, direct;
+  std::size_t size() const { return position.size(); }
+};
+
+/// The box the walk stays in: the volume's box grown by 10 % of its extent a side.
+void radiosity_walk_box(const RadiosityVolume& v, glm::dvec3& lo, glm::dvec3& hi);
+
+/// L = L_e + a / pi max(0, E_direct + pi L_in), L_in the shared walk through the volume
+/// with the direct-light SH at the walk's vertices: in double on the CPU (the reference of
+/// the GPU pass), and in float on the GPU (std::runtime_error / gpu::Unavailable without a
+/// context, InputError in a build without atmosh::gpu). v.direct must be filled.
+std::vector<glm::dvec3> shade_receivers_cpu(const RadiosityVolume& v, const RadiosityReceivers& r, int bounces);
+std::vector<glm::dvec3> shade_receivers_gpu(const RadiosityVolume& v, const RadiosityReceivers& r, int bounces,
+                                            double* gpu_seconds = nullptr);
+
+/// The G-buffer of `camera`: the first hit of one ray through each pixel's centre (pixels
+/// whose ray misses get no receiver: `pixel` maps receivers to pixels, the misses see the
+/// environment in `background`), E_direct the mean of `samples` DirectLight estimates.
+struct RadiosityGBuffer {
+  RadiosityReceivers receivers;
+  std::vector<std::size_t> pixel;
+  std::vector<glm::dvec3> background;  ///< per pixel (misses only; 0 elsewhere)
+  std::uint64_t rays = 0;
+};
+RadiosityGBuffer radiosity_gbuffer(const Scene& scene, const Camera& camera, int width, int height, int samples,
+                                   std::uint64_t seed, int threads = 0);
+
+/// The image by the GPU pass (gpu = true) or its CPU twin: G-buffer, then
+/// shade_receivers_*; fills volume.direct first where it is empty (opt.seed, opt.threads).
+/// stderr_ is 0 (one G-buffer ray per pixel). stats.seconds: G-buffer + shading.
+RadianceImage render_radiosity_gbuffer(const Scene& scene, const Camera& camera, int width, int height,
+                                       RadiosityVolume& volume, const RadiosityOptions& opt, bool gpu);
 
 }  // namespace atmosh::gi
