@@ -619,7 +619,7 @@ class SphereMedium {
   // the mixed phase function [1/sr] (<= 1 / (1 - b)).
   glm::dvec3 sample_scatter(const Ray& ray, Rng& rng, double& w) const {
     const double sr = sca_[kRayleigh] * last_rho_[kRayleigh], sm = sca_[kMie] * last_rho_[kMie];
-    // At the first vertex with a guide: its cell distribution with share g.
+    // With a guide: the cell distribution of the vertex's pilot point, share g.
     const bool guided = guide_ && first_point_ >= 0;
     const double g = guided ? guide_share_ : 0.0;
     glm::dvec3 up, e1, e2;
