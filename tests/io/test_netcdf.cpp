@@ -458,13 +458,13 @@ TEST(Netcdf, CliSunRangeWritesNetcdf) {
   const std::string range = " sun --lat 48 --lon 11.5 --from 2026-06-21T00:00:00Z --to 2026-06-21T06:00:00Z --step 1h ";
   ASSERT_EQ(std::system((bin + range + "-o " + (dir / "track.csv").string() + " 2>/dev/null").c_str()), 0);
   ASSERT_EQ(std::system((bin + range + "-o " + (dir / "track.nc").string() + " 2>/dev/null").c_str()), 0);
-  ASSERT_EQ(std::system((bin + range + "--format netcdf -o " + (dir / "track_fmt").string() + " 2>/dev/null").c_str()), 0);
+  ASSERT_EQ(std::system((bin + range + "--format netcdf -o " + (dir / "track_fmt.nc").string() + " 2>/dev/null").c_str()), 0);
   // Bad format: exit 2 before any work.
   EXPECT_EQ(WEXITSTATUS(std::system((bin + range + "--format xml -o " + (dir / "x.nc").string() + " 2>/dev/null").c_str())), 2);
   EXPECT_FALSE(fs::exists(dir / "x.nc"));
   const CsvData csv = read_csv(dir / "track.csv");
   ASSERT_EQ(csv.rows.size(), 7u);
-  for (const fs::path& f : {dir / "track.nc", dir / "track_fmt"}) {
+  for (const fs::path& f : {dir / "track.nc", dir / "track_fmt.nc"}) {
     Reader r(f);
     EXPECT_EQ(r.dim("time"), 7u);
     const auto t = r.doubles("time", 7);
