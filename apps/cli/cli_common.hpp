@@ -25,7 +25,7 @@
 #include "atmosh/io/output_check.hpp"
 #include "atmosh/memory.hpp"
 #include "atmosh/progress.hpp"
-#include "atmosh/work.hpp"
+#include "atmosh/budget.hpp"
 #include "atmosh/scene/scene.hpp"
 #include "atmosh/studies/sky.hpp"
 
@@ -67,30 +67,12 @@ void add_quality_options(CLI::App* c, studies::SkySettings& q);
 // The settings checked (studies::SkySettings::checked), threads recorded in the provenance.
 studies::SkySettings checked_quality(const studies::SkySettings& q);
 
-// ---- limits checked before work ---------------------------------------------------
-// The memory budget of one command: --max-memory when given, else the memory this
-// process may still take (atmosh::available_memory, atmosh/memory.hpp, which also has
-// parse_memory_size, format_bytes and the saturating mul_bytes).
-// Every command that sizes its work from the user's numbers estimates its memory from
-// those sizes (the estimators live next to what they estimate and return bytes) and
-// calls check_memory before it starts.
-std::size_t memory_budget();
-void set_memory_budget(std::size_t bytes);  // --max-memory
-// InputError "<what> needs about 12.3 GiB (estimate), more than the memory budget of
-// 7.6 GiB (MemAvailable; set with --max-memory)" when bytes exceed the budget.
-void check_memory(std::size_t bytes, const std::string& what);
-// The time budget of one command [s of wall time]: --max-time when given, else
-// atmosh::kDefaultTimeBudgetS (24 h). Commands whose work is clear from their sizes
-// estimate it (atmosh/work.hpp; the estimators live next to what they estimate) and call
-// check_time before they start: InputError "<what> needs about 3.2 days of computing
-// (estimate: 2.1e+13 ray nodes x wavelengths at 1.4e-08 s each on one core, 2 workers),
-// more than the time budget of 24 h (set with --max-time)".
-double time_budget();
-void set_time_budget(double seconds);  // --max-time
-// workers: the threads that share the work (0: the CPUs this process may use).
-void check_time(const WorkEstimate& work, int workers, const std::string& what);
-// "about 3.2 h on 2 workers (estimate: ...)" for `plan`.
-std::string describe_work(const WorkEstimate& work, int workers);
+// ---- limits checked before work: atmosh/budget.hpp (--max-memory, --max-time) ----
+using atmosh::check_memory;
+using atmosh::check_time;
+using atmosh::describe_work;
+using atmosh::memory_budget;
+
 // --format csv|netcdf of a table output (netCDF-CF beside the CSV, atmosh/io/netcdf.hpp),
 // checked when parsed. For an output folder it sets `netcdf` (handed to the writer); for
 // an output stem, `--format netcdf` is `-o STEM.nc` (the writers' io::table_output_stem).

@@ -4,7 +4,6 @@
 
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/error.hpp"
-#include "atmosh/parallel.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/scene/outputs.hpp"
 #include "atmosh/scene/scene.hpp"
@@ -85,22 +84,8 @@ void register_scene_commands(CLI::App& app) {
       const auto s = scene_or_default(file);
       scene::check_outputs(s);  // the plan of a scene that `run` refuses is refused too
       const auto passes = scene::plan(s);
-      const auto mem = studies::scene_peak_memory(s, {});  // the estimates `run` checks against its budgets
-      const auto work = studies::scene_work(s, {});
-      if (json) {
-        nlohmann::json j = studies::plan_json(s, passes);
-        j["estimate"] = {{"peak_memory_bytes", mem.bytes}, {"cpu_seconds", work.cpu_seconds()},
-                         {"workers", available_cpus()}, {"wall_seconds", work.wall_seconds(available_cpus())},
-                         {"units", work.units}, {"unit", work.unit}, {"seconds_per_unit", work.seconds_per_unit}};
-        return print_json(j);
-      }
-      std::cout << "plan for " << s.source << "\n";
-      for (const auto& p : passes)
-        std::cout << (p.needed ? "  run   " : "  skip  ") << p.name << std::string(p.name.size() < 34 ? 34 - p.name.size() : 1, ' ')
-                  << p.reason << "\n";
-      std::cout << "  estimate: memory "
-                << (mem.bytes > 0 ? format_bytes(static_cast<double>(mem.bytes)) + " at most (" + mem.what + ")" : "small")
-                << ", computing " << (work.units > 0 ? describe_work(work, 0) : "small") << "\n";
+      if (json) return print_json(studies::plan_json(s, passes));
+      std::cout << studies::plan_text(s, passes);
     });
   }
   {

@@ -208,14 +208,7 @@ void register_sky_commands(CLI::App& app) {
       scene::SweepOptions o;
       o.out_dir = out;
       o.resume = resume;
-      const auto slash = shard.find('/');
-      try {
-        if (slash == std::string::npos) throw std::invalid_argument("");
-        o.shard = std::stoi(shard.substr(0, slash));
-        o.shards = std::stoi(shard.substr(slash + 1));
-      } catch (const std::logic_error&) {
-        throw InputError("--shard '" + shard + "' is not k/N");
-      }
+      o.set_shard(shard);
       const studies::SkySettings k = checked_quality(q);
       o.threads = k.threads;
       o.settings = k.sweep_settings();

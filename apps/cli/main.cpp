@@ -36,13 +36,13 @@ int main(int argc, char** argv) {
   app.fallthrough();  // global options (--max-memory) also after the subcommand; inherited by subcommands
   app.add_option_function<std::string>(
          "--max-memory",
-         [](const std::string& v) { atmosh::cli::set_memory_budget(atmosh::parse_memory_size(v)); },
+         [](const std::string& v) { atmosh::set_memory_budget(atmosh::parse_memory_size(v)); },
          "Memory budget of the command, e.g. 2G or 512M (default: the memory still available, from "
          "/proc/meminfo MemAvailable and the cgroup's limit). Requests estimated above it are refused "
          "(exit 2) before any work")
       ->trigger_on_parse();
   app.add_option_function<std::string>(
-         "--max-time", [](const std::string& v) { atmosh::cli::set_time_budget(atmosh::parse_time_budget(v)); },
+         "--max-time", [](const std::string& v) { atmosh::set_time_budget(atmosh::parse_time_budget(v)); },
          "Time budget of the command, e.g. 24h, 90m, 45s (default 24h). Requests whose computing is estimated "
          "from their sizes above it (sky images, studies, optical-depth tables, sh project sampling) are "
          "refused (exit 2) before any work")

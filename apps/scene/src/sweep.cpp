@@ -478,4 +478,15 @@ void merge_sweep(const std::vector<fs::path>& inputs, const fs::path& output) {
   t.write(output, prov);
 }
 
+void SweepOptions::set_shard(const std::string& text) {
+  const auto slash = text.find('/');
+  try {
+    if (slash == std::string::npos) throw std::invalid_argument("");
+    shard = std::stoi(text.substr(0, slash));
+    shards = std::stoi(text.substr(slash + 1));
+  } catch (const std::logic_error&) {
+    throw InputError("--shard '" + text + "' is not k/N");
+  }
+}
+
 }  // namespace atmosh::scene

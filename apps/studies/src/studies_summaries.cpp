@@ -10,7 +10,10 @@
 #include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/sun_disc.hpp"
 #include "atmosh/atmo/time_utc.hpp"
+#include "atmosh/budget.hpp"
+#include "atmosh/memory.hpp"
 #include "atmosh/parallel.hpp"
+#include "atmosh/studies/scene_run.hpp"
 
 namespace atmosh::studies {
 
@@ -166,7 +169,24 @@ json plan_json(const scene::Scene& s, const std::vector<scene::Pass>& passes) {
   j["scene"] = s.source;
   j["passes"] = json::array();
   for (const auto& p : passes) j["passes"].push_back({{"pass", p.name}, {"needed", p.needed}, {"reason", p.reason}});
+  const auto mem = scene_peak_memory(s, {});
+  const auto work = scene_work(s, {});
+  j["estimate"] = {{"peak_memory_bytes", mem.bytes}, {"cpu_seconds", work.cpu_seconds()},
+                   {"workers", available_cpus()}, {"wall_seconds", work.wall_seconds(available_cpus())},
+                   {"units", work.units}, {"unit", work.unit}, {"seconds_per_unit", work.seconds_per_unit}};
   return j;
+}
+
+std::string plan_text(const scene::Scene& s, const std::vector<scene::Pass>& passes) {
+  std::string t = "plan for " + s.source + "\n";
+  for (const auto& p : passes)
+    t += (p.needed ? "  run   " : "  skip  ") + p.name + std::string(p.name.size() < 34 ? 34 - p.name.size() : 1, ' ') +
+         p.reason + "\n";
+  const auto mem = scene_peak_memory(s, {});
+  const auto work = scene_work(s, {});
+  return t + "  estimate: memory " +
+         (mem.bytes > 0 ? format_bytes(static_cast<double>(mem.bytes)) + " at most (" + mem.what + ")" : "small") +
+         ", computing " + (work.units > 0 ? describe_work(work, 0) : "small") + "\n";
 }
 
 std::string sun_position_text(const atmo::SunQuery& q, const atmo::SunPosition& s) {

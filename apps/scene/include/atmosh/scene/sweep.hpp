@@ -86,6 +86,9 @@ struct SweepOptions {
   bool resume = false;
   int shard = 1, shards = 1;   // shard k of n, 1-based
   int threads = 1;             // workers; 0 = the CPUs this process may use (atmosh::resolve_threads)
+  // shard and shards from "k/N" (InputError "--shard '<text>' is not k/N"; the range is
+  // checked by run_sweep).
+  void set_shard(const std::string& text);
 };
 
 struct SweepResult {

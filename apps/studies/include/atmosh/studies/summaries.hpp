@@ -58,8 +58,10 @@ nlohmann::json prt_bake_json(const prt::Transfer& transfer, const std::string& f
 nlohmann::json prt_pixel_bake_json(const prt::PixelTransfer& transfer, sh::prt::TransferMode mode,
                                    const std::string& file, double time_s);
 
-// The passes of a scene (`atmosh plan --json`).
+// The passes of a scene and the estimates `run` checks against its budgets (peak memory,
+// computing: atmosh/budget.hpp) (`atmosh plan --json`), and the same as text (`atmosh plan`).
 nlohmann::json plan_json(const scene::Scene& scene, const std::vector<scene::Pass>& passes);
+std::string plan_text(const scene::Scene& scene, const std::vector<scene::Pass>& passes);
 
 // ---- the text forms (one line each, ending in a newline) ----------------------------
 // The sun's position, one quantity a line (8 significant digits), rise/transit/set.
