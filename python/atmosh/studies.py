@@ -18,6 +18,7 @@ sweep_file(path)         atmosh sweep FILE -o DIR               (DIR/sweep.csv, 
 zenith_sweep(...)        the scene output kind optical-depth    (STEM.csv)
 sh_windows(coeffs, L)    the main job's SH window table         (sh_windows.csv)
 prt_converge(...)        atmosh prt converge -o STEM            (STEM.csv)
+gi_converge(...)         atmosh gi converge -o DIR              (DIR/gi_converge.csv)
 rt_slab(...)             atmosh rt slab --json                  (one row: the JSON's fields)
 rt_sky(...)              atmosh rt sky --json                   (a row per wavelength; scalars in attrs)
 
@@ -34,7 +35,7 @@ from . import _atmosh
 _st = _atmosh.studies
 
 __all__ = ["sun_elevation", "day", "sweep_point", "sweep", "sweep_file", "converge_sky", "converge_lut",
-           "converge_ms", "converge_sh", "sun_accuracy", "sky_dataset", "zenith_sweep", "sh_windows", "prt_converge",
+           "converge_ms", "converge_sh", "sun_accuracy", "sky_dataset", "zenith_sweep", "sh_windows", "prt_converge", "gi_converge",
            "rt_slab", "rt_sky"]
 
 
@@ -209,6 +210,33 @@ def prt_converge(mesh="sphere-on-plane", resolution=16, bands=3, mode="shadowed"
     return _frame(_st.prt_converge(builtin, "" if builtin else name, int(resolution), int(bands), str(mode), s,
                                    [int(v) for v in strata], int(threads), w, h, [float(v) for v in view],
                                    str(device), [int(v) for v in depth_maps]))
+
+
+def gi_converge(scene="cornell-box", out_dir=None, light="", size=(64, 64), bands=(1, 2, 3, 4), grids=(2, 3, 4, 6, 8),
+                path_samples=(4, 16), radiosity_grids=(4, 8, 16), radiosity_bands=(1, 2), radiosity_bounces=(0, 1, 2, 3),
+                lpv_grids=(8, 16, 32), reference_samples=256, samples=4, cube_size=8, pixel_samples=4, seed=1,
+                threads=0):
+    """Error against run time of the scene-lighting methods against a path-traced reference
+    at matched lighting, as `atmosh gi converge` (columns method, setting, error_max_rel,
+    error_rms_rel, time_s, leak_rel, build_s, shade_s, mean_rel; errors relative to the
+    reference's mean radiance). scene: a built-in scene (cornell-box, sphere-on-plane,
+    box-occluder) or an .obj/.ply file; light: "sun:AZ,EL" (degrees) or "" (the scene's own
+    lights). Probes: every grid x band count, plain and visibility-weighted; the path tracer
+    at each of path_samples; radiosity: grids x bands x bounces; LPV: each grid (empty
+    tuples: no rows of that kind). The reference and each row's image are written to
+    out_dir (default: a new temporary folder, in df.attrs["images_dir"])."""
+    import tempfile
+    d = str(out_dir) if out_dir is not None else tempfile.mkdtemp(prefix="atmosh_gi_")
+    name = str(scene)
+    builtin = name if name in ("cornell-box", "sphere-on-plane", "box-occluder") else ""
+    w, h = (int(v) for v in size)
+    ints = lambda v: [int(x) for x in v]  # noqa: E731
+    df = _frame(_st.gi_converge(builtin, "" if builtin else name, str(light), w, h, ints(bands), ints(grids),
+                                ints(path_samples), ints(radiosity_grids), ints(radiosity_bands),
+                                ints(radiosity_bounces), ints(lpv_grids), int(reference_samples), int(samples),
+                                int(cube_size), int(pixel_samples), int(seed), int(threads), d))
+    df.attrs["images_dir"] = d
+    return df
 
 
 def rt_slab(tau, omega, phase, mu0, mu, g=0.0, ground_albedo=0.0, phi_deg=0.0, orders=0, paths=100000, seed=1,

@@ -12,6 +12,7 @@
 #include <variant>
 
 #include "atmosh/atmo/multiple_scattering.hpp"
+#include "atmosh/gi/driver.hpp"
 #include "atmosh/atmo/sun_disc.hpp"
 #include "atmosh/io/netcdf.hpp"
 #include "atmosh/parallel.hpp"
@@ -299,6 +300,44 @@ void bind_studies(py::module_& m) {
       py::arg("builtin"), py::arg("mesh_file"), py::arg("resolution"), py::arg("bands"), py::arg("mode"),
       py::arg("reference_strata"), py::arg("strata"), py::arg("threads"), py::arg("width"), py::arg("height"),
       py::arg("view"), py::arg("device"), py::arg("depth_maps"));
+
+  // ---- GI converge (atmosh gi converge) ---------------------------------------------------
+  m.def(
+      "gi_converge",
+      [](const std::string& builtin, const std::string& mesh_file, const std::string& light, int width, int height,
+         const std::vector<int>& bands, const std::vector<int>& grids, const std::vector<int>& path_samples,
+         const std::vector<int>& radiosity_grids, const std::vector<int>& radiosity_bands,
+         const std::vector<int>& radiosity_bounces, const std::vector<int>& lpv_grids, int reference_samples,
+         int samples, int cube_size, int pixel_samples, unsigned long long seed, int threads, const std::string& dir) {
+        gi::SceneRequest req;
+        req.builtin = builtin, req.mesh = mesh_file, req.light = light;
+        gi::ConvergeOptions c;
+        c.method.samples = samples, c.method.cube_size = cube_size, c.method.pixel_samples = pixel_samples;
+        c.method.seed = seed, c.method.threads = threads;
+        gi::check_render_request(req, c.method);
+        if (width < 1 || height < 1 || width > 16384 || height > 16384)
+          throw InputError("size: " + std::to_string(width) + "x" + std::to_string(height) + " is outside 1..16384");
+        if (reference_samples < 2 || reference_samples > 10000000)
+          throw InputError("reference_samples: must be in 2..10000000, got " + std::to_string(reference_samples));
+        if (bands.empty() || grids.empty()) throw InputError("bands, grids: give at least one value each");
+        c.bands = bands, c.grids = grids, c.path_samples = path_samples, c.reference_samples = reference_samples;
+        c.study.radiosity_grids = radiosity_grids, c.study.radiosity_bands = radiosity_bands;
+        c.study.radiosity_bounces = radiosity_bounces, c.study.lpv_grids = lpv_grids;
+        c.method.threads = resolve_threads(threads);
+        const gi::Scene s = gi::scene_from_request(req);
+        std::filesystem::create_directories(dir);
+        gi::ConvergeStudy st;
+        {
+          py::gil_scoped_release release;
+          st = gi::converge_methods(s, width, height, c, dir);
+        }
+        return study_dict(st.spec, st.rows, st.provenance);
+      },
+      py::arg("builtin"), py::arg("mesh_file"), py::arg("light"), py::arg("width"), py::arg("height"),
+      py::arg("bands"), py::arg("grids"), py::arg("path_samples"), py::arg("radiosity_grids"),
+      py::arg("radiosity_bands"), py::arg("radiosity_bounces"), py::arg("lpv_grids"), py::arg("reference_samples"),
+      py::arg("samples"), py::arg("cube_size"), py::arg("pixel_samples"), py::arg("seed"), py::arg("threads"),
+      py::arg("dir"));
 
   // ---- Monte-Carlo radiative transfer (atmosh rt slab | rt sky) ------------------------
   m.def(

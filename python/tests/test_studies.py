@@ -203,6 +203,24 @@ def test_prt_converge_matches_cli(run_cli, tmp_path):
     assert df["error_rms_rel"][1] < df["error_rms_rel"][0]
 
 
+def test_gi_converge_matches_cli(run_cli, tmp_path):
+    # Every method of the scene-lighting study at tiny settings: the same rows, errors and
+    # provenance as `atmosh gi converge` (run times aside), and the images in out_dir.
+    run_cli("gi", "converge", "--scene-builtin", "cornell-box", "--size", "8x8", "--bands-list", "1,2", "--grids", 2,
+            "--path-samples", 2, "--radiosity-grids", 2, "--radiosity-bands", 1, "--radiosity-bounces", "0,1",
+            "--lpv-grids", 4, "--reference-samples", 4, "--samples", 2, "--cube-size", 2, "--pixel-samples", 1,
+            "--threads", 2, "-o", tmp_path / "gi")
+    df = studies.gi_converge("cornell-box", out_dir=tmp_path / "py", size=(8, 8), bands=(1, 2), grids=(2,),
+                             path_samples=(2,), radiosity_grids=(2,), radiosity_bands=(1,), radiosity_bounces=(0, 1),
+                             lpv_grids=(4,), reference_samples=4, samples=2, cube_size=2, pixel_samples=1, threads=2)
+    assert list(df["method"][:5]) == ["path", "probes", "probes-visibility", "probes", "probes-visibility"]
+    assert {"radiosity", "lpv"} <= set(df["method"])
+    assert_same_table(df, tmp_path / "gi" / "gi_converge.csv", skip=("time_s", "build_s", "shade_s"))
+    assert (tmp_path / "py" / "reference.exr").exists()
+    with pytest.raises(atmosh.InputError, match="--samples"):
+        studies.gi_converge("cornell-box", out_dir=tmp_path / "bad", samples=1)
+
+
 def test_rt_slab_matches_cli_json(cli):
     args = dict(tau=0.5, omega=0.9, phase="hg", g=0.6, mu0=0.8, mu=0.6, phi_deg=30.0, ground_albedo=0.2,
                 paths=4000, seed=7, threads=2)
