@@ -13,6 +13,7 @@
 #include "atmosh/parallel.hpp"
 #include "atmosh/prt/bake.hpp"
 #include "atmosh/sh/basis.hpp"
+#include "common.hpp"
 #include "sampling.hpp"
 
 namespace atmosh::gi {
@@ -190,23 +191,7 @@ void corners(const ProbeGrid& g, const glm::dvec3& p, std::size_t idx[8], double
   if (g.n < 1 || g.probes.size() != static_cast<std::size_t>(g.n) * g.n * g.n)
     throw InputError("gi probes: grid of " + std::to_string(g.n) + " per axis holds " + std::to_string(g.probes.size()) +
                      " probes");
-  int i0[3], i1[3];
-  double f[3];
-  for (int a = 0; a < 3; ++a) {
-    const double ext = g.hi[a] - g.lo[a];
-    // continuous index of p: probe i sits at (i + 1/2) / n of the extent
-    double x = ext > 0 ? (p[a] - g.lo[a]) / ext * g.n - 0.5 : 0.0;
-    if (!std::isfinite(x)) x = 0;
-    x = std::clamp(x, 0.0, static_cast<double>(g.n - 1));
-    i0[a] = std::min(static_cast<int>(std::floor(x)), g.n - 1);
-    i1[a] = std::min(i0[a] + 1, g.n - 1);
-    f[a] = x - i0[a];
-  }
-  for (int corner = 0; corner < 8; ++corner) {
-    const int ii = corner & 1 ? i1[0] : i0[0], jj = corner & 2 ? i1[1] : i0[1], kk = corner & 4 ? i1[2] : i0[2];
-    w[corner] = (corner & 1 ? f[0] : 1 - f[0]) * (corner & 2 ? f[1] : 1 - f[1]) * (corner & 4 ? f[2] : 1 - f[2]);
-    idx[corner] = (static_cast<std::size_t>(kk) * g.n + jj) * g.n + ii;
-  }
+  detail::trilinear_corners(g, p, idx, w);
 }
 
 ShRgb blend(const ProbeGrid& g, const std::size_t idx[8], const double w[8]) {
