@@ -216,10 +216,6 @@ ShRgb interpolate(const ProbeGrid& g, const glm::dvec3& p) {
   return blend(g, idx, w);
 }
 
-namespace {
-using detail::onb;
-}  // namespace
-
 RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, int height, const ProbeGrid& grid,
                             bool grid_includes_sun, const ProbeRenderOptions& opt) {
   validate(scene);
@@ -297,11 +293,7 @@ RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, in
     if (sun_direct) {
       glm::dvec3 wl = sun_dir;
       if (sun_cos_max < 1) {
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        const double ct = 1 - u1 * (1 - sun_cos_max), st = std::sqrt(std::max(0.0, 1 - ct * ct));
-        glm::dvec3 tt, bb;
-        onb(sun_dir, tt, bb);
-        wl = glm::normalize(st * std::cos(2 * kPi * u2) * tt + st * std::sin(2 * kPi * u2) * bb + ct * sun_dir);
+        wl = detail::sample_cone(rng, sun_dir, sun_cos_max);
       }
       const double c = glm::dot(n, wl);
       if (c > 0) {

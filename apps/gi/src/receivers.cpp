@@ -96,11 +96,7 @@ glm::dvec3 DirectLight::irradiance(Rng& rng, const glm::dvec3& p, const glm::dve
   if (s_.sun) {
     glm::dvec3 wl = sun_dir_;
     if (sun_cos_max_ < 1) {  // uniform direction in the disc
-      const double u1 = rng.uniform(), u2 = rng.uniform();
-      const double ct = 1 - u1 * (1 - sun_cos_max_), st = std::sqrt(std::max(0.0, 1 - ct * ct));
-      glm::dvec3 t, b;
-      onb(sun_dir_, t, b);
-      wl = glm::normalize(st * std::cos(2 * kPi * u2) * t + st * std::sin(2 * kPi * u2) * b + ct * sun_dir_);
+      wl = sample_cone(rng, sun_dir_, sun_cos_max_);
     }
     const double c = glm::dot(n, wl);
     if (c > 0) {
