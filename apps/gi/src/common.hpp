@@ -53,6 +53,13 @@ inline std::vector<float> pack_receivers(const RadiosityReceivers& r) {
   return rec;
 }
 
+// The first nr radiances of a GPU pass's output, 4 floats (R, G, B, unused) per receiver.
+inline std::vector<glm::dvec3> unpack_rgb(const std::vector<float>& out, std::size_t nr) {
+  std::vector<glm::dvec3> L(nr);
+  for (std::size_t i = 0; i < nr; ++i) L[i] = {out[i * 4], out[i * 4 + 1], out[i * 4 + 2]};
+  return L;
+}
+
 // One-sample image of width x height from a G-buffer: the background where no receiver
 // is, L[k] at receiver k's pixel; stderr_ zero. stats.rays from the G-buffer; the caller
 // sets stats.seconds.

@@ -614,9 +614,7 @@ std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& g, const Radiosit
   std::vector<float> out(std::max<std::size_t>(nr, 1) * 4);
   bout.download(out.data(), out.size() * sizeof(float));
   if (gpu_seconds != nullptr) *gpu_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  std::vector<glm::dvec3> L(nr);
-  for (std::size_t i = 0; i < nr; ++i) L[i] = {out[i * 4], out[i * 4 + 1], out[i * 4 + 2]};
-  return L;
+  return detail::unpack_rgb(out, nr);
 #else
   (void)gpu_seconds;
   throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
