@@ -13,6 +13,7 @@
 #include "atmosh/gi/shared/radiosity.glsl.hpp"
 #include "atmosh/parallel.hpp"
 #include "atmosh/prt/bake.hpp"
+#include "common.hpp"
 #include "receivers.hpp"
 
 #ifdef ATMOSH_GI_HAVE_GPU
@@ -592,15 +593,8 @@ std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& g, const Radiosit
                      gpu::embedded_source("apps/gi/include/atmosh/gi/shared/radiosity.glsl.hpp"),
                      gpu::embedded_source("gpu/shaders/gi_lpv_apply.comp")});
   const std::size_t nr = r.size();
-  std::vector<float> rec(std::max<std::size_t>(nr, 1) * 15, 0.0f), cells(g.cells.size() * 12);
-  for (std::size_t i = 0; i < nr; ++i)
-    for (int c = 0; c < 3; ++c) {
-      rec[i * 15 + c] = static_cast<float>(r.position[i][c]);
-      rec[i * 15 + 3 + c] = static_cast<float>(r.normal[i][c]);
-      rec[i * 15 + 6 + c] = static_cast<float>(r.albedo[i][c]);
-      rec[i * 15 + 9 + c] = static_cast<float>(r.emission[i][c]);
-      rec[i * 15 + 12 + c] = static_cast<float>(r.direct[i][c]);
-    }
+  const std::vector<float> rec = detail::pack_receivers(r);
+  std::vector<float> cells(g.cells.size() * 12);
   for (std::size_t c = 0; c < g.cells.size(); ++c)
     for (int q = 0; q < 12; ++q) cells[c * 12 + q] = static_cast<float>(g.cells[c][q]);
   const auto t0 = Clock::now();
@@ -620,9 +614,7 @@ std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& g, const Radiosit
   std::vector<float> out(std::max<std::size_t>(nr, 1) * 4);
   bout.download(out.data(), out.size() * sizeof(float));
   if (gpu_seconds != nullptr) *gpu_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  std::vector<glm::dvec3> L(nr);
-  for (std::size_t i = 0; i < nr; ++i) L[i] = {out[i * 4], out[i * 4 + 1], out[i * 4 + 2]};
-  return L;
+  return detail::unpack_rgb(out, nr);
 #else
   (void)gpu_seconds;
   throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
@@ -637,18 +629,7 @@ RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int w
   const RadiosityGBuffer g = radiosity_gbuffer(scene, camera, width, height, opt.samples, opt.seed, opt.threads);
   const std::vector<glm::dvec3> L =
       gpu ? shade_lpv_receivers_gpu(lpv.accumulated, g.receivers) : shade_lpv_receivers_cpu(lpv.accumulated, g.receivers);
-  RadianceImage img;
-  img.width = width;
-  img.height = height;
-  img.samples = 1;
-  const std::size_t np = static_cast<std::size_t>(width) * height;
-  for (int c = 0; c < 3; ++c) {
-    img.mean[c].assign(np, 0.0f);
-    img.stderr_[c].assign(np, 0.0f);
-    for (std::size_t i = 0; i < np; ++i) img.mean[c][i] = static_cast<float>(g.background[i][c]);
-    for (std::size_t k = 0; k < L.size(); ++k) img.mean[c][g.pixel[k]] = static_cast<float>(L[k][c]);
-  }
-  img.stats.rays = g.rays;
+  RadianceImage img = detail::gbuffer_image(g, L, width, height);
   img.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return img;
 }

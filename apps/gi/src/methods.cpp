@@ -40,6 +40,21 @@ LpvOptions lpv_options(const MethodOptions& o) {
   return l;
 }
 
+// Runs f, a pass on the GPU; what made the GPU unusable, if it failed: InputError where
+// atmosh was built without atmosh::gpu, any other runtime_error where no EGL context opened
+// (gpu::Unavailable) or the driver refused.
+template <class F>
+std::optional<GpuUnusable> try_gpu(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return GpuUnusable{GpuUnusable::Why::not_built, e.what(), ""};
+  } catch (const std::runtime_error& e) {
+    return GpuUnusable{GpuUnusable::Why::no_device, e.what(), ""};
+  }
+  return std::nullopt;
+}
+
 void need(bool ok, const std::string& msg) {
   if (!ok) throw InputError(msg);
 }
@@ -110,16 +125,11 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     bool done = false;
     if (o.device != DeviceRequest::cpu) {  // the walk as a GPU pass over a G-buffer
       add_direct_volume(scene, v, 32, 4, ro.seed, ro.threads);
-      std::optional<GpuUnusable> unusable;
       const auto t0 = Clock::now();
-      try {
+      const std::optional<GpuUnusable> unusable = try_gpu([&] {
         r.image = render_radiosity_gbuffer(scene, camera, width, height, v, ro, true);
         done = true;
-      } catch (const InputError& e) {  // built without atmosh::gpu
-        unusable = GpuUnusable{GpuUnusable::Why::not_built, e.what(), ""};
-      } catch (const std::runtime_error& e) {  // no EGL context (gpu::Unavailable) or the driver refused
-        unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), ""};
-      }
+      });
       r.device = resolve_device(o.device, unusable, "rendering on the CPU");
       r.shade_seconds = since(t0);
     }
@@ -139,8 +149,7 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     } else {  // injection (VPLs found by rays on the CPU), geometry and propagation on the GPU where it can run
       l.iterations = lo.iterations < 0 ? 2 * lo.grid : lo.iterations;
       const auto t0 = Clock::now();
-      std::optional<GpuUnusable> unusable;
-      try {
+      const std::optional<GpuUnusable> unusable = try_gpu([&] {
         l.injected = lpv_inject_gpu(scene, lo, &l.rays);
         if (lo.blocking) l.geometry = lpv_geometry_gpu(scene, l.injected);
         l.inject_seconds = since(t0);
@@ -151,11 +160,7 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
         r.image = render_lpv_gbuffer(scene, camera, width, height, l, lo, true);
         r.shade_seconds = since(t2);
         shaded = true;
-      } catch (const InputError& e) {  // built without atmosh::gpu
-        unusable = GpuUnusable{GpuUnusable::Why::not_built, e.what(), ""};
-      } catch (const std::runtime_error& e) {  // no EGL context (gpu::Unavailable) or the driver refused
-        unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), ""};
-      }
+      });
       r.device = resolve_device(o.device, unusable, "building the LPV on the CPU");
       if (!r.device.gpu) {
         l = build_lpv(scene, lo);

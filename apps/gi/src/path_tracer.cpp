@@ -120,11 +120,7 @@ class Tracer {
       glm::dvec3 wl = sun_dir_;
       glm::dvec3 e = s_.sun->irradiance;
       if (sun_cos_max_ < 1) {  // uniform direction in the disc: L_sun cos / pdf with pdf = 1 / Omega
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        const double ct = 1 - u1 * (1 - sun_cos_max_), stt = std::sqrt(std::max(0.0, 1 - ct * ct));
-        glm::dvec3 t, b;
-        onb(sun_dir_, t, b);
-        wl = glm::normalize(stt * std::cos(2 * kPi * u2) * t + stt * std::sin(2 * kPi * u2) * b + ct * sun_dir_);
+        wl = detail::sample_cone(rng, sun_dir_, sun_cos_max_);
         e = sun_radiance_times_omega_;
       }
       const double c = glm::dot(n, wl);

@@ -13,6 +13,8 @@
 #include "atmosh/parallel.hpp"
 #include "atmosh/prt/bake.hpp"
 #include "atmosh/sh/basis.hpp"
+#include "common.hpp"
+#include "receivers.hpp"
 #include "sampling.hpp"
 
 namespace atmosh::gi {
@@ -190,23 +192,7 @@ void corners(const ProbeGrid& g, const glm::dvec3& p, std::size_t idx[8], double
   if (g.n < 1 || g.probes.size() != static_cast<std::size_t>(g.n) * g.n * g.n)
     throw InputError("gi probes: grid of " + std::to_string(g.n) + " per axis holds " + std::to_string(g.probes.size()) +
                      " probes");
-  int i0[3], i1[3];
-  double f[3];
-  for (int a = 0; a < 3; ++a) {
-    const double ext = g.hi[a] - g.lo[a];
-    // continuous index of p: probe i sits at (i + 1/2) / n of the extent
-    double x = ext > 0 ? (p[a] - g.lo[a]) / ext * g.n - 0.5 : 0.0;
-    if (!std::isfinite(x)) x = 0;
-    x = std::clamp(x, 0.0, static_cast<double>(g.n - 1));
-    i0[a] = std::min(static_cast<int>(std::floor(x)), g.n - 1);
-    i1[a] = std::min(i0[a] + 1, g.n - 1);
-    f[a] = x - i0[a];
-  }
-  for (int corner = 0; corner < 8; ++corner) {
-    const int ii = corner & 1 ? i1[0] : i0[0], jj = corner & 2 ? i1[1] : i0[1], kk = corner & 4 ? i1[2] : i0[2];
-    w[corner] = (corner & 1 ? f[0] : 1 - f[0]) * (corner & 2 ? f[1] : 1 - f[1]) * (corner & 4 ? f[2] : 1 - f[2]);
-    idx[corner] = (static_cast<std::size_t>(kk) * g.n + jj) * g.n + ii;
-  }
+  detail::trilinear_corners(g, p, idx, w);
 }
 
 ShRgb blend(const ProbeGrid& g, const std::size_t idx[8], const double w[8]) {
@@ -230,13 +216,6 @@ ShRgb interpolate(const ProbeGrid& g, const glm::dvec3& p) {
   return blend(g, idx, w);
 }
 
-namespace {
-using detail::onb;
-struct Rng : detail::Rng {
-  Rng(std::uint64_t seed, std::uint64_t index) : detail::Rng(seed, index, detail::kProbeSalt) {}
-};
-}  // namespace
-
 RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, int height, const ProbeGrid& grid,
                             bool grid_includes_sun, const ProbeRenderOptions& opt) {
   validate(scene);
@@ -248,21 +227,9 @@ RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, in
   if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
       !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
     throw InputError("gi probes: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
-  const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(rx), up = glm::cross(right, f);
-  const double th = std::tan(0.5 * cam.vertical_fov_deg * kPi / 180), aspect = static_cast<double>(width) / height;
-
   const auto ts = Clock::now();
   const prt::RayScene rays(scene.mesh);
   const double off = rays.offset();
-  const auto& m = scene.mesh;
-  std::vector<glm::dvec3> normal(m.triangles.size());
-  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
-    const auto& t = m.triangles[i];
-    const glm::dvec3 c = glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
-    const double l = glm::length(c);
-    normal[i] = l > 0 ? c / l : glm::dvec3(0, 0, 1);
-  }
-  const bool has_env = scene.env_bands > 0 || scene.env_map.has_value();
   const bool sun_direct = scene.sun.has_value() && !grid_includes_sun;
   glm::dvec3 sun_dir(0, 0, 1), sun_e(0.0);
   double sun_cos_max = 1;
@@ -276,14 +243,6 @@ RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, in
     }
   }
   const auto t0 = Clock::now();
-  RadianceImage img;
-  img.stats.setup_seconds = std::chrono::duration<double>(t0 - ts).count();
-  img.width = width;
-  img.height = height;
-  img.samples = opt.samples;
-  const std::size_t np = static_cast<std::size_t>(width) * height;
-  for (int c = 0; c < 3; ++c) img.mean[c].assign(np, 0.0f), img.stderr_[c].assign(np, 0.0f);
-  std::atomic<std::uint64_t> nrays{0}, nshadow{0};
   const std::size_t nc = static_cast<std::size_t>(grid.bands) * grid.bands;
   std::vector<double> a_of(nc);  // A_l of each coefficient
   {
@@ -294,96 +253,61 @@ RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, in
   for (const auto& q : grid.probes)
     for (const auto& c : q)
       if (c.size() != nc) throw InputError("gi probes: a probe's coefficients do not match the grid's bands");
-  parallel_for_ranges(np, 16, opt.threads, [&](std::size_t b, std::size_t e) {
-    std::uint64_t r = 0, sr = 0;
-    std::vector<double> ay(nc);
-    for (std::size_t i = b; i < e; ++i) {
-      const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
-      Rng rng(opt.seed, i);
-      glm::dvec3 sum(0.0), sum2(0.0);
-      for (int s = 0; s < opt.samples; ++s) {
-        const double jx = rng.uniform(), jy = rng.uniform();
-        const double x = (2.0 * (col + jx) / width - 1.0) * th * aspect, y = (1.0 - 2.0 * (row + jy) / height) * th;
-        const glm::dvec3 d = glm::normalize(f + x * right + y * up);
-        glm::dvec3 L(0.0);
-        std::uint32_t prim;
-        float u, v;
-        double t;
+  const detail::ReceiverShade shade = [&](detail::Rng& rng, const glm::dvec3& p, const glm::dvec3& n, std::uint32_t,
+                                           std::uint64_t& r) {
+    thread_local std::vector<double> ay;
+    ay.resize(nc);
+    std::size_t idx[8];
+    double wt[8];
+    corners(grid, p, idx, wt);
+    if (opt.visibility) {  // drop the probes p cannot see; renormalise (all hidden: plain trilinear)
+      double sum = 0, keep[8];
+      for (int q = 0; q < 8; ++q) {
+        keep[q] = 0;
+        if (wt[q] == 0) continue;
+        const int ii = static_cast<int>(idx[q] % grid.n), jj = static_cast<int>(idx[q] / grid.n % grid.n),
+                  kk = static_cast<int>(idx[q] / grid.n / grid.n);
+        glm::dvec3 to = grid.position(ii, jj, kk) - p;
+        const double dist = glm::length(to);
+        if (dist > 2 * off && glm::dot(to, n) <= 0) continue;  // behind the receiver's surface
         ++r;
-        if (!rays.intersect(cam.eye, d, off, prim, u, v, t)) {
-          if (has_env) L = environment_radiance(scene, d);
-        } else {
-          const glm::dvec3 p = cam.eye + t * d;
-          const glm::dvec3 n = glm::dot(normal[prim], d) < 0 ? normal[prim] : -normal[prim];
-          const Material& mat = scene.materials[scene.material[prim]];
-          if (!mat.one_sided || glm::dot(normal[prim], -d) > 0) L += mat.emission;
-          std::size_t idx[8];
-          double wt[8];
-          corners(grid, p, idx, wt);
-          if (opt.visibility) {  // drop the probes p cannot see; renormalise (all hidden: plain trilinear)
-            double sum = 0, keep[8];
-            for (int q = 0; q < 8; ++q) {
-              keep[q] = 0;
-              if (wt[q] == 0) continue;
-              const int ii = static_cast<int>(idx[q] % grid.n), jj = static_cast<int>(idx[q] / grid.n % grid.n),
-                        kk = static_cast<int>(idx[q] / grid.n / grid.n);
-              glm::dvec3 to = grid.position(ii, jj, kk) - p;
-              const double dist = glm::length(to);
-              if (dist > 2 * off && glm::dot(to, n) <= 0) continue;  // behind the receiver's surface
-              ++r, ++sr;
-              if (dist <= 2 * off || rays.unoccluded(p, to / dist, off, dist - off)) keep[q] = wt[q], sum += wt[q];
-            }
-            if (sum > 0)
-              for (int q = 0; q < 8; ++q) wt[q] = keep[q] / sum;
-          }
-          // E_c = sum_q w_q sum_i A_l(i) Y_i(n) c_q,c,i (the same as probe_irradiance of the blend)
-          sh::evaluate(grid.bands, n, ay.data());
-          for (std::size_t i = 0; i < nc; ++i) ay[i] *= a_of[i];
-          glm::dvec3 E(0.0);
-          for (int q = 0; q < 8; ++q) {
-            if (wt[q] == 0) continue;
-            const ShRgb& cq = grid.probes[idx[q]];
-            for (int ch = 0; ch < 3; ++ch) {
-              double e = 0;
-              for (std::size_t i = 0; i < nc; ++i) e += ay[i] * cq[ch][i];
-              E[ch] += wt[q] * e;
-            }
-          }
-          E = glm::max(E, glm::dvec3(0.0));
-          if (sun_direct) {
-            glm::dvec3 wl = sun_dir;
-            if (sun_cos_max < 1) {
-              const double u1 = rng.uniform(), u2 = rng.uniform();
-              const double ct = 1 - u1 * (1 - sun_cos_max), st = std::sqrt(std::max(0.0, 1 - ct * ct));
-              glm::dvec3 tt, bb;
-              onb(sun_dir, tt, bb);
-              wl = glm::normalize(st * std::cos(2 * kPi * u2) * tt + st * std::sin(2 * kPi * u2) * bb + ct * sun_dir);
-            }
-            const double c = glm::dot(n, wl);
-            if (c > 0) {
-              ++r, ++sr;
-              if (rays.unoccluded(p, wl, off)) E += sun_e * c;
-            }
-          }
-          L += mat.albedo / kPi * E;
-        }
-        sum += L;
-        sum2 += L * L;
+        if (dist <= 2 * off || rays.unoccluded(p, to / dist, off, dist - off)) keep[q] = wt[q], sum += wt[q];
       }
-      const double ns = opt.samples;
-      const glm::dvec3 mean = sum / ns;
-      const glm::dvec3 var = ns > 1 ? glm::max((sum2 - ns * mean * mean) / (ns - 1), 0.0) : glm::dvec3(0.0);
-      for (int c = 0; c < 3; ++c) {
-        img.mean[c][i] = static_cast<float>(mean[c]);
-        img.stderr_[c][i] = static_cast<float>(std::sqrt(var[c] / ns));
+      if (sum > 0)
+        for (int q = 0; q < 8; ++q) wt[q] = keep[q] / sum;
+    }
+    // E_c = sum_q w_q sum_i A_l(i) Y_i(n) c_q,c,i (the same as probe_irradiance of the blend)
+    sh::evaluate(grid.bands, n, ay.data());
+    for (std::size_t i = 0; i < nc; ++i) ay[i] *= a_of[i];
+    glm::dvec3 E(0.0);
+    for (int q = 0; q < 8; ++q) {
+      if (wt[q] == 0) continue;
+      const ShRgb& cq = grid.probes[idx[q]];
+      for (int ch = 0; ch < 3; ++ch) {
+        double e = 0;
+        for (std::size_t i = 0; i < nc; ++i) e += ay[i] * cq[ch][i];
+        E[ch] += wt[q] * e;
       }
     }
-    nrays.fetch_add(r, std::memory_order_relaxed);
-    nshadow.fetch_add(sr, std::memory_order_relaxed);
-  });
-  img.stats.rays = nrays.load();
-  img.stats.shadow_rays = nshadow.load();
-  img.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    E = glm::max(E, glm::dvec3(0.0));
+    if (sun_direct) {
+      glm::dvec3 wl = sun_dir;
+      if (sun_cos_max < 1) {
+        wl = detail::sample_cone(rng, sun_dir, sun_cos_max);
+      }
+      const double c = glm::dot(n, wl);
+      if (c > 0) {
+        ++r;
+        if (rays.unoccluded(p, wl, off)) E += sun_e * c;
+      }
+    }
+    return E;
+  };
+  RadianceImage img = detail::render_receivers(scene, rays, cam, width, height, opt.samples, opt.seed, opt.threads, shade,
+                                               detail::kProbeSalt);
+  img.stats.setup_seconds = std::chrono::duration<double>(t0 - ts).count();
+  // every ray but one camera ray per sample is a shadow ray (probe visibility, sun)
+  img.stats.shadow_rays = img.stats.rays - static_cast<std::uint64_t>(width) * height * opt.samples;
   return img;
 }
 

@@ -13,6 +13,7 @@
 #include "atmosh/parallel.hpp"
 #include "atmosh/prt/bake.hpp"
 #include "atmosh/sh/projection.hpp"
+#include "common.hpp"
 #include "receivers.hpp"
 
 namespace atmosh::gi {
@@ -33,22 +34,7 @@ void check(const RadiosityOptions& o) {
 
 // The 8 probes around p and their trilinear weights (p clamped to the centres' span).
 void corners(const RadiosityVolume& g, const glm::dvec3& p, std::size_t idx[8], double w[8]) {
-  int i0[3], i1[3];
-  double f[3];
-  for (int a = 0; a < 3; ++a) {
-    const double ext = g.hi[a] - g.lo[a];
-    double x = ext > 0 ? (p[a] - g.lo[a]) / ext * g.n - 0.5 : 0.0;
-    if (!std::isfinite(x)) x = 0;
-    x = std::clamp(x, 0.0, static_cast<double>(g.n - 1));
-    i0[a] = std::min(static_cast<int>(std::floor(x)), g.n - 1);
-    i1[a] = std::min(i0[a] + 1, g.n - 1);
-    f[a] = x - i0[a];
-  }
-  for (int c = 0; c < 8; ++c) {
-    const int ii = c & 1 ? i1[0] : i0[0], jj = c & 2 ? i1[1] : i0[1], kk = c & 4 ? i1[2] : i0[2];
-    w[c] = (c & 1 ? f[0] : 1 - f[0]) * (c & 2 ? f[1] : 1 - f[1]) * (c & 4 ? f[2] : 1 - f[2]);
-    idx[c] = (static_cast<std::size_t>(kk) * g.n + jj) * g.n + ii;
-  }
+  detail::trilinear_corners(g, p, idx, w);
 }
 }  // namespace
 
@@ -142,23 +128,19 @@ double volume_distance(const RadiosityVolume& v, const glm::dvec3& p, const glm:
   return shared::gi_sh_eval(c, v.bands, d);
 }
 
-glm::dvec3 volume_normal(const RadiosityVolume& v, const glm::dvec3& p) {
+// Trilinear blend at p of one of the volume's per-probe vectors (normal, albedo).
+static glm::dvec3 volume_blend(const RadiosityVolume& v, const std::vector<glm::dvec3>& field, const glm::dvec3& p) {
   std::size_t idx[8];
   double w[8];
   corners(v, p, idx, w);
   glm::dvec3 s(0.0);
-  for (int q = 0; q < 8; ++q) s += w[q] * v.normal[idx[q]];
+  for (int q = 0; q < 8; ++q) s += w[q] * field[idx[q]];
   return s;
 }
 
-glm::dvec3 volume_albedo(const RadiosityVolume& v, const glm::dvec3& p) {
-  std::size_t idx[8];
-  double w[8];
-  corners(v, p, idx, w);
-  glm::dvec3 s(0.0);
-  for (int q = 0; q < 8; ++q) s += w[q] * v.albedo[idx[q]];
-  return s;
-}
+glm::dvec3 volume_normal(const RadiosityVolume& v, const glm::dvec3& p) { return volume_blend(v, v.normal, p); }
+
+glm::dvec3 volume_albedo(const RadiosityVolume& v, const glm::dvec3& p) { return volume_blend(v, v.albedo, p); }
 
 namespace detail {
 // The context of the shared walk on the CPU: its fetch functions (found by ADL).
@@ -374,18 +356,7 @@ RadianceImage render_radiosity_gbuffer(const Scene& scene, const Camera& camera,
   const RadiosityGBuffer g = radiosity_gbuffer(scene, camera, width, height, opt.samples, opt.seed, opt.threads);
   const std::vector<glm::dvec3> L =
       gpu ? shade_receivers_gpu(volume, g.receivers, opt.bounces) : shade_receivers_cpu(volume, g.receivers, opt.bounces);
-  RadianceImage img;
-  img.width = width;
-  img.height = height;
-  img.samples = 1;
-  const std::size_t np = static_cast<std::size_t>(width) * height;
-  for (int c = 0; c < 3; ++c) {
-    img.mean[c].assign(np, 0.0f);
-    img.stderr_[c].assign(np, 0.0f);
-    for (std::size_t i = 0; i < np; ++i) img.mean[c][i] = static_cast<float>(g.background[i][c]);
-    for (std::size_t r = 0; r < L.size(); ++r) img.mean[c][g.pixel[r]] = static_cast<float>(L[r][c]);
-  }
-  img.stats.rays = g.rays;
+  RadianceImage img = detail::gbuffer_image(g, L, width, height);
   img.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return img;
 }

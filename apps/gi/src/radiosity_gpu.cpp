@@ -8,6 +8,7 @@
 
 #include "atmosh/error.hpp"
 #include "atmosh/gi/radiosity.hpp"
+#include "common.hpp"
 
 #ifdef ATMOSH_GI_HAVE_GPU
 #include "atmosh/gpu/context.hpp"
@@ -40,15 +41,7 @@ std::vector<glm::dvec3> shade_receivers_gpu(const RadiosityVolume& v, const Radi
     }
     for (int i = 0; i < 12; ++i) dir[p * 12 + i] = static_cast<float>(v.direct[p][static_cast<std::size_t>(i)]);
   }
-  std::vector<float> rec(std::max<std::size_t>(nr, 1) * 15, 0.0f);
-  for (std::size_t i = 0; i < nr; ++i)
-    for (int c = 0; c < 3; ++c) {
-      rec[i * 15 + c] = static_cast<float>(r.position[i][c]);
-      rec[i * 15 + 3 + c] = static_cast<float>(r.normal[i][c]);
-      rec[i * 15 + 6 + c] = static_cast<float>(r.albedo[i][c]);
-      rec[i * 15 + 9 + c] = static_cast<float>(r.emission[i][c]);
-      rec[i * 15 + 12 + c] = static_cast<float>(r.direct[i][c]);
-    }
+  const std::vector<float> rec = detail::pack_receivers(r);
   glm::dvec3 lo, hi;
   radiosity_walk_box(v, lo, hi);
   const auto t0 = std::chrono::steady_clock::now();
@@ -74,9 +67,7 @@ std::vector<glm::dvec3> shade_receivers_gpu(const RadiosityVolume& v, const Radi
   std::vector<float> out(std::max<std::size_t>(nr, 1) * 4);
   bout.download(out.data(), out.size() * sizeof(float));
   if (gpu_seconds != nullptr) *gpu_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::vector<glm::dvec3> L(nr);
-  for (std::size_t i = 0; i < nr; ++i) L[i] = {out[i * 4], out[i * 4 + 1], out[i * 4 + 2]};
-  return L;
+  return detail::unpack_rgb(out, nr);
 #else
   (void)gpu_seconds;
   throw InputError("gi radiosity: this build has no GPU library (atmosh::gpu)");

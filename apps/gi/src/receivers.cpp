@@ -96,11 +96,7 @@ glm::dvec3 DirectLight::irradiance(Rng& rng, const glm::dvec3& p, const glm::dve
   if (s_.sun) {
     glm::dvec3 wl = sun_dir_;
     if (sun_cos_max_ < 1) {  // uniform direction in the disc
-      const double u1 = rng.uniform(), u2 = rng.uniform();
-      const double ct = 1 - u1 * (1 - sun_cos_max_), st = std::sqrt(std::max(0.0, 1 - ct * ct));
-      glm::dvec3 t, b;
-      onb(sun_dir_, t, b);
-      wl = glm::normalize(st * std::cos(2 * kPi * u2) * t + st * std::sin(2 * kPi * u2) * b + ct * sun_dir_);
+      wl = sample_cone(rng, sun_dir_, sun_cos_max_);
     }
     const double c = glm::dot(n, wl);
     if (c > 0) {
@@ -139,7 +135,8 @@ glm::dvec3 DirectLight::irradiance(Rng& rng, const glm::dvec3& p, const glm::dve
 }
 
 RadianceImage render_receivers(const Scene& scene, const prt::RayScene& rays, const Camera& cam, int width, int height,
-                               int samples, std::uint64_t seed, int threads, const ReceiverShade& shade) {
+                               int samples, std::uint64_t seed, int threads, const ReceiverShade& shade,
+                               std::uint64_t salt) {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw InputError("gi: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
   if (samples < 1 || samples > 1000000)
@@ -165,7 +162,7 @@ RadianceImage render_receivers(const Scene& scene, const prt::RayScene& rays, co
     std::uint64_t r = 0;
     for (std::size_t i = b; i < e; ++i) {
       const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
-      Rng rng(seed, i, kReceiverSalt);
+      Rng rng(seed, i, salt);
       glm::dvec3 sum(0.0), sum2(0.0);
       for (int s = 0; s < samples; ++s) {
         const double jx = rng.uniform(), jy = rng.uniform();

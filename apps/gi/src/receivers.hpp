@@ -66,7 +66,9 @@ using ReceiverShade =
 /// Pinhole image: `samples` camera rays per pixel (uniform jitter, seeded per pixel from
 /// (seed, pixel)); a miss sees the environment, a hit L_e (towards the camera) + a / pi *
 /// max(0, shade(...)). stderr_ over the pixel's rays. stats.seconds: the loop's wall time.
+/// `salt` keeps the camera streams of different methods apart (probes: kProbeSalt).
 RadianceImage render_receivers(const Scene& scene, const prt::RayScene& rays, const Camera& cam, int width, int height,
-                               int samples, std::uint64_t seed, int threads, const ReceiverShade& shade);
+                               int samples, std::uint64_t seed, int threads, const ReceiverShade& shade,
+                               std::uint64_t salt = kReceiverSalt);
 
 }  // namespace atmosh::gi::detail

@@ -2,8 +2,10 @@
 // path tracer and the probes share.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 
 #include <glm/glm.hpp>
 
@@ -35,6 +37,17 @@ inline void onb(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
   const double bb = n.x * n.y * a;
   t = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * bb, -sign * n.x);
   b = glm::dvec3(bb, sign + n.y * n.y * a, -n.y);
+}
+
+// Uniform direction in the cone around unit `axis` whose half-angle has cosine cos_max
+// (the sun's disc); draws two uniforms from rng.
+inline glm::dvec3 sample_cone(Rng& rng, const glm::dvec3& axis, double cos_max) {
+  constexpr double kTwoPi = 2 * std::numbers::pi;
+  const double u1 = rng.uniform(), u2 = rng.uniform();
+  const double ct = 1 - u1 * (1 - cos_max), st = std::sqrt(std::max(0.0, 1 - ct * ct));
+  glm::dvec3 t, b;
+  onb(axis, t, b);
+  return glm::normalize(st * std::cos(kTwoPi * u2) * t + st * std::sin(kTwoPi * u2) * b + ct * axis);
 }
 
 }  // namespace atmosh::gi::detail
