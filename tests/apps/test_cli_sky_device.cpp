@@ -95,8 +95,14 @@ TEST(CliSkyDevice, WithoutAnEglDeviceAutoFallsBackAndGpuFails) {
   const fs::path d = scratch_dir("atmosh_cli_sky_device", "none");
   const char* old = std::getenv("__EGL_VENDOR_LIBRARY_FILENAMES");
   const std::string saved = old ? old : "";
+  // Single scattering, which the GPU pass computes: auto falls back for want of an EGL
+  // device, not for the method.
+  atmosh::scene::Scene single = atmosh::scene::default_scene();
+  single.scattering.method = atmosh::atmo::ScatteringMethod::Single;
+  const fs::path scene_file = d / "single.toml";
+  std::ofstream(scene_file) << atmosh::scene::to_toml(single);
   setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/atmosh_no_egl_vendor.json", 1);
-  const auto a = run_cli("run --quick --device auto -o '" + (d / "a").string() + "'");
+  const auto a = run_cli("run '" + scene_file.string() + "' --quick --device auto -o '" + (d / "a").string() + "'");
   const auto g = run_cli("sky --sun-elevation 20 --size 8x4 --device gpu -o '" + (d / "g.exr").string() + "'");
   if (old)
     setenv("__EGL_VENDOR_LIBRARY_FILENAMES", saved.c_str(), 1);
