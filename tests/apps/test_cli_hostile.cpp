@@ -23,8 +23,9 @@ namespace {
 fs::path scratch(const std::string& name) { return atmosh::test::scratch_dir("atmosh_cli_hostile", name); }
 void expect_bad(const std::string& args, const std::string& names) { atmosh::test::expect_bad_input(args, names); }
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
-// Cheap sky settings for CLI tests.
-const std::string kCheap = " --shells 8 --segments 4 --samples 1";
+// Cheap sky settings for CLI tests: coarse tables and single scattering (no
+// multiple-scattering table to build).
+const std::string kCheap = " --shells 8 --segments 4 --samples 1 --scattering single";
 
 // Runs a shell command line (with {atmosh} in it replaced by the binary); exit code.
 int shell(std::string cmd, const fs::path& err_file) {
