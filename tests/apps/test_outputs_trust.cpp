@@ -180,7 +180,7 @@ TEST(PlotSpec, BandEnergyAxisUnitsFromTheValues) {
 // coefficients carry it (# value_units), `sh bands` labels (cd/m^2 sr)^2.
 TEST(PlotSpec, BandEnergyUnitsFollowTheInput) {
   const fs::path d = scratch_dir("atmosh_trust", "bands");
-  auto r = run_cli("sky --sun-elevation 20 --size 32x16 -o '" + (d / "s.exr").string() + "'");
+  auto r = run_cli("sky --sun-elevation 20 --size 32x16 --scattering single -o '" + (d / "s.exr").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_cli("sh project '" + (d / "s.exr").string() + "' --bands 3 -o '" + (d / "c.csv").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
