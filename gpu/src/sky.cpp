@@ -514,7 +514,8 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
   }
   const int S = static_cast<int>(radii.size());
   const int nv = lo.view_tables ? lo.view_directions : 0, ns = lo.sun_directions;  // as lut_tables_from_cpu
-  Buffer b_nodes(nodes.size() * sizeof(float) + 4, nodes.data()), b_cross(cross.size() * sizeof(double), cross.data()),
+  nodes.push_back(0.0f);  // never an empty buffer (no profile with nodes)
+  Buffer b_nodes(nodes.size() * sizeof(float), nodes.data()), b_cross(cross.size() * sizeof(double), cross.data()),
       b_rule(rule.size() * sizeof(double), rule.data()), b_radii(radii.size() * sizeof(double), radii.data());
   Buffer b_rho(lut.shell_rho().size() * sizeof(double), lut.shell_rho().data());
   b_rho.bind(ATMOSH_BIND_SHELLS);
