@@ -493,12 +493,10 @@ std::vector<float> binned_sum_gpu(const char* shader, const std::vector<std::uin
 }  // namespace
 #endif
 
-LpvGrid lpv_inject_gpu(const Scene& scene, const LpvOptions& opt, std::uint64_t* nrays, double* gpu_seconds) {
-  check(opt);
-  validate(scene);
-  LpvGrid g = lpv_grid(scene, opt.grid);
+LpvGrid lpv_inject_vpls_gpu(const LpvGrid& grid, const std::vector<Vpl>& vpls, double* gpu_seconds) {
+  check_grid(grid);
+  LpvGrid g = grid;
 #ifdef ATMOSH_GI_HAVE_GPU
-  const std::vector<Vpl> vpls = lpv_vpls(scene, opt, g, nrays);
   std::vector<std::size_t> bin(vpls.size()), order;
   for (std::size_t v = 0; v < vpls.size(); ++v) {
     int i, j, k;
@@ -519,10 +517,31 @@ LpvGrid lpv_inject_gpu(const Scene& scene, const LpvOptions& opt, std::uint64_t*
     for (int q = 0; q < 12; ++q) g.cells[c][q] = out[c * 12 + q];
   return g;
 #else
-  (void)nrays;
+  (void)vpls;
   (void)gpu_seconds;
   throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
 #endif
+}
+
+LpvGrid lpv_inject_gpu(const Scene& scene, const LpvOptions& opt, std::uint64_t* nrays, double* gpu_seconds) {
+  check(opt);
+  validate(scene);
+  const LpvGrid g = lpv_grid(scene, opt.grid);
+  double rsm_s = 0, inj_s = 0;
+  std::vector<Vpl> vpls = lpv_vpls_rsm(scene, opt, g, &rsm_s);  // the sun, rasterised
+  std::uint64_t count = 0;
+  bool emitters = false;
+  for (const Material& m : scene.materials) emitters = emitters || m.emission.x + m.emission.y + m.emission.z > 0;
+  if (emitters && opt.emitter_photons > 0) {  // area emitters: rays on the CPU
+    Scene rest = scene;
+    rest.sun.reset();
+    const std::vector<Vpl> e = lpv_vpls(rest, opt, g, &count);
+    vpls.insert(vpls.end(), e.begin(), e.end());
+  }
+  if (nrays != nullptr) *nrays = count;
+  LpvGrid out = lpv_inject_vpls_gpu(g, vpls, &inj_s);
+  if (gpu_seconds != nullptr) *gpu_seconds = rsm_s + inj_s;
+  return out;
 }
 
 GeometryVolume lpv_geometry_gpu(const Scene& scene, const LpvGrid& g, double* gpu_seconds) {
@@ -626,7 +645,9 @@ RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int w
   check(opt);
   check_grid(lpv.accumulated);
   const auto t0 = Clock::now();
-  const RadiosityGBuffer g = radiosity_gbuffer(scene, camera, width, height, opt.samples, opt.seed, opt.threads);
+  const RadiosityGBuffer g =
+      gpu ? radiosity_gbuffer_gpu(scene, camera, width, height, opt.samples, opt.seed, opt.threads)
+          : radiosity_gbuffer(scene, camera, width, height, opt.samples, opt.seed, opt.threads);
   const std::vector<glm::dvec3> L =
       gpu ? shade_lpv_receivers_gpu(lpv.accumulated, g.receivers) : shade_lpv_receivers_cpu(lpv.accumulated, g.receivers);
   RadianceImage img = detail::gbuffer_image(g, L, width, height);

@@ -353,7 +353,9 @@ RadianceImage render_radiosity_gbuffer(const Scene& scene, const Camera& camera,
   check(opt);
   if (volume.direct.empty()) add_direct_volume(scene, volume, 32, 4, opt.seed, opt.threads);
   const auto t0 = Clock::now();
-  const RadiosityGBuffer g = radiosity_gbuffer(scene, camera, width, height, opt.samples, opt.seed, opt.threads);
+  const RadiosityGBuffer g =
+      gpu ? radiosity_gbuffer_gpu(scene, camera, width, height, opt.samples, opt.seed, opt.threads)
+          : radiosity_gbuffer(scene, camera, width, height, opt.samples, opt.seed, opt.threads);
   const std::vector<glm::dvec3> L =
       gpu ? shade_receivers_gpu(volume, g.receivers, opt.bounces) : shade_receivers_cpu(volume, g.receivers, opt.bounces);
   RadianceImage img = detail::gbuffer_image(g, L, width, height);

@@ -117,13 +117,27 @@ std::vector<Vpl> lpv_vpls(const Scene& scene, const LpvOptions& opt, const LpvGr
 /// Injection of the scene's lights (see above), deterministic for opt.seed.
 LpvGrid lpv_inject(const Scene& scene, const LpvOptions& opt, std::uint64_t* rays = nullptr);
 GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g);
-/// The injection and the geometry volume on the GPU (atmosh::gpu, its own EGL context; errors
-/// as lpv_propagate_gpu): the VPLs (lpv_vpls, found by rays on the CPU: the stand-in of a
-/// reflective shadow map) and the geometry volume's surfels are binned by cell / corner on the
-/// CPU (a stable counting sort: each bin in the CPU's order), then one compute invocation
-/// per cell (gpu/shaders/gi_lpv_inject.comp) sums its VPLs' Lambertian lobes, one per corner
-/// (gi_lpv_geometry.comp) its surfels' |cos| SH, in float. gpu_seconds: uploads, dispatch
-/// and read-back.
+/// The sun's VPLs from a reflective shadow map rasterised on the GPU (atmosh::gpu::gi_rsm, its
+/// own EGL context; Kaplanyan & Dachsbacher 2010's injection): the CPU injection's rectangle
+/// (the box's cross-section seen from the sun) and its m x m texels (m = sun_rays x ceil(longer
+/// side / h)), one VPL per texel whose centre sees a surface: flux albedo x E_sun x the texel's
+/// cross-section, normal turned towards the sun, position moved h/2 along it — the CPU's
+/// jittered rays replaced by the texel centres (the same estimator of the reflected flux,
+/// without the jitter). A disc sun as a point. Empty without a sun. Errors as
+/// lpv_propagate_gpu; gpu_seconds: the RSM's upload, draw and read-back.
+std::vector<Vpl> lpv_vpls_rsm(const Scene& scene, const LpvOptions& opt, const LpvGrid& g,
+                              double* gpu_seconds = nullptr);
+/// The VPLs injected into `g`'s cells on the GPU: binned by cell on the CPU (a stable
+/// counting sort: each bin in the given order), then one compute invocation per cell
+/// (gpu/shaders/gi_lpv_inject.comp) sums its VPLs' Lambertian lobes in float (as lpv_add_vpl);
+/// g's cells are replaced. gpu_seconds: uploads, dispatch and read-back.
+LpvGrid lpv_inject_vpls_gpu(const LpvGrid& g, const std::vector<Vpl>& vpls, double* gpu_seconds = nullptr);
+/// The injection on the GPU (atmosh::gpu, its own EGL contexts; errors as lpv_propagate_gpu):
+/// the sun's VPLs from the reflective shadow map (lpv_vpls_rsm), the area emitters' VPLs by
+/// rays on the CPU (lpv_vpls of the scene without its sun: `rays` counts those), injected by
+/// lpv_inject_vpls_gpu. The geometry volume's surfels are binned by corner on the CPU, then one
+/// invocation per corner (gi_lpv_geometry.comp) sums their |cos| SH, in float. gpu_seconds:
+/// the RSM and the injection pass (uploads, dispatch and read-back).
 LpvGrid lpv_inject_gpu(const Scene& scene, const LpvOptions& opt, std::uint64_t* rays = nullptr,
                        double* gpu_seconds = nullptr);
 GeometryVolume lpv_geometry_gpu(const Scene& scene, const LpvGrid& g, double* gpu_seconds = nullptr);
@@ -165,8 +179,8 @@ RadianceImage render_lpv(const Scene& scene, const Camera& camera, int width, in
 std::vector<glm::dvec3> shade_lpv_receivers_cpu(const LpvGrid& accumulated, const RadiosityReceivers& r);
 std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& accumulated, const RadiosityReceivers& r,
                                                 double* gpu_seconds = nullptr);
-/// The image by the G-buffer (radiosity_gbuffer: one ray per pixel centre, opt.samples
-/// direct-light estimates) and shade_lpv_receivers_gpu (gpu) or _cpu. stats.seconds: G-buffer +
+/// The image by the G-buffer (gpu: the rasterised radiosity_gbuffer_gpu; else
+/// radiosity_gbuffer: one ray per pixel centre; opt.samples direct-light estimates) and shade_lpv_receivers_gpu (gpu) or _cpu. stats.seconds: G-buffer +
 /// shading.
 RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
                                  const LpvOptions& opt, bool gpu);

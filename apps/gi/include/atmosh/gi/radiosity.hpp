@@ -127,7 +127,33 @@ struct RadiosityGBuffer {
 RadiosityGBuffer radiosity_gbuffer(const Scene& scene, const Camera& camera, int width, int height, int samples,
                                    std::uint64_t seed, int threads = 0);
 
-/// The image by the GPU pass (gpu = true) or its CPU twin: G-buffer, then
+/// The sun's shadow map of the rasterised G-buffer (atmosh/gpu/gi_raster.hpp): resolution^2
+/// texels over the scene's bounding sphere (texel t = 2 r / resolution), percentage-closer
+/// filtering over (2 pcf + 1)^2 texels, the point moved normal_offset t along its normal and
+/// compared with the stored depth + bias t (1 + min(tan(angle to the sun), 8)).
+struct ShadowMapOptions {
+  int resolution = 1024;       ///< 16..16384
+  int pcf = 1;                 ///< 0..4
+  double normal_offset = 1.0;  ///< texels, >= 0
+  double bias = 1.0;           ///< texels, >= 0
+};
+
+/// The G-buffer of `camera` rasterised on the GPU (atmosh::gpu::gi_gbuffer, its own EGL
+/// context): the surface at each pixel's centre (position, normal towards the camera, albedo,
+/// emission towards the camera) as radiosity_gbuffer's ray would find it, except at silhouette
+/// pixels (the rasteriser's coverage rule against Embree's watertight test); E_direct = the
+/// sun's by the shadow map (E_sun max(0, n . s) V, V by PCF; a disc sun as a point at its
+/// centre) + the area emitters' and the environment's, still estimated on the CPU (the mean
+/// of `samples` DirectLight estimates without the sun at the rasterised points, the same
+/// per-pixel random streams as radiosity_gbuffer). Misses see the environment. `rays`: the
+/// CPU's shadow rays (0 for a scene lit by the sun alone). gpu_seconds: the rasterisation
+/// (upload, shadow map, G-buffer, read-back). std::runtime_error (gpu::Unavailable) without
+/// an EGL context, InputError for bad input or a build without atmosh::gpu.
+RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& camera, int width, int height, int samples,
+                                       std::uint64_t seed, int threads = 0, const ShadowMapOptions& shadow = {},
+                                       double* gpu_seconds = nullptr);
+
+/// The image by the GPU pass (gpu = true: rasterised G-buffer, radiosity_gbuffer_gpu) or its CPU twin: G-buffer, then
 /// shade_receivers_*; fills volume.direct first where it is empty (opt.seed, opt.threads).
 /// stderr_ is 0 (one G-buffer ray per pixel). stats.seconds: G-buffer + shading.
 RadianceImage render_radiosity_gbuffer(const Scene& scene, const Camera& camera, int width, int height,

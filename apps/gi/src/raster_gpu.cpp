@@ -1,0 +1,208 @@
+// The rasterised passes of the GPU forms of radiosity and LPV (atmosh/gpu/gi_raster.hpp):
+// the camera's G-buffer with the sun's shadow map (radiosity_gbuffer_gpu, radiosity.hpp) and
+// the sun's reflective shadow map (lpv_vpls_rsm, lpv.hpp).
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "atmosh/error.hpp"
+#include "atmosh/gi/lpv.hpp"
+#include "atmosh/gi/radiosity.hpp"
+#include "atmosh/parallel.hpp"
+#include "receivers.hpp"
+
+#ifdef ATMOSH_GI_HAVE_GPU
+#include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/gi_raster.hpp"
+#endif
+
+namespace atmosh::gi {
+
+namespace {
+#ifdef ATMOSH_GI_HAVE_GPU
+// The scene's per-triangle attributes as gpu::GiMeshView reads them.
+struct MeshAttrs {
+  std::vector<glm::dvec3> normal, albedo, emission;
+  std::vector<std::uint8_t> one_sided;
+  const Scene& s;
+  explicit MeshAttrs(const Scene& scene) : s(scene) {
+    normal = detail::triangle_normals(scene.mesh);
+    const std::size_t nt = scene.mesh.triangles.size();
+    albedo.resize(nt);
+    emission.resize(nt);
+    one_sided.resize(nt);
+    for (std::size_t t = 0; t < nt; ++t) {
+      const Material& m = scene.materials[scene.material[t]];
+      albedo[t] = m.albedo;
+      emission[t] = m.emission;
+      one_sided[t] = m.one_sided ? 1 : 0;
+    }
+  }
+  gpu::GiMeshView view() const {
+    gpu::GiMeshView v;
+    v.positions = &s.mesh.positions;
+    v.triangles = &s.mesh.triangles;
+    v.normal = &normal;
+    v.albedo = &albedo;
+    v.emission = &emission;
+    v.one_sided = &one_sided;
+    return v;
+  }
+};
+#endif
+
+bool has_emitters(const Scene& s) {
+  for (const Material& m : s.materials)
+    if (m.emission.x + m.emission.y + m.emission.z > 0) return true;
+  return false;
+}
+
+bool sun_lit(const Scene& s) {
+  return s.sun && s.sun->irradiance.x + s.sun->irradiance.y + s.sun->irradiance.z > 0;
+}
+}  // namespace
+
+RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, int width, int height, int samples,
+                                       std::uint64_t seed, int threads, const ShadowMapOptions& so,
+                                       double* gpu_seconds) {
+  validate(scene);
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw InputError("gi: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  if (samples < 1 || samples > 1000000)
+    throw InputError("gi radiosity: direct-light samples per pixel must be in 1..1000000, got " + std::to_string(samples));
+  if (so.resolution < 16 || so.resolution > 16384)
+    throw InputError("gi: shadow-map resolution must be in 16..16384, got " + std::to_string(so.resolution));
+  if (so.pcf < 0 || so.pcf > 4) throw InputError("gi: shadow-map PCF radius must be in 0..4, got " + std::to_string(so.pcf));
+  if (!(so.normal_offset >= 0 && so.normal_offset < 1e6) || !(so.bias >= 0 && so.bias < 1e6))
+    throw InputError("gi: shadow-map offsets must be finite and >= 0");
+  const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
+  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
+      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
+    throw InputError("gi: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
+#ifdef ATMOSH_GI_HAVE_GPU
+  const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(rx), up = glm::cross(right, f);
+  const double th = std::tan(0.5 * cam.vertical_fov_deg * std::numbers::pi / 180),
+               aspect = static_cast<double>(width) / height;
+  const gpu::Context ctx;
+  const MeshAttrs attrs(scene);
+  gpu::PrtCamera pc;
+  pc.eye = cam.eye;
+  pc.right = right;
+  pc.up = up;
+  pc.back = -f;
+  pc.tan_half_fov = th;
+  pc.width = width;
+  pc.height = height;
+  const bool sun = sun_lit(scene);
+  gpu::GiSun gs;
+  if (sun) gs.direction = glm::normalize(scene.sun->direction);
+  gpu::GiShadowOptions gso;
+  gso.resolution = so.resolution;
+  gso.pcf = so.pcf;
+  gso.normal_offset = so.normal_offset;
+  gso.bias = so.bias;
+  const gpu::GiGBufferResult gb = gpu::gi_gbuffer(ctx, attrs.view(), pc, sun ? &gs : nullptr, gso);
+  if (gpu_seconds != nullptr) *gpu_seconds = gb.seconds;
+
+  // The rest of the direct light (area emitters, environment) by the CPU's estimator.
+  Scene rest_scene = scene;
+  rest_scene.sun.reset();
+  const bool has_env = scene.env_bands > 0 || scene.env_map.has_value();
+  const bool rest = has_env || has_emitters(scene);
+  std::optional<prt::RayScene> rays;
+  std::optional<detail::DirectLight> direct;
+  if (rest) {
+    rays.emplace(rest_scene.mesh);
+    direct.emplace(rest_scene, *rays);
+  }
+  const std::size_t np = static_cast<std::size_t>(width) * height;
+  std::vector<glm::dvec3> E(np, glm::dvec3(0.0));
+  RadiosityGBuffer g;
+  g.background.assign(np, glm::dvec3(0.0));
+  std::vector<std::uint64_t> counts(np, 0);
+  const glm::dvec3 e_sun = sun ? scene.sun->irradiance : glm::dvec3(0.0);
+  parallel_for_ranges(np, 64, threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      if (!gb.hit[i]) {
+        if (has_env) {
+          const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
+          const double x = (2.0 * (col + 0.5) / width - 1.0) * th * aspect, y = (1.0 - 2.0 * (row + 0.5) / height) * th;
+          g.background[i] = environment_radiance(scene, glm::normalize(f + x * right + y * up));
+        }
+        continue;
+      }
+      glm::dvec3 Ed = e_sun * gb.sun[i];
+      if (rest) {
+        detail::Rng rng(seed, i, detail::kReceiverSalt);
+        glm::dvec3 acc(0.0);
+        for (int s = 0; s < samples; ++s) acc += direct->irradiance(rng, gb.position[i], gb.normal[i], counts[i]);
+        Ed += acc / static_cast<double>(samples);
+      }
+      E[i] = Ed;
+    }
+  });
+  for (std::size_t i = 0; i < np; ++i) {
+    g.rays += counts[i];
+    if (!gb.hit[i]) continue;
+    g.pixel.push_back(i);
+    g.receivers.position.push_back(gb.position[i]);
+    g.receivers.normal.push_back(gb.normal[i]);
+    g.receivers.albedo.push_back(gb.albedo[i]);
+    g.receivers.emission.push_back(gb.emission[i]);
+    g.receivers.direct.push_back(E[i]);
+  }
+  return g;
+#else
+  (void)seed;
+  (void)threads;
+  (void)gpu_seconds;
+  throw InputError("gi: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+std::vector<Vpl> lpv_vpls_rsm(const Scene& scene, const LpvOptions& opt, const LpvGrid& g, double* gpu_seconds) {
+  validate(scene);
+  if (opt.sun_rays < 1 || opt.sun_rays > 256)
+    throw InputError("gi lpv: sun rays per cell must be in 1..256, got " + std::to_string(opt.sun_rays));
+  if (!(g.h > 0) || g.nx < 1 || g.ny < 1 || g.nz < 1) throw InputError("gi lpv: empty grid");
+  std::vector<Vpl> out;
+  if (gpu_seconds != nullptr) *gpu_seconds = 0;
+  if (!sun_lit(scene)) return out;
+#ifdef ATMOSH_GI_HAVE_GPU
+  // The CPU injection's rectangle and texel count (lpv_vpls): the box's cross-section seen
+  // from the sun, m = sun_rays x ceil(longer side / h) texels a side.
+  glm::dvec3 lo, hi;
+  detail::mesh_bounds(scene.mesh, lo, hi);
+  gpu::GiRsmView v;
+  v.direction = glm::normalize(scene.sun->direction);
+  detail::onb(v.direction, v.t, v.b);
+  v.t0 = 1e300, v.t1 = -1e300, v.b0 = 1e300, v.b1 = -1e300;
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 q(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+    v.t0 = std::min(v.t0, glm::dot(q, v.t)), v.t1 = std::max(v.t1, glm::dot(q, v.t));
+    v.b0 = std::min(v.b0, glm::dot(q, v.b)), v.b1 = std::max(v.b1, glm::dot(q, v.b));
+  }
+  const int m = std::max(1, opt.sun_rays * static_cast<int>(std::ceil(std::max(v.t1 - v.t0, v.b1 - v.b0) / g.h)));
+  if (m > 16384) throw InputError("gi lpv: the reflective shadow map would exceed 16384 texels a side");
+  v.mt = v.mb = m;
+  v.irradiance = scene.sun->irradiance;
+  const gpu::Context ctx;
+  const MeshAttrs attrs(scene);
+  const gpu::GiRsmResult r = gpu::gi_rsm(ctx, attrs.view(), v);
+  if (gpu_seconds != nullptr) *gpu_seconds = r.seconds;
+  for (std::size_t i = 0; i < r.hit.size(); ++i) {
+    if (!r.hit[i]) continue;
+    const glm::dvec3& phi = r.flux[i];
+    if (phi.x + phi.y + phi.z > 0) out.push_back({r.position[i] + 0.5 * g.h * r.normal[i], r.normal[i], phi});
+  }
+  return out;
+#else
+  throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+}  // namespace atmosh::gi

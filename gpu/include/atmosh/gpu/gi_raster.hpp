@@ -1,0 +1,97 @@
+// atmosh/gpu/gi_raster.hpp — rasterisation of lit triangle meshes through headless EGL
+// (OpenGL 4.3 core) for the global-illumination passes (atmosh::gi): a G-buffer from a
+// camera with the sun's direct light by a shadow map, and a reflective shadow map (RSM,
+// Dachsbacher & Stamminger 2005) from the sun. The design is gpu/prt.hpp's: the mesh in
+// float relative to its bounding-box centre, float render targets read back to double,
+// the camera's projection of prt.hpp (PrtCamera: the pixel-centre rays of the CPU ray
+// casters), the depth map of prt_depth.{vert,frag} (orthographic along the light).
+//
+// Mesh: flat per-triangle attributes (normal, albedo, emitted radiance, one-sidedness),
+// drawn as a triangle soup; both faces are rasterised (surfaces are two-sided).
+//
+// G-buffer (gi_gbuffer.{vert,frag}), per pixel whose centre sees a surface:
+//   position, the triangle's normal turned towards the eye (n . (eye - p) > 0), albedo,
+//   emitted radiance towards the eye (0 for a one-sided emitter seen from behind) and the
+//   sun factor f = max(0, n . s) V(p), so that E_sun = sun irradiance x f.
+// Sun visibility V by a shadow map: depth of the mesh along -s by orthographic projection
+// over the bounding sphere (`resolution`^2 texels, texel edge t = 2 r / resolution), then at p:
+//   the point moved off the surface by `normal_offset` t along n, its depth compared with the
+//   stored depth plus `bias` t (1 + min(tan(angle(n, s)), 8)) (slope-scaled), the test made at
+//   the (2 pcf + 1)^2 texels around it (percentage-closer filtering, Reeves et al. 1987) and
+//   averaged: V in [0, 1]. A disc sun is treated as a point (its central direction): PCF
+//   softens edges over about (2 pcf + 1) t; it is not the disc's penumbra.
+// RSM (gi_rsm.{vert,frag}): an orthographic view along -s of the rectangle
+// [t0, t1] x [b0, b1] in the light's frame (axes t, b ⊥ s), m_t x m_b texels; per texel whose
+// centre sees a surface: position, the normal turned towards the sun, and the flux the
+// texel's parallel beam (cross-section A = (t1 - t0)(b1 - b0) / (m_t m_b)) leaves after one
+// diffuse reflection: albedo x E_sun x A (the light's irradiance at normal incidence times
+// the beam's cross-section is the flux it brings; Lambertian reflection returns albedo of it).
+//
+// Precision: float on the GPU (positions relative to the bounding-box centre); depth 32F.
+// Requires a current Context; throws Unavailable (no EGL), ShaderError, or
+// std::invalid_argument for inconsistent input.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/prt.hpp"
+
+namespace atmosh::gpu {
+
+struct GiMeshView {
+  const std::vector<glm::dvec3>* positions = nullptr;
+  const std::vector<std::array<std::uint32_t, 3>>* triangles = nullptr;
+  const std::vector<glm::dvec3>* normal = nullptr;    ///< per triangle, unit (counter-clockwise side)
+  const std::vector<glm::dvec3>* albedo = nullptr;    ///< per triangle, 0..1 per channel
+  const std::vector<glm::dvec3>* emission = nullptr;  ///< per triangle, radiance (>= 0)
+  const std::vector<std::uint8_t>* one_sided = nullptr;  ///< per triangle: emits on the normal's side only
+};
+
+struct GiShadowOptions {
+  int resolution = 1024;       ///< shadow-map texels a side, 16..16384
+  int pcf = 1;                 ///< PCF kernel radius in texels (0: one tap), 0..4
+  double normal_offset = 1.0;  ///< along the normal, in texels
+  double bias = 1.0;           ///< depth bias, in texels (times 1 + slope)
+};
+
+struct GiSun {
+  glm::dvec3 direction{0, 0, 1};  ///< towards the sun, unit
+};
+
+struct GiGBufferResult {
+  int width = 0, height = 0;
+  /// Per pixel, row 0 at the top (index row * width + col).
+  std::vector<std::uint8_t> hit;
+  std::vector<glm::dvec3> position, normal, albedo, emission;
+  std::vector<double> sun;  ///< max(0, n . s) V, 0 without a sun
+  double seconds = 0;       ///< upload, shadow map, G-buffer, read-back
+};
+
+/// The G-buffer of `camera` (PrtCamera's pixel-centre rays); `sun` null: no shadow map.
+GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const PrtCamera& camera, const GiSun* sun,
+                           const GiShadowOptions& shadow = {});
+
+struct GiRsmView {
+  glm::dvec3 direction{0, 0, 1};    ///< towards the sun, unit
+  glm::dvec3 t{1, 0, 0}, b{0, 1, 0};  ///< unit axes ⊥ direction
+  double t0 = -1, t1 = 1, b0 = -1, b1 = 1;  ///< the rectangle in (t, b) coordinates (world, not centred)
+  int mt = 64, mb = 64;             ///< texels, 1..16384
+  glm::dvec3 irradiance{1.0};       ///< at normal incidence, per channel
+};
+
+struct GiRsmResult {
+  int width = 0, height = 0;
+  /// Per texel (row * width + col; row 0 at b0, col 0 at t0) whose centre sees a surface.
+  std::vector<std::uint8_t> hit;
+  std::vector<glm::dvec3> position, normal, flux;
+  double seconds = 0;
+};
+
+GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& view);
+
+}  // namespace atmosh::gpu

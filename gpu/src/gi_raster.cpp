@@ -1,0 +1,330 @@
+// Rasterisation of gi meshes: G-buffer with the sun's shadow map, reflective shadow map
+// (see gi_raster.hpp).
+#include "atmosh/gpu/gi_raster.hpp"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "atmosh/gpu/program.hpp"
+
+namespace atmosh::gpu {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+
+struct Mat4 {  // column-major (row r, column c -> m[c * 4 + r])
+  float m[16] = {};
+  void set(int r, int c, double v) { m[c * 4 + r] = static_cast<float>(v); }
+};
+
+template <void (*Gen)(GLsizei, GLuint*), void (*Del)(GLsizei, const GLuint*)>
+struct GlNames {
+  std::vector<GLuint> ids;
+  explicit GlNames(std::size_t n) : ids(n, 0) {
+    if (n) Gen(static_cast<GLsizei>(n), ids.data());
+  }
+  ~GlNames() {
+    if (!ids.empty()) Del(static_cast<GLsizei>(ids.size()), ids.data());
+  }
+  GlNames(const GlNames&) = delete;
+  GlNames& operator=(const GlNames&) = delete;
+};
+using Textures = GlNames<glGenTextures, glDeleteTextures>;
+using Framebuffers = GlNames<glGenFramebuffers, glDeleteFramebuffers>;
+using GlBuffers = GlNames<glGenBuffers, glDeleteBuffers>;
+using VertexArrays = GlNames<glGenVertexArrays, glDeleteVertexArrays>;
+
+void storage_2d(GLuint tex, GLenum format, int w, int h) {
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glTexStorage2D(GL_TEXTURE_2D, 1, format, w, h);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+void check_framebuffer(const char* what) {
+  const GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (st != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error(std::string("OpenGL framebuffer incomplete (") + std::to_string(st) + ") in " + what);
+}
+
+std::vector<ShaderPart> parts(const char* path) { return {embedded_source(path)}; }
+
+// The mesh as a triangle soup in float relative to the bounding-box centre: position,
+// normal, albedo, emission + one-sided flag (13 floats a vertex).
+struct Soup {
+  glm::dvec3 centre{0.0};
+  double radius = 1;
+  VertexArrays vao{1};
+  GlBuffers vbo{1};
+  GLsizei count = 0;
+};
+
+void upload(const GiMeshView& m, Soup& s) {
+  if (!m.positions || !m.triangles || !m.normal || !m.albedo || !m.emission || m.positions->empty() ||
+      m.triangles->empty())
+    throw std::invalid_argument("gi raster: positions, triangles, normals, albedo and emission are required");
+  const std::size_t nt = m.triangles->size();
+  if (m.normal->size() != nt || m.albedo->size() != nt || m.emission->size() != nt ||
+      (m.one_sided && m.one_sided->size() != nt))
+    throw std::invalid_argument("gi raster: per-triangle attributes must have one entry a triangle");
+  const auto& P = *m.positions;
+  glm::dvec3 lo = P[0], hi = P[0];
+  for (const auto& p : P) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  s.centre = 0.5 * (lo + hi);
+  s.radius = std::max(0.5 * glm::length(hi - lo), 1e-30) * 1.01;
+  std::vector<float> v;
+  v.reserve(nt * 3 * 13);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const glm::dvec3 n = (*m.normal)[t], a = (*m.albedo)[t], e = (*m.emission)[t];
+    const double one = m.one_sided && (*m.one_sided)[t] ? 1.0 : 0.0;
+    for (std::uint32_t i : (*m.triangles)[t]) {
+      if (i >= P.size()) throw std::invalid_argument("gi raster: triangle index out of range");
+      const glm::dvec3 p = P[i] - s.centre;
+      for (double x : {p.x, p.y, p.z, n.x, n.y, n.z, a.x, a.y, a.z, e.x, e.y, e.z, one})
+        v.push_back(static_cast<float>(x));
+    }
+  }
+  s.count = static_cast<GLsizei>(nt * 3);
+  glBindVertexArray(s.vao.ids[0]);
+  glBindBuffer(GL_ARRAY_BUFFER, s.vbo.ids[0]);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(v.size() * sizeof(float)), v.data(), GL_STATIC_DRAW);
+  const GLsizei stride = 13 * sizeof(float);
+  const int sizes[4] = {3, 3, 3, 4};
+  std::size_t off = 0;
+  for (GLuint a = 0; a < 4; ++a) {
+    glEnableVertexAttribArray(a);
+    glVertexAttribPointer(a, sizes[a], GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(off * sizeof(float)));
+    off += static_cast<std::size_t>(sizes[a]);
+  }
+  check_gl("gi raster: mesh upload");
+}
+
+// Orthographic projection along -s (s towards the light) over the bounding sphere, as
+// prt.cpp's depth maps: x, y on axes ex, ey / radius, depth (radius - p.s) / (2 radius).
+Mat4 light_matrix(const glm::dvec3& s, double radius) {
+  const glm::dvec3 ex = glm::normalize(std::abs(s.z) < 0.9 ? glm::cross(glm::dvec3(0, 0, 1), s)
+                                                           : glm::cross(glm::dvec3(1, 0, 0), s));
+  const glm::dvec3 ey = glm::cross(s, ex);
+  Mat4 lp;
+  for (int c = 0; c < 3; ++c) {
+    lp.set(0, c, ex[c] / radius);
+    lp.set(1, c, ey[c] / radius);
+    lp.set(2, c, -s[c] / radius);
+  }
+  lp.set(3, 3, 1.0);
+  return lp;
+}
+
+// Reads attachment `att` of the bound read framebuffer (RGBA float, GL rows from the bottom).
+std::vector<float> read_rgba(GLuint fb, int att, int w, int h) {
+  std::vector<float> out(static_cast<std::size_t>(w) * h * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fb);
+  glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(att));
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, out.data());
+  check_gl("gi raster: read-back");
+  return out;
+}
+
+// A framebuffer of `n` RGBA32F colour targets and a 32F depth buffer, cleared.
+void colour_targets(GLuint fb, const Textures& tex, int n, int w, int h, const char* what) {
+  for (int i = 0; i <= n; ++i)
+    storage_2d(tex.ids[static_cast<std::size_t>(i)], i < n ? GL_RGBA32F : GL_DEPTH_COMPONENT32F, w, h);
+  glBindFramebuffer(GL_FRAMEBUFFER, fb);
+  std::vector<GLenum> draw;
+  for (int i = 0; i < n; ++i) {
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), GL_TEXTURE_2D,
+                           tex.ids[static_cast<std::size_t>(i)], 0);
+    draw.push_back(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
+  }
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, tex.ids[static_cast<std::size_t>(n)], 0);
+  glDrawBuffers(n, draw.data());
+  check_framebuffer(what);
+  glViewport(0, 0, w, h);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  const float zero[4] = {0, 0, 0, 0};
+  for (int i = 0; i < n; ++i) glClearBufferfv(GL_COLOR, i, zero);
+  glClearDepth(1.0);
+  glClear(GL_DEPTH_BUFFER_BIT);
+}
+
+glm::dvec3 rgb(const std::vector<float>& v, std::size_t p) { return {v[4 * p], v[4 * p + 1], v[4 * p + 2]}; }
+}  // namespace
+
+GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const PrtCamera& cam, const GiSun* sun,
+                           const GiShadowOptions& so) {
+  if (cam.width < 1 || cam.height < 1 || cam.width > 16384 || cam.height > 16384 || !(cam.tan_half_fov > 0) ||
+      !std::isfinite(cam.tan_half_fov))
+    throw std::invalid_argument("gi_gbuffer: bad camera");
+  if (so.resolution < 16 || so.resolution > 16384 || so.pcf < 0 || so.pcf > 4 || !(so.normal_offset >= 0) ||
+      !(so.bias >= 0) || !std::isfinite(so.normal_offset + so.bias))
+    throw std::invalid_argument("gi_gbuffer: shadow-map options out of range");
+  if (sun && !(glm::length(sun->direction) > 0 && std::isfinite(glm::length(sun->direction))))
+    throw std::invalid_argument("gi_gbuffer: the sun's direction must be finite and non-zero");
+  ctx.make_current();
+  const auto t0 = Clock::now();
+  Soup soup;
+  upload(mesh, soup);
+  const double radius = soup.radius;
+  const int W = cam.width, H = cam.height, D = so.resolution;
+  const Program depth(parts("gpu/shaders/prt_depth.vert"), parts("gpu/shaders/prt_depth.frag"));
+  const Program gbuf(parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_gbuffer.frag"));
+  Textures tex(6);  // 4 colour targets + depth, shadow map
+  Framebuffers fbo(2);
+  const GLuint t_shadow = tex.ids[5];
+  const glm::dvec3 s = sun ? glm::normalize(sun->direction) : glm::dvec3(0, 0, 1);
+  const Mat4 lp = light_matrix(s, radius);
+  storage_2d(t_shadow, GL_DEPTH_COMPONENT32F, sun ? D : 1, sun ? D : 1);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.ids[1]);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, t_shadow, 0);
+  glDrawBuffer(GL_NONE);
+  glReadBuffer(GL_NONE);
+  check_framebuffer("gi shadow map");
+  glClearDepth(1.0);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  if (sun) {  // 1. the sun's depth map
+    glViewport(0, 0, D, D);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    depth.use();
+    depth.set_mat4("light_proj", lp.m);
+    glBindVertexArray(soup.vao.ids[0]);
+    glDrawArrays(GL_TRIANGLES, 0, soup.count);
+    check_gl("gi shadow map pass");
+  }
+  // 2. G-buffer from the camera (prt.cpp's projection; near plane at least 1e-3 radius).
+  colour_targets(fbo.ids[0], tex, 4, W, H, "gi G-buffer");
+  const glm::dvec3 eye = cam.eye - soup.centre;
+  const double dist = glm::length(eye);
+  const double near_d = std::max(dist - radius, 1e-3 * radius), far_d = dist + radius;
+  const double aspect = static_cast<double>(W) / H, th = cam.tan_half_fov;
+  const double sx = 1.0 / (th * aspect), sy = 1.0 / th;
+  const double a = -(far_d + near_d) / (far_d - near_d), b = -2.0 * far_d * near_d / (far_d - near_d);
+  Mat4 vp;
+  for (int c = 0; c < 3; ++c) {
+    vp.set(0, c, sx * cam.right[c]);
+    vp.set(1, c, sy * cam.up[c]);
+    vp.set(2, c, a * cam.back[c]);
+    vp.set(3, c, -cam.back[c]);
+  }
+  vp.set(0, 3, -sx * glm::dot(cam.right, eye));
+  vp.set(1, 3, -sy * glm::dot(cam.up, eye));
+  vp.set(2, 3, -a * glm::dot(cam.back, eye) + b);
+  vp.set(3, 3, glm::dot(cam.back, eye));
+  gbuf.use();
+  gbuf.set_mat4("view_proj", vp.m);
+  gbuf.set_mat4("light_proj", lp.m);
+  gbuf.set("eye", static_cast<float>(eye.x), static_cast<float>(eye.y), static_cast<float>(eye.z));
+  gbuf.set("has_sun", sun ? 1 : 0);
+  gbuf.set("sun_dir", static_cast<float>(s.x), static_cast<float>(s.y), static_cast<float>(s.z));
+  gbuf.set("shadow_res", sun ? D : 1);
+  gbuf.set("texel", static_cast<float>(2.0 * radius / D));
+  gbuf.set("radius", static_cast<float>(radius));
+  gbuf.set("normal_offset", static_cast<float>(so.normal_offset));
+  gbuf.set("bias", static_cast<float>(so.bias));
+  gbuf.set("pcf", so.pcf);
+  gbuf.set("shadow_map", 0);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, t_shadow);
+  glBindVertexArray(soup.vao.ids[0]);
+  glDrawArrays(GL_TRIANGLES, 0, soup.count);
+  check_gl("gi G-buffer pass");
+  const std::vector<float> pos = read_rgba(fbo.ids[0], 0, W, H), nrm = read_rgba(fbo.ids[0], 1, W, H),
+                           alb = read_rgba(fbo.ids[0], 2, W, H), emi = read_rgba(fbo.ids[0], 3, W, H);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glBindVertexArray(0);
+  GiGBufferResult r;
+  r.width = W;
+  r.height = H;
+  const std::size_t np = static_cast<std::size_t>(W) * H;
+  r.hit.assign(np, 0);
+  for (auto* v : {&r.position, &r.normal, &r.albedo, &r.emission}) v->assign(np, glm::dvec3(0.0));
+  r.sun.assign(np, 0.0);
+  for (std::size_t p = 0; p < np; ++p) {
+    if (pos[4 * p + 3] == 0.0f) continue;
+    const std::size_t row = static_cast<std::size_t>(H - 1) - p / static_cast<std::size_t>(W);
+    const std::size_t q = row * static_cast<std::size_t>(W) + p % static_cast<std::size_t>(W);
+    r.hit[q] = 1;
+    r.position[q] = rgb(pos, p) + soup.centre;
+    r.normal[q] = rgb(nrm, p);
+    r.sun[q] = sun ? static_cast<double>(nrm[4 * p + 3]) : 0.0;
+    r.albedo[q] = rgb(alb, p);
+    r.emission[q] = rgb(emi, p);
+  }
+  r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return r;
+}
+
+GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& v) {
+  if (v.mt < 1 || v.mb < 1 || v.mt > 16384 || v.mb > 16384)
+    throw std::invalid_argument("gi_rsm: texels per side must be in 1..16384");
+  if (!(v.t1 > v.t0) || !(v.b1 > v.b0) || !std::isfinite(v.t1 - v.t0 + v.b1 - v.b0))
+    throw std::invalid_argument("gi_rsm: empty or non-finite rectangle");
+  ctx.make_current();
+  const auto t0 = Clock::now();
+  Soup soup;
+  upload(mesh, soup);
+  const double radius = soup.radius;
+  const glm::dvec3 s = glm::normalize(v.direction);
+  // x_ndc = (2 (p.t) - (t0 + t1)) / (t1 - t0) with p = p_c + centre; likewise y on b; depth as
+  // the shadow map's, (radius - p_c . s) / (2 radius).
+  Mat4 lp;
+  const double st = 2.0 / (v.t1 - v.t0), sb = 2.0 / (v.b1 - v.b0);
+  for (int c = 0; c < 3; ++c) {
+    lp.set(0, c, st * v.t[c]);
+    lp.set(1, c, sb * v.b[c]);
+    lp.set(2, c, -s[c] / radius);
+  }
+  lp.set(0, 3, st * glm::dot(soup.centre, v.t) - (v.t0 + v.t1) / (v.t1 - v.t0));
+  lp.set(1, 3, sb * glm::dot(soup.centre, v.b) - (v.b0 + v.b1) / (v.b1 - v.b0));
+  lp.set(3, 3, 1.0);
+  const Program prog(parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_rsm.frag"));
+  Textures tex(4);
+  Framebuffers fbo(1);
+  colour_targets(fbo.ids[0], tex, 3, v.mt, v.mb, "gi RSM");
+  const glm::dvec3 beam = v.irradiance * ((v.t1 - v.t0) * (v.b1 - v.b0) / (static_cast<double>(v.mt) * v.mb));
+  prog.use();
+  prog.set_mat4("view_proj", lp.m);
+  prog.set("sun_dir", static_cast<float>(s.x), static_cast<float>(s.y), static_cast<float>(s.z));
+  prog.set("beam_flux", static_cast<float>(beam.x), static_cast<float>(beam.y), static_cast<float>(beam.z));
+  glBindVertexArray(soup.vao.ids[0]);
+  glDrawArrays(GL_TRIANGLES, 0, soup.count);
+  check_gl("gi RSM pass");
+  const std::vector<float> pos = read_rgba(fbo.ids[0], 0, v.mt, v.mb), nrm = read_rgba(fbo.ids[0], 1, v.mt, v.mb),
+                           flx = read_rgba(fbo.ids[0], 2, v.mt, v.mb);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glBindVertexArray(0);
+  GiRsmResult r;
+  r.width = v.mt;
+  r.height = v.mb;
+  const std::size_t np = static_cast<std::size_t>(v.mt) * v.mb;
+  r.hit.assign(np, 0);
+  for (auto* x : {&r.position, &r.normal, &r.flux}) x->assign(np, glm::dvec3(0.0));
+  for (std::size_t p = 0; p < np; ++p) {
+    if (pos[4 * p + 3] == 0.0f) continue;
+    r.hit[p] = 1;
+    r.position[p] = rgb(pos, p) + soup.centre;
+    r.normal[p] = rgb(nrm, p);
+    r.flux[p] = rgb(flx, p);
+  }
+  r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace atmosh::gpu

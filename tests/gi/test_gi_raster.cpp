@@ -1,0 +1,297 @@
+// The rasterised passes of the GPU forms of radiosity and LPV (atmosh/gpu/gi_raster.hpp,
+// apps/gi/src/raster_gpu.cpp) against independent references: the CPU's ray-cast G-buffer
+// (Embree rays through the pixel centres), the CPU's shadow rays, the path tracer, the CPU's
+// ray-cast VPL injection and the closed-form flux a sun brings onto a plane. Skipped where no
+// EGL context can be made (ATMOSH_REQUIRE_GPU_CONTEXT=1 makes that a failure elsewhere).
+#ifdef ATMOSH_GI_HAVE_GPU
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "atmosh/error.hpp"
+#include "atmosh/gi/lpv.hpp"
+#include "atmosh/gi/path_tracer.hpp"
+#include "atmosh/gi/probes.hpp"
+#include "atmosh/gi/radiosity.hpp"
+#include "atmosh/gi/scene.hpp"
+#include "atmosh/gpu/context.hpp"
+#include "atmosh/prt/bake.hpp"
+
+namespace {
+using namespace atmosh;
+
+bool no_gpu(std::string& why) {
+  try {
+    gpu::Context probe;
+    return false;
+  } catch (const gpu::Unavailable& e) {
+    why = e.what();
+    return true;
+  }
+}
+
+// A G-buffer spread back over its pixels.
+struct Pixels {
+  int w = 0, h = 0;
+  std::vector<char> hit;
+  std::vector<glm::dvec3> p, n, a, e, E;
+};
+Pixels spread(const gi::RadiosityGBuffer& g, int w, int h) {
+  Pixels x;
+  x.w = w, x.h = h;
+  const std::size_t np = static_cast<std::size_t>(w) * h;
+  x.hit.assign(np, 0);
+  for (auto* v : {&x.p, &x.n, &x.a, &x.e, &x.E}) v->assign(np, glm::dvec3(0.0));
+  for (std::size_t k = 0; k < g.pixel.size(); ++k) {
+    const std::size_t i = g.pixel[k];
+    x.hit[i] = 1;
+    x.p[i] = g.receivers.position[k];
+    x.n[i] = g.receivers.normal[k];
+    x.a[i] = g.receivers.albedo[k];
+    x.e[i] = g.receivers.emission[k];
+    x.E[i] = g.receivers.direct[k];
+  }
+  return x;
+}
+
+double max3(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
+
+// Same surface at pixel i: both hit, positions within `tol`, the same normal, albedo, emission.
+bool same_surface(const Pixels& a, const Pixels& b, std::size_t i, double tol) {
+  if (a.hit[i] != b.hit[i]) return false;
+  if (!a.hit[i]) return true;
+  return glm::length(a.p[i] - b.p[i]) < tol && glm::dot(a.n[i], b.n[i]) > 1 - 1e-5 && max3(a.a[i] - b.a[i]) < 1e-6 &&
+         max3(a.e[i] - b.e[i]) < 1e-5 * (1 + max3(b.e[i]));
+}
+
+// Pixel i lies on an edge of the ray-cast image: one of its 8 neighbours sees another surface
+// (hit or miss, another plane, another material).
+bool edge_pixel(const Pixels& c, std::size_t i, double tol) {
+  const int r = static_cast<int>(i) / c.w, q = static_cast<int>(i) % c.w;
+  for (int dr = -1; dr <= 1; ++dr)
+    for (int dq = -1; dq <= 1; ++dq) {
+      const int rr = r + dr, qq = q + dq;
+      if (rr < 0 || qq < 0 || rr >= c.h || qq >= c.w) continue;
+      const std::size_t j = static_cast<std::size_t>(rr) * c.w + qq;
+      if (c.hit[j] != c.hit[i]) return true;
+      if (!c.hit[i]) continue;
+      if (glm::dot(c.n[i], c.n[j]) < 1 - 1e-6 || max3(c.a[i] - c.a[j]) > 0 || max3(c.e[i] - c.e[j]) > 0 ||
+          std::abs(glm::dot(c.n[i], c.p[j] - c.p[i])) > tol)
+        return true;
+    }
+  return false;
+}
+
+gi::Scene sunlit(const char* name, double az, double el) {
+  gi::Scene s = gi::builtin_scene(name);
+  s.sun = gi::Sun{gi::sun_direction(s, az, el), glm::dvec3(3.0, 2.0, 1.0)};
+  return s;
+}
+
+// 1. The rasterised G-buffer against the ray-cast one, pixel by pixel: the same surface
+// everywhere except at edge pixels, where the rasteriser's coverage rule and Embree's ray test
+// may pick different sides of an edge passing near the pixel centre.
+TEST(GiRaster, GBufferAgreesWithTheRayCastGBufferExceptAtEdges) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  for (const char* name : {"cornell-box", "sphere-on-plane", "box-occluder"}) {
+    gi::Scene s = gi::builtin_scene(name);
+    if (!s.sun) s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(2.0)};
+    const int W = 48, H = 40;
+    const gi::RadiosityGBuffer gc = gi::radiosity_gbuffer(s, s.camera, W, H, 1, 5);
+    double secs = -1;
+    const gi::RadiosityGBuffer gg = gi::radiosity_gbuffer_gpu(s, s.camera, W, H, 1, 5, 0, {}, &secs);
+    EXPECT_GE(secs, 0.0);
+    const Pixels c = spread(gc, W, H), g = spread(gg, W, H);
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (const auto& p : s.mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const double tol = 1e-4 * glm::length(hi - lo);  // float positions, perspective interpolation
+    std::size_t differ = 0, differ_inner = 0, hits = 0;
+    for (std::size_t i = 0; i < c.hit.size(); ++i) {
+      hits += c.hit[i] ? 1 : 0;
+      if (same_surface(g, c, i, tol)) continue;
+      ++differ;
+      if (!edge_pixel(c, i, 1e-3 * glm::length(hi - lo))) ++differ_inner;
+    }
+    ASSERT_GT(hits, c.hit.size() / 6) << name;
+    const double frac = static_cast<double>(differ) / static_cast<double>(c.hit.size());
+    std::printf("%s: rasterised G-buffer differs from the ray-cast one at %zu of %zu pixels (%.4f), %zu off edges\n",
+                name, differ, c.hit.size(), frac, differ_inner);
+    EXPECT_EQ(differ_inner, 0u) << name;  // every difference is at an edge pixel
+    EXPECT_LT(frac, 0.01) << name;
+  }
+}
+
+// 1b. The Cornell box's direct light (the area light, on the CPU at the rasterised points,
+// the same random streams): equal to the ray-cast G-buffer's where the surface is the same.
+TEST(GiRaster, AreaLightDirectTermAtRasterisedPointsMatchesTheRayCastGBuffer) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  const int W = 40, H = 40;
+  const Pixels c = spread(gi::radiosity_gbuffer(s, s.camera, W, H, 2, 9), W, H);
+  const Pixels g = spread(gi::radiosity_gbuffer_gpu(s, s.camera, W, H, 2, 9), W, H);
+  double scale = 0;
+  for (const auto& E : c.E) scale = std::max(scale, max3(E));
+  ASSERT_GT(scale, 0);
+  std::size_t n = 0, bad = 0;
+  for (std::size_t i = 0; i < c.hit.size(); ++i) {
+    if (!c.hit[i] || !same_surface(g, c, i, 0.05)) continue;
+    ++n;
+    if (max3(g.E[i] - c.E[i]) > 1e-3 * scale) ++bad;
+  }
+  ASSERT_GT(n, 1000u);
+  std::printf("area light at rasterised points: %zu of %zu receivers differ by > 1e-3 of the largest\n", bad, n);
+  EXPECT_LE(bad, n / 200);  // a shadow ray grazing an edge may flip for a 1e-5 shift of its origin
+}
+
+// 2. The sun's direct light by the shadow map against one shadow ray per receiver (exact for a
+// point sun): receivers that differ by more than 1 % of E_sun lie within the shadow map's
+// footprint of a shadow edge (shadow rays from nearby points disagree), and they are few.
+TEST(GiRaster, SunShadowMapAgreesWithShadowRaysAwayFromShadowEdges) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  for (const char* name : {"sphere-on-plane", "box-occluder"}) {
+    const gi::Scene s = sunlit(name, 135, 40);
+    const int W = 64, H = 64;
+    const Pixels c = spread(gi::radiosity_gbuffer(s, s.camera, W, H, 1, 1), W, H);
+    const Pixels g = spread(gi::radiosity_gbuffer_gpu(s, s.camera, W, H, 1, 1), W, H);
+    const glm::dvec3 sd = glm::normalize(s.sun->direction);
+    const double Es = s.sun->irradiance.x;
+    // Near a shadow edge in the scene: shadow rays (Embree, independent of the rasteriser)
+    // from points within the shadow map's footprint around p — the PCF kernel's half-width
+    // plus the normal offset, (pcf + 1.5) texels + 1 texel, perpendicular to the sun — do not
+    // all agree.
+    const prt::RayScene rays(s.mesh);
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (const auto& p : s.mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const double texel = 2 * 1.01 * 0.5 * glm::length(hi - lo) / gi::ShadowMapOptions{}.resolution;
+    glm::dvec3 u = glm::normalize(glm::cross(sd, glm::dvec3(0.3, 0.5, 0.8))), w = glm::cross(sd, u);
+    auto near_edge = [&](std::size_t i) {
+      const bool v0 = rays.unoccluded(c.p[i], sd, rays.offset());
+      for (double R : {0.5, 1.0})
+        for (int k = 0; k < 16; ++k) {
+          const double phi = 2 * std::numbers::pi * k / 16;
+          const glm::dvec3 q = c.p[i] + R * 3.5 * texel * (std::cos(phi) * u + std::sin(phi) * w);
+          if (rays.unoccluded(q, sd, rays.offset()) != v0) return true;
+        }
+      return false;
+    };
+    std::size_t n = 0, differ = 0, inner = 0;
+    for (std::size_t i = 0; i < c.hit.size(); ++i) {
+      if (!c.hit[i] || !same_surface(g, c, i, 1e-3)) continue;
+      ++n;
+      ASSERT_TRUE(std::isfinite(g.E[i].x + g.E[i].y + g.E[i].z));
+      if (std::abs(g.E[i].x - c.E[i].x) <= 0.01 * Es) continue;
+      ++differ;
+      if (near_edge(i)) continue;
+      ++inner;
+      std::printf("  pixel %zu (%.3f %.3f %.3f): ray-cast %.4f shadow map %.4f\n", i, c.p[i].x, c.p[i].y, c.p[i].z,
+                  c.E[i].x, g.E[i].x);
+    }
+    ASSERT_GT(n, 500u);
+    const double frac = static_cast<double>(differ) / static_cast<double>(n);
+    std::printf("%s: shadow map vs shadow rays: %zu of %zu receivers differ by > 1%% of E_sun (%.4f), %zu away from edges\n",
+                name, differ, n, frac, inner);
+    EXPECT_EQ(inner, 0u) << name;
+    EXPECT_LT(frac, 0.03) << name;
+  }
+}
+
+// 2b. The whole frame on the GPU (rasterised G-buffer with the shadow map, the walk as a
+// compute pass) against the path tracer, next to the ray-cast G-buffer's frame (the same
+// volume, the walk by the CPU twin): the shadow map changes the error by little.
+TEST(GiRaster, SunFrameOnTheGpuAgainstThePathTracer) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  const gi::Scene s = sunlit("sphere-on-plane", 135, 40);
+  const int W = 32, H = 32;
+  gi::TraceOptions t;
+  t.samples = 64;
+  t.seed = 11;
+  const gi::RadianceImage ref = gi::render(s, s.camera, W, H, t);
+  gi::RadiosityOptions o;
+  o.grid = 4;
+  o.bands = 2;
+  o.bounces = 2;
+  o.samples = 1;
+  gi::RadiosityVolume v = gi::build_radiosity_volume(s, o);
+  gi::add_direct_volume(s, v, 16, 2);
+  const gi::ImageError ec = gi::image_error(gi::render_radiosity_gbuffer(s, s.camera, W, H, v, o, false), ref);
+  const gi::ImageError eg = gi::image_error(gi::render_radiosity_gbuffer(s, s.camera, W, H, v, o, true), ref);
+  std::printf("sun frame vs path tracer: ray-cast G-buffer rms %.4f max %.4f mean %.4f; rasterised + shadow map rms %.4f "
+              "max %.4f mean %.4f\n",
+              ec.rms_rel, ec.max_rel, ec.mean_rel, eg.rms_rel, eg.max_rel, eg.mean_rel);
+  EXPECT_TRUE(std::isfinite(eg.rms_rel));
+  EXPECT_LT(eg.rms_rel, ec.rms_rel + 0.02);
+  EXPECT_NEAR(eg.mean_rel, ec.mean_rel, 0.01);
+}
+
+// 3. Reflective-shadow-map injection: the sun's VPLs from the RSM carry the flux of the CPU's
+// ray-cast VPLs, and on sphere-on-plane (albedo 0.8 everywhere; the sphere's shadow falls on
+// the plane, so the plane's cross-section seen from the sun catches every ray that hits) the
+// closed form 0.8 E_sun x 16 sin(elevation).
+TEST(GiRaster, RsmInjectionConservesTheFluxOfTheRayCastInjection) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  for (const char* name : {"sphere-on-plane", "box-occluder"}) {
+    const double el = 40;
+    const gi::Scene s = sunlit(name, 135, el);
+    gi::LpvOptions o;
+    o.grid = 8;
+    o.sun_rays = 8;
+    const gi::LpvGrid empty = gi::lpv_grid(s, o.grid);
+    double secs = -1;
+    const std::vector<gi::Vpl> rsm = gi::lpv_vpls_rsm(s, o, empty, &secs);
+    EXPECT_GE(secs, 0.0);
+    const std::vector<gi::Vpl> cpu = gi::lpv_vpls(s, o, empty);
+    glm::dvec3 fr(0.0), fc(0.0);
+    for (const auto& v : rsm) fr += v.flux;
+    for (const auto& v : cpu) fc += v.flux;
+    const double rel = max3(fr - fc) / max3(fc);
+    std::printf("%s: RSM %zu VPLs, flux %.6g; ray-cast %zu VPLs, flux %.6g; relative difference %.2e\n", name,
+                rsm.size(), fr.x, cpu.size(), fc.x, rel);
+    EXPECT_LT(rel, 5e-3) << name;
+    if (std::string(name) == "sphere-on-plane") {
+      const double exact = 0.8 * 3.0 * 16 * std::sin(el * std::numbers::pi / 180);
+      EXPECT_NEAR(fr.x, exact, 5e-3 * exact);
+      EXPECT_NEAR(fr.z, exact / 3, 5e-3 * exact / 3);
+    }
+    // the injected grids (the gi_lpv_inject pass): flux conserved by the injection
+    std::uint64_t rays = 1;
+    const gi::LpvGrid gg = gi::lpv_inject_gpu(s, o, &rays), gcpu = gi::lpv_inject(s, o);
+    EXPECT_EQ(rays, 0u) << "no emitters: no CPU rays";
+    const glm::dvec3 Fg = gi::lpv_flux(gg), Fc = gi::lpv_flux(gcpu);
+    EXPECT_LT(max3(Fg - fr), 1e-5 * max3(fr)) << name << ": injection conserves the RSM's flux";
+    EXPECT_LT(max3(Fg - Fc), 5e-3 * max3(Fc)) << name;
+    // each RSM VPL faces the sun and sits half a cell off its surface, inside the grid's box
+    for (const auto& v : rsm) {
+      ASSERT_GT(glm::dot(v.n, glm::normalize(s.sun->direction)), -1e-6);
+      ASSERT_NEAR(glm::length(v.n), 1.0, 1e-5);
+    }
+  }
+}
+
+// Bad input is InputError before any GPU work.
+TEST(GiRaster, BadShadowOptionsAreInputErrors) {
+  const gi::Scene s = sunlit("sphere-on-plane", 135, 40);
+  gi::ShadowMapOptions so;
+  so.resolution = 8;
+  EXPECT_THROW(gi::radiosity_gbuffer_gpu(s, s.camera, 8, 8, 1, 1, 0, so), InputError);
+  so = {};
+  so.pcf = 9;
+  EXPECT_THROW(gi::radiosity_gbuffer_gpu(s, s.camera, 8, 8, 1, 1, 0, so), InputError);
+  so = {};
+  so.bias = -1;
+  EXPECT_THROW(gi::radiosity_gbuffer_gpu(s, s.camera, 8, 8, 1, 1, 0, so), InputError);
+  EXPECT_THROW(gi::radiosity_gbuffer_gpu(s, s.camera, 0, 8, 1, 1), InputError);
+}
+
+}  // namespace
+#endif  // ATMOSH_GI_HAVE_GPU
