@@ -241,3 +241,67 @@ BENCHMARK(BM_LpvFrame512)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()-
 BENCHMARK(BM_LpvFrame512)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
 
 }  // namespace
+
+// The whole 512 x 512 frame on the GPU (EGL; llvmpipe where no GPU is present): the G-buffer
+// rasterised with the sun's shadow map (radiosity_gbuffer_gpu), then
+//   arg 0 = 0: the radiosity walk (shade_receivers_gpu; 16^3, 2 bands, 2 bounces; the volume
+//              and its direct-light SH made once, by rays on the CPU);
+//   arg 0 = 1: the LPV: the sun's reflective shadow map injected (lpv_inject_gpu), propagated
+//              (grid 16, 32 iterations, the geometry volume made once) and applied.
+// arg 1: the scene: 0 sphere-on-plane lit by the sun alone (every per-frame pass on the GPU),
+// 1 the Cornell box (its area light's direct term on the CPU at the rasterised points).
+// Wall time per frame, each pass with its own EGL context and shader compilation (as the
+// library runs them); counter gpu_ms: the passes' own times (uploads, draws / dispatches,
+// read-back), contexts and compilation excluded; raster_ms: the G-buffer's rasterisation
+// (upload, shadow map, G-buffer, read-back) alone.
+void BM_GpuFrame512(benchmark::State& state) {
+  const bool lpv = state.range(0) == 1;
+  gi::Scene s = gi::builtin_scene(state.range(1) == 0 ? "sphere-on-plane" : "cornell-box");
+  if (state.range(1) == 0) s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(3.0)};
+  gi::RadiosityOptions o;
+  o.grid = 16;
+  o.bands = 2;
+  o.bounces = 2;
+  gi::LpvOptions lo;
+  lo.grid = 16;
+  lo.emitter_photons = 16384;
+  gi::RadiosityVolume v;
+  gi::GeometryVolume gv;
+  if (lpv) {
+    gv = gi::lpv_geometry(s, gi::lpv_grid(s, lo.grid));
+  } else {
+    v = gi::build_radiosity_volume(s, o);
+    gi::add_direct_volume(s, v, 16, 1, 1);
+  }
+  double gpu_total = 0, raster_total = 0;
+  std::size_t receivers = 0;
+  try {
+    for (auto _ : state) {
+      double g_s = 0, a = 0, b = 0, c = 0;
+      const gi::RadiosityGBuffer g = gi::radiosity_gbuffer_gpu(s, s.camera, 512, 512, 1, 1, 0, {}, &g_s);
+      receivers = g.receivers.size();
+      if (lpv) {
+        const gi::LpvGrid inj = gi::lpv_inject_gpu(s, lo, nullptr, &a);
+        const gi::LpvGrid acc = gi::lpv_propagate_gpu(inj, &gv, 2 * lo.grid, &b);
+        benchmark::DoNotOptimize(gi::shade_lpv_receivers_gpu(acc, g.receivers, &c));
+      } else {
+        benchmark::DoNotOptimize(gi::shade_receivers_gpu(v, g.receivers, o.bounces, &a));
+      }
+      gpu_total += g_s + a + b + c;
+      raster_total += g_s;
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+  state.counters["gpu_ms"] = 1e3 * gpu_total / static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
+  state.counters["raster_ms"] = 1e3 * raster_total / static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
+  state.counters["receivers"] = static_cast<double>(receivers);
+}
+BENCHMARK(BM_GpuFrame512)
+    ->Args({0, 0})
+    ->Args({1, 0})
+    ->Args({0, 1})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);

@@ -165,21 +165,25 @@ TEST(GiRaster, SunShadowMapAgreesWithShadowRaysAwayFromShadowEdges) {
     const glm::dvec3 sd = glm::normalize(s.sun->direction);
     const double Es = s.sun->irradiance.x;
     // Near a shadow edge in the scene: shadow rays (Embree, independent of the rasteriser)
-    // from points within the shadow map's footprint around p — the PCF kernel's half-width
-    // plus the normal offset, (pcf + 1.5) texels + 1 texel, perpendicular to the sun — do not
-    // all agree.
+    // from the points of the shadow map's footprint around p do not all agree — points within
+    // (pcf + 1.5) = 2.5 texels of p perpendicular to the sun, moved along the sun onto p's
+    // tangent plane (the PCF kernel's half-width plus a texel's rounding), each also lifted by
+    // the normal offset + bias (2 texels) along n.
     const prt::RayScene rays(s.mesh);
     glm::dvec3 lo(1e300), hi(-1e300);
     for (const auto& p : s.mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
     const double texel = 2 * 1.01 * 0.5 * glm::length(hi - lo) / gi::ShadowMapOptions{}.resolution;
     glm::dvec3 u = glm::normalize(glm::cross(sd, glm::dvec3(0.3, 0.5, 0.8))), w = glm::cross(sd, u);
     auto near_edge = [&](std::size_t i) {
-      const bool v0 = rays.unoccluded(c.p[i], sd, rays.offset());
+      const glm::dvec3 p = c.p[i], n = c.n[i];
+      const bool v0 = rays.unoccluded(p, sd, rays.offset());
       for (double R : {0.5, 1.0})
         for (int k = 0; k < 16; ++k) {
           const double phi = 2 * std::numbers::pi * k / 16;
-          const glm::dvec3 q = c.p[i] + R * 3.5 * texel * (std::cos(phi) * u + std::sin(phi) * w);
-          if (rays.unoccluded(q, sd, rays.offset()) != v0) return true;
+          glm::dvec3 q = p + R * 2.5 * texel * (std::cos(phi) * u + std::sin(phi) * w);
+          q -= sd * (glm::dot(n, q - p) / glm::dot(n, sd));
+          for (double lift : {0.0, 2.0})
+            if (rays.unoccluded(q + lift * texel * n, sd, rays.offset()) != v0) return true;
         }
       return false;
     };
