@@ -282,6 +282,38 @@ TEST(GiRaster, RsmInjectionConservesTheFluxOfTheRayCastInjection) {
   }
 }
 
+// 3b. The LPV frame on the GPU (rasterised G-buffer with the shadow map, RSM injection,
+// geometry, propagation, application) against the path tracer limited to the direct light and
+// one bounce (what an LPV carries), next to the CPU's LPV on the ray-cast G-buffer.
+TEST(GiRaster, LpvFrameOnTheGpuAgainstThePathTracer) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  const gi::Scene s = sunlit("box-occluder", 135, 40);
+  const int W = 32, H = 32;
+  gi::TraceOptions t;
+  t.samples = 64;
+  t.seed = 11;
+  t.bounces = 2;
+  const gi::RadianceImage ref = gi::render(s, s.camera, W, H, t);
+  gi::LpvOptions o;
+  o.grid = 8;
+  o.samples = 1;
+  const gi::Lpv lc = gi::build_lpv(s, o);
+  gi::Lpv lg;
+  lg.iterations = lc.iterations;
+  lg.injected = gi::lpv_inject_gpu(s, o);
+  lg.geometry = gi::lpv_geometry_gpu(s, lg.injected);
+  lg.accumulated = gi::lpv_propagate_gpu(lg.injected, &lg.geometry, lg.iterations);
+  const gi::ImageError ec = gi::image_error(gi::render_lpv_gbuffer(s, s.camera, W, H, lc, o, false), ref);
+  const gi::ImageError eg = gi::image_error(gi::render_lpv_gbuffer(s, s.camera, W, H, lg, o, true), ref);
+  std::printf("LPV frame vs path tracer (2 bounces): CPU rms %.4f max %.4f mean %.4f; GPU (raster + RSM) rms %.4f max %.4f "
+              "mean %.4f\n",
+              ec.rms_rel, ec.max_rel, ec.mean_rel, eg.rms_rel, eg.max_rel, eg.mean_rel);
+  EXPECT_TRUE(std::isfinite(eg.rms_rel));
+  EXPECT_LT(eg.rms_rel, ec.rms_rel + 0.02);
+  EXPECT_NEAR(eg.mean_rel, ec.mean_rel, 0.01);
+}
+
 // Bad input is InputError before any GPU work.
 TEST(GiRaster, BadShadowOptionsAreInputErrors) {
   const gi::Scene s = sunlit("sphere-on-plane", 135, 40);
