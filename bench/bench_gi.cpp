@@ -248,12 +248,13 @@ BENCHMARK(BM_LpvFrame512)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime(
 //              and its direct-light SH made once, by rays on the CPU);
 //   arg 0 = 1: the LPV: the sun's reflective shadow map injected (lpv_inject_gpu), propagated
 //              (grid 16, 32 iterations, the geometry volume made once) and applied.
-// arg 1: the scene: 0 sphere-on-plane lit by the sun alone (every per-frame pass on the GPU),
-// 1 the Cornell box (its area light's direct term on the CPU at the rasterised points).
+// arg 1: the scene: 0 sphere-on-plane lit by the sun alone, 1 the Cornell box (its area light
+// on the GPU: 4 points per emitting triangle, distance cube maps of 256^2 a face; the LPV's
+// emitter VPLs by rays on the CPU).
 // Wall time per frame, each pass with its own EGL context and shader compilation (as the
 // library runs them); counter gpu_ms: the passes' own times (uploads, draws / dispatches,
 // read-back), contexts and compilation excluded; raster_ms: the G-buffer's rasterisation
-// (upload, shadow map, G-buffer, read-back) alone.
+// (upload, shadow map, emitters' distance maps, G-buffer, read-back) alone.
 void BM_GpuFrame512(benchmark::State& state) {
   const bool lpv = state.range(0) == 1;
   gi::Scene s = gi::builtin_scene(state.range(1) == 0 ? "sphere-on-plane" : "cornell-box");

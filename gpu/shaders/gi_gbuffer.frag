@@ -2,7 +2,10 @@
 // surface), the normal turned towards the eye (w: the sun factor max(0, n . s) V), albedo,
 // emitted radiance towards the eye. V by the sun's shadow map: the point moved `normal_offset`
 // texels along n, its depth against the stored depth + `bias` texels x (1 + min(tan, 8)), over
-// the (2 pcf + 1)^2 texels around it (percentage-closer filtering).
+// the (2 pcf + 1)^2 texels around it (percentage-closer filtering). Area emitters (target 4):
+// each emitting triangle's unoccluded irradiance (gi_polygon_irradiance, the shared block
+// pasted before this file) times the mean visibility of its sample points, each by its
+// distance cube map (six faces per point in a 2D array texture, layer 6 k + face).
 in vec3 v_position;
 flat in vec3 v_normal;
 flat in vec3 v_albedo;
@@ -22,6 +25,46 @@ layout(location = 0) out vec4 g_position;
 layout(location = 1) out vec4 g_normal;
 layout(location = 2) out vec4 g_albedo;
 layout(location = 3) out vec4 g_emission;
+layout(location = 4) out vec4 g_emitter;
+// Emitting triangles: 16 floats each (v0, v1, v2, radiance, unit normal, one-sided flag),
+// positions relative to the bounding-box centre; their points: 4 floats each, triangle e's
+// at e points_per_tri ... (e + 1) points_per_tri - 1.
+layout(std430, binding = 0) readonly buffer GiEmitters { float em[]; };
+layout(std430, binding = 1) readonly buffer GiEmitterPoints { float ep[]; };
+uniform int n_emitters;
+uniform int points_per_tri;
+uniform sampler2DArray emitter_maps;
+uniform int emitter_res;
+uniform float eval_offset;    // the polygon formula's evaluation height above p
+uniform float shadow_offset;  // the visibility test's origin height above p
+uniform vec3 face_f[6];
+uniform vec3 face_r[6];
+uniform vec3 face_u[6];
+
+vec3 em3(int e, int o) { return vec3(em[e * 16 + o], em[e * 16 + o + 1], em[e * 16 + o + 2]); }
+
+// Visibility of point k from q (normal n) by its distance cube map.
+float point_visible(int k, vec3 q, vec3 n) {
+  vec3 y = vec3(ep[k * 4], ep[k * 4 + 1], ep[k * 4 + 2]);
+  vec3 d = q - y;
+  vec3 ad = abs(d);
+  int f;
+  if (ad.x >= ad.y && ad.x >= ad.z)
+    f = d.x > 0.0 ? 0 : 1;
+  else if (ad.y >= ad.z)
+    f = d.y > 0.0 ? 2 : 3;
+  else
+    f = d.z > 0.0 ? 4 : 5;
+  float w = dot(d, face_f[f]);
+  vec2 uv = vec2(dot(d, face_r[f]), dot(d, face_u[f])) / w;
+  ivec2 tc = clamp(ivec2(floor((uv * 0.5 + 0.5) * float(emitter_res))), ivec2(0), ivec2(emitter_res - 1));
+  float stored = texelFetch(emitter_maps, ivec3(tc, k * 6 + f), 0).r;
+  float dist = length(d);
+  float c = max(dot(n, -d) / max(dist, 1e-30), 1e-3);
+  float slope = min(sqrt(max(0.0, 1.0 - c * c)) / c, 8.0);
+  float bias = 1.5 * dist * (2.0 / float(emitter_res)) * (1.0 + slope);
+  return dist <= stored + bias ? 1.0 : 0.0;
+}
 void main() {
   float len = length(v_normal);
   vec3 n = len > 0.0 ? v_normal / len : vec3(0.0, 0.0, 1.0);
@@ -51,6 +94,18 @@ void main() {
       f = c * lit / count;
     }
   }
+  vec3 Eem = vec3(0.0);
+  for (int t = 0; t < n_emitters; ++t) {
+    vec3 v0 = em3(t, 0), v1 = em3(t, 3), v2 = em3(t, 6), L = em3(t, 9), en = em3(t, 12);
+    if (em[t * 16 + 15] > 0.5 && dot(en, v_position - v0) <= 0.0) continue;  // behind a one-sided emitter
+    float F = gi_polygon_irradiance(v_position + eval_offset * n, n, v0, v1, v2);
+    if (!(F > 0.0)) continue;
+    vec3 q = v_position + shadow_offset * n;
+    float vis = 0.0;
+    for (int k = 0; k < points_per_tri; ++k) vis += point_visible(t * points_per_tri + k, q, n);
+    Eem += L * (F * vis / float(points_per_tri));
+  }
+  g_emitter = vec4(Eem, 1.0);
   g_position = vec4(v_position, 1.0);
   g_normal = vec4(n, f);
   g_albedo = vec4(v_albedo, 1.0);

@@ -165,7 +165,7 @@ glm::dvec3 rgb(const std::vector<float>& v, std::size_t p) { return {v[4 * p], v
 }  // namespace
 
 GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const PrtCamera& cam, const GiSun* sun,
-                           const GiShadowOptions& so) {
+                           const GiShadowOptions& so, const GiEmitterOptions* eo) {
   if (cam.width < 1 || cam.height < 1 || cam.width > 16384 || cam.height > 16384 || !(cam.tan_half_fov > 0) ||
       !std::isfinite(cam.tan_half_fov))
     throw std::invalid_argument("gi_gbuffer: bad camera");
@@ -174,6 +174,10 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
     throw std::invalid_argument("gi_gbuffer: shadow-map options out of range");
   if (sun && !(glm::length(sun->direction) > 0 && std::isfinite(glm::length(sun->direction))))
     throw std::invalid_argument("gi_gbuffer: the sun's direction must be finite and non-zero");
+  if (eo && (eo->points_per_triangle < 1 || eo->points_per_triangle > 64 || eo->resolution < 16 ||
+             eo->resolution > 4096 || !(eo->eval_offset >= 0) || !(eo->shadow_offset >= 0) ||
+             !std::isfinite(eo->eval_offset + eo->shadow_offset)))
+    throw std::invalid_argument("gi_gbuffer: emitter options out of range");
   ctx.make_current();
   const auto t0 = Clock::now();
   Soup soup;
@@ -181,10 +185,12 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   const double radius = soup.radius;
   const int W = cam.width, H = cam.height, D = so.resolution;
   const Program depth(parts("gpu/shaders/prt_depth.vert"), parts("gpu/shaders/prt_depth.frag"));
-  const Program gbuf(parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_gbuffer.frag"));
-  Textures tex(6);  // 4 colour targets + depth, shadow map
-  Framebuffers fbo(2);
-  const GLuint t_shadow = tex.ids[5];
+  const Program gbuf(parts("gpu/shaders/gi_gbuffer.vert"),
+                     {embedded_source("apps/gi/include/atmosh/gi/shared/polygon.glsl.hpp"),
+                      embedded_source("gpu/shaders/gi_gbuffer.frag")});
+  Textures tex(9);  // 5 colour targets + depth, shadow map, emitter distance maps + their depth
+  Framebuffers fbo(3);
+  const GLuint t_shadow = tex.ids[6], t_emaps = tex.ids[7], t_edepth = tex.ids[8];
   const glm::dvec3 s = sun ? glm::normalize(sun->direction) : glm::dvec3(0, 0, 1);
   const Mat4 lp = light_matrix(s, radius);
   storage_2d(t_shadow, GL_DEPTH_COMPONENT32F, sun ? D : 1, sun ? D : 1);
@@ -208,8 +214,102 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
     glDrawArrays(GL_TRIANGLES, 0, soup.count);
     check_gl("gi shadow map pass");
   }
-  // 2. G-buffer from the camera (prt.cpp's projection; near plane at least 1e-3 radius).
-  colour_targets(fbo.ids[0], tex, 4, W, H, "gi G-buffer");
+  // 2. Area emitters: sample points and their distance cube maps.
+  std::vector<float> etri, epts;
+  int n_em = 0, K = 1, C = 1;
+  // Face frames: forward, right, up (the same in the rendering and the shader's lookup).
+  glm::dvec3 ff[6], fr[6], fu[6];
+  for (int f = 0; f < 6; ++f) {
+    glm::dvec3 F(0.0);
+    F[f / 2] = f % 2 == 0 ? 1.0 : -1.0;
+    const glm::dvec3 helper = f / 2 == 1 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+    ff[f] = F;
+    fr[f] = glm::normalize(glm::cross(F, helper));
+    fu[f] = glm::cross(fr[f], F);
+  }
+  if (eo) {
+    K = eo->points_per_triangle;
+    C = eo->resolution;
+    const auto& P = *mesh.positions;
+    for (std::size_t t = 0; t < mesh.triangles->size(); ++t) {
+      const glm::dvec3 L = (*mesh.emission)[t];
+      if (!(L.x + L.y + L.z > 0)) continue;
+      if (++n_em > 64) throw std::invalid_argument("gi_gbuffer: more than 64 emitting triangles");
+      const auto& tv = (*mesh.triangles)[t];
+      const glm::dvec3 a = P[tv[0]] - soup.centre, b = P[tv[1]] - soup.centre, c = P[tv[2]] - soup.centre;
+      const glm::dvec3 n = (*mesh.normal)[t];
+      const double one = mesh.one_sided && (*mesh.one_sided)[t] ? 1.0 : 0.0;
+      for (const glm::dvec3& v : {a, b, c, L, n})
+        for (int i = 0; i < 3; ++i) etri.push_back(static_cast<float>(v[i]));
+      etri.push_back(static_cast<float>(one));
+      for (int k = 0; k < K; ++k) {  // Hammersley point (k + 1/2) / K, radical inverse of k; sqrt map
+        double u2 = 0, base = 0.5;
+        for (unsigned q = static_cast<unsigned>(k); q; q >>= 1, base *= 0.5) u2 += (q & 1u) * base;
+        const double r = std::sqrt((k + 0.5) / K);
+        const glm::dvec3 y = (1 - r) * a + r * (1 - u2) * b + r * u2 * c;
+        for (int i = 0; i < 3; ++i) epts.push_back(static_cast<float>(y[i]));
+        epts.push_back(static_cast<float>(n_em - 1));
+      }
+    }
+  }
+  const int layers = std::max(6, 6 * n_em * K);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, t_emaps);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_R32F, n_em ? C : 1, n_em ? C : 1, layers);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  check_gl("gi emitter maps");
+  if (n_em > 0) {
+    const Program dist(parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_distance.frag"));
+    storage_2d(t_edepth, GL_DEPTH_COMPONENT32F, C, C);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.ids[2]);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, t_edepth, 0);
+    const GLenum d0 = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &d0);
+    glViewport(0, 0, C, C);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    dist.use();
+    glBindVertexArray(soup.vao.ids[0]);
+    const double near_d = 1e-4 * radius, far_d = 4 * radius;
+    const double za = (far_d + near_d) / (far_d - near_d), zb = -2.0 * far_d * near_d / (far_d - near_d);
+    const float far_value[4] = {3.0e38f, 0, 0, 0};
+    for (int k = 0; k < n_em * K; ++k) {
+      const glm::dvec3 y(epts[4 * k], epts[4 * k + 1], epts[4 * k + 2]);
+      dist.set("origin", static_cast<float>(y.x), static_cast<float>(y.y), static_cast<float>(y.z));
+      for (int f = 0; f < 6; ++f) {
+        glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, t_emaps, 0, 6 * k + f);
+        if (k == 0 && f == 0) check_framebuffer("gi emitter distance maps");
+        glClearBufferfv(GL_COLOR, 0, far_value);
+        glClearDepth(1.0);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        // clip = (x . r, x . u, za (x . f) + zb, x . f), x = p - y
+        Mat4 m;
+        for (int c = 0; c < 3; ++c) {
+          m.set(0, c, fr[f][c]);
+          m.set(1, c, fu[f][c]);
+          m.set(2, c, za * ff[f][c]);
+          m.set(3, c, ff[f][c]);
+        }
+        m.set(0, 3, -glm::dot(fr[f], y));
+        m.set(1, 3, -glm::dot(fu[f], y));
+        m.set(2, 3, -za * glm::dot(ff[f], y) + zb);
+        m.set(3, 3, -glm::dot(ff[f], y));
+        dist.set_mat4("view_proj", m.m);
+        glDrawArrays(GL_TRIANGLES, 0, soup.count);
+      }
+    }
+    check_gl("gi emitter distance maps");
+  }
+  if (etri.empty()) etri.assign(16, 0.0f);
+  if (epts.empty()) epts.assign(4, 0.0f);
+  Buffer b_tri(etri.size() * sizeof(float), etri.data()), b_pts(epts.size() * sizeof(float), epts.data());
+  b_tri.bind(0);
+  b_pts.bind(1);
+
+  // 3. G-buffer from the camera (prt.cpp's projection; near plane at least 1e-3 radius).
+  colour_targets(fbo.ids[0], tex, 5, W, H, "gi G-buffer");
   const glm::dvec3 eye = cam.eye - soup.centre;
   const double dist = glm::length(eye);
   const double near_d = std::max(dist - radius, 1e-3 * radius), far_d = dist + radius;
@@ -240,13 +340,28 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   gbuf.set("bias", static_cast<float>(so.bias));
   gbuf.set("pcf", so.pcf);
   gbuf.set("shadow_map", 0);
+  gbuf.set("n_emitters", n_em);
+  gbuf.set("points_per_tri", K);
+  gbuf.set("emitter_maps", 1);
+  gbuf.set("emitter_res", C);
+  gbuf.set("eval_offset", static_cast<float>(eo ? eo->eval_offset : 0.0));
+  gbuf.set("shadow_offset", static_cast<float>(eo ? eo->shadow_offset : 0.0));
+  for (int f = 0; f < 6; ++f) {
+    const std::string i = "[" + std::to_string(f) + "]";
+    gbuf.set(("face_f" + i).c_str(), static_cast<float>(ff[f].x), static_cast<float>(ff[f].y), static_cast<float>(ff[f].z));
+    gbuf.set(("face_r" + i).c_str(), static_cast<float>(fr[f].x), static_cast<float>(fr[f].y), static_cast<float>(fr[f].z));
+    gbuf.set(("face_u" + i).c_str(), static_cast<float>(fu[f].x), static_cast<float>(fu[f].y), static_cast<float>(fu[f].z));
+  }
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, t_emaps);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, t_shadow);
   glBindVertexArray(soup.vao.ids[0]);
   glDrawArrays(GL_TRIANGLES, 0, soup.count);
   check_gl("gi G-buffer pass");
   const std::vector<float> pos = read_rgba(fbo.ids[0], 0, W, H), nrm = read_rgba(fbo.ids[0], 1, W, H),
-                           alb = read_rgba(fbo.ids[0], 2, W, H), emi = read_rgba(fbo.ids[0], 3, W, H);
+                           alb = read_rgba(fbo.ids[0], 2, W, H), emi = read_rgba(fbo.ids[0], 3, W, H),
+                           eir = read_rgba(fbo.ids[0], 4, W, H);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glBindVertexArray(0);
   GiGBufferResult r;
@@ -254,7 +369,7 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   r.height = H;
   const std::size_t np = static_cast<std::size_t>(W) * H;
   r.hit.assign(np, 0);
-  for (auto* v : {&r.position, &r.normal, &r.albedo, &r.emission}) v->assign(np, glm::dvec3(0.0));
+  for (auto* v : {&r.position, &r.normal, &r.albedo, &r.emission, &r.emitter}) v->assign(np, glm::dvec3(0.0));
   r.sun.assign(np, 0.0);
   for (std::size_t p = 0; p < np; ++p) {
     if (pos[4 * p + 3] == 0.0f) continue;
@@ -266,6 +381,7 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
     r.sun[q] = sun ? static_cast<double>(nrm[4 * p + 3]) : 0.0;
     r.albedo[q] = rgb(alb, p);
     r.emission[q] = rgb(emi, p);
+    r.emitter[q] = rgb(eir, p);
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;

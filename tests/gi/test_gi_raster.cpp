@@ -20,6 +20,7 @@
 #include "atmosh/gi/probes.hpp"
 #include "atmosh/gi/radiosity.hpp"
 #include "atmosh/gi/scene.hpp"
+#include "atmosh/gi/shared/polygon.glsl.hpp"
 #include "atmosh/gpu/context.hpp"
 #include "atmosh/prt/bake.hpp"
 
@@ -128,15 +129,18 @@ TEST(GiRaster, GBufferAgreesWithTheRayCastGBufferExceptAtEdges) {
   }
 }
 
-// 1b. The Cornell box's direct light (the area light, on the CPU at the rasterised points,
-// the same random streams): equal to the ray-cast G-buffer's where the surface is the same.
-TEST(GiRaster, AreaLightDirectTermAtRasterisedPointsMatchesTheRayCastGBuffer) {
+// 1b. The Cornell box's direct light with the CPU's estimator at the rasterised points
+// (emitter_points = 0; the same random streams): equal to the ray-cast G-buffer's where the
+// surface is the same.
+TEST(GiRaster, AreaLightCpuTermAtRasterisedPointsMatchesTheRayCastGBuffer) {
   std::string why;
   if (no_gpu(why)) GTEST_SKIP() << why;
   const gi::Scene s = gi::builtin_scene("cornell-box");
   const int W = 40, H = 40;
+  gi::ShadowMapOptions so;
+  so.emitter_points = 0;
   const Pixels c = spread(gi::radiosity_gbuffer(s, s.camera, W, H, 2, 9), W, H);
-  const Pixels g = spread(gi::radiosity_gbuffer_gpu(s, s.camera, W, H, 2, 9), W, H);
+  const Pixels g = spread(gi::radiosity_gbuffer_gpu(s, s.camera, W, H, 2, 9, 0, so), W, H);
   double scale = 0;
   for (const auto& E : c.E) scale = std::max(scale, max3(E));
   ASSERT_GT(scale, 0);
@@ -147,8 +151,65 @@ TEST(GiRaster, AreaLightDirectTermAtRasterisedPointsMatchesTheRayCastGBuffer) {
     if (max3(g.E[i] - c.E[i]) > 1e-3 * scale) ++bad;
   }
   ASSERT_GT(n, 1000u);
-  std::printf("area light at rasterised points: %zu of %zu receivers differ by > 1e-3 of the largest\n", bad, n);
+  std::printf("area light (CPU estimator) at rasterised points: %zu of %zu receivers differ by > 1e-3 of the largest\n",
+              bad, n);
   EXPECT_LE(bad, n / 200);  // a shadow ray grazing an edge may flip for a 1e-5 shift of its origin
+}
+
+// 1c. The area light on the GPU (the shared polygon formula x the visibility of 4 fixed points
+// per emitting triangle by distance cube maps) against the CPU's estimator at 64 samples
+// (polygon formula x one random point's shadow ray each): equal within float rounding where
+// the CPU sees the whole light (every sample visible) and zero where it sees none of it; the
+// penumbra (4 points against 64 random ones) is measured.
+TEST(GiRaster, AreaLightOnTheGpuAgainstTheCpuEstimator) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  const int W = 40, H = 40;
+  const Pixels c = spread(gi::radiosity_gbuffer(s, s.camera, W, H, 64, 9), W, H);
+  double secs = -1;
+  const gi::RadiosityGBuffer gb = gi::radiosity_gbuffer_gpu(s, s.camera, W, H, 64, 9, 0, {}, &secs);
+  EXPECT_EQ(gb.rays, 0u) << "no light left on the CPU";
+  const Pixels g = spread(gb, W, H);
+  // the unoccluded irradiance at each receiver (the polygon formula in double, as the CPU's)
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : s.mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double off = 1e-4 * glm::length(hi - lo);
+  std::size_t lit = 0, lit_bad = 0, umbra = 0, umbra_bad = 0, pen = 0;
+  double sum_abs = 0, sum_ref = 0;
+  for (std::size_t i = 0; i < c.hit.size(); ++i) {
+    if (!c.hit[i] || !same_surface(g, c, i, 0.05)) continue;
+    glm::dvec3 U(0.0);
+    for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t) {
+      const gi::Material& m = s.materials[s.material[t]];
+      if (!(m.emission.x > 0)) continue;
+      const auto& tv = s.mesh.triangles[t];
+      const glm::dvec3 a = s.mesh.positions[tv[0]], b = s.mesh.positions[tv[1]], cc = s.mesh.positions[tv[2]];
+      const glm::dvec3 nt = glm::normalize(glm::cross(b - a, cc - a));
+      if (m.one_sided && glm::dot(nt, c.p[i] - a) <= 0) continue;
+      U += m.emission * gi::shared::gi_polygon_irradiance(c.p[i] + 0.01 * off * c.n[i], c.n[i], a, b, cc);
+    }
+    if (!(U.x > 0)) continue;
+    const double f = c.E[i].x / U.x;  // the CPU's visible fraction (64 samples)
+    sum_abs += std::abs(g.E[i].x - c.E[i].x);
+    sum_ref += c.E[i].x;
+    if (f > 1 - 1e-9) {
+      ++lit;
+      if (std::abs(g.E[i].x - U.x) > 1e-4 * U.x) ++lit_bad;
+    } else if (f < 1e-9) {
+      ++umbra;
+      if (g.E[i].x > 1e-3 * U.x) ++umbra_bad;
+    } else {
+      ++pen;
+    }
+  }
+  ASSERT_GT(lit, 500u);
+  std::printf("area light on the GPU vs CPU (64 samples): fully lit %zu (%zu differ > 1e-4), umbra %zu (%zu lit > 1e-3), "
+              "penumbra %zu; mean |difference| / mean irradiance %.4f\n",
+              lit, lit_bad, umbra, umbra_bad, pen, sum_abs / sum_ref);
+  EXPECT_LE(lit_bad, lit / 100);
+  EXPECT_LE(umbra_bad, umbra / 50 + 1);
+  EXPECT_LT(sum_abs / sum_ref, 0.05);
 }
 
 // 2. The sun's direct light by the shadow map against one shadow ray per receiver (exact for a
@@ -235,6 +296,39 @@ TEST(GiRaster, SunFrameOnTheGpuAgainstThePathTracer) {
   EXPECT_TRUE(std::isfinite(eg.rms_rel));
   EXPECT_LT(eg.rms_rel, ec.rms_rel + 0.02);
   EXPECT_NEAR(eg.mean_rel, ec.mean_rel, 0.01);
+}
+
+// 2c. The Cornell box's frame with its area light on the GPU (distance cube maps, 4 points per
+// triangle) against the path tracer, next to the ray-cast G-buffer's frame with the CPU's
+// estimator (16 samples); the same volume, the walk by the CPU twin and the GPU pass.
+TEST(GiRaster, CornellFrameOnTheGpuAgainstThePathTracer) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  const int W = 24, H = 24;
+  gi::TraceOptions t;
+  t.samples = 128;
+  t.seed = 11;
+  const gi::RadianceImage ref = gi::render(s, s.camera, W, H, t);
+  gi::TraceOptions t0;
+  t0.samples = 4;
+  t0.bounces = 0;
+  const auto mask = gi::emitter_mask(gi::render(s, s.camera, W, H, t0), 1);
+  gi::RadiosityOptions o;
+  o.grid = 8;
+  o.bands = 2;
+  o.bounces = 2;
+  o.samples = 16;
+  gi::RadiosityVolume v = gi::build_radiosity_volume(s, o);
+  gi::add_direct_volume(s, v);
+  const gi::ImageError ec = gi::image_error(gi::render_radiosity_gbuffer(s, s.camera, W, H, v, o, false), ref, &mask);
+  const gi::ImageError eg = gi::image_error(gi::render_radiosity_gbuffer(s, s.camera, W, H, v, o, true), ref, &mask);
+  std::printf("Cornell frame vs path tracer: ray-cast G-buffer + CPU area light rms %.4f max %.4f mean %.4f; GPU (raster + "
+              "distance maps) rms %.4f max %.4f mean %.4f\n",
+              ec.rms_rel, ec.max_rel, ec.mean_rel, eg.rms_rel, eg.max_rel, eg.mean_rel);
+  EXPECT_TRUE(std::isfinite(eg.rms_rel));
+  EXPECT_LT(eg.rms_rel, ec.rms_rel + 0.03);
+  EXPECT_NEAR(eg.mean_rel, ec.mean_rel, 0.02);
 }
 
 // 3. Reflective-shadow-map injection: the sun's VPLs from the RSM carry the flux of the CPU's
@@ -325,6 +419,12 @@ TEST(GiRaster, BadShadowOptionsAreInputErrors) {
   EXPECT_THROW(gi::radiosity_gbuffer_gpu(s, s.camera, 8, 8, 1, 1, 0, so), InputError);
   so = {};
   so.bias = -1;
+  EXPECT_THROW(gi::radiosity_gbuffer_gpu(s, s.camera, 8, 8, 1, 1, 0, so), InputError);
+  so = {};
+  so.emitter_points = 65;
+  EXPECT_THROW(gi::radiosity_gbuffer_gpu(s, s.camera, 8, 8, 1, 1, 0, so), InputError);
+  so = {};
+  so.emitter_resolution = 8;
   EXPECT_THROW(gi::radiosity_gbuffer_gpu(s, s.camera, 8, 8, 1, 1, 0, so), InputError);
   EXPECT_THROW(gi::radiosity_gbuffer_gpu(s, s.camera, 0, 8, 1, 1), InputError);
 }

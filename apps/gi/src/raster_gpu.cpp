@@ -79,6 +79,11 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
   if (so.pcf < 0 || so.pcf > 4) throw InputError("gi: shadow-map PCF radius must be in 0..4, got " + std::to_string(so.pcf));
   if (!(so.normal_offset >= 0 && so.normal_offset < 1e6) || !(so.bias >= 0 && so.bias < 1e6))
     throw InputError("gi: shadow-map offsets must be finite and >= 0");
+  if (so.emitter_points < 0 || so.emitter_points > 64)
+    throw InputError("gi: emitter points per triangle must be in 0..64, got " + std::to_string(so.emitter_points));
+  if (so.emitter_resolution < 16 || so.emitter_resolution > 4096)
+    throw InputError("gi: emitter distance-map resolution must be in 16..4096, got " +
+                     std::to_string(so.emitter_resolution));
   const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
   if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
       !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
@@ -105,14 +110,31 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
   gso.pcf = so.pcf;
   gso.normal_offset = so.normal_offset;
   gso.bias = so.bias;
-  const gpu::GiGBufferResult gb = gpu::gi_gbuffer(ctx, attrs.view(), pc, sun ? &gs : nullptr, gso);
+  std::size_t n_emitting = 0;
+  for (const glm::dvec3& L : attrs.emission) n_emitting += L.x + L.y + L.z > 0 ? 1 : 0;
+  const bool gpu_emitters = so.emitter_points > 0 && n_emitting > 0 && n_emitting <= 64;
+  gpu::GiEmitterOptions geo;
+  if (gpu_emitters) {
+    glm::dvec3 lo, hi;
+    detail::mesh_bounds(scene.mesh, lo, hi);
+    const double off = 1e-4 * std::max(glm::length(hi - lo), 1e-30);  // prt::RayScene's ray offset
+    geo.points_per_triangle = so.emitter_points;
+    geo.resolution = so.emitter_resolution;
+    geo.eval_offset = 0.01 * off;  // as DirectLight: the receiver's own plane drops out
+    geo.shadow_offset = off;
+  }
+  const gpu::GiGBufferResult gb =
+      gpu::gi_gbuffer(ctx, attrs.view(), pc, sun ? &gs : nullptr, gso, gpu_emitters ? &geo : nullptr);
   if (gpu_seconds != nullptr) *gpu_seconds = gb.seconds;
 
-  // The rest of the direct light (area emitters, environment) by the CPU's estimator.
+  // The rest of the direct light (the environment; area emitters unless on the GPU) by the
+  // CPU's estimator.
   Scene rest_scene = scene;
   rest_scene.sun.reset();
+  if (gpu_emitters)
+    for (Material& m : rest_scene.materials) m.emission = glm::dvec3(0.0);
   const bool has_env = scene.env_bands > 0 || scene.env_map.has_value();
-  const bool rest = has_env || has_emitters(scene);
+  const bool rest = has_env || (!gpu_emitters && has_emitters(scene));
   std::optional<prt::RayScene> rays;
   std::optional<detail::DirectLight> direct;
   if (rest) {
@@ -135,7 +157,7 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
         }
         continue;
       }
-      glm::dvec3 Ed = e_sun * gb.sun[i];
+      glm::dvec3 Ed = e_sun * gb.sun[i] + gb.emitter[i];
       if (rest) {
         detail::Rng rng(seed, i, detail::kReceiverSalt);
         glm::dvec3 acc(0.0);

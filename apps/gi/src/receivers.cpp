@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "atmosh/error.hpp"
+#include "atmosh/gi/shared/polygon.glsl.hpp"
 #include "atmosh/parallel.hpp"
 
 namespace atmosh::gi::detail {
@@ -20,30 +21,8 @@ constexpr double kPi = std::numbers::pi;
 
 double polygon_irradiance_factor(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& a, const glm::dvec3& b,
                                  const glm::dvec3& c) {
-  // Clip the triangle (relative to p) to the half-space n . v >= 0 (Sutherland–Hodgman).
-  const glm::dvec3 in[3] = {a - p, b - p, c - p};
-  glm::dvec3 poly[4];
-  int k = 0;
-  for (int i = 0; i < 3; ++i) {
-    const glm::dvec3 &u = in[i], &w = in[(i + 1) % 3];
-    const double du = glm::dot(n, u), dw = glm::dot(n, w);
-    if (du >= 0) poly[k++] = u;
-    if ((du >= 0) != (dw >= 0)) poly[k++] = u + (du / (du - dw)) * (w - u);
-  }
-  if (k < 3) return 0;
-  // Lambert's formula: E / L = 1/2 |sum_i theta_i n . normalize(u_i x u_i+1)|, theta_i the
-  // angle between successive vertex directions (Arvo 1995, eq. 1).
-  double sum = 0;
-  for (int i = 0; i < k; ++i) {
-    const double lu = glm::length(poly[i]), lw = glm::length(poly[(i + 1) % k]);
-    if (!(lu > 0) || !(lw > 0)) return 0;  // p on the emitter's vertex: leave it out
-    const glm::dvec3 u = poly[i] / lu, w = poly[(i + 1) % k] / lw;
-    const glm::dvec3 cr = glm::cross(u, w);
-    const double l = glm::length(cr);
-    if (!(l > 0)) continue;
-    sum += std::atan2(l, glm::dot(u, w)) * glm::dot(n, cr / l);
-  }
-  return 0.5 * std::abs(sum);
+  // the shared C++/GLSL block (also the GPU G-buffer's area-light term)
+  return shared::gi_polygon_irradiance(p, n, a, b, c);
 }
 
 std::vector<glm::dvec3> triangle_normals(const prt::Mesh& m) {

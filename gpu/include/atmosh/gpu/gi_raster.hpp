@@ -63,18 +63,37 @@ struct GiSun {
   glm::dvec3 direction{0, 0, 1};  ///< towards the sun, unit
 };
 
+/// Area emitters' direct light on the GPU: every emitting triangle's exact unoccluded
+/// irradiance (the shared gi_polygon_irradiance, atmosh/gi/shared/polygon.glsl.hpp, at p +
+/// eval_offset n) times the mean visibility of `points_per_triangle` fixed points on it
+/// (a Hammersley set mapped to the triangle); the visibility of a point y from the receiver
+/// (moved shadow_offset along n) by a distance cube map rendered at y: six 90-degree
+/// perspective faces of `resolution`^2 texels storing the distance from y to the nearest
+/// surface; visible where |q - y| <= stored + bias, bias = 1.5 |q - y| (2 / resolution)
+/// (1 + min(tan(angle between n and y - q), 8)) — a texel's footprint at that distance, slope
+/// scaled. A one-sided emitter lights only its normal's side. At most 64 emitting triangles
+/// (std::invalid_argument beyond).
+struct GiEmitterOptions {
+  int points_per_triangle = 4;  ///< 1..64
+  int resolution = 256;         ///< cube-face texels a side, 16..4096
+  double eval_offset = 0;       ///< height of the polygon formula's evaluation above p [mesh units]
+  double shadow_offset = 0;     ///< height of the visibility test's origin above p [mesh units]
+};
+
 struct GiGBufferResult {
   int width = 0, height = 0;
   /// Per pixel, row 0 at the top (index row * width + col).
   std::vector<std::uint8_t> hit;
   std::vector<glm::dvec3> position, normal, albedo, emission;
   std::vector<double> sun;  ///< max(0, n . s) V, 0 without a sun
+  std::vector<glm::dvec3> emitter;  ///< area emitters' irradiance (0 unless requested)
   double seconds = 0;       ///< upload, shadow map, G-buffer, read-back
 };
 
-/// The G-buffer of `camera` (PrtCamera's pixel-centre rays); `sun` null: no shadow map.
+/// The G-buffer of `camera` (PrtCamera's pixel-centre rays); `sun` null: no shadow map;
+/// `emitters` null: no area-light term.
 GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const PrtCamera& camera, const GiSun* sun,
-                           const GiShadowOptions& shadow = {});
+                           const GiShadowOptions& shadow = {}, const GiEmitterOptions* emitters = nullptr);
 
 struct GiRsmView {
   glm::dvec3 direction{0, 0, 1};    ///< towards the sun, unit

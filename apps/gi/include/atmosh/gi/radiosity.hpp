@@ -136,19 +136,29 @@ struct ShadowMapOptions {
   int pcf = 1;                 ///< 0..4
   double normal_offset = 1.0;  ///< texels, >= 0
   double bias = 1.0;           ///< texels, >= 0
+  /// Area emitters on the GPU (gpu::GiEmitterOptions): sample points per emitting triangle, each
+  /// with a distance cube map of `emitter_resolution`^2 texels a face; 0: the CPU's estimator.
+  /// Scenes with more than 64 emitting triangles use the CPU's estimator.
+  int emitter_points = 4;          ///< 0..64
+  int emitter_resolution = 256;    ///< 16..4096
 };
 
 /// The G-buffer of `camera` rasterised on the GPU (atmosh::gpu::gi_gbuffer, its own EGL
 /// context): the surface at each pixel's centre (position, normal towards the camera, albedo,
-/// emission towards the camera) as radiosity_gbuffer's ray would find it, except at silhouette
-/// pixels (the rasteriser's coverage rule against Embree's watertight test); E_direct = the
-/// sun's by the shadow map (E_sun max(0, n . s) V, V by PCF; a disc sun as a point at its
-/// centre) + the area emitters' and the environment's, still estimated on the CPU (the mean
-/// of `samples` DirectLight estimates without the sun at the rasterised points, the same
-/// per-pixel random streams as radiosity_gbuffer). Misses see the environment. `rays`: the
-/// CPU's shadow rays (0 for a scene lit by the sun alone). gpu_seconds: the rasterisation
-/// (upload, shadow map, G-buffer, read-back). std::runtime_error (gpu::Unavailable) without
-/// an EGL context, InputError for bad input or a build without atmosh::gpu.
+/// emission towards the camera) as radiosity_gbuffer's ray would find it, except at edge
+/// pixels (the rasteriser's coverage rule against Embree's ray test); E_direct =
+///   the sun's by the shadow map (E_sun max(0, n . s) V, V by PCF; a disc sun as a point),
+///   + the area emitters' on the GPU where shadow.emitter_points > 0 and the scene has 1..64
+///     emitting triangles: each triangle's exact unoccluded irradiance (the shared polygon
+///     formula, evaluated as the CPU's: 1 % of the ray offset above p) times the mean
+///     visibility of emitter_points fixed points on it by distance cube maps (the CPU's
+///     estimator takes one uniform random point per sample instead); otherwise on the CPU,
+///   + the environment's on the CPU (the mean of `samples` one-sample DirectLight estimates at
+///     the rasterised points, the same per-pixel random streams as radiosity_gbuffer).
+/// Misses see the environment. `rays`: the CPU's shadow rays (0 when every light is on the
+/// GPU). gpu_seconds: the rasterisation (upload, shadow and distance maps, G-buffer,
+/// read-back). std::runtime_error (gpu::Unavailable) without an EGL context, InputError for
+/// bad input or a build without atmosh::gpu.
 RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& camera, int width, int height, int samples,
                                        std::uint64_t seed, int threads = 0, const ShadowMapOptions& shadow = {},
                                        double* gpu_seconds = nullptr);
