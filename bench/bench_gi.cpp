@@ -250,7 +250,8 @@ BENCHMARK(BM_LpvFrame512)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime(
 //              (grid 16, 32 iterations, the geometry volume made once) and applied.
 // arg 1: the scene: 0 sphere-on-plane lit by the sun alone, 1 the Cornell box (its area light
 // on the GPU: 4 points per emitting triangle, distance cube maps of 256^2 a face; the LPV's
-// emitter VPLs by rays on the CPU).
+// emitter VPLs by rays on the CPU). arg 2: 1 the area light on the GPU (as above), 0 by the
+// CPU's estimator at the rasterised points (ShadowMapOptions::emitter_points = 0).
 // Wall time per frame, each pass with its own EGL context and shader compilation (as the
 // library runs them); counter gpu_ms: the passes' own times (uploads, draws / dispatches,
 // read-back), contexts and compilation excluded; raster_ms: the G-buffer's rasterisation
@@ -279,7 +280,9 @@ void BM_GpuFrame512(benchmark::State& state) {
   try {
     for (auto _ : state) {
       double g_s = 0, a = 0, b = 0, c = 0;
-      const gi::RadiosityGBuffer g = gi::radiosity_gbuffer_gpu(s, s.camera, 512, 512, 1, 1, 0, {}, &g_s);
+      gi::ShadowMapOptions so;
+      so.emitter_points = state.range(2) == 1 ? 4 : 0;
+      const gi::RadiosityGBuffer g = gi::radiosity_gbuffer_gpu(s, s.camera, 512, 512, 1, 1, 0, so, &g_s);
       receivers = g.receivers.size();
       if (lpv) {
         const gi::LpvGrid inj = gi::lpv_inject_gpu(s, lo, nullptr, &a);
@@ -299,10 +302,12 @@ void BM_GpuFrame512(benchmark::State& state) {
   state.counters["receivers"] = static_cast<double>(receivers);
 }
 BENCHMARK(BM_GpuFrame512)
-    ->Args({0, 0})
-    ->Args({1, 0})
-    ->Args({0, 1})
-    ->Args({1, 1})
+    ->Args({0, 0, 1})
+    ->Args({1, 0, 1})
+    ->Args({0, 1, 1})
+    ->Args({1, 1, 1})
+    ->Args({0, 1, 0})
+    ->Args({1, 1, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(3);

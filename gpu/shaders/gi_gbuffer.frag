@@ -26,6 +26,12 @@ layout(location = 1) out vec4 g_normal;
 layout(location = 2) out vec4 g_albedo;
 layout(location = 3) out vec4 g_emission;
 layout(location = 4) out vec4 g_emitter;
+layout(location = 5) out vec4 g_sky;
+// Sky directions: 12 floats each (direction w, the depth map's axes ex, ey, L x weight).
+layout(std430, binding = 2) readonly buffer GiSky { float sk[]; };
+uniform int n_sky;
+uniform int sky_res;
+uniform sampler2DArray sky_maps;
 // Emitting triangles: 16 floats each (v0, v1, v2, radiance, unit normal, one-sided flag),
 // positions relative to the bounding-box centre; their points: 4 floats each, triangle e's
 // at e points_per_tri ... (e + 1) points_per_tri - 1.
@@ -40,6 +46,27 @@ uniform float shadow_offset;  // the visibility test's origin height above p
 uniform vec3 face_f[6];
 uniform vec3 face_r[6];
 uniform vec3 face_u[6];
+
+vec3 sk3(int k, int o) { return vec3(sk[k * 12 + o], sk[k * 12 + o + 1], sk[k * 12 + o + 2]); }
+
+// The environment through the sky directions' depth maps (one tap each).
+vec3 sky_irradiance(vec3 p, vec3 n) {
+  vec3 E = vec3(0.0);
+  float tex_s = 2.0 * radius / float(sky_res);
+  for (int k = 0; k < n_sky; ++k) {
+    vec3 w = sk3(k, 0);
+    float c = dot(n, w);
+    if (c <= 0.0) continue;
+    vec3 q = p + n * (normal_offset * tex_s);
+    vec2 uv = vec2(dot(q, sk3(k, 3)), dot(q, sk3(k, 6))) / radius * 0.5 + 0.5;
+    float d = -dot(q, w) / radius * 0.5 + 0.5;
+    float slope = min(sqrt(max(0.0, 1.0 - c * c)) / c, 8.0);
+    float db = bias * tex_s * (1.0 + slope) / (2.0 * radius);
+    ivec2 tc = clamp(ivec2(floor(uv * float(sky_res))), ivec2(0), ivec2(sky_res - 1));
+    if (d <= texelFetch(sky_maps, ivec3(tc, k), 0).r + db) E += sk3(k, 9) * c;
+  }
+  return E;
+}
 
 vec3 em3(int e, int o) { return vec3(em[e * 16 + o], em[e * 16 + o + 1], em[e * 16 + o + 2]); }
 
@@ -106,6 +133,7 @@ void main() {
     Eem += L * (F * vis / float(points_per_tri));
   }
   g_emitter = vec4(Eem, 1.0);
+  g_sky = vec4(n_sky > 0 ? sky_irradiance(v_position, n) : vec3(0.0), 1.0);
   g_position = vec4(v_position, 1.0);
   g_normal = vec4(n, f);
   g_albedo = vec4(v_albedo, 1.0);

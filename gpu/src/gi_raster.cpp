@@ -165,7 +165,7 @@ glm::dvec3 rgb(const std::vector<float>& v, std::size_t p) { return {v[4 * p], v
 }  // namespace
 
 GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const PrtCamera& cam, const GiSun* sun,
-                           const GiShadowOptions& so, const GiEmitterOptions* eo) {
+                           const GiShadowOptions& so, const GiEmitterOptions* eo, const GiSkyOptions* sky) {
   if (cam.width < 1 || cam.height < 1 || cam.width > 16384 || cam.height > 16384 || !(cam.tan_half_fov > 0) ||
       !std::isfinite(cam.tan_half_fov))
     throw std::invalid_argument("gi_gbuffer: bad camera");
@@ -178,6 +178,9 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
              eo->resolution > 4096 || !(eo->eval_offset >= 0) || !(eo->shadow_offset >= 0) ||
              !std::isfinite(eo->eval_offset + eo->shadow_offset)))
     throw std::invalid_argument("gi_gbuffer: emitter options out of range");
+  if (sky && (sky->directions.size() != sky->radiance.size() || sky->directions.size() > 1024 ||
+              sky->resolution < 16 || sky->resolution > 8192))
+    throw std::invalid_argument("gi_gbuffer: sky options out of range");
   ctx.make_current();
   const auto t0 = Clock::now();
   Soup soup;
@@ -188,9 +191,9 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   const Program gbuf(parts("gpu/shaders/gi_gbuffer.vert"),
                      {embedded_source("apps/gi/include/atmosh/gi/shared/polygon.glsl.hpp"),
                       embedded_source("gpu/shaders/gi_gbuffer.frag")});
-  Textures tex(9);  // 5 colour targets + depth, shadow map, emitter distance maps + their depth
-  Framebuffers fbo(3);
-  const GLuint t_shadow = tex.ids[6], t_emaps = tex.ids[7], t_edepth = tex.ids[8];
+  Textures tex(11);  // 6 colour targets + depth, shadow map, emitter distance maps + their depth, sky maps
+  Framebuffers fbo(4);
+  const GLuint t_shadow = tex.ids[7], t_emaps = tex.ids[8], t_edepth = tex.ids[9], t_sky = tex.ids[10];
   const glm::dvec3 s = sun ? glm::normalize(sun->direction) : glm::dvec3(0, 0, 1);
   const Mat4 lp = light_matrix(s, radius);
   storage_2d(t_shadow, GL_DEPTH_COMPONENT32F, sun ? D : 1, sun ? D : 1);
@@ -308,8 +311,50 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   b_tri.bind(0);
   b_pts.bind(1);
 
-  // 3. G-buffer from the camera (prt.cpp's projection; near plane at least 1e-3 radius).
-  colour_targets(fbo.ids[0], tex, 5, W, H, "gi G-buffer");
+  // 3. Sky directions: an orthographic depth map each (layers of a depth array).
+  const int n_sky = sky ? static_cast<int>(sky->directions.size()) : 0, S = sky ? sky->resolution : 1;
+  std::vector<float> skyd;
+  glBindTexture(GL_TEXTURE_2D_ARRAY, t_sky);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_DEPTH_COMPONENT32F, n_sky ? S : 1, n_sky ? S : 1, std::max(n_sky, 1));
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  check_gl("gi sky maps");
+  if (n_sky > 0) {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.ids[3]);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+    glViewport(0, 0, S, S);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    depth.use();
+    glBindVertexArray(soup.vao.ids[0]);
+    for (int k = 0; k < n_sky; ++k) {
+      const glm::dvec3 w = sky->directions[static_cast<std::size_t>(k)];
+      if (!(std::abs(glm::length(w) - 1) < 1e-6)) throw std::invalid_argument("gi_gbuffer: sky directions must be unit");
+      const glm::dvec3 ex = glm::normalize(std::abs(w.z) < 0.9 ? glm::cross(glm::dvec3(0, 0, 1), w)
+                                                               : glm::cross(glm::dvec3(1, 0, 0), w));
+      const glm::dvec3 ey = glm::cross(w, ex), L = sky->radiance[static_cast<std::size_t>(k)];
+      for (const glm::dvec3& v : {w, ex, ey, L})
+        for (int i = 0; i < 3; ++i) skyd.push_back(static_cast<float>(v[i]));
+      glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, t_sky, 0, k);
+      if (k == 0) check_framebuffer("gi sky maps");
+      glClearDepth(1.0);
+      glClear(GL_DEPTH_BUFFER_BIT);
+      const Mat4 lk = light_matrix(w, radius);
+      depth.set_mat4("light_proj", lk.m);
+      glDrawArrays(GL_TRIANGLES, 0, soup.count);
+    }
+    check_gl("gi sky maps");
+  }
+  if (skyd.empty()) skyd.assign(12, 0.0f);
+  Buffer b_sky(skyd.size() * sizeof(float), skyd.data());
+  b_sky.bind(2);
+
+  // 4. G-buffer from the camera (prt.cpp's projection; near plane at least 1e-3 radius).
+  colour_targets(fbo.ids[0], tex, 6, W, H, "gi G-buffer");
   const glm::dvec3 eye = cam.eye - soup.centre;
   const double dist = glm::length(eye);
   const double near_d = std::max(dist - radius, 1e-3 * radius), far_d = dist + radius;
@@ -352,6 +397,11 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
     gbuf.set(("face_r" + i).c_str(), static_cast<float>(fr[f].x), static_cast<float>(fr[f].y), static_cast<float>(fr[f].z));
     gbuf.set(("face_u" + i).c_str(), static_cast<float>(fu[f].x), static_cast<float>(fu[f].y), static_cast<float>(fu[f].z));
   }
+  gbuf.set("n_sky", n_sky);
+  gbuf.set("sky_res", S);
+  gbuf.set("sky_maps", 2);
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, t_sky);
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_2D_ARRAY, t_emaps);
   glActiveTexture(GL_TEXTURE0);
@@ -361,7 +411,7 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   check_gl("gi G-buffer pass");
   const std::vector<float> pos = read_rgba(fbo.ids[0], 0, W, H), nrm = read_rgba(fbo.ids[0], 1, W, H),
                            alb = read_rgba(fbo.ids[0], 2, W, H), emi = read_rgba(fbo.ids[0], 3, W, H),
-                           eir = read_rgba(fbo.ids[0], 4, W, H);
+                           eir = read_rgba(fbo.ids[0], 4, W, H), sir = read_rgba(fbo.ids[0], 5, W, H);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glBindVertexArray(0);
   GiGBufferResult r;
@@ -369,7 +419,7 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   r.height = H;
   const std::size_t np = static_cast<std::size_t>(W) * H;
   r.hit.assign(np, 0);
-  for (auto* v : {&r.position, &r.normal, &r.albedo, &r.emission, &r.emitter}) v->assign(np, glm::dvec3(0.0));
+  for (auto* v : {&r.position, &r.normal, &r.albedo, &r.emission, &r.emitter, &r.sky}) v->assign(np, glm::dvec3(0.0));
   r.sun.assign(np, 0.0);
   for (std::size_t p = 0; p < np; ++p) {
     if (pos[4 * p + 3] == 0.0f) continue;
@@ -382,6 +432,7 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
     r.albedo[q] = rgb(alb, p);
     r.emission[q] = rgb(emi, p);
     r.emitter[q] = rgb(eir, p);
+    r.sky[q] = rgb(sir, p);
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;

@@ -55,7 +55,7 @@ struct MeshAttrs {
 };
 #endif
 
-bool has_emitters(const Scene& s) {
+[[maybe_unused]] bool has_emitters(const Scene& s) {
   for (const Material& m : s.materials)
     if (m.emission.x + m.emission.y + m.emission.z > 0) return true;
   return false;
@@ -81,6 +81,10 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
     throw InputError("gi: shadow-map offsets must be finite and >= 0");
   if (so.emitter_points < 0 || so.emitter_points > 64)
     throw InputError("gi: emitter points per triangle must be in 0..64, got " + std::to_string(so.emitter_points));
+  if (so.sky_directions < 0 || so.sky_directions > 1024)
+    throw InputError("gi: sky directions must be in 0..1024, got " + std::to_string(so.sky_directions));
+  if (so.sky_resolution < 16 || so.sky_resolution > 8192)
+    throw InputError("gi: sky depth-map resolution must be in 16..8192, got " + std::to_string(so.sky_resolution));
   if (so.emitter_resolution < 16 || so.emitter_resolution > 4096)
     throw InputError("gi: emitter distance-map resolution must be in 16..4096, got " +
                      std::to_string(so.emitter_resolution));
@@ -123,8 +127,22 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
     geo.eval_offset = 0.01 * off;  // as DirectLight: the receiver's own plane drops out
     geo.shadow_offset = off;
   }
-  const gpu::GiGBufferResult gb =
-      gpu::gi_gbuffer(ctx, attrs.view(), pc, sun ? &gs : nullptr, gso, gpu_emitters ? &geo : nullptr);
+  const bool has_env = scene.env_bands > 0 || scene.env_map.has_value();
+  const bool gpu_sky = has_env && so.sky_directions > 0;
+  gpu::GiSkyOptions gsky;
+  if (gpu_sky) {  // spherical Fibonacci directions, weight 4 pi / N each
+    const int N = so.sky_directions;
+    const double golden = std::numbers::pi * (1 + std::sqrt(5.0));
+    for (int k = 0; k < N; ++k) {
+      const double z = 1 - 2 * (k + 0.5) / N, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * (k + 0.5);
+      const glm::dvec3 w = glm::normalize(glm::dvec3(r * std::cos(phi), r * std::sin(phi), z));
+      gsky.directions.push_back(w);
+      gsky.radiance.push_back(environment_radiance(scene, w) * (4 * std::numbers::pi / N));
+    }
+    gsky.resolution = so.sky_resolution;
+  }
+  const gpu::GiGBufferResult gb = gpu::gi_gbuffer(ctx, attrs.view(), pc, sun ? &gs : nullptr, gso,
+                                                  gpu_emitters ? &geo : nullptr, gpu_sky ? &gsky : nullptr);
   if (gpu_seconds != nullptr) *gpu_seconds = gb.seconds;
 
   // The rest of the direct light (the environment; area emitters unless on the GPU) by the
@@ -133,8 +151,12 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
   rest_scene.sun.reset();
   if (gpu_emitters)
     for (Material& m : rest_scene.materials) m.emission = glm::dvec3(0.0);
-  const bool has_env = scene.env_bands > 0 || scene.env_map.has_value();
-  const bool rest = has_env || (!gpu_emitters && has_emitters(scene));
+  if (gpu_sky) {
+    rest_scene.env_bands = 0;
+    for (auto& c : rest_scene.env_sh) c.clear();
+    rest_scene.env_map.reset();
+  }
+  const bool rest = (has_env && !gpu_sky) || (!gpu_emitters && has_emitters(scene));
   std::optional<prt::RayScene> rays;
   std::optional<detail::DirectLight> direct;
   if (rest) {
@@ -157,7 +179,7 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
         }
         continue;
       }
-      glm::dvec3 Ed = e_sun * gb.sun[i] + gb.emitter[i];
+      glm::dvec3 Ed = e_sun * gb.sun[i] + gb.emitter[i] + gb.sky[i];
       if (rest) {
         detail::Rng rng(seed, i, detail::kReceiverSalt);
         glm::dvec3 acc(0.0);

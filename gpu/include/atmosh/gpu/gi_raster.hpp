@@ -80,6 +80,16 @@ struct GiEmitterOptions {
   double shadow_offset = 0;     ///< height of the visibility test's origin above p [mesh units]
 };
 
+/// The environment's direct light on the GPU by a fixed quadrature: E = sum_k weight_k L_k
+/// max(0, n . w_k) V(p, w_k) over the given directions, V by one orthographic depth map per
+/// direction (`resolution`^2 texels over the bounding sphere, the sun's normal offset and
+/// slope-scaled bias, one tap), at most 1024 directions.
+struct GiSkyOptions {
+  std::vector<glm::dvec3> directions;  ///< unit, towards the sky
+  std::vector<glm::dvec3> radiance;    ///< L_k x weight_k per direction (weight: its solid angle)
+  int resolution = 512;                ///< 16..8192
+};
+
 struct GiGBufferResult {
   int width = 0, height = 0;
   /// Per pixel, row 0 at the top (index row * width + col).
@@ -87,13 +97,15 @@ struct GiGBufferResult {
   std::vector<glm::dvec3> position, normal, albedo, emission;
   std::vector<double> sun;  ///< max(0, n . s) V, 0 without a sun
   std::vector<glm::dvec3> emitter;  ///< area emitters' irradiance (0 unless requested)
+  std::vector<glm::dvec3> sky;      ///< the environment's irradiance (0 unless requested)
   double seconds = 0;       ///< upload, shadow map, G-buffer, read-back
 };
 
 /// The G-buffer of `camera` (PrtCamera's pixel-centre rays); `sun` null: no shadow map;
-/// `emitters` null: no area-light term.
+/// `emitters` null: no area-light term; `sky` null: no environment term.
 GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const PrtCamera& camera, const GiSun* sun,
-                           const GiShadowOptions& shadow = {}, const GiEmitterOptions* emitters = nullptr);
+                           const GiShadowOptions& shadow = {}, const GiEmitterOptions* emitters = nullptr,
+                           const GiSkyOptions* sky = nullptr);
 
 struct GiRsmView {
   glm::dvec3 direction{0, 0, 1};    ///< towards the sun, unit

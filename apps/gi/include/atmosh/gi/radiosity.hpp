@@ -141,6 +141,11 @@ struct ShadowMapOptions {
   /// Scenes with more than 64 emitting triangles use the CPU's estimator.
   int emitter_points = 4;          ///< 0..64
   int emitter_resolution = 256;    ///< 16..4096
+  /// The environment on the GPU (gpu::GiSkyOptions): a spherical-Fibonacci set of
+  /// `sky_directions` directions of equal weight 4 pi / N, each with an orthographic depth map of
+  /// `sky_resolution`^2 texels; E = sum 4 pi / N L(w_k) max(0, n . w_k) V. 0: the CPU's estimator.
+  int sky_directions = 128;        ///< 0..1024
+  int sky_resolution = 256;        ///< 16..8192
 };
 
 /// The G-buffer of `camera` rasterised on the GPU (atmosh::gpu::gi_gbuffer, its own EGL
@@ -153,8 +158,11 @@ struct ShadowMapOptions {
 ///     formula, evaluated as the CPU's: 1 % of the ray offset above p) times the mean
 ///     visibility of emitter_points fixed points on it by distance cube maps (the CPU's
 ///     estimator takes one uniform random point per sample instead); otherwise on the CPU,
-///   + the environment's on the CPU (the mean of `samples` one-sample DirectLight estimates at
-///     the rasterised points, the same per-pixel random streams as radiosity_gbuffer).
+///   + the environment's on the GPU where shadow.sky_directions > 0: a fixed quadrature over
+///     the sphere with a depth map per direction (unoccluded uniform sky: E within 0.66 % of
+///     pi L at 128 directions); otherwise on the CPU,
+/// lights left on the CPU: the mean of `samples` one-sample DirectLight estimates at the
+/// rasterised points (the same per-pixel random streams as radiosity_gbuffer).
 /// Misses see the environment. `rays`: the CPU's shadow rays (0 when every light is on the
 /// GPU). gpu_seconds: the rasterisation (upload, shadow and distance maps, G-buffer,
 /// read-back). std::runtime_error (gpu::Unavailable) without an EGL context, InputError for
