@@ -492,6 +492,45 @@ TEST(GiRaster, LpvFrameOnTheGpuAgainstThePathTracer) {
   EXPECT_NEAR(eg.mean_rel, ec.mean_rel, 0.01);
 }
 
+// Stiff lights: the sun at the zenith (the shadow map's axis along z: its other frame branch)
+// gives E_sun exactly on the plane outside the sphere's shadow disc (r = 0.5 about the origin)
+// and 0 inside it; a sun 0.5 degrees above the horizon and a sky of 1e15 stay finite.
+TEST(GiRaster, StiffLightsStayFiniteAndTheZenithSunIsExact) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  for (double el : {90.0, 0.5}) {
+    gi::Scene s = sunlit("sphere-on-plane", 135, el);
+    s.env_bands = 1;
+    for (int c = 0; c < 3; ++c) s.env_sh[c] = {1e15};
+    gi::ShadowMapOptions so;
+    so.sky_directions = 16;
+    const Pixels g = spread(gi::radiosity_gbuffer_gpu(s, s.camera, 24, 24, 1, 1, 0, so), 24, 24);
+    s.env_bands = 0;
+    const Pixels sun = spread(gi::radiosity_gbuffer_gpu(s, s.camera, 24, 24, 1, 1), 24, 24);
+    std::size_t open = 0, shade = 0;
+    for (std::size_t i = 0; i < g.hit.size(); ++i) {
+      if (!g.hit[i]) continue;
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(std::isfinite(g.E[i][c]) && g.E[i][c] >= 0) << el << " pixel " << i;
+        ASSERT_TRUE(std::isfinite(sun.E[i][c]) && sun.E[i][c] >= 0) << el << " pixel " << i;
+      }
+      if (el != 90.0 || std::abs(sun.p[i].z) > 1e-6) continue;  // plane receivers, zenith sun
+      const double r = std::hypot(sun.p[i].x, sun.p[i].y);
+      if (r > 0.53) {
+        ++open;
+        EXPECT_NEAR(sun.E[i].x, 3.0, 3e-6) << "pixel " << i;
+      } else if (r < 0.45) {
+        ++shade;
+        EXPECT_EQ(sun.E[i].x, 0.0) << "pixel " << i;
+      }
+    }
+    if (el == 90.0) {
+      EXPECT_GT(open, 100u);
+      EXPECT_GT(shade, 3u);
+    }
+  }
+}
+
 // Bad input is InputError before any GPU work.
 TEST(GiRaster, BadShadowOptionsAreInputErrors) {
   const gi::Scene s = sunlit("sphere-on-plane", 135, 40);
