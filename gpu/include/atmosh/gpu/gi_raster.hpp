@@ -11,8 +11,9 @@
 //
 // G-buffer (gi_gbuffer.{vert,frag}), per pixel whose centre sees a surface:
 //   position, the triangle's normal turned towards the eye (n . (eye - p) > 0), albedo,
-//   emitted radiance towards the eye (0 for a one-sided emitter seen from behind) and the
-//   sun factor f = max(0, n . s) V(p), so that E_sun = sun irradiance x f.
+//   emitted radiance towards the eye (0 for a one-sided emitter seen from behind), the
+//   sun factor f = max(0, n . s) V(p), so that E_sun = sun irradiance x f, and on request the
+//   area emitters' irradiance (GiEmitterOptions) and the environment's (GiSkyOptions).
 // Sun visibility V by a shadow map: depth of the mesh along -s by orthographic projection
 // over the bounding sphere (`resolution`^2 texels, texel edge t = 2 r / resolution), then at p:
 //   the point moved off the surface by `normal_offset` t along n, its depth compared with the
