@@ -116,10 +116,18 @@ TEST(GiCli, RadiosityAndLpvRender) {
               "--pixel-samples 1 --size 12x8 -o '" + exr_r.string() + "'");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(exr_r));
-  r = run_cli("gi render --scene-builtin cornell-box --method probes --device gpu --size 12x8 -o '" +
+  // probes: cube maps of a baked surface radiance, rasterised (auto: ray cast where no context is made)
+  const auto exr_p = dir / "probes_auto.exr";
+  r = run_cli("gi render --scene-builtin cornell-box --method probes --grid 2 --cube-size 4 --device auto "
+              "--pixel-samples 1 --size 12x8 -o '" + exr_p.string() + "' --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"device\""), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(exr_p));
+  // the path tracer is CPU only: --device gpu is exit 1 naming it
+  r = run_cli("gi render --scene-builtin cornell-box --method path --device gpu --size 12x8 -o '" +
               (dir / "no.exr").string() + "'");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("probes"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("path"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "no.exr"));
 }
 
