@@ -12,6 +12,7 @@
 
 #include "atmosh/gpu/program.hpp"
 
+
 namespace atmosh::gpu {
 
 namespace {
@@ -178,6 +179,81 @@ CubeRasterResult render_cube_maps(const Context& ctx, const CubeRasterMesh& mesh
   glBindVertexArray(0);
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;
+}
+
+std::vector<float> render_mesh_rgba(const Context& ctx, const Program& program, const std::vector<float>& vertices,
+                                    const std::vector<int>& attribute_sizes, const std::vector<std::uint32_t>& indices,
+                                    int width, int height, double* seconds) {
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw std::invalid_argument("render_mesh_rgba: bad image size");
+  int stride_floats = 0;
+  for (int a : attribute_sizes) {
+    if (a < 1 || a > 4) throw std::invalid_argument("render_mesh_rgba: attribute sizes must be 1..4");
+    stride_floats += a;
+  }
+  if (stride_floats == 0 || vertices.size() % static_cast<std::size_t>(stride_floats) != 0 || indices.size() % 3 != 0)
+    throw std::invalid_argument("render_mesh_rgba: vertex or index array of the wrong length");
+  const std::size_t nv = vertices.size() / static_cast<std::size_t>(stride_floats);
+  for (std::uint32_t i : indices)
+    if (i >= nv) throw std::invalid_argument("render_mesh_rgba: triangle index out of range");
+  ctx.make_current();
+  const auto t0 = Clock::now();
+  Vao vao;
+  Vbo vbo, ibo;
+  glBindVertexArray(vao.id);
+  glBindBuffer(GL_ARRAY_BUFFER, vbo.id);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(vertices.size(), 1) * sizeof(float)),
+               vertices.data(), GL_STATIC_DRAW);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo.id);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(indices.size(), 1) * sizeof(std::uint32_t)),
+               indices.data(), GL_STATIC_DRAW);
+  int offset = 0;
+  for (std::size_t a = 0; a < attribute_sizes.size(); ++a) {
+    glEnableVertexAttribArray(static_cast<GLuint>(a));
+    glVertexAttribPointer(static_cast<GLuint>(a), attribute_sizes[a], GL_FLOAT, GL_FALSE,
+                          static_cast<GLsizei>(stride_floats * sizeof(float)),
+                          reinterpret_cast<const void*>(static_cast<std::size_t>(offset) * sizeof(float)));
+    offset += attribute_sizes[a];
+  }
+  Tex colour, depth;
+  glBindTexture(GL_TEXTURE_2D, colour.id);
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width, height);
+  glBindTexture(GL_TEXTURE_2D, depth.id);
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, width, height);
+  Fbo fbo;
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.id, 0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth.id, 0);
+  const GLenum draw = GL_COLOR_ATTACHMENT0;
+  glDrawBuffers(1, &draw);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error("OpenGL framebuffer incomplete in render_mesh_rgba");
+  glViewport(0, 0, width, height);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  const float zero[4] = {0, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, zero);
+  const float one = 1.0f;
+  glClearBufferfv(GL_DEPTH, 0, &one);
+  program.use();
+  if (!indices.empty()) glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indices.size()), GL_UNSIGNED_INT, nullptr);
+  check_gl("render_mesh_rgba draw");
+  const std::size_t np = static_cast<std::size_t>(width) * height;
+  std::vector<float> gl(np * 4), out(np * 4);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, gl.data());
+  check_gl("render_mesh_rgba read-back");
+  for (int r = 0; r < height; ++r)  // GL rows start at the bottom
+    std::copy(&gl[static_cast<std::size_t>(height - 1 - r) * width * 4],
+              &gl[static_cast<std::size_t>(height - r) * width * 4], &out[static_cast<std::size_t>(r) * width * 4]);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glBindVertexArray(0);
+  if (seconds != nullptr) *seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return out;
 }
 
 }  // namespace atmosh::gpu

@@ -153,7 +153,12 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     ro.threads = o.threads;
     ro.visibility = o.probe_visibility;
     const auto t0 = Clock::now();
-    r.image = render_probes(scene, camera, width, height, g, false, ro);
+    // The frame on the GPU where it holds the whole shading: no sun (which needs shadow rays),
+    // no visibility weighting, bands <= 3; else the CPU's camera rays.
+    if (r.device.gpu && !scene.sun && !o.probe_visibility && g.bands <= 3)
+      r.image = render_probes_frame(scene, camera, width, height, g, false, true);
+    else
+      r.image = render_probes(scene, camera, width, height, g, false, ro);
     r.shade_seconds = since(t0);
     r.image.stats.rays += g.stats.rays;
     r.image.stats.shadow_rays += g.stats.shadow_rays;

@@ -28,6 +28,8 @@
 
 namespace atmosh::gpu {
 
+class Program;  // atmosh/gpu/program.hpp
+
 /// Floats per vertex of a CubeRasterMesh: position (3), normal (3), front RGB (3), back RGB (3).
 inline constexpr int kCubeRasterVertexFloats = 12;
 
@@ -53,6 +55,16 @@ struct CubeRasterResult {
 /// The cube maps seen at `centres` (mesh units, absolute).
 CubeRasterResult render_cube_maps(const Context& ctx, const CubeRasterMesh& mesh,
                                   const std::vector<std::array<double, 3>>& centres, const CubeRasterOptions& opt);
+
+/// A mesh drawn once by a caller's vertex + fragment program into an RGBA32F target of
+/// width x height with depth test (32-bit float depth, cleared to 1; no culling): the
+/// vertices carry `attribute_sizes[a]` floats for attribute location a, interleaved in that
+/// order; the caller has made `program` current and set its uniforms and storage buffers.
+/// Returns RGBA per pixel, row 0 at the top ([(row * width + col) * 4 + channel]), 0 where
+/// nothing was drawn. `seconds`: upload, draw and read-back.
+std::vector<float> render_mesh_rgba(const Context& ctx, const Program& program, const std::vector<float>& vertices,
+                                    const std::vector<int>& attribute_sizes, const std::vector<std::uint32_t>& indices,
+                                    int width, int height, double* seconds = nullptr);
 
 /// Face f's frame: the direction of (u, v) is u * axis_u + v * axis_v + axis_w (libsh's layout).
 void cube_face_frame(int face, std::array<double, 3>& axis_u, std::array<double, 3>& axis_v,

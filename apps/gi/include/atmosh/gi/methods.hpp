@@ -34,8 +34,10 @@ struct MethodOptions {
   /// shading and the radiosity walk run on the GPU; probes are built from a baked surface
   /// radiance (bake_surface_radiance, surface_divisions / surface_samples) whose cube maps are
   /// rasterised (build_probe_grid_surface; where auto finds no GPU, the same cube maps by CPU
-  /// rays), while cpu path-traces the probes' cube maps (build_probe_grid). The path tracer is
-  /// CPU only: gpu is an error for it, auto a notice.
+  /// rays) and, for scenes without a sun, bands <= 3 and no probe visibility, the frame shaded
+  /// on the GPU too (render_probes_frame: one sample per pixel centre, stderr 0); cpu
+  /// path-traces the probes' cube maps (build_probe_grid). The path tracer is CPU only: gpu is
+  /// an error for it, auto a notice.
   DeviceRequest device = DeviceRequest::cpu;
   int surface_divisions = 16;   ///< probes on the GPU: SurfaceRadianceOptions::divisions
   int surface_samples = 64;     ///< probes on the GPU: paths per surface vertex and side

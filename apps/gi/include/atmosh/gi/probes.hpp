@@ -197,6 +197,21 @@ struct ProbeRenderOptions {
 RadianceImage render_probes(const Scene& scene, const Camera& camera, int width, int height, const ProbeGrid& grid,
                             bool grid_includes_sun, const ProbeRenderOptions& opt);
 
+/// A frame shaded by a probe grid with one ray per pixel centre: miss -> the environment
+/// radiance; hit at p (flat normal n towards the eye, albedo a) ->
+///   L = emission of the side seen + a / pi max(0, E(p, n)),
+/// E the irradiance of the trilinear blend of the probes (no visibility weighting). The sun
+/// is not added: the scene must have none, or the grid must hold it (grid_includes_sun). On
+/// the GPU (gpu = true): the scene rasterised through EGL, the blend and
+/// gi_sh_irradiance (atmosh/gi/shared/radiosity.glsl.hpp) per fragment in float,
+/// gpu/shaders/gi_probe_shade.*; otherwise its CPU twin: Embree rays at the pixel centres, the
+/// same sum in double (interpolate(), probe_irradiance()) — they differ by float rounding
+/// except at pixels whose centre grazes an edge. bands 1..3 (InputError otherwise, and for a
+/// sun the grid does not hold); stderr_ 0; stats.seconds: the frame (GPU: upload, draw,
+/// read-back and the misses' environment; program compilation excluded).
+RadianceImage render_probes_frame(const Scene& scene, const Camera& camera, int width, int height, const ProbeGrid& grid,
+                                  bool grid_includes_sun, bool gpu);
+
 /// Error of an image against a reference of the same size, relative to the reference's mean
 /// radiance over pixels and channels (so dark pixels do not blow it up):
 ///   max_rel = max |a - r| / mean(r), rms_rel = sqrt(mean (a - r)^2) / mean(r),
