@@ -181,9 +181,18 @@ CubeRasterResult render_cube_maps(const Context& ctx, const CubeRasterMesh& mesh
   return r;
 }
 
-std::vector<float> render_mesh_rgba(const Context& ctx, const Program& program, const std::vector<float>& vertices,
-                                    const std::vector<int>& attribute_sizes, const std::vector<std::uint32_t>& indices,
-                                    int width, int height, double* seconds) {
+struct MeshRaster::Impl {
+  const Context* ctx = nullptr;
+  Vao vao;
+  Vbo vbo, ibo;
+  Tex colour, depth;
+  Fbo fbo;
+  int width = 0, height = 0;
+  GLsizei n_indices = 0;
+};
+
+MeshRaster::MeshRaster(const Context& ctx, const std::vector<float>& vertices, const std::vector<int>& attribute_sizes,
+                       const std::vector<std::uint32_t>& indices, int width, int height) {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw std::invalid_argument("render_mesh_rgba: bad image size");
   int stride_floats = 0;
@@ -197,14 +206,17 @@ std::vector<float> render_mesh_rgba(const Context& ctx, const Program& program, 
   for (std::uint32_t i : indices)
     if (i >= nv) throw std::invalid_argument("render_mesh_rgba: triangle index out of range");
   ctx.make_current();
-  const auto t0 = Clock::now();
-  Vao vao;
-  Vbo vbo, ibo;
-  glBindVertexArray(vao.id);
-  glBindBuffer(GL_ARRAY_BUFFER, vbo.id);
+  impl_ = std::make_unique<Impl>();
+  Impl& m = *impl_;
+  m.ctx = &ctx;
+  m.width = width;
+  m.height = height;
+  m.n_indices = static_cast<GLsizei>(indices.size());
+  glBindVertexArray(m.vao.id);
+  glBindBuffer(GL_ARRAY_BUFFER, m.vbo.id);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(vertices.size(), 1) * sizeof(float)),
                vertices.data(), GL_STATIC_DRAW);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo.id);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.ibo.id);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(indices.size(), 1) * sizeof(std::uint32_t)),
                indices.data(), GL_STATIC_DRAW);
   int offset = 0;
@@ -215,19 +227,29 @@ std::vector<float> render_mesh_rgba(const Context& ctx, const Program& program, 
                           reinterpret_cast<const void*>(static_cast<std::size_t>(offset) * sizeof(float)));
     offset += attribute_sizes[a];
   }
-  Tex colour, depth;
-  glBindTexture(GL_TEXTURE_2D, colour.id);
+  glBindVertexArray(0);
+  glBindTexture(GL_TEXTURE_2D, m.colour.id);
   glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width, height);
-  glBindTexture(GL_TEXTURE_2D, depth.id);
+  glBindTexture(GL_TEXTURE_2D, m.depth.id);
   glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, width, height);
-  Fbo fbo;
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.id, 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth.id, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.id);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m.colour.id, 0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, m.depth.id, 0);
   const GLenum draw = GL_COLOR_ATTACHMENT0;
   glDrawBuffers(1, &draw);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw std::runtime_error("OpenGL framebuffer incomplete in render_mesh_rgba");
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  check_gl("render_mesh_rgba setup");
+}
+
+MeshRaster::~MeshRaster() = default;
+
+std::vector<float> MeshRaster::draw(const Program& program) const {
+  const Impl& m = *impl_;
+  m.ctx->make_current();
+  const int width = m.width, height = m.height;
+  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.id);
   glViewport(0, 0, width, height);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
@@ -239,7 +261,8 @@ std::vector<float> render_mesh_rgba(const Context& ctx, const Program& program, 
   const float one = 1.0f;
   glClearBufferfv(GL_DEPTH, 0, &one);
   program.use();
-  if (!indices.empty()) glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indices.size()), GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(m.vao.id);
+  if (m.n_indices > 0) glDrawElements(GL_TRIANGLES, m.n_indices, GL_UNSIGNED_INT, nullptr);
   check_gl("render_mesh_rgba draw");
   const std::size_t np = static_cast<std::size_t>(width) * height;
   std::vector<float> gl(np * 4), out(np * 4);
@@ -252,6 +275,15 @@ std::vector<float> render_mesh_rgba(const Context& ctx, const Program& program, 
               &gl[static_cast<std::size_t>(height - r) * width * 4], &out[static_cast<std::size_t>(r) * width * 4]);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glBindVertexArray(0);
+  return out;
+}
+
+std::vector<float> render_mesh_rgba(const Context& ctx, const Program& program, const std::vector<float>& vertices,
+                                    const std::vector<int>& attribute_sizes, const std::vector<std::uint32_t>& indices,
+                                    int width, int height, double* seconds) {
+  const auto t0 = Clock::now();
+  const MeshRaster r(ctx, vertices, attribute_sizes, indices, width, height);
+  std::vector<float> out = r.draw(program);
   if (seconds != nullptr) *seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return out;
 }

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "atmosh/gpu/context.hpp"
@@ -65,6 +66,22 @@ CubeRasterResult render_cube_maps(const Context& ctx, const CubeRasterMesh& mesh
 std::vector<float> render_mesh_rgba(const Context& ctx, const Program& program, const std::vector<float>& vertices,
                                     const std::vector<int>& attribute_sizes, const std::vector<std::uint32_t>& indices,
                                     int width, int height, double* seconds = nullptr);
+
+/// The same, kept for repeated frames: the mesh uploaded and the target made once; draw()
+/// renders with the caller's current program (as render_mesh_rgba) and reads back.
+class MeshRaster {
+ public:
+  MeshRaster(const Context& ctx, const std::vector<float>& vertices, const std::vector<int>& attribute_sizes,
+             const std::vector<std::uint32_t>& indices, int width, int height);
+  ~MeshRaster();
+  MeshRaster(const MeshRaster&) = delete;
+  MeshRaster& operator=(const MeshRaster&) = delete;
+  std::vector<float> draw(const Program& program) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Face f's frame: the direction of (u, v) is u * axis_u + v * axis_v + axis_w (libsh's layout).
 void cube_face_frame(int face, std::array<double, 3>& axis_u, std::array<double, 3>& axis_v,

@@ -36,6 +36,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -211,6 +212,25 @@ RadianceImage render_probes(const Scene& scene, const Camera& camera, int width,
 /// read-back and the misses' environment; program compilation excluded).
 RadianceImage render_probes_frame(const Scene& scene, const Camera& camera, int width, int height, const ProbeGrid& grid,
                                   bool grid_includes_sun, bool gpu);
+
+/// The GPU form of render_probes_frame kept for repeated frames (dynamic probes): the EGL
+/// context, the program (compiled, and on llvmpipe JIT-compiled at its first draw), the scene's
+/// triangles and the render target are made once; render() uploads the grid's coefficients,
+/// draws, reads back and fills the misses with the environment. Throws as render_probes_frame
+/// (InputError; gpu::Unavailable, a runtime_error, without a context).
+class ProbeFrameGpu {
+ public:
+  ProbeFrameGpu(const Scene& scene, const Camera& camera, int width, int height);
+  ~ProbeFrameGpu();
+  ProbeFrameGpu(const ProbeFrameGpu&) = delete;
+  ProbeFrameGpu& operator=(const ProbeFrameGpu&) = delete;
+  /// One frame; stats.seconds: upload, draw, read-back and the misses.
+  RadianceImage render(const ProbeGrid& grid, bool grid_includes_sun) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Error of an image against a reference of the same size, relative to the reference's mean
 /// radiance over pixels and channels (so dark pixels do not blow it up):
