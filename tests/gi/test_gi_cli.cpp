@@ -178,7 +178,7 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
   auto r = run_cli("gi converge --scene-builtin cornell-box --device sometimes -o '" + (dir / "bad").string() + "'");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("sometimes"), std::string::npos) << r.err;
-  r = run_cli("gi converge --scene-builtin cornell-box --bands-list 1,3 --grids 2 --cube-size 4 --samples 2 "
+  r = run_cli("gi converge --scene-builtin sphere-on-plane --resolution 8 --bands-list 1,3 --grids 2 --cube-size 4 --samples 2 "
               "--path-samples 2 --reference-samples 4 --size 12x8 --radiosity-grids 2 --radiosity-bands 2 "
               "--radiosity-bounces 1 --lpv-grids 2 --device auto -o '" + (dir / "conv").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -195,7 +195,7 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
     if (line.rfind("probes", 0) == 0) {
       ++probe_rows;
       // ringing_rel and leak_ringfree_rel: finite and >= 0 for the probes' rows; band 1 holds only
-      // the mean, its ringing (what it differs from 8 bands) is not 0 in a lit box
+      // the mean, its ringing (what it differs from 8 bands) is not 0 under a sky over a plane
       const auto c2 = line.rfind(','), c1 = line.rfind(',', c2 - 1);
       const double ring = std::stod(line.substr(c1 + 1, c2 - c1 - 1)), leak = std::stod(line.substr(c2 + 1));
       EXPECT_TRUE(ring >= 0 && std::isfinite(ring)) << line;
