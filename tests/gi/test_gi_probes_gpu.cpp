@@ -159,6 +159,10 @@ TEST(GiProbesSurface, BadInputThrowsInputError) {
   gi::SurfaceRadiance f = gi::bake_surface_radiance(s, so);
   EXPECT_THROW(gi::surface_probe_cubes(s, f, {{0, 0, 0}}, 0, gi::ProbeRaster::cpu_rays), InputError);
   EXPECT_THROW(gi::surface_probe_cubes(s, f, {{0, 0, NAN}}, 4, gi::ProbeRaster::cpu_rays), InputError);
+  gi::ProbeOptions po;
+  po.cube_size = 64;
+  EXPECT_THROW(gi::build_probe_grid_surface(s, f, 1, po, gi::ProbeRaster::cpu_rays, 0), InputError);
+  EXPECT_THROW(gi::build_probe_grid_surface(s, f, 1, po, gi::ProbeRaster::cpu_rays, 16), InputError);  // 1024 > 512
   f.back.pop_back();
   EXPECT_THROW(gi::surface_probe_cubes(s, f, {{0, 0, 0}}, 4, gi::ProbeRaster::cpu_rays), InputError);
 }
@@ -297,6 +301,41 @@ TEST(GiProbesGpu, RasterisedCubesAgreeWithRayCastCubes) {
   std::printf("SH: largest coefficient difference %.3g of the largest c00\n", dc / c00);
   // Measured 6.2e-4 (the edge texels' share); bound 3e-3.
   EXPECT_LT(dc, 3e-3 * c00);
+}
+
+TEST(GiProbesGpu, SupersampledTexelsHoldASmallEmitterBetweenTexelCentres) {
+  ATMOSH_NEED_GPU();
+  // A square emitter of side 0.25 at distance 1 on +z, centred on the axis: at N = 4 no texel
+  // centre of the +Z face (u, v = +-0.25, +-0.75) lies on it. Its solid angle (a centred
+  // rectangle, a = b = 0.25, d = 1): 4 asin(a b / sqrt((a^2 + 4 d^2)(b^2 + 4 d^2))). At
+  // supersample 8 (sub-texels 1/16 of the face) its edges lie on sub-texel edges, so the exact
+  // sub-texel solid angles partition it: c_00 / Y_00 = L x that solid angle to float rounding.
+  // A black speck at (0, 0, -1) puts the bounding box's centre, the 1-probe grid's probe, at 0.
+  prt::Mesh m;
+  m.name = "square";
+  m.positions = {{-0.125, -0.125, 1}, {0.125, -0.125, 1}, {0.125, 0.125, 1}, {-0.125, 0.125, 1},
+                 {0, 0, -1}, {1e-6, 0, -1}, {0, 1e-6, -1}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}};
+  prt::compute_normals(m);
+  const double L = 2.5;
+  gi::Scene s = gi::scene_from_mesh(m, gi::Material{glm::dvec3(0.0), glm::dvec3(L), false});
+  s.materials.push_back(gi::Material{glm::dvec3(0.0), glm::dvec3(0.0), false});
+  s.material = {0, 0, 1};
+  gi::SurfaceRadianceOptions so;
+  so.bounces = 0;
+  const gi::SurfaceRadiance f = gi::bake_surface_radiance(s, so);
+  gi::ProbeOptions po;
+  po.bands = 1;
+  po.cube_size = 4;
+  const double a = 0.25, omega = 4 * std::asin(a * a / (a * a + 4));
+  const double y00 = 0.5 / std::sqrt(kPi);
+  for (auto where : {gi::ProbeRaster::gpu, gi::ProbeRaster::cpu_rays}) {
+    const gi::ProbeGrid g1 = gi::build_probe_grid_surface(s, f, 1, po, where, 1);
+    const gi::ProbeGrid g8 = gi::build_probe_grid_surface(s, f, 1, po, where, 8);
+    ASSERT_NEAR(glm::length(g1.position(0, 0, 0)), 0.0, 1e-12);
+    EXPECT_EQ(g1.probes[0][0][0], 0.0);  // every texel centre misses it
+    EXPECT_NEAR(g8.probes[0][0][0] / y00, L * omega, 1e-6 * L * omega);
+  }
 }
 
 TEST(GiProbesGpu, FrameAgreesWithItsCpuTwin) {

@@ -356,11 +356,13 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
       so.seed = o.seed + 11;
       so.threads = threads;
       const SurfaceRadiance f = bake_surface_radiance(s, so);
+      const int supersample = std::clamp(std::min(m.surface_supersample, 512 / std::max(o.cube_size, 1)), 1, 16);
       for (int g : co.grids) {
-        const ProbeGrid full = build_probe_grid_surface(s, f, g, p, ProbeRaster::gpu);
+        const ProbeGrid full = build_probe_grid_surface(s, f, g, p, ProbeRaster::gpu, supersample);
         probe_rows(full, f.seconds + full.seconds, g, "probes-gpu");
       }
       prov.add("surface_divisions", num(so.divisions)).add("surface_samples", num(so.samples))
+          .add("surface_supersample", num(supersample))
           .add("surface_bake_seconds", f.seconds);
     });
   StudyOptions study = co.study;

@@ -139,10 +139,12 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
       so.seed = o.seed;
       so.threads = o.threads;
       const SurfaceRadiance f = bake_surface_radiance(scene, so);
+      // supersampling within the cube-size limit (the largest s with cube_size x s <= 512)
+      const int supersample = std::clamp(std::min(o.surface_supersample, 512 / std::max(o.cube_size, 1)), 1, 16);
       const std::optional<GpuUnusable> unusable =
-          try_gpu([&] { g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::gpu); });
+          try_gpu([&] { g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::gpu, supersample); });
       r.device = resolve_device(o.device, unusable, "ray casting the probes' cube maps on the CPU");
-      if (!r.device.gpu) g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::cpu_rays);
+      if (!r.device.gpu) g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::cpu_rays, supersample);
       r.build_seconds = f.seconds + g.seconds;
       g.stats.rays += f.stats.rays;
       g.stats.shadow_rays += f.stats.shadow_rays;

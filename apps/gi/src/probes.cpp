@@ -345,9 +345,12 @@ std::vector<sh::CubeMap> surface_probe_cubes(const Scene& scene, const SurfaceRa
 }
 
 ProbeGrid build_probe_grid_surface(const Scene& scene, const SurfaceRadiance& field, int n, const ProbeOptions& opt,
-                                   ProbeRaster where) {
+                                   ProbeRaster where, int supersample) {
   check(opt);
   if (n < 1 || n > 64) throw InputError("gi probes: grid must have 1..64 probes per axis, got " + std::to_string(n));
+  if (supersample < 1 || supersample > 16 || opt.cube_size * supersample > 512)
+    throw InputError("gi probes: supersample must be in 1..16 with cube size x supersample <= 512, got " +
+                     std::to_string(supersample));
   const auto t0 = Clock::now();
   ProbeGrid g;
   bounds(scene, g.lo, g.hi);
@@ -359,8 +362,33 @@ ProbeGrid build_probe_grid_surface(const Scene& scene, const SurfaceRadiance& fi
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) pos.push_back(g.position(i, j, k));
-  const std::vector<sh::CubeMap> cubes = surface_probe_cubes(scene, field, pos, opt.cube_size, where);
-  if (where == ProbeRaster::cpu_rays) g.stats.rays = np * texels(opt.cube_size);
+  const int N = opt.cube_size, S = supersample, NS = N * S;
+  std::vector<sh::CubeMap> cubes = surface_probe_cubes(scene, field, pos, NS, where);
+  if (where == ProbeRaster::cpu_rays) g.stats.rays = np * texels(NS);
+  if (S > 1) {  // texel means: sub-texels weighted by their exact solid angles over the texel's
+    std::vector<double> w(static_cast<std::size_t>(NS) * NS);
+    for (int r = 0; r < NS; ++r)
+      for (int c = 0; c < NS; ++c)
+        w[static_cast<std::size_t>(r) * NS + c] = sh::cube_texel_solid_angle(c, r, NS) / sh::cube_texel_solid_angle(c / S, r / S, N);
+    const std::size_t nn = static_cast<std::size_t>(N) * N, nns = static_cast<std::size_t>(NS) * NS;
+    parallel_for_ranges(np, 1, opt.threads, [&](std::size_t b, std::size_t e) {
+      for (std::size_t p = b; p < e; ++p) {
+        sh::CubeMap small;
+        small.size = N;
+        small.channels = 3;
+        for (int f = 0; f < 6; ++f) {
+          std::vector<double> acc(3 * nn, 0.0);
+          for (int ch = 0; ch < 3; ++ch)
+            for (int r = 0; r < NS; ++r)
+              for (int c = 0; c < NS; ++c)
+                acc[ch * nn + static_cast<std::size_t>(r / S) * N + c / S] +=
+                    w[static_cast<std::size_t>(r) * NS + c] * cubes[p].faces[f][ch * nns + static_cast<std::size_t>(r) * NS + c];
+          small.faces[f].assign(acc.begin(), acc.end());
+        }
+        cubes[p] = std::move(small);
+      }
+    });
+  }
   g.probes.resize(np);
   parallel_for_ranges(np, 1, opt.threads, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) g.probes[p] = project(cubes[p], scene, opt);

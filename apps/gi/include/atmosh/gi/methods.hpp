@@ -41,6 +41,7 @@ struct MethodOptions {
   DeviceRequest device = DeviceRequest::cpu;
   int surface_divisions = 16;   ///< probes on the GPU: SurfaceRadianceOptions::divisions
   int surface_samples = 64;     ///< probes on the GPU: paths per surface vertex and side
+  int surface_supersample = 4;  ///< probes on the GPU: cube maps rendered at cube_size x this, texel means
 };
 
 /// path, probes, radiosity, lpv.

@@ -165,9 +165,14 @@ std::vector<sh::CubeMap> surface_probe_cubes(const Scene& scene, const SurfaceRa
                                              double* raster_seconds = nullptr);
 /// n^3 probes at ProbeGrid::position from the baked field: cube maps by `where`, projected
 /// as build_probe_grid (opt.bands, window, include_sun; opt.samples, bounces, seed, jitter
-/// unused). seconds: cube maps and projections (not the bake); stats.rays: CPU rays (0 on the GPU).
+/// unused). supersample s (1..16, cube_size x s <= 512): the cube maps are rendered at
+/// cube_size x s and each texel is the mean of its s^2 sub-texels weighted by their exact
+/// solid angles (which sum to the texel's) — the texel's mean radiance to the midpoint rule,
+/// so small bright emitters between texel centres are not missed or over-counted (the
+/// rasterised counterpart of the path-traced probes' jitter). seconds: cube maps and
+/// projections (not the bake); stats.rays: CPU rays (0 on the GPU).
 ProbeGrid build_probe_grid_surface(const Scene& scene, const SurfaceRadiance& field, int n, const ProbeOptions& opt,
-                                   ProbeRaster where);
+                                   ProbeRaster where, int supersample = 1);
 /// Trilinear interpolation of the coefficients at p (clamped to the span of the centres).
 ShRgb interpolate(const ProbeGrid& grid, const glm::dvec3& p);
 
