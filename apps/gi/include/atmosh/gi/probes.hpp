@@ -111,7 +111,9 @@ ProbeGrid truncate_grid(const ProbeGrid& grid, int bands, sh::Window w);
 // sub-triangle vertex and side s (front = counter-clockwise)
 //   L_s = L_e,s + a / pi * E_s,
 // E_s the path tracer's irradiance there with normal +-n (irradiance(): every light,
-// `bounces` reflections as TraceOptions), L_e,s the emission (0 on the back of a one-sided
+// `bounces` reflections as TraceOptions; evaluated 1e-3 x the diagonal inside the vertex's
+// scene triangle, so that grazing rays from edges and corners do not slip past the adjacent
+// surfaces), L_e,s the emission (0 on the back of a one-sided
 // emitter). Inside a sub-triangle L is interpolated linearly (barycentric), so it is
 // continuous over each of the scene's triangles and may jump at their edges (corners of
 // rooms), as the true radiance does. A probe texel then holds the field at the first surface
