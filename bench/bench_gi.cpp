@@ -10,7 +10,10 @@
 
 #include <array>
 #include <chrono>
+#include <memory>
 #include <vector>
+
+#include <glm/common.hpp>
 
 #include "atmosh/gi/lpv.hpp"
 #include "atmosh/gi/methods.hpp"
@@ -239,6 +242,71 @@ void BM_LpvFrame512(benchmark::State& state) {
 }
 BENCHMARK(BM_LpvFrame512)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 BENCHMARK(BM_LpvFrame512)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
+
+// Radiance probes rasterised on the GPU (docs/gi.md, "Probes on the GPU"), Cornell box:
+//   BM_ProbeCubes/n/d:  the cube maps (N = 8) of n^3 probes from the baked surface radiance
+//                       (divisions 16): d = 1 rasterised (upload, draws, read-back), d = 0 by
+//                       CPU rays (all threads); the projection to SH not included;
+//   BM_ProbeFrame512/d: one 512 x 512 frame shaded by a 4^3 grid (bands 3, one sample per pixel
+//                       centre): d = 1 on the GPU (gi::ProbeFrameGpu: the grid's upload, draw,
+//                       read-back and misses; context, program and the first draw made before),
+//                       d = 0 its CPU twin (Embree rays, all threads).
+void BM_ProbeCubes(benchmark::State& state) {
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::SurfaceRadianceOptions so;
+  so.samples = 4;
+  const gi::SurfaceRadiance f = gi::bake_surface_radiance(s, so);
+  const int n = static_cast<int>(state.range(0));
+  gi::ProbeGrid g;
+  g.n = n;
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : s.mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  g.lo = lo;
+  g.hi = hi;
+  std::vector<glm::dvec3> pos;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) pos.push_back(g.position(i, j, k));
+  const gi::ProbeRaster where = state.range(1) != 0 ? gi::ProbeRaster::gpu : gi::ProbeRaster::cpu_rays;
+  try {
+    for (auto _ : state) {
+      double secs = 0;
+      benchmark::DoNotOptimize(gi::surface_probe_cubes(s, f, pos, 8, where, &secs));
+      state.SetIterationTime(secs);
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+  state.counters["probes"] = static_cast<double>(pos.size());
+  state.counters["triangles"] = static_cast<double>(f.triangles.size());
+}
+BENCHMARK(BM_ProbeCubes)->Args({4, 0})->Args({4, 1})->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
+
+void BM_ProbeFrame512(benchmark::State& state) {
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::SurfaceRadianceOptions so;
+  so.samples = 4;
+  const gi::SurfaceRadiance f = gi::bake_surface_radiance(s, so);
+  gi::ProbeOptions po;
+  po.bands = 3;
+  const gi::ProbeGrid g = gi::build_probe_grid_surface(s, f, 4, po, gi::ProbeRaster::cpu_rays);
+  const bool gpu = state.range(0) != 0;
+  try {
+    std::unique_ptr<gi::ProbeFrameGpu> frame;
+    if (gpu) {  // context, program and the first draw (llvmpipe compiles the shader there) outside the timing
+      frame = std::make_unique<gi::ProbeFrameGpu>(s, s.camera, 512, 512);
+      benchmark::DoNotOptimize(frame->render(g, false).mean[0].data());
+    }
+    for (auto _ : state) {
+      const gi::RadianceImage img = gpu ? frame->render(g, false) : gi::render_probes_frame(s, s.camera, 512, 512, g, false, false);
+      benchmark::DoNotOptimize(img.mean[0].data());
+      state.SetIterationTime(img.stats.seconds);
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+}
+BENCHMARK(BM_ProbeFrame512)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(5);
 
 }  // namespace
 

@@ -97,6 +97,7 @@ void run_converge(const GiConvergeCmd& co) {
   check_memory(gi::probe_grid_bytes(*std::max_element(c.grids.begin(), c.grids.end()), o.method.cube_size),
                "the probe grid");
   const gi::ConvergeStudy st = gi::converge_methods(s, w, h, c, o.out, run_step);
+  if (!st.notice.empty()) notice(st.notice);
   for (const auto& f : io::write_study(fs::path(o.out) / "gi_converge", st.spec, st.rows, st.provenance, co.netcdf))
     std::printf("%s\n", f.string().c_str());
 }
@@ -139,7 +140,7 @@ void register_gi_commands(CLI::App& app) {
   CLI::App* c = gic->add_subcommand("render", "Radiance image of a scene (EXR): path tracing with standard errors, or radiance probes");
   add_scene_and_method_options(c, *o, "paths per pixel (path) or per probe cube-map texel (probes) (default 16)");
   c->add_option("--method", o->method.method, "path | probes | radiosity | lpv");
-  add_device_option(c, o->method.device, "radiosity shading and lpv run on the GPU (path, probes: CPU only)");
+  add_device_option(c, o->method.device, "radiosity, lpv and probes (rasterised cube maps of a baked surface radiance) on the GPU (path: CPU only)");
   c->add_option("--size", o->size, "image size WxH (default 256x256)");
   c->add_option("-o,--output", o->out, "radiance image (.exr: R, G, B, stderr.R, stderr.G, stderr.B)")->required();
   c->add_option("--png", o->png, "also a tone-mapped PNG");
@@ -161,6 +162,7 @@ void register_gi_commands(CLI::App& app) {
   v->add_option("--radiosity-bounces", co->radiosity_bounces, "radiosity bounces to study (default 0,1,2,3; none)");
   v->add_option("--lpv-grids", co->lpv_grids, "LPV cells along the longest axis to study (default 8,16,32; none)");
   v->add_option("--reference-samples", co->reference_samples, "reference paths per pixel (default 256)");
+  add_device_option(v, co->render.method.device, "also the GPU forms of probes, radiosity and lpv (rows <method>-gpu)");
   add_format_option(v, co->netcdf);
   v->add_option("--size", co->render.size, "image size WxH (default 64x64)");
   v->add_option("-o,--output", co->render.out, "output folder")->required();

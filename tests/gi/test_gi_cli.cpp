@@ -116,10 +116,18 @@ TEST(GiCli, RadiosityAndLpvRender) {
               "--pixel-samples 1 --size 12x8 -o '" + exr_r.string() + "'");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(exr_r));
-  r = run_cli("gi render --scene-builtin cornell-box --method probes --device gpu --size 12x8 -o '" +
+  // probes: cube maps of a baked surface radiance, rasterised (auto: ray cast where no context is made)
+  const auto exr_p = dir / "probes_auto.exr";
+  r = run_cli("gi render --scene-builtin cornell-box --method probes --grid 2 --cube-size 4 --device auto "
+              "--pixel-samples 1 --size 12x8 -o '" + exr_p.string() + "' --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"device\""), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(exr_p));
+  // the path tracer is CPU only: --device gpu is exit 1 naming it
+  r = run_cli("gi render --scene-builtin cornell-box --method path --device gpu --size 12x8 -o '" +
               (dir / "no.exr").string() + "'");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("probes"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("path"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "no.exr"));
 }
 
@@ -162,6 +170,46 @@ TEST(GiCli, ShEnvironmentFileIsTheBackground) {
     const auto& v = img.channel(names[c]);
     EXPECT_NEAR(*std::max_element(v.begin(), v.end()), L[c], 1e-6 * L[c]) << c;
     EXPECT_EQ(*std::min_element(v.begin(), v.end()), 0.0f) << c;
+  }
+}
+
+TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
+  const auto dir = atmosh::test::scratch_dir("atmosh_gi_cli", "converge_device");
+  auto r = run_cli("gi converge --scene-builtin cornell-box --device sometimes -o '" + (dir / "bad").string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("sometimes"), std::string::npos) << r.err;
+  r = run_cli("gi converge --scene-builtin sphere-on-plane --resolution 8 --bands-list 1,3 --grids 2 --cube-size 4 --samples 2 "
+              "--path-samples 2 --reference-samples 4 --size 12x8 --radiosity-grids 2 --radiosity-bands 2 "
+              "--radiosity-bounces 1 --lpv-grids 2 --device auto -o '" + (dir / "conv").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream csv(dir / "conv" / "gi_converge.csv");
+  std::string line;
+  int gpu_rows = 0, probe_rows = 0;
+  bool header = false;
+  while (std::getline(csv, line)) {
+    if (line.rfind("method,setting,error_max_rel,error_rms_rel,time_s,leak_rel,build_s,shade_s,mean_rel,ringing_rel,"
+                   "leak_ringfree_rel", 0) == 0)
+      header = true;
+    if (line.rfind("#", 0) == 0) continue;  // provenance
+    if (line.find("-gpu") != std::string::npos) ++gpu_rows;
+    if (line.rfind("probes", 0) == 0) {
+      ++probe_rows;
+      // ringing_rel and leak_ringfree_rel: finite and >= 0 for the probes' rows; band 1 holds only
+      // the mean, its ringing (what it differs from 8 bands) is not 0 under a sky over a plane
+      const auto c2 = line.rfind(','), c1 = line.rfind(',', c2 - 1);
+      const double ring = std::stod(line.substr(c1 + 1, c2 - c1 - 1)), leak = std::stod(line.substr(c2 + 1));
+      EXPECT_TRUE(ring >= 0 && std::isfinite(ring)) << line;
+      EXPECT_TRUE(leak >= 0 && std::isfinite(leak)) << line;
+      if (line.find("bands=1 ") != std::string::npos) EXPECT_GT(ring, 0) << line;
+    }
+  }
+  EXPECT_TRUE(header);
+  // a GPU context: probes-gpu[-visibility] 2 bands each, radiosity-gpu 1, lpv[-noblock]-gpu 2; none: a notice
+  if (std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT") || r.err.find("CPU forms") == std::string::npos) {
+    EXPECT_EQ(gpu_rows, 7) << r.err;
+    EXPECT_EQ(probe_rows, 8);
+  } else {
+    EXPECT_EQ(gpu_rows, 0);
   }
 }
 

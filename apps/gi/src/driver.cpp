@@ -190,7 +190,11 @@ void write_method_image(const fs::path& exr, const fs::path& png, const Scene& s
   if (o.method == "probes")
     prov.add("bands", num(o.bands)).add("grid", num(o.grid)).add("cube_size", num(o.cube_size)).add("window", o.window)
         .add("pixel_samples", num(o.pixel_samples)).add("probe_seconds", r.probe_seconds)
-        .add("visibility", o.probe_visibility ? "on" : "off");
+        .add("visibility", o.probe_visibility ? "on" : "off")
+        .add("probe_cube_maps", o.device == "cpu" ? "path-traced at the probes (CPU)"
+                                : r.device.gpu   ? "baked surface radiance, rasterised (GPU)"
+                                                 : "baked surface radiance, ray cast (CPU)");
+  if (o.method != "path") prov.add("device", r.device.gpu ? "gpu" : "cpu");
   if (o.method == "radiosity" || o.method == "lpv")
     prov.add("grid", num(o.grid)).add("bands", num(o.bands)).add("cube_size", num(o.cube_size))
         .add("iterations", num(o.iterations)).add("pixel_samples", num(o.pixel_samples))
@@ -222,6 +226,7 @@ nlohmann::json render_json(const Scene& s, const RenderOptions& o, const MethodI
     j["visibility"] = o.probe_visibility;
     j["shade_seconds"] = img.stats.seconds;
   }
+  j["device"] = r.device.gpu ? "gpu" : "cpu";
   if (o.method == "radiosity" || o.method == "lpv") {
     j["grid"] = o.grid;
     j["bands"] = o.bands;
@@ -237,6 +242,15 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
   const StepRunner step = step_runner ? step_runner : [](const std::string&, const std::function<void(const ProgressCallback&)>& work) { work({}); };
   const int threads = resolve_threads(o.threads, "--threads");
   const int max_bands = *std::max_element(co.bands.begin(), co.bands.end());
+  // --device gpu|auto: the GPU forms as extra rows ("<method>-gpu"); decided before any work.
+  const DeviceRequest device = parse_device_request(o.device, "--device");
+  bool gpu = false;
+  ConvergeStudy st;
+  if (device != DeviceRequest::cpu) {
+    const DeviceDecision d = resolve_device(device, gpu_unusable(), "studying the CPU forms only");
+    gpu = d.gpu;
+    st.notice = d.notice;
+  }
   TraceOptions to;
   to.samples = co.reference_samples;
   to.bounces = o.bounces;
@@ -248,7 +262,6 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
     ref = render(s, s.camera, w, h, to);
   });
   to.progress = nullptr;
-  ConvergeStudy st;
   auto& prov = st.provenance;
   prov = io::Provenance::current();
   prov.add("scene", s.name).add("reference_samples", num(co.reference_samples)).add("bounces", num(o.bounces))
@@ -273,7 +286,8 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
   prov.add("error_mask_pixels", std::to_string(masked));
 
   st.spec.title = "gi converge: " + s.name + " (reference: " + num(co.reference_samples) + " paths/pixel)";
-  st.spec.extra_columns = {"leak_rel", "build_s", "shade_s", "mean_rel"};
+  st.spec.extra_columns = {"leak_rel", "build_s", "shade_s", "mean_rel", "ringing_rel", "leak_ringfree_rel"};
+  prov.add("device", gpu ? "gpu (rows <method>-gpu)" : "cpu");
   for (int spp : co.path_samples) {  // the path tracer itself at fewer samples, independent seed
     TraceOptions t = to;
     t.samples = spp;
@@ -283,40 +297,76 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
     st.rows.push_back({"path", "spp=" + num(spp), e.max_rel, e.rms_rel, img.stats.seconds + img.stats.setup_seconds,
                        {e.leak_rel, img.stats.setup_seconds, img.stats.seconds, e.mean_rel}});
   }
+  // The probes' rows, from a grid built at kRingFree bands and truncated; the extra columns
+  // split the error of each row into ringing (what the irradiance at `bands` differs from the
+  // kRingFree-band irradiance of the same probes: the SH truncation, negative lobes included)
+  // and leaking (the light the kRingFree-band image has beyond the reference: probes seen past
+  // walls, inside objects and interpolation, with the ringing removed).
+  constexpr int kRingFree = 8;
+  auto probe_rows = [&](const ProbeGrid& full, double build_s, int g, const std::string& base) {
+    for (bool vis : {false, true}) {
+      ProbeRenderOptions ro;
+      ro.samples = o.pixel_samples;
+      ro.seed = o.seed;
+      ro.threads = threads;
+      ro.visibility = vis;
+      const RadianceImage hi = render_probes(s, s.camera, w, h, truncate_grid(full, kRingFree, sh::Window::none), false, ro);
+      const ImageError ehi = image_error(hi, ref, &mask);
+      for (int b : co.bands) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const ProbeGrid gb = truncate_grid(full, b, probe_window(o.window));
+        const RadianceImage img = render_probes(s, s.camera, w, h, gb, false, ro);
+        const double shade = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const ImageError e = image_error(img, ref, &mask);
+        double ring = 0, sum_r = 0;
+        for (int c = 0; c < 3; ++c)
+          for (std::size_t i = 0; i < ref.mean[c].size(); ++i)
+            if (mask[i] == 0) ring += std::abs(img.mean[c][i] - hi.mean[c][i]), sum_r += ref.mean[c][i];
+        const std::string method = base + (vis ? "-visibility" : "");
+        st.rows.push_back({method, "bands=" + num(b) + " grid=" + num(g), e.max_rel, e.rms_rel, build_s + shade,
+                           {e.leak_rel, build_s, shade, e.mean_rel, ring / sum_r, ehi.leak_rel}});
+        auto pp = prov;
+        pp.add("method", method).add("bands", num(b)).add("grid", num(g)).add("cube_size", num(o.cube_size))
+            .add("texel_samples", num(o.samples)).add("window", o.window);
+        write_study_image(dir / (method + "_b" + num(b) + "_g" + num(g) + ".exr"), img, &ref,
+                          "radiance (R, G, B), radiance probes" + std::string(vis ? " with visibility" : ""), pp);
+      }
+    }
+  };
+  ProbeOptions p;
+  p.bands = std::max(max_bands, kRingFree);
+  p.cube_size = o.cube_size;
+  p.samples = o.samples;
+  p.bounces = o.bounces;
+  p.seed = o.seed + 7;
+  p.threads = threads;
   step("gi converge: probes", [&](const ProgressCallback&) {
     for (int g : co.grids) {
-      ProbeOptions p;
-      p.bands = max_bands;
-      p.cube_size = o.cube_size;
-      p.samples = o.samples;
-      p.bounces = o.bounces;
-      p.seed = o.seed + 7;
-      p.threads = threads;
       const ProbeGrid full = build_probe_grid(s, g, p);
-      for (int b : co.bands)
-        for (bool vis : {false, true}) {
-          const auto t0 = std::chrono::steady_clock::now();
-          const ProbeGrid gb = truncate_grid(full, b, probe_window(o.window));
-          ProbeRenderOptions ro;
-          ro.samples = o.pixel_samples;
-          ro.seed = o.seed;
-          ro.threads = threads;
-          ro.visibility = vis;
-          const RadianceImage img = render_probes(s, s.camera, w, h, gb, false, ro);
-          const double shade = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-          const ImageError e = image_error(img, ref, &mask);
-          const std::string method = vis ? "probes-visibility" : "probes";
-          st.rows.push_back({method, "bands=" + num(b) + " grid=" + num(g), e.max_rel, e.rms_rel, full.seconds + shade,
-                             {e.leak_rel, full.seconds, shade, e.mean_rel}});
-          auto pp = prov;
-          pp.add("method", method).add("bands", num(b)).add("grid", num(g)).add("cube_size", num(o.cube_size))
-              .add("texel_samples", num(o.samples)).add("window", o.window);
-          write_study_image(dir / (method + "_b" + num(b) + "_g" + num(g) + ".exr"), img, &ref,
-                            "radiance (R, G, B), radiance probes" + std::string(vis ? " with visibility" : ""), pp);
-        }
+      probe_rows(full, full.seconds, g, "probes");
     }
   });
+  if (gpu)
+    step("gi converge: probes on the GPU", [&](const ProgressCallback&) {
+      const MethodOptions m = method_options(o);
+      SurfaceRadianceOptions so;
+      so.divisions = m.surface_divisions;
+      so.samples = m.surface_samples;
+      so.bounces = o.bounces;
+      so.seed = o.seed + 11;
+      so.threads = threads;
+      const SurfaceRadiance f = bake_surface_radiance(s, so);
+      const int supersample = std::clamp(std::min(m.surface_supersample, 512 / std::max(o.cube_size, 1)), 1, 16);
+      for (int g : co.grids) {
+        const ProbeGrid full = build_probe_grid_surface(s, f, g, p, ProbeRaster::gpu, supersample);
+        probe_rows(full, f.seconds + full.seconds, g, "probes-gpu");
+      }
+      prov.add("surface_divisions", num(so.divisions)).add("surface_samples", num(so.samples))
+          .add("surface_supersample", num(supersample))
+          .add("surface_bake_seconds", f.seconds);
+    });
   StudyOptions study = co.study;
+  study.gpu = gpu;
   study.cube_size = o.cube_size;
   study.pixel_samples = o.pixel_samples;
   study.threads = threads;
@@ -338,7 +388,9 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
   prov.add("cube_size", num(o.cube_size)).add("texel_samples", num(o.samples))
       .add("pixel_samples", num(o.pixel_samples)).add("window", o.window)
       .add("errors", "relative to the reference's mean radiance; leak_rel = sum max(0, a - r - 3 stderr) / sum r; "
-                     "pixels seeing an emitter directly (and a 1-pixel border) left out");
+                     "probes: ringing_rel = sum |a - a8| / sum r, leak_ringfree_rel = leak_rel of a8, a8 the image "
+                     "of the same probes at 8 bands unwindowed; pixels seeing an emitter directly (and a 1-pixel "
+                     "border) left out");
   return st;
 }
 

@@ -10,6 +10,7 @@
 #include "atmosh/gi/lpv.hpp"
 #include "atmosh/gi/probes.hpp"
 #include "atmosh/gi/radiosity.hpp"
+#include "atmosh/prt/mesh.hpp"
 
 namespace atmosh::gi {
 
@@ -62,10 +63,29 @@ void need(bool ok, const std::string& msg) {
 
 std::vector<std::string> method_names() { return {"path", "probes", "radiosity", "lpv"}; }
 
+std::optional<GpuUnusable> gpu_unusable() {
+  return try_gpu([] {  // a context and the probes' program; no probes
+    prt::Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.triangles = {{0, 1, 2}};
+    prt::compute_normals(m);
+    const Scene s = scene_from_mesh(m, Material{});
+    SurfaceRadianceOptions so;
+    so.bounces = 0;
+    (void)surface_probe_cubes(s, bake_surface_radiance(s, so), {}, 1, ProbeRaster::gpu);
+  });
+}
+
 void check_method_options(const MethodOptions& o) {
   const auto names = method_names();
   need(std::find(names.begin(), names.end(), o.method) != names.end(),
        "gi: unknown method '" + o.method + "' (path, probes, radiosity, lpv)");
+  if (o.method == "probes" && o.device != DeviceRequest::cpu) {
+    need(o.surface_divisions >= 1 && o.surface_divisions <= 1024,
+         "gi probes: surface divisions must be in 1..1024, got " + std::to_string(o.surface_divisions));
+    need(o.surface_samples >= 2 && o.surface_samples <= 1000000,
+         "gi probes: surface samples must be in 2..1000000, got " + std::to_string(o.surface_samples));
+  }
   need(o.pixel_samples >= 1 && o.pixel_samples <= 1000000,
        "gi: --pixel-samples must be in 1..1000000, got " + std::to_string(o.pixel_samples));
   if (o.method == "radiosity") {
@@ -86,7 +106,7 @@ void check_method_options(const MethodOptions& o) {
 MethodResult render_method(const Scene& scene, const Camera& camera, int width, int height, const MethodOptions& o) {
   check_method_options(o);
   MethodResult r;
-  if (o.method != "lpv" && o.method != "radiosity" && o.device != DeviceRequest::cpu)
+  if (o.method == "path" && o.device != DeviceRequest::cpu)
     r.device = resolve_device(o.device, GpuUnusable{GpuUnusable::Why::unsupported, "method '" + o.method + "'", ""},
                               "rendering on the CPU");
   if (o.method == "path") {
@@ -107,15 +127,40 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     p.seed = o.seed;
     p.window = o.window;
     p.threads = o.threads;
-    const ProbeGrid g = build_probe_grid(scene, o.grid, p);
-    r.build_seconds = g.seconds;
+    ProbeGrid g;
+    if (o.device == DeviceRequest::cpu) {  // cube maps path-traced at the probes
+      g = build_probe_grid(scene, o.grid, p);
+      r.build_seconds = g.seconds;
+    } else {  // cube maps of a baked surface radiance, rasterised (or ray cast where the GPU is unusable)
+      SurfaceRadianceOptions so;
+      so.divisions = o.surface_divisions;
+      so.samples = o.surface_samples;
+      so.bounces = o.bounces;
+      so.seed = o.seed;
+      so.threads = o.threads;
+      const SurfaceRadiance f = bake_surface_radiance(scene, so);
+      // supersampling within the cube-size limit (the largest s with cube_size x s <= 512)
+      const int supersample = std::clamp(std::min(o.surface_supersample, 512 / std::max(o.cube_size, 1)), 1, 16);
+      const std::optional<GpuUnusable> unusable =
+          try_gpu([&] { g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::gpu, supersample); });
+      r.device = resolve_device(o.device, unusable, "ray casting the probes' cube maps on the CPU");
+      if (!r.device.gpu) g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::cpu_rays, supersample);
+      r.build_seconds = f.seconds + g.seconds;
+      g.stats.rays += f.stats.rays;
+      g.stats.shadow_rays += f.stats.shadow_rays;
+    }
     ProbeRenderOptions ro;
     ro.samples = o.pixel_samples;
     ro.seed = o.seed;
     ro.threads = o.threads;
     ro.visibility = o.probe_visibility;
     const auto t0 = Clock::now();
-    r.image = render_probes(scene, camera, width, height, g, false, ro);
+    // The frame on the GPU where it holds the whole shading: no sun (which needs shadow rays),
+    // no visibility weighting, bands <= 3; else the CPU's camera rays.
+    if (r.device.gpu && !scene.sun && !o.probe_visibility && g.bands <= 3)
+      r.image = render_probes_frame(scene, camera, width, height, g, false, true);
+    else
+      r.image = render_probes(scene, camera, width, height, g, false, ro);
     r.shade_seconds = since(t0);
     r.image.stats.rays += g.stats.rays;
     r.image.stats.shadow_rays += g.stats.shadow_rays;
@@ -196,8 +241,14 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
     ro.seed = o.seed;
     ro.threads = o.threads;
     const RadiosityVolume full = build_radiosity_volume(scene, ro);
+    RadiosityVolume full_direct;  // the GPU form's: with the direct-light SH at the probes
+    if (o.gpu) {
+      full_direct = full;
+      add_direct_volume(scene, full_direct, 32, 4, ro.seed, ro.threads);
+    }
     for (int b : o.radiosity_bands) {
       const RadiosityVolume v = truncate_volume(full, b);
+      RadiosityVolume vg = o.gpu ? truncate_volume(full_direct, b) : RadiosityVolume{};
       for (int B : o.radiosity_bounces) {
         ro.bounces = B;
         StudyRow r;
@@ -208,6 +259,17 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
         r.result.shade_seconds = since(t0);
         r.result.build_seconds = full.seconds;
         row(r);
+        if (o.gpu) {
+          StudyRow rg;
+          rg.method = "radiosity-gpu";
+          rg.setting = r.setting;
+          const auto t1 = Clock::now();
+          rg.result.image = render_radiosity_gbuffer(scene, scene.camera, width, height, vg, ro, true);
+          rg.result.shade_seconds = since(t1);
+          rg.result.build_seconds = full_direct.seconds;
+          rg.result.device.gpu = true;
+          row(rg);
+        }
       }
     }
   }
@@ -228,6 +290,21 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
       r.result.shade_seconds = since(t0);
       r.result.build_seconds = l.inject_seconds + l.propagate_seconds;
       row(r);
+      if (o.gpu) {  // injection, geometry, propagation and shading on the GPU
+        MethodOptions m;
+        m.method = "lpv";
+        m.grid = g;
+        m.lpv_blocking = block;
+        m.pixel_samples = o.pixel_samples;
+        m.seed = o.seed;
+        m.threads = o.threads;
+        m.device = DeviceRequest::gpu;
+        StudyRow rg;
+        rg.method = r.method + "-gpu";
+        rg.setting = r.setting;
+        rg.result = render_method(scene, scene.camera, width, height, m);
+        row(rg);
+      }
     }
 }
 

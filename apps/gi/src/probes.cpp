@@ -170,6 +170,233 @@ ProbeGrid build_probe_grid(const Scene& scene, int n, const ProbeOptions& opt) {
   return g;
 }
 
+namespace detail {
+// The rasterised cube maps (probes_gpu.cpp): RGBA per texel, [((p * 6 + f) * N + row) * N + col] * 4,
+// alpha 0 where no surface is; near/far the depth range along the face's axis.
+std::vector<float> surface_cubes_gpu(const SurfaceRadiance& field, const std::vector<glm::dvec3>& positions, int n,
+                                     double near, double far, double* seconds);
+}  // namespace detail
+
+namespace {
+double diagonal(const Scene& s) {
+  glm::dvec3 lo, hi;
+  bounds(s, lo, hi);
+  return glm::length(hi - lo);
+}
+
+void check_field(const SurfaceRadiance& f) {
+  const std::size_t nv = f.positions.size();
+  if (f.normals.size() != nv || f.front.size() != nv || f.back.size() != nv)
+    throw InputError("gi probes: the surface radiance's per-vertex arrays differ in length");
+  for (const auto& t : f.triangles)
+    for (auto i : t)
+      if (i >= nv) throw InputError("gi probes: a surface radiance triangle indexes past its vertices");
+}
+}  // namespace
+
+SurfaceRadiance bake_surface_radiance(const Scene& scene, const SurfaceRadianceOptions& opt) {
+  validate(scene);
+  if (opt.divisions < 1 || opt.divisions > 1024)
+    throw InputError("gi probes: surface divisions must be in 1..1024, got " + std::to_string(opt.divisions));
+  if (opt.samples < 2 || opt.samples > 1000000)
+    throw InputError("gi probes: surface samples must be in 2..1000000, got " + std::to_string(opt.samples));
+  const auto t0 = Clock::now();
+  const double h = diagonal(scene) / opt.divisions;
+  SurfaceRadiance f;
+  std::vector<glm::dvec3> emit_front, emit_back, albedo, centroid;
+  const auto& P = scene.mesh.positions;
+  for (std::size_t t = 0; t < scene.mesh.triangles.size(); ++t) {
+    const auto& tri = scene.mesh.triangles[t];
+    const glm::dvec3 A = P[tri[0]], B = P[tri[1]], C = P[tri[2]];
+    glm::dvec3 n = glm::cross(B - A, C - A);
+    const double len = glm::length(n);
+    n = len > 0 && std::isfinite(len) ? n / len : glm::dvec3(0, 0, 1);
+    const double edge = std::max({glm::length(B - A), glm::length(C - B), glm::length(A - C)});
+    const int k = std::clamp(static_cast<int>(std::ceil(edge / h - 1e-9)), 1, 64);
+    const Material& m = scene.materials[scene.material[t]];
+    const auto base = static_cast<std::uint32_t>(f.positions.size());
+    auto id = [&](int i, int j) {  // vertex (i, j), i + j <= k, row by row in j
+      return base + static_cast<std::uint32_t>(j * (k + 1) - j * (j - 1) / 2 + i);
+    };
+    for (int j = 0; j <= k; ++j)
+      for (int i = 0; i + j <= k; ++i) {
+        f.positions.push_back(A + (static_cast<double>(i) / k) * (B - A) + (static_cast<double>(j) / k) * (C - A));
+        f.normals.push_back(n);
+        emit_front.push_back(m.emission);
+        emit_back.push_back(m.one_sided ? glm::dvec3(0.0) : m.emission);
+        albedo.push_back(m.albedo);
+        centroid.push_back((A + B + C) / 3.0);
+      }
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i + j < k; ++i) {
+        f.triangles.push_back({id(i, j), id(i + 1, j), id(i, j + 1)});
+        if (i + j + 1 < k) f.triangles.push_back({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+      }
+  }
+  const std::size_t nv = f.positions.size();
+  f.front = emit_front;
+  f.back = emit_back;
+  f.front_stderr.assign(nv, glm::dvec3(0.0));
+  f.back_stderr.assign(nv, glm::dvec3(0.0));
+  if (opt.bounces != 0) {
+    // Each vertex's irradiance is taken 1e-3 x the diagonal inside its scene triangle (towards
+    // the centroid, at most the whole way): the path tracer's rays leave 1e-4 x the diagonal
+    // above the surface, and from an edge or corner itself grazing rays would pass the
+    // adjacent surface before they may hit it (light leaking through corners).
+    const double pull = 1e-3 * diagonal(scene);
+    std::vector<glm::dvec3> pts(2 * nv), nrm(2 * nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+      const glm::dvec3 to = centroid[v] - f.positions[v];
+      const double d = glm::length(to);
+      pts[2 * v] = pts[2 * v + 1] = f.positions[v] + (d > pull ? pull / d : 1.0) * to;
+      nrm[2 * v] = f.normals[v];
+      nrm[2 * v + 1] = -f.normals[v];
+    }
+    TraceOptions t;
+    t.samples = opt.samples;
+    t.bounces = opt.bounces;
+    t.seed = opt.seed;
+    t.threads = opt.threads;
+    const Irradiance E = irradiance(scene, pts, nrm, t);
+    f.stats = E.stats;
+    for (std::size_t v = 0; v < nv; ++v) {
+      f.front[v] += albedo[v] / kPi * E.mean[2 * v];
+      f.back[v] += albedo[v] / kPi * E.mean[2 * v + 1];
+      f.front_stderr[v] = albedo[v] / kPi * E.stderr_[2 * v];
+      f.back_stderr[v] = albedo[v] / kPi * E.stderr_[2 * v + 1];
+    }
+  }
+  f.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return f;
+}
+
+std::vector<sh::CubeMap> surface_probe_cubes(const Scene& scene, const SurfaceRadiance& field,
+                                             const std::vector<glm::dvec3>& positions, int n, ProbeRaster where,
+                                             double* raster_seconds) {
+  validate(scene);
+  check_field(field);
+  if (n < 1 || n > 512) throw InputError("gi probes: cube size must be in 1..512, got " + std::to_string(n));
+  glm::dvec3 lo, hi;
+  bounds(scene, lo, hi);
+  const double diag = glm::length(hi - lo);
+  double reach = 0;  // the farthest bounding-box corner from any position
+  for (const auto& p : positions) {
+    if (!std::isfinite(glm::length(p))) throw InputError("gi probes: non-finite probe position");
+    for (int c = 0; c < 8; ++c)
+      reach = std::max(reach, glm::length(glm::dvec3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z) - p));
+  }
+  const double near = 1e-3 * diag, far = reach + 2 * diag;
+  const std::size_t nn = static_cast<std::size_t>(n) * n, np = positions.size();
+  // The environment along every texel centre (the same for every probe: it is distant).
+  std::vector<glm::dvec3> env(6 * nn), dirs(6 * nn);
+  for (int f = 0; f < 6; ++f)
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c) {
+        const glm::dvec3 d = face_direction(f, 2 * (c + 0.5) / n - 1, 2 * (r + 0.5) / n - 1);
+        const std::size_t t = f * nn + static_cast<std::size_t>(r) * n + c;
+        dirs[t] = d;
+        env[t] = environment_radiance(scene, glm::normalize(d));
+      }
+  std::vector<sh::CubeMap> cubes(np);
+  for (auto& cube : cubes) {
+    cube.size = n;
+    cube.channels = 3;
+    for (auto& face : cube.faces) face.assign(3 * nn, 0.0f);
+  }
+  const auto t0 = Clock::now();
+  if (where == ProbeRaster::gpu) {
+    const std::vector<float> tex = detail::surface_cubes_gpu(field, positions, n, near, far, raster_seconds);
+    for (std::size_t p = 0; p < np; ++p)
+      for (int f = 0; f < 6; ++f)
+        for (std::size_t t = 0; t < nn; ++t) {
+          const float* q = &tex[((p * 6 + f) * nn + t) * 4];
+          for (int c = 0; c < 3; ++c)
+            cubes[p].faces[f][c * nn + t] = q[3] != 0.0f ? q[c] : static_cast<float>(env[f * nn + t][c]);
+        }
+    return cubes;
+  }
+  // CPU: one ray per texel centre along the unnormalised face direction, so that t is the depth
+  // along the face's axis (its largest component is 1), clipped to [near, far] as the rasteriser.
+  prt::Mesh m;
+  m.positions = field.positions;
+  m.normals = field.normals;
+  m.triangles = field.triangles;
+  m.name = "surface radiance";
+  const prt::RayScene rays(m);
+  parallel_for_ranges(np * 6 * nn, 256, 0, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const std::size_t p = i / (6 * nn), t = i % (6 * nn);
+      const int f = static_cast<int>(t / nn);
+      std::uint32_t prim = 0;
+      float u = 0, v = 0;
+      double dist = 0;
+      glm::dvec3 L = env[t];
+      if (rays.intersect(positions[p], dirs[t], near, prim, u, v, dist) && dist <= far) {
+        const auto& tri = field.triangles[prim];
+        const bool front = glm::dot(field.normals[tri[0]], dirs[t]) < 0;
+        const auto& side = front ? field.front : field.back;
+        L = (1.0 - u - v) * side[tri[0]] + static_cast<double>(u) * side[tri[1]] + static_cast<double>(v) * side[tri[2]];
+      }
+      for (int c = 0; c < 3; ++c) cubes[p].faces[f][c * nn + (t % nn)] = static_cast<float>(L[c]);
+    }
+  });
+  if (raster_seconds != nullptr) *raster_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return cubes;
+}
+
+ProbeGrid build_probe_grid_surface(const Scene& scene, const SurfaceRadiance& field, int n, const ProbeOptions& opt,
+                                   ProbeRaster where, int supersample) {
+  check(opt);
+  if (n < 1 || n > 64) throw InputError("gi probes: grid must have 1..64 probes per axis, got " + std::to_string(n));
+  if (supersample < 1 || supersample > 16 || opt.cube_size * supersample > 512)
+    throw InputError("gi probes: supersample must be in 1..16 with cube size x supersample <= 512, got " +
+                     std::to_string(supersample));
+  const auto t0 = Clock::now();
+  ProbeGrid g;
+  bounds(scene, g.lo, g.hi);
+  g.n = n;
+  g.bands = opt.bands;
+  const std::size_t np = static_cast<std::size_t>(n) * n * n;
+  std::vector<glm::dvec3> pos;
+  pos.reserve(np);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) pos.push_back(g.position(i, j, k));
+  const int N = opt.cube_size, S = supersample, NS = N * S;
+  std::vector<sh::CubeMap> cubes = surface_probe_cubes(scene, field, pos, NS, where);
+  if (where == ProbeRaster::cpu_rays) g.stats.rays = np * texels(NS);
+  if (S > 1) {  // texel means: sub-texels weighted by their exact solid angles over the texel's
+    std::vector<double> w(static_cast<std::size_t>(NS) * NS);
+    for (int r = 0; r < NS; ++r)
+      for (int c = 0; c < NS; ++c)
+        w[static_cast<std::size_t>(r) * NS + c] = sh::cube_texel_solid_angle(c, r, NS) / sh::cube_texel_solid_angle(c / S, r / S, N);
+    const std::size_t nn = static_cast<std::size_t>(N) * N, nns = static_cast<std::size_t>(NS) * NS;
+    parallel_for_ranges(np, 1, opt.threads, [&](std::size_t b, std::size_t e) {
+      for (std::size_t p = b; p < e; ++p) {
+        sh::CubeMap small;
+        small.size = N;
+        small.channels = 3;
+        for (int f = 0; f < 6; ++f) {
+          std::vector<double> acc(3 * nn, 0.0);
+          for (int ch = 0; ch < 3; ++ch)
+            for (int r = 0; r < NS; ++r)
+              for (int c = 0; c < NS; ++c)
+                acc[ch * nn + static_cast<std::size_t>(r / S) * N + c / S] +=
+                    w[static_cast<std::size_t>(r) * NS + c] * cubes[p].faces[f][ch * nns + static_cast<std::size_t>(r) * NS + c];
+          small.faces[f].assign(acc.begin(), acc.end());
+        }
+        cubes[p] = std::move(small);
+      }
+    });
+  }
+  g.probes.resize(np);
+  parallel_for_ranges(np, 1, opt.threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) g.probes[p] = project(cubes[p], scene, opt);
+  });
+  g.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return g;
+}
+
 ProbeGrid truncate_grid(const ProbeGrid& grid, int bands, sh::Window w) {
   if (bands < 1 || bands > grid.bands)
     throw InputError("gi probes: cannot truncate a grid of " + std::to_string(grid.bands) + " bands to " +

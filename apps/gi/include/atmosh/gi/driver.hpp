@@ -99,8 +99,10 @@ struct ConvergeOptions {
 };
 struct ConvergeStudy {
   io::StudySpec spec;
-  std::vector<io::StudyRow> rows;  // path "spp=N", probes[-visibility] "bands=B grid=G", radiosity, lpv
+  std::vector<io::StudyRow> rows;  // path "spp=N", probes[-visibility] "bands=B grid=G", radiosity, lpv;
+                                   // with --device gpu|auto also probes-gpu[-visibility], radiosity-gpu, lpv[-noblock]-gpu
   io::Provenance provenance;
+  std::string notice;  // --device auto without a usable GPU: one line for the user
 };
 // Runs a named step of work with a progress callback (a front end shows it); empty: runs it.
 using StepRunner = std::function<void(const std::string& name, const std::function<void(const ProgressCallback&)>& work)>;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,14 +30,25 @@ struct MethodOptions {
   bool probe_visibility = false;         ///< probes
   int iterations = -1;          ///< lpv: propagation steps (-1: 2 x grid)
   bool lpv_blocking = true;     ///< lpv: geometry volume
-  /// cpu | gpu | auto (atmosh/device.hpp): the LPV propagation runs on the GPU
-  /// (lpv_propagate_gpu); every other pass of every method is CPU only, so gpu is an error
-  /// for path, probes and radiosity and auto falls back with a notice.
+  /// cpu | gpu | auto (atmosh/device.hpp). gpu/auto: LPV injection, geometry, propagation and
+  /// shading and the radiosity walk run on the GPU; probes are built from a baked surface
+  /// radiance (bake_surface_radiance, surface_divisions / surface_samples) whose cube maps are
+  /// rasterised (build_probe_grid_surface; where auto finds no GPU, the same cube maps by CPU
+  /// rays) and, for scenes without a sun, bands <= 3 and no probe visibility, the frame shaded
+  /// on the GPU too (render_probes_frame: one sample per pixel centre, stderr 0); cpu
+  /// path-traces the probes' cube maps (build_probe_grid). The path tracer is CPU only: gpu is
+  /// an error for it, auto a notice.
   DeviceRequest device = DeviceRequest::cpu;
+  int surface_divisions = 16;   ///< probes on the GPU: SurfaceRadianceOptions::divisions
+  int surface_samples = 64;     ///< probes on the GPU: paths per surface vertex and side
+  int surface_supersample = 4;  ///< probes on the GPU: cube maps rendered at cube_size x this, texel means
 };
 
 /// path, probes, radiosity, lpv.
 std::vector<std::string> method_names();
+/// nullopt if the GPU passes can run here, else why not (no EGL context, a driver that
+/// refuses the probes' program, or a build without atmosh::gpu). Opens a context.
+std::optional<GpuUnusable> gpu_unusable();
 /// InputError naming the option for a bad method name or a value outside the method's range.
 void check_method_options(const MethodOptions& opt);
 
@@ -60,6 +72,11 @@ struct StudyOptions {
   std::vector<int> lpv_grids{8, 16, 32};
   int cube_size = 8, pixel_samples = 4, threads = 0;
   std::uint64_t seed = 1;
+  /// Also the GPU forms, each after its CPU row, method "radiosity-gpu" (the walk over a
+  /// G-buffer, render_radiosity_gbuffer; the volume and its direct-light SH built once per
+  /// grid), "lpv-gpu" / "lpv-noblock-gpu" (render_method with device gpu). The caller decides
+  /// (gpu_unusable()); a GPU failure then throws.
+  bool gpu = false;
 };
 struct StudyRow {
   std::string method, setting;  ///< e.g. "radiosity", "bands=2 grid=8 bounces=2"

@@ -1,7 +1,8 @@
 // atmosh/gi/probes.hpp — radiance probes (CPU, by ray casting): cube maps of the lit scene's
 // radiance at probe positions, projected to SH; receivers shaded by the probe's SH irradiance
 // at their normal (Ramamoorthi & Hanrahan 2001); probe volumes on a regular 3D grid with
-// trilinear interpolation of the coefficients. The GPU (rasterised) probes are not built.
+// trilinear interpolation of the coefficients. Probes rasterised on the GPU: see "Probes of a
+// baked surface radiance" below.
 //
 // A probe at position x:
 //   * cube map (sh::CubeMap, faces +X -X +Y -Y +Z -Z, OpenGL orientation, see
@@ -35,6 +36,9 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -98,6 +102,79 @@ struct ProbeGrid {
 ProbeGrid build_probe_grid(const Scene& scene, int n, const ProbeOptions& opt);
 /// The grid's coefficients truncated to `bands` (<= grid.bands) with window `w` applied.
 ProbeGrid truncate_grid(const ProbeGrid& grid, int bands, sh::Window w);
+
+// ---- Probes of a baked surface radiance (rasterised on the GPU, ray cast on the CPU) ----
+//
+// A rasteriser cannot path-trace, so the GPU probes see a radiance field stored on the
+// surfaces: every triangle cut into congruent sub-triangles (k^2 of them, k the least
+// integer with longest edge / k <= bounding-box diagonal / divisions, k <= 64), and at each
+// sub-triangle vertex and side s (front = counter-clockwise)
+//   L_s = L_e,s + a / pi * E_s,
+// E_s the path tracer's irradiance there with normal +-n (irradiance(): every light,
+// `bounces` reflections as TraceOptions; evaluated 1e-3 x the diagonal inside the vertex's
+// scene triangle, so that grazing rays from edges and corners do not slip past the adjacent
+// surfaces), L_e,s the emission (0 on the back of a one-sided
+// emitter). Inside a sub-triangle L is interpolated linearly (barycentric), so it is
+// continuous over each of the scene's triangles and may jump at their edges (corners of
+// rooms), as the true radiance does. A probe texel then holds the field at the first surface
+// its centre ray meets (depth along the face's axis in [near, far] = [1e-3, 2] x diagonal
+// beyond the farthest corner), the side facing the probe; where the ray meets nothing, the
+// environment radiance along the texel centre (environment_radiance; the sun is not in it).
+// The same function is evaluated two ways:
+//   * GPU: gpu::render_cube_maps (atmosh/gpu/cube_raster.hpp), the sub-triangles rasterised
+//     through EGL (float; perspective-correct interpolation = barycentric at the hit);
+//   * CPU (the reference of the GPU one): one Embree ray per texel centre against the same
+//     sub-triangles, the barycentric interpolation in double.
+// They differ only where a texel centre's ray passes within float rounding of a triangle's
+// edge (silhouettes, creases; measured in tests/gi/test_gi_probes_gpu.cpp and docs/gi.md).
+// The cube maps are projected on the CPU after read-back by the same sh::project_cube
+// (libsh's exact texel solid angles) as the path-traced probes: the read-back is 6 N^2
+// RGBA floats a probe (6 KiB at N = 8) and the projection O(6 N^2 L^2) in double, so both
+// forms share every step but the rasterisation, which is what their comparison isolates.
+// Against the path-traced probes (render_probe_cube) the baked field differs by its
+// discretisation (linear between vertices spaced ~ diagonal / divisions) and its noise.
+
+struct SurfaceRadianceOptions {
+  int divisions = 16;       ///< sub-triangle edge <= bounding-box diagonal / divisions; 1..1024
+  int samples = 64;         ///< paths per vertex and side, 2..1e6
+  int bounces = -1;         ///< reflections as TraceOptions (0: emission only)
+  std::uint64_t seed = 1;
+  int threads = 0;
+};
+
+struct SurfaceRadiance {
+  std::vector<glm::dvec3> positions;  ///< per vertex (vertices are not shared between scene triangles)
+  std::vector<glm::dvec3> normals;    ///< per vertex: unit geometric normal of its scene triangle
+  std::vector<std::array<std::uint32_t, 3>> triangles;  ///< sub-triangles, the scene triangle's winding
+  std::vector<glm::dvec3> front, back;  ///< radiance leaving the front / back side, per vertex
+  std::vector<glm::dvec3> front_stderr, back_stderr;  ///< their standard errors
+  Stats stats;            ///< of the irradiance paths
+  double seconds = 0;     ///< wall time of the bake
+};
+
+/// The baked surface radiance of `scene` (InputError for bad options or an invalid scene).
+SurfaceRadiance bake_surface_radiance(const Scene& scene, const SurfaceRadianceOptions& opt);
+
+/// Where probe cube maps of a baked field are rendered.
+enum class ProbeRaster { cpu_rays, gpu };
+
+/// Cube maps (size N, 3 channels) of the field seen at `positions` (see above). gpu: throws
+/// InputError if atmosh was built without atmosh::gpu, gpu::Unavailable (a runtime_error)
+/// where no EGL context opens. `gpu_seconds` (optional): the rasterisation's own time
+/// (upload, draws, read-back) or the CPU rays' time.
+std::vector<sh::CubeMap> surface_probe_cubes(const Scene& scene, const SurfaceRadiance& field,
+                                             const std::vector<glm::dvec3>& positions, int cube_size, ProbeRaster where,
+                                             double* raster_seconds = nullptr);
+/// n^3 probes at ProbeGrid::position from the baked field: cube maps by `where`, projected
+/// as build_probe_grid (opt.bands, window, include_sun; opt.samples, bounces, seed, jitter
+/// unused). supersample s (1..16, cube_size x s <= 512): the cube maps are rendered at
+/// cube_size x s and each texel is the mean of its s^2 sub-texels weighted by their exact
+/// solid angles (which sum to the texel's) — the texel's mean radiance to the midpoint rule,
+/// so small bright emitters between texel centres are not missed or over-counted (the
+/// rasterised counterpart of the path-traced probes' jitter). seconds: cube maps and
+/// projections (not the bake); stats.rays: CPU rays (0 on the GPU).
+ProbeGrid build_probe_grid_surface(const Scene& scene, const SurfaceRadiance& field, int n, const ProbeOptions& opt,
+                                   ProbeRaster where, int supersample = 1);
 /// Trilinear interpolation of the coefficients at p (clamped to the span of the centres).
 ShRgb interpolate(const ProbeGrid& grid, const glm::dvec3& p);
 
@@ -127,6 +204,40 @@ struct ProbeRenderOptions {
 /// (pixel jitter only; the probes' own noise is not in it). stats.seconds: shading time only.
 RadianceImage render_probes(const Scene& scene, const Camera& camera, int width, int height, const ProbeGrid& grid,
                             bool grid_includes_sun, const ProbeRenderOptions& opt);
+
+/// A frame shaded by a probe grid with one ray per pixel centre: miss -> the environment
+/// radiance; hit at p (flat normal n towards the eye, albedo a) ->
+///   L = emission of the side seen + a / pi max(0, E(p, n)),
+/// E the irradiance of the trilinear blend of the probes (no visibility weighting). The sun
+/// is not added: the scene must have none, or the grid must hold it (grid_includes_sun). On
+/// the GPU (gpu = true): the scene rasterised through EGL, the blend and
+/// gi_sh_irradiance (atmosh/gi/shared/radiosity.glsl.hpp) per fragment in float,
+/// gpu/shaders/gi_probe_shade.*; otherwise its CPU twin: Embree rays at the pixel centres, the
+/// same sum in double (interpolate(), probe_irradiance()) — they differ by float rounding
+/// except at pixels whose centre grazes an edge. bands 1..3 (InputError otherwise, and for a
+/// sun the grid does not hold); stderr_ 0; stats.seconds: the frame (GPU: upload, draw,
+/// read-back and the misses' environment; program compilation excluded).
+RadianceImage render_probes_frame(const Scene& scene, const Camera& camera, int width, int height, const ProbeGrid& grid,
+                                  bool grid_includes_sun, bool gpu);
+
+/// The GPU form of render_probes_frame kept for repeated frames (dynamic probes): the EGL
+/// context, the program (compiled, and on llvmpipe JIT-compiled at its first draw), the scene's
+/// triangles and the render target are made once; render() uploads the grid's coefficients,
+/// draws, reads back and fills the misses with the environment. Throws as render_probes_frame
+/// (InputError; gpu::Unavailable, a runtime_error, without a context).
+class ProbeFrameGpu {
+ public:
+  ProbeFrameGpu(const Scene& scene, const Camera& camera, int width, int height);
+  ~ProbeFrameGpu();
+  ProbeFrameGpu(const ProbeFrameGpu&) = delete;
+  ProbeFrameGpu& operator=(const ProbeFrameGpu&) = delete;
+  /// One frame; stats.seconds: upload, draw, read-back and the misses.
+  RadianceImage render(const ProbeGrid& grid, bool grid_includes_sun) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Error of an image against a reference of the same size, relative to the reference's mean
 /// radiance over pixels and channels (so dark pixels do not blow it up):

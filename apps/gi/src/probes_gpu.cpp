@@ -1,0 +1,298 @@
+// Radiance probes of a baked surface radiance, rasterised on the GPU (see probes.hpp,
+// "Probes of a baked surface radiance"): the sub-triangles with their per-vertex radiance
+// drawn into cube maps by gpu::render_cube_maps (gpu/shaders/gi_probe_cube.vert/.frag).
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "atmosh/error.hpp"
+#include "atmosh/gi/probes.hpp"
+#include "atmosh/parallel.hpp"
+#include "atmosh/prt/bake.hpp"
+
+#ifdef ATMOSH_GI_HAVE_GPU
+#include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/cube_raster.hpp"
+#include "atmosh/gpu/program.hpp"
+#endif
+
+namespace atmosh::gi::detail {
+
+std::vector<float> surface_cubes_gpu(const SurfaceRadiance& field, const std::vector<glm::dvec3>& positions, int n,
+                                     double near, double far, double* seconds) {
+#ifdef ATMOSH_GI_HAVE_GPU
+  gpu::CubeRasterMesh mesh;
+  const std::size_t nv = field.positions.size();
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : field.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const glm::dvec3 centre = nv > 0 ? 0.5 * (lo + hi) : glm::dvec3(0.0);
+  mesh.origin = {centre.x, centre.y, centre.z};
+  mesh.vertices.reserve(nv * gpu::kCubeRasterVertexFloats);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const glm::dvec3 p = field.positions[v] - centre;
+    for (const glm::dvec3& q : {p, field.normals[v], field.front[v], field.back[v]})
+      for (int c = 0; c < 3; ++c) mesh.vertices.push_back(static_cast<float>(q[c]));
+  }
+  mesh.indices.reserve(field.triangles.size() * 3);
+  for (const auto& t : field.triangles) mesh.indices.insert(mesh.indices.end(), t.begin(), t.end());
+  std::vector<std::array<double, 3>> centres;
+  centres.reserve(positions.size());
+  for (const auto& p : positions) centres.push_back({p.x, p.y, p.z});
+  gpu::CubeRasterOptions opt;
+  opt.size = n;
+  opt.near = near;
+  opt.far = far;
+  const gpu::Context ctx;
+  gpu::CubeRasterResult r = gpu::render_cube_maps(ctx, mesh, centres, opt);
+  if (seconds != nullptr) *seconds = r.seconds;
+  return std::move(r.texels);
+#else
+  (void)field, (void)positions, (void)n, (void)near, (void)far, (void)seconds;
+  throw InputError("gi probes: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+}  // namespace atmosh::gi::detail
+
+namespace atmosh::gi {
+
+namespace {
+struct Frame {  // the pinhole of render_receivers: pixel (row, col) looks along f + x right + y up
+  glm::dvec3 f, right, up;
+  double th = 0, aspect = 1;
+  glm::dvec3 dir(int width, int height, int row, int col) const {
+    const double x = (2.0 * (col + 0.5) / width - 1.0) * th * aspect, y = (1.0 - 2.0 * (row + 0.5) / height) * th;
+    return glm::normalize(f + x * right + y * up);
+  }
+};
+}  // namespace
+
+RadianceImage render_probes_frame(const Scene& scene, const Camera& cam, int width, int height, const ProbeGrid& grid,
+                                  bool grid_includes_sun, bool gpu) {
+  validate(scene);
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw InputError("gi probes: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  if (grid.bands < 1 || grid.bands > 3)
+    throw InputError("gi probes: a probe frame needs 1..3 bands, got " + std::to_string(grid.bands));
+  if (scene.sun && !grid_includes_sun)
+    throw InputError("gi probes: a probe frame adds no sun: the grid must hold it (include_sun)");
+  const std::size_t np_grid = static_cast<std::size_t>(grid.n) * grid.n * grid.n;
+  if (grid.n < 1 || grid.probes.size() != np_grid) throw InputError("gi probes: the grid's probe count does not match n^3");
+  for (const auto& q : grid.probes)
+    for (const auto& c : q)
+      if (c.size() != static_cast<std::size_t>(grid.bands) * grid.bands)
+        throw InputError("gi probes: a probe's coefficients do not match the grid's bands");
+  const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
+  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
+      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
+    throw InputError("gi probes: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
+  Frame fr;
+  fr.f = glm::normalize(cam.forward);
+  fr.right = glm::normalize(rx);
+  fr.up = glm::cross(fr.right, fr.f);
+  fr.th = std::tan(0.5 * cam.vertical_fov_deg * std::numbers::pi / 180);
+  fr.aspect = static_cast<double>(width) / height;
+  const std::size_t npx = static_cast<std::size_t>(width) * height;
+  RadianceImage img;
+  img.width = width;
+  img.height = height;
+  img.samples = 1;
+  for (int c = 0; c < 3; ++c) {
+    img.mean[c].assign(npx, 0.0f);
+    img.stderr_[c].assign(npx, 0.0f);
+  }
+  const auto& P = scene.mesh.positions;
+  const auto& T = scene.mesh.triangles;
+  auto tri_normal = [&](std::size_t t) {
+    const glm::dvec3 n = glm::cross(P[T[t][1]] - P[T[t][0]], P[T[t][2]] - P[T[t][0]]);
+    const double l = glm::length(n);
+    return l > 0 && std::isfinite(l) ? n / l : glm::dvec3(0, 0, 1);
+  };
+  auto emission = [&](std::size_t t, bool front) {
+    const Material& m = scene.materials[scene.material[t]];
+    return front || !m.one_sided ? m.emission : glm::dvec3(0.0);
+  };
+  auto put = [&](std::size_t i, const glm::dvec3& L) {
+    for (int c = 0; c < 3; ++c) img.mean[c][i] = static_cast<float>(L[c]);
+  };
+  if (!gpu) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const prt::RayScene rays(scene.mesh);
+    parallel_for_ranges(npx, 64, 0, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) {
+        const glm::dvec3 d = fr.dir(width, height, static_cast<int>(i / width), static_cast<int>(i % width));
+        std::uint32_t prim = 0;
+        float u = 0, v = 0;
+        double t = 0;
+        if (!rays.intersect(cam.eye, d, 0.0, prim, u, v, t)) {
+          put(i, environment_radiance(scene, d));
+          continue;
+        }
+        const glm::dvec3 p = cam.eye + t * d;
+        glm::dvec3 n = tri_normal(prim);
+        const bool front = glm::dot(n, d) < 0;
+        if (!front) n = -n;
+        const glm::dvec3 E = glm::max(probe_irradiance(interpolate(grid, p), grid.bands, n), glm::dvec3(0.0));
+        const Material& m = scene.materials[scene.material[prim]];
+        put(i, emission(prim, front) + m.albedo / std::numbers::pi * E);
+      }
+    });
+    img.stats.rays = npx;
+    img.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return img;
+  }
+  const ProbeFrameGpu frame(scene, cam, width, height);
+  return frame.render(grid, grid_includes_sun);
+}
+
+#ifdef ATMOSH_GI_HAVE_GPU
+struct ProbeFrameGpu::Impl {
+  Scene scene;
+  Frame fr;
+  int width = 0, height = 0;
+  glm::dvec3 centre{0.0};
+  gpu::Context ctx;
+  std::unique_ptr<gpu::Program> prog;
+  std::unique_ptr<gpu::MeshRaster> raster;
+};
+#else
+struct ProbeFrameGpu::Impl {};
+#endif
+
+ProbeFrameGpu::ProbeFrameGpu(const Scene& scene, const Camera& cam, int width, int height) {
+  validate(scene);
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw InputError("gi probes: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
+  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
+      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
+    throw InputError("gi probes: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
+#ifdef ATMOSH_GI_HAVE_GPU
+  impl_ = std::make_unique<Impl>();
+  Impl& m = *impl_;
+  m.scene = scene;
+  m.width = width;
+  m.height = height;
+  Frame& fr = m.fr;
+  fr.f = glm::normalize(cam.forward);
+  fr.right = glm::normalize(rx);
+  fr.up = glm::cross(fr.right, fr.f);
+  fr.th = std::tan(0.5 * cam.vertical_fov_deg * std::numbers::pi / 180);
+  fr.aspect = static_cast<double>(width) / height;
+  const auto& P = scene.mesh.positions;
+  const auto& T = scene.mesh.triangles;
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : P) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  m.centre = 0.5 * (lo + hi);
+  // Positions relative to the bounding box's centre; one vertex per triangle corner (flat data).
+  std::vector<float> vert;
+  vert.reserve(T.size() * 3 * 15);
+  std::vector<std::uint32_t> idx(T.size() * 3);
+  for (std::size_t t = 0; t < T.size(); ++t) {
+    glm::dvec3 n = glm::cross(P[T[t][1]] - P[T[t][0]], P[T[t][2]] - P[T[t][0]]);
+    const double l = glm::length(n);
+    n = l > 0 && std::isfinite(l) ? n / l : glm::dvec3(0, 0, 1);
+    const Material& mat = scene.materials[scene.material[t]];
+    const glm::dvec3 back = mat.one_sided ? glm::dvec3(0.0) : mat.emission;
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3 p = P[T[t][k]] - m.centre;
+      for (const glm::dvec3& q : {p, n, mat.albedo, mat.emission, back})
+        for (int c = 0; c < 3; ++c) vert.push_back(static_cast<float>(q[c]));
+      idx[t * 3 + k] = static_cast<std::uint32_t>(t * 3 + k);
+    }
+  }
+  // Projection (as gpu/prt.cpp): view (x, y, z) = ((p - eye).right, .up, .back), depth range the
+  // scene's bounding sphere seen from the eye.
+  const double radius = std::max(0.5 * glm::length(hi - lo), 1e-30) * 1.01;
+  const glm::dvec3 eye = cam.eye - m.centre, back = -fr.f;
+  const double dist = glm::length(eye);
+  const double near_d = std::max(dist - radius, 1e-3 * radius), far_d = dist + radius;
+  const double sx = 1.0 / (fr.th * fr.aspect), sy = 1.0 / fr.th;
+  const double a = -(far_d + near_d) / (far_d - near_d), b = -2.0 * far_d * near_d / (far_d - near_d);
+  float vp[16] = {};
+  auto set = [&](int r, int c, double v) { vp[c * 4 + r] = static_cast<float>(v); };
+  for (int c = 0; c < 3; ++c) {
+    set(0, c, sx * fr.right[c]);
+    set(1, c, sy * fr.up[c]);
+    set(2, c, a * back[c]);
+    set(3, c, -back[c]);
+  }
+  set(0, 3, -sx * glm::dot(fr.right, eye));
+  set(1, 3, -sy * glm::dot(fr.up, eye));
+  set(2, 3, -a * glm::dot(back, eye) + b);
+  set(3, 3, glm::dot(back, eye));
+  m.prog = std::make_unique<gpu::Program>(
+      std::vector<gpu::ShaderPart>{gpu::embedded_source("gpu/shaders/gi_probe_shade.vert")},
+      std::vector<gpu::ShaderPart>{gpu::embedded_source("gpu/shaders/gi_probe_shade_stubs.glsl"),
+                                   gpu::embedded_source("apps/gi/include/atmosh/gi/shared/radiosity.glsl.hpp"),
+                                   gpu::embedded_source("gpu/shaders/gi_probe_shade.frag")});
+  m.prog->use();
+  m.prog->set_mat4("view_proj", vp);
+  m.prog->set("eye", static_cast<float>(eye.x), static_cast<float>(eye.y), static_cast<float>(eye.z));
+  m.raster = std::make_unique<gpu::MeshRaster>(m.ctx, vert, std::vector<int>{3, 3, 3, 3, 3}, idx, width, height);
+#else
+  throw InputError("gi probes: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+ProbeFrameGpu::~ProbeFrameGpu() = default;
+
+RadianceImage ProbeFrameGpu::render(const ProbeGrid& grid, bool grid_includes_sun) const {
+#ifdef ATMOSH_GI_HAVE_GPU
+  const Impl& m = *impl_;
+  if (grid.bands < 1 || grid.bands > 3)
+    throw InputError("gi probes: a probe frame needs 1..3 bands, got " + std::to_string(grid.bands));
+  if (m.scene.sun && !grid_includes_sun)
+    throw InputError("gi probes: a probe frame adds no sun: the grid must hold it (include_sun)");
+  const std::size_t np_grid = static_cast<std::size_t>(grid.n) * grid.n * grid.n;
+  if (grid.n < 1 || grid.probes.size() != np_grid) throw InputError("gi probes: the grid's probe count does not match n^3");
+  for (const auto& q : grid.probes)
+    for (const auto& c : q)
+      if (c.size() != static_cast<std::size_t>(grid.bands) * grid.bands)
+        throw InputError("gi probes: a probe's coefficients do not match the grid's bands");
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<float> sh(np_grid * 27, 0.0f);
+  for (std::size_t q = 0; q < np_grid; ++q)
+    for (int c = 0; c < 3; ++c)
+      for (std::size_t i = 0; i < grid.probes[q][c].size(); ++i) sh[(q * 3 + c) * 9 + i] = static_cast<float>(grid.probes[q][c][i]);
+  m.ctx.make_current();
+  gpu::Buffer bsh(sh.size() * sizeof(float), sh.data());
+  bsh.bind(0);
+  m.prog->use();
+  const glm::dvec3 glo = grid.lo - m.centre, ghi = grid.hi - m.centre;
+  m.prog->set("grid_lo", static_cast<float>(glo.x), static_cast<float>(glo.y), static_cast<float>(glo.z));
+  m.prog->set("grid_hi", static_cast<float>(ghi.x), static_cast<float>(ghi.y), static_cast<float>(ghi.z));
+  m.prog->set("grid_n", grid.n);
+  m.prog->set("bands", grid.bands);
+  const std::vector<float> rgba = m.raster->draw(*m.prog);
+  const std::size_t npx = static_cast<std::size_t>(m.width) * m.height;
+  RadianceImage img;
+  img.width = m.width;
+  img.height = m.height;
+  img.samples = 1;
+  for (int c = 0; c < 3; ++c) {
+    img.mean[c].assign(npx, 0.0f);
+    img.stderr_[c].assign(npx, 0.0f);
+  }
+  for (std::size_t i = 0; i < npx; ++i) {
+    glm::dvec3 L;
+    if (rgba[i * 4 + 3] != 0.0f)
+      L = {rgba[i * 4], rgba[i * 4 + 1], rgba[i * 4 + 2]};
+    else
+      L = environment_radiance(m.scene, m.fr.dir(m.width, m.height, static_cast<int>(i / m.width), static_cast<int>(i % m.width)));
+    for (int c = 0; c < 3; ++c) img.mean[c][i] = static_cast<float>(L[c]);
+  }
+  img.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return img;
+#else
+  (void)grid, (void)grid_includes_sun;
+  throw InputError("gi probes: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+}  // namespace atmosh::gi

@@ -1,0 +1,49 @@
+// Radiance probes: per fragment (the surface point at the pixel centre), as
+// gi::render_probes without visibility and without a separate sun:
+//   L = L_e (the side seen) + a / pi max(0, E(p, n)),
+//   E = sum over the 8 probes around p of w_q gi_sh_irradiance(c_q, bands, n)
+// (trilinear weights, p clamped to the span of the probe centres; n the flat normal turned
+// towards the eye). Follows the block of atmosh/gi/shared/radiosity.glsl.hpp (gi_sh_irradiance).
+layout(std430, binding = 0) readonly buffer Probes { float probe_sh[]; };  // [probe][channel][9]
+uniform vec3 eye;       // relative to the same centre as the positions
+uniform vec3 grid_lo;
+uniform vec3 grid_hi;
+uniform int grid_n;
+uniform int bands;      // 1..3
+in vec3 v_position;
+in vec3 v_normal;
+in vec3 v_albedo;
+in vec3 v_emit_front;
+in vec3 v_emit_back;
+layout(location = 0) out vec4 radiance;
+
+float probe_irradiance(int probe, int channel, vec3 n) {
+  float c[9];
+  for (int i = 0; i < 9; ++i) c[i] = probe_sh[(probe * 3 + channel) * 9 + i];
+  return gi_sh_irradiance(c, bands, n);
+}
+
+void main() {
+  vec3 to_eye = eye - v_position;
+  bool front = dot(v_normal, to_eye) > 0.0;
+  vec3 n = normalize(front ? v_normal : -v_normal);
+  ivec3 i0, i1;
+  vec3 f;
+  for (int a = 0; a < 3; ++a) {
+    float ext = grid_hi[a] - grid_lo[a];
+    float x = ext > 0.0 ? (v_position[a] - grid_lo[a]) / ext * float(grid_n) - 0.5 : 0.0;
+    x = clamp(x, 0.0, float(grid_n - 1));
+    i0[a] = min(int(floor(x)), grid_n - 1);
+    i1[a] = min(i0[a] + 1, grid_n - 1);
+    f[a] = x - float(i0[a]);
+  }
+  vec3 E = vec3(0.0);
+  for (int c = 0; c < 8; ++c) {
+    ivec3 q = ivec3((c & 1) != 0 ? i1.x : i0.x, (c & 2) != 0 ? i1.y : i0.y, (c & 4) != 0 ? i1.z : i0.z);
+    float w = ((c & 1) != 0 ? f.x : 1.0 - f.x) * ((c & 2) != 0 ? f.y : 1.0 - f.y) * ((c & 4) != 0 ? f.z : 1.0 - f.z);
+    if (w == 0.0) continue;
+    int probe = (q.z * grid_n + q.y) * grid_n + q.x;
+    for (int ch = 0; ch < 3; ++ch) E[ch] += w * probe_irradiance(probe, ch, n);
+  }
+  radiance = vec4((front ? v_emit_front : v_emit_back) + v_albedo / 3.14159265358979324 * max(E, vec3(0.0)), 1.0);
+}
