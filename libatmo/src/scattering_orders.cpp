@@ -212,7 +212,7 @@ struct ScatteringOrders::Impl {
     for (int di = 0; di < 2; ++di)
       for (int dj = 0; dj < 2; ++dj)
         for (int dk = 0; dk < 2; ++dk, ++n) {
-          w[n] = (di ? c.fr : 1 - c.fr) * (dj ? c.fm : 1 - c.fm) * (dk ? s.fs : 1 - s.fs);
+          w[n] = sg::orders_corner_weight(c.fr, c.fm, s.fs, di, dj, dk);
           p[n] = tab + index(c.i0 + di, c.j0 + dj, s.k0 + dk, s.a0);
         }
   }
@@ -237,6 +237,13 @@ std::size_t ScatteringOrders::bytes() const {
 }
 
 ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteringOptions& o)
+    : ScatteringOrders(atm, o, nullptr) {}
+
+const std::vector<float>& ScatteringOrders::radiance_table() const { return impl_->sum; }
+const std::vector<float>& ScatteringOrders::ground_table() const { return impl_->esum; }
+std::vector<int> ScatteringOrders::table_size() const { return {impl_->nr, impl_->nmu, impl_->ns, impl_->na}; }
+
+ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteringOptions& o, OrdersPasses* passes)
     : impl_(std::make_unique<Impl>()) {
   validate(o);
   if (o.orders < 2) throw InputError("scattering.orders = " + std::to_string(o.orders) + ": the tables need >= 2");
@@ -437,7 +444,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
         const double v = 0.5 * (gl.nodes[z] + 1.0), mu = v * v, wmu = v * gl.weights[z];
         const Impl::RayCoord c = m.ray_coord(m.R, mu, false);
         for (int b = 0; b < nphi; ++b) {
-          const double nu = std::clamp(mu * mu_s + std::sqrt((1 - mu * mu) * (1 - mu_s * mu_s)) * cphi[b], -1.0, 1.0);
+          const double nu = sg::orders_nu(mu, mu_s, cphi[b]);
           m.interp(tab.data(), c, mu, mu_s, nu, L.data());
           for (std::size_t q = 0; q < nw; ++q) e[k * nw + q] += wmu * (2.0 * kPi / nphi) * mu * L[q];
         }
@@ -447,11 +454,62 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
   };
   std::vector<double> e_sum(static_cast<std::size_t>(m.ns) * nw, 0.0);
   std::vector<float> e_prev_log;  // E_{n-2} (log) for n > 2
+  if (passes) {  // the set-up and S_1 to the device that runs the passes
+    OrdersSetup st;
+    st.nr = m.nr, st.nmu = m.nmu, st.half = m.half, st.ns = m.ns, st.na = m.na, st.nn = nn;
+    st.nz = nz, st.nphi = nphi, st.n_ground = sph[0].n_ground, st.nw = nw;
+    st.R = m.R, st.T = m.T, st.H = m.H, st.sun_m = Impl::sun_m(), st.albedo = albedo;
+    st.sr = sr, st.sm = sm;
+    for (int i = 0; i < m.nr; ++i) {
+      const glm::dvec3 rho = atm.density(std::max(m.r_of(i) - m.R, 0.0));
+      st.rho_r.push_back(rho[kRayleigh]);
+      st.rho_m.push_back(rho[kMie]);
+      const Sphere& S = sph[static_cast<std::size_t>(i)];
+      st.sphere_mu.insert(st.sphere_mu.end(), S.mu.begin(), S.mu.end());
+      st.sphere_w.insert(st.sphere_w.end(), S.w.begin(), S.w.end());
+      st.d_ground.insert(st.d_ground.end(), S.d_ground.begin(), S.d_ground.end());
+      st.t_ground.insert(st.t_ground.end(), S.t_ground.begin(), S.t_ground.end());
+      st.Pr.insert(st.Pr.end(), S.Pr.begin(), S.Pr.end());
+      st.Pm.insert(st.Pm.end(), S.Pm.begin(), S.Pm.end());
+      for (int k = 0; k < m.ns; ++k) {  // order 2's direct sun on the ground (as the J pass)
+        const double r = m.r_of(i), mu_s = m.mus_of(k), ss = std::sqrt(std::max(0.0, 1 - mu_s * mu_s));
+        for (int z = 0; z < S.n_ground; ++z) {
+          const double snq = std::sqrt(std::max(0.0, 1 - S.mu[z] * S.mu[z]));
+          for (int b = 0; b < nphi; ++b) {
+            const double nu = sg::orders_nu_of_sines(S.mu[z], mu_s, snq, ss, cphi[b]);
+            const double mus_g = sg::orders_ground_sun_cosine(r, mu_s, S.d_ground[z], nu, m.R);
+            const LutColumn cs = mus_g > 0 ? lut.sun(m.R, std::min(mus_g, 1.0)) : LutColumn{};
+            for (std::size_t q = 0; q < nw; ++q)
+              st.sun_ground.push_back(mus_g > 0 && !cs.hits_ground ? static_cast<float>(tr(cs.column, q)) : 0.0f);
+          }
+        }
+      }
+    }
+    for (const Node* nd = nodes.data(); nd != nodes.data() + nodes.size(); ++nd) {
+      st.node.insert(st.node.end(), {nd->t, nd->r, nd->mu, nd->w});
+      st.node_coord.push_back(nd->c);
+    }
+    st.ray_t = ray_t;
+    st.ray_mu = ray_mu;
+    st.cphi = cphi;
+    st.sphi = sphi;
+    const auto gl = sh::gauss_legendre(nz);  // as ground_irradiance_of
+    for (std::size_t z = 0; z < gl.nodes.size(); ++z) {
+      const double v = 0.5 * (gl.nodes[z] + 1.0);
+      st.up_mu.push_back(v * v);
+      st.up_w.push_back(v * gl.weights[z]);
+    }
+    st.single = &prev;
+    passes->begin(st);
+  }
 
   for (int order = 2; order <= orders_; ++order) {
     // ---- J_order from I_{order-1} = S_{order-1} + the ground's light of order - 1.
     t0 = Clock::now();
-    parallel_for(static_cast<std::size_t>(m.nr) * m.ns, threads, [&](std::size_t ik) {
+    if (passes)
+      passes->density(order, e_prev_log);
+    else
+      parallel_for(static_cast<std::size_t>(m.nr) * m.ns, threads, [&](std::size_t ik) {
       const int i = static_cast<int>(ik / m.ns), k = static_cast<int>(ik % m.ns);
       const Sphere& S = sph[static_cast<std::size_t>(i)];
       const double r = m.r_of(i), mu_s = m.mus_of(k), ss = std::sqrt(std::max(0.0, 1 - mu_s * mu_s));
@@ -461,7 +519,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
         const Impl::RayCoord c = m.ray_coord(r, S.mu[z], ground);
         const double snq = std::sqrt(std::max(0.0, 1 - S.mu[z] * S.mu[z]));
         for (int b = 0; b < nphi; ++b) {
-          const double nu = std::clamp(S.mu[z] * mu_s + snq * ss * cphi[b], -1.0, 1.0);
+          const double nu = sg::orders_nu_of_sines(S.mu[z], mu_s, snq, ss, cphi[b]);
           float* Iq = &I[(static_cast<std::size_t>(z) * nphi + b) * nw];
           m.interp(prev.data(), c, S.mu[z], mu_s, nu, Iq);
           if (!ground || !(albedo > 0)) continue;
@@ -492,7 +550,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     pass_s_.push_back(since(t0));
 
     // ---- E_{order-1} from S_{order-1} (for the next order's ground, and the sky's).
-    const std::vector<double> e = ground_irradiance_of(prev);
+    const std::vector<double> e = passes ? passes->ground_irradiance() : ground_irradiance_of(prev);
     e_prev_log.assign(e.size(), 0.0f);
     for (std::size_t q = 0; q < e.size(); ++q) {
       e_prev_log[q] = to_log(e[q]);
@@ -501,7 +559,10 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
 
     // ---- S_order = int T J_order along the texels' rays.
     t0 = Clock::now();
-    parallel_for(nrays, threads, [&](std::size_t ij) {
+    if (passes)
+      passes->radiance();
+    else
+      parallel_for(nrays, threads, [&](std::size_t ij) {
       const int i = static_cast<int>(ij / m.nmu), j = static_cast<int>(ij % m.nmu);
       const double r = m.r_of(i), mu = ray_mu[ij];
       const Node* nd = &nodes[ij * nn];
@@ -541,6 +602,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     pass_s_.push_back(since(t0));
     std::swap(prev, next);
   }
+  if (passes) passes->sum(sum_lin);
   m.sum.resize(N);
   for (std::size_t q = 0; q < N; ++q) m.sum[q] = to_log(sum_lin[q]);
   m.esum.resize(e_sum.size());

@@ -8,8 +8,8 @@
 //
 // Tables [radius i][view j][sun k][azimuth a][wavelength], log of the value:
 //   radius   rho = sqrt(r^2 - R^2) = H i / (nr - 1), H = sqrt(T^2 - R^2);
-//   view     j < half: rays to the ground, uniform in their length between r - R and
-//            rho; j >= half: rays to the top, between T - r and rho + H;
+//   view     j < nh: rays to the ground, uniform in their length between r - R and
+//            rho; j >= nh: rays to the top, between T - r and rho + H;
 //   sun      u = k / (ns - 1) -> mu_s (orders_mus_of_u), m = sin(36 deg) below the horizon;
 //   azimuth  cos(phi) = 1 - 2 a / (na - 1).
 // Lookups: multilinear in (rho, view, sun, 1 - cos phi) of the logarithms, with the
@@ -83,20 +83,20 @@ ATMOSH_FN real orders_radius(int i, int nr, real R, real H) {
   return sqrt(rho * rho + R * R);
 }
 
-// View sample j (0 .. 2 half - 1) at radius r: the ray's zenith cosine and length [m].
+// View sample j (0 .. 2 nh - 1) at radius r: the ray's zenith cosine and length [m].
 struct OrdersView {
   real mu;
   real d;
 };
-ATMOSH_FN OrdersView orders_view(real r, int j, int half, real R, real T, real H) {
+ATMOSH_FN OrdersView orders_view(real r, int j, int nh, real R, real T, real H) {
   OrdersView v;
   real rho = sqrt(glm::max(r * r - R * R, real(0)));
-  if (j < half) {
-    real x = real(j) / real(half - 1), dmin = r - R, dmax = rho;
+  if (j < nh) {
+    real x = real(j) / real(nh - 1), dmin = r - R, dmax = rho;
     v.d = dmin + x * (dmax - dmin);
     v.mu = v.d == real(0) ? real(-1) : glm::clamp(-(rho * rho + v.d * v.d) / (real(2) * r * v.d), real(-1), real(1));
   } else {
-    real x = real(j - half) / real(half - 1), dmin = T - r, dmax = rho + H;
+    real x = real(j - nh) / real(nh - 1), dmin = T - r, dmax = rho + H;
     v.d = dmin + x * (dmax - dmin);
     v.mu = v.d == real(0) ? real(1) : glm::clamp((H * H - rho * rho - v.d * v.d) / (real(2) * r * v.d), real(-1), real(1));
   }
@@ -139,6 +139,16 @@ ATMOSH_FN real orders_sun_cosine_at(real r, real mu_s, real t, real nu, real rt)
   return glm::clamp((r * mu_s + t * nu) / rt, real(-1), real(1));
 }
 
+// cos(view, sun) from the zenith cosines and their sines (sn, ss) and cos(azimuth).
+ATMOSH_FN real orders_nu_of_sines(real mu, real mu_s, real sn, real ss, real cphi) {
+  return glm::clamp(mu * mu_s + sn * ss * cphi, real(-1), real(1));
+}
+// Weight of the (radius, view, sun) corner (di, dj, dk) of a lookup (the azimuth's
+// fraction is applied separately).
+ATMOSH_FN float orders_corner_weight(float fr, float fm, float fs, int di, int dj, int dk) {
+  return (di != 0 ? fr : 1.0f - fr) * (dj != 0 ? fm : 1.0f - fm) * (dk != 0 ? fs : 1.0f - fs);
+}
+
 // The sun's zenith cosine on the ground where a ray from radius r (sun mu_s, cos(view,
 // sun) nu) of length d ends (not clamped: the caller tests its sign).
 ATMOSH_FN real orders_ground_sun_cosine(real r, real mu_s, real d, real nu, real R) {
@@ -146,7 +156,7 @@ ATMOSH_FN real orders_ground_sun_cosine(real r, real mu_s, real d, real nu, real
 }
 
 // Interpolation coordinates of the radius and the view (independent of the sun).
-ATMOSH_FN OrdersRayCoord orders_ray_coord(real r, real mu, bool ground, real R, real T, real H, int nr, int half) {
+ATMOSH_FN OrdersRayCoord orders_ray_coord(real r, real mu, bool ground, real R, real T, real H, int nr, int nh) {
   OrdersRayCoord c;
   real rho = sqrt(glm::max(r * r - R * R, real(0)));
   real ur = glm::clamp(rho / H, real(0), real(1)) * real(nr - 1);
@@ -163,10 +173,10 @@ ATMOSH_FN OrdersRayCoord orders_ray_coord(real r, real mu, bool ground, real R, 
     dmax = rho + H;
   }
   real x = dmax > dmin ? glm::clamp((d - dmin) / (dmax - dmin), real(0), real(1)) : real(0);
-  real um = x * real(half - 1);
-  c.j0 = glm::min(int(um), half - 2);
+  real um = x * real(nh - 1);
+  c.j0 = glm::min(int(um), nh - 2);
   c.fm = float(um - real(c.j0));
-  if (!ground) c.j0 += half;
+  if (!ground) c.j0 += nh;
   return c;
 }
 // Sun and azimuth coordinates of a lookup (view mu, sun mu_s, cos(view, sun) nu).
@@ -238,6 +248,37 @@ ATMOSH_FN OrdersNode orders_node(real r, real mu, real d, bool ground, int K, in
 ATMOSH_FN real orders_sphere_cos(real mu, real sn, real cp, real sp, real muq, real snq, real cb, real sb) {
   return glm::clamp(mu * muq + sn * snq * (cp * cb + sp * sb), real(-1), real(1));
 }
+// The GPU build's layout (gpu/src/orders.cpp, gpu/shaders/orders_*.comp): texel index
+// of a table [i][j][k][a] (times nw for the first wavelength), binding points and the
+// parameter block (std430: doubles first, then 4-byte scalars; C++ layout the same).
+ATMOSH_FN int orders_texel(int i, int j, int k, int a, int nmu, int ns, int na) {
+  return ((i * nmu + j) * ns + k) * na + a;
+}
+#define ATMOSH_ORDERS_BIND_TAB_IN 0     // float: the table a pass reads (log) [texel][wavelength]
+#define ATMOSH_ORDERS_BIND_TAB_OUT 1    // float: the table a pass writes (log)
+#define ATMOSH_ORDERS_BIND_SUM 2        // float: sum of S_2..S_N (linear)
+#define ATMOSH_ORDERS_BIND_INCOMING 3   // float: I_{k-1} on the sphere rule [i][k][z nphi + b][wavelength]
+#define ATMOSH_ORDERS_BIND_NODES 4      // double: texel rays' nodes [ray][n] (t, r, mu, w)
+#define ATMOSH_ORDERS_BIND_COORDS 5     // OrdersRayCoord of each node [ray][n]
+#define ATMOSH_ORDERS_BIND_RAY_T 6      // float: transmittance start -> node [ray][n][wavelength]
+#define ATMOSH_ORDERS_BIND_GEOM 7       // double: the rules and coefficients (GpuOrdersParams::off_*)
+#define ATMOSH_ORDERS_BIND_PR 8         // float: Rayleigh phase matrix [i][j na + a][z nphi + b]
+#define ATMOSH_ORDERS_BIND_PM 9         // float: Mie phase matrix
+#define ATMOSH_ORDERS_BIND_GROUND_T 10  // float: t_ground [i][z][wavelength], then sun_ground
+#define ATMOSH_ORDERS_BIND_GROUND 11    // float: log E of the previous order [k][wavelength]
+#define ATMOSH_ORDERS_BIND_E_OUT 12     // float: E of the current table [k][wavelength]
+#define ATMOSH_ORDERS_BIND_PARAMS 13    // GpuOrdersParams
+#define ATMOSH_ORDERS_MAX_WAVELENGTHS 64  // per-invocation arrays
+struct GpuOrdersParams {
+  double R, T, H, sun_m, albedo;
+  int nr, nmu, nh, ns, na, nn, nz, nphi, ng, nw;
+  int order, n_items;
+  // Offsets into the double buffer (ATMOSH_ORDERS_BIND_GEOM): sphere_mu [i][nz] at 0.
+  int off_sphere_w, off_d_ground, off_cphi, off_sphi, off_up_mu, off_up_w, off_ray_mu;
+  int off_sr, off_sm, off_rho_r, off_rho_m;
+  int off_sun_ground;  // into ATMOSH_ORDERS_BIND_GROUND_T
+  int pad;
+};
 // ATMOSH_GLSL_END
 
 }  // namespace atmosh::atmo::shared

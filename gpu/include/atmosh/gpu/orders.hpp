@@ -1,0 +1,43 @@
+// atmosh/gpu/orders.hpp — the successive-orders tables (atmo::ScatteringOrders,
+// scattering_orders.hpp) built on the GPU (OpenGL 4.3 compute, headless EGL).
+//
+// atmo::ScatteringOrders computes its set-up on the CPU (the texels' rays and their
+// transmittance, the scattering density's sphere rule and phase matrices, the direct
+// sun on the ground) and the single-scattering table S_1; OrdersGpuPasses runs every
+// pass of orders 2..N on the GPU, the tables staying there between passes:
+//   orders_incoming.comp  I_{k-1} on the sphere rule (table lookup + the ground's light);
+//   orders_density.comp   J_k at every texel (the phase matrices times I_{k-1}), log;
+//   orders_ground.comp    E_{k-1}, the sky's irradiance on the ground, per sun sample;
+//   orders_radiance.comp  S_k at every texel (transmittance x J_k along its ray), log,
+//                          and the sum of the orders.
+// Each shader is assembled from shared/geometry.glsl.hpp (float and double) and
+// shared/orders.glsl.hpp (double: the tables' parametrisations, lookup coordinates,
+// blend, ray nodes), the same functions the CPU build calls, and
+// gpu/shaders/orders_lib.glsl (buffers, the per-wavelength corner loop). Positions
+// and table coordinates in double, table values and sums in float (as the CPU's
+// float tables; the CPU sums in double).
+// Agreement with the CPU tables: docs/gpu.md ("Successive orders on the GPU"), test
+// GpuOrders.*. At most 64 wavelengths (Unsupported otherwise).
+#pragma once
+
+#include <memory>
+
+#include "atmosh/atmo/atmosphere.hpp"
+#include "atmosh/atmo/scattering_orders.hpp"
+#include "atmosh/gpu/context.hpp"
+
+namespace atmosh::gpu {
+
+// Seconds of the GPU passes (compile, upload and each pass with its read-back).
+struct OrdersGpuTimes {
+  double compile_s = 0, upload_s = 0, passes_s = 0;
+};
+
+// The tables of atmo::ScatteringOrders(atmosphere, o) with the passes of orders >= 2
+// on the GPU of ctx (made current on this thread). InputError as the CPU build;
+// Unsupported (gpu/sky.hpp) for more than 64 wavelengths.
+std::unique_ptr<atmo::ScatteringOrders> build_scattering_orders(const Context& ctx, const atmo::Atmosphere& atmosphere,
+                                                                const atmo::MultipleScatteringOptions& o,
+                                                                OrdersGpuTimes* times = nullptr);
+
+}  // namespace atmosh::gpu
