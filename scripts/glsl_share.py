@@ -41,6 +41,8 @@ SHADERS = {
 ORDERS_PARTS = [SHARED + "geometry.glsl.hpp", SHARED + "orders.glsl.hpp", "gpu/shaders/orders_lib.glsl"]
 for _s in ("orders_incoming.comp", "orders_density.comp", "orders_ground.comp", "orders_radiance.comp"):
     SHADERS[_s] = ORDERS_PARTS + ["gpu/shaders/" + _s]
+# S_1: the sky parts (sun_lookup, phase_value) and the orders block (orders.cpp's single_parts).
+SHADERS["orders_single.comp"] = SKY_PARTS[:4] + [SHARED + "orders.glsl.hpp"] + SKY_PARTS[4:] + ["gpu/shaders/orders_single.comp"]
 
 
 # Macros a shader is assembled with (gpu::render_sky's Program).

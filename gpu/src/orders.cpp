@@ -5,12 +5,14 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "atmosh/atmo/shared/orders.glsl.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/gpu/program.hpp"
 #include "atmosh/gpu/sky.hpp"
+#include "sun_inputs.hpp"
 
 namespace atmosh::gpu {
 
@@ -49,11 +51,29 @@ void dispatch_items(const Program& prog, std::size_t n) {
   prog.dispatch(static_cast<unsigned>(gx), static_cast<unsigned>(gy));
 }
 
+// The S_1 pass's parts: the sky pass's (sun_lookup, phase_value) with the shared orders
+// block in double after the view-ray block.
+std::vector<ShaderPart> single_parts() {
+  std::vector<ShaderPart> parts = sky_parts("gpu/shaders/orders_single.comp");
+  const auto at = std::find_if(parts.begin(), parts.end(), [](const ShaderPart& p) {
+    return p.path == "libatmo/include/atmosh/atmo/shared/view_ray.glsl.hpp";
+  });
+  parts.insert(at + 1, embedded_source("libatmo/include/atmosh/atmo/shared/orders.glsl.hpp"));
+  return parts;
+}
+
 class OrdersGpuPasses final : public atmo::OrdersPasses {
  public:
+  bool single_on_device() const override { return true; }
+
   OrdersGpuPasses(const Context& ctx, OrdersGpuTimes* times) : ctx_(ctx), times_(times) {}
+  OrdersGpuPasses(std::shared_ptr<const Context> ctx, OrdersGpuTimes* times)
+      : own_(std::move(ctx)), ctx_(*own_), times_(times) {}
 
   void begin(const atmo::OrdersSetup& s) override {
+    if (s.nw > ATMOSH_ORDERS_MAX_WAVELENGTHS)
+      throw Unsupported("GPU orders: " + std::to_string(s.nw) + " wavelengths (at most " +
+                        std::to_string(ATMOSH_ORDERS_MAX_WAVELENGTHS) + ")");
     ctx_.make_current();
     auto t0 = Clock::now();
     incoming_ = std::make_unique<Program>(orders_parts("gpu/shaders/orders_incoming.comp"));
@@ -96,7 +116,33 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
     b_pr_ = buffer_of(s.Pr);
     b_pm_ = buffer_of(s.Pm);
     b_gt_ = buffer_of(gt);
-    b_prev_ = buffer_of(*s.single);
+    if (s.single) {
+      b_prev_ = buffer_of(*s.single);
+    } else {  // S_1 here: sky_lib.glsl's sun lookups on the build's own optical-depth tables
+      b_prev_ = std::make_unique<Buffer>(n_tab_ * sizeof(float));
+      const auto t1 = Clock::now();
+      const Program single(single_parts());
+      if (times_) times_->compile_s += since(t1);
+      const SunLookupInputs in = sun_lookup_inputs(*s.lut, *s.atmosphere);
+      const auto b_tab = buffer_of(in.tables), b_shells = buffer_of(in.shells), b_spec = buffer_of(in.spectral);
+      const auto b_sky = std::make_unique<Buffer>(sizeof(in.params), &in.params);
+      const auto b_dens = buffer_of(s.node_dens);
+      b_tab->bind(ATMOSH_BIND_TABLES);
+      b_shells->bind(ATMOSH_BIND_SHELLS);
+      b_spec->bind(ATMOSH_BIND_SPECTRAL);
+      b_sky->bind(ATMOSH_BIND_PARAMS);
+      b_nodes_->bind(7);
+      b_dens->bind(8);
+      b_geom_->bind(9);
+      b_prev_->bind(10);
+      p.n_items = static_cast<int>(n_tab_ / s.nw);
+      const Buffer b_op(sizeof(p), &p);
+      b_op.bind(11);
+      single.use();
+      check_gl("orders: S_1 set-up");
+      dispatch_items(single, n_tab_ / s.nw);
+      check_gl("orders: S_1");
+    }
     b_next_ = std::make_unique<Buffer>(n_tab_ * sizeof(float));
     b_dens_ = std::make_unique<Buffer>(n_tab_ * sizeof(float));
     b_sum_ = buffer_of(std::vector<float>(n_tab_, 0.0f));
@@ -165,6 +211,7 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
     check_gl("orders: dispatch");
   }
 
+  std::shared_ptr<const Context> own_;
   const Context& ctx_;
   OrdersGpuTimes* times_;
   sg::GpuOrdersParams p_{};
@@ -185,6 +232,11 @@ std::unique_ptr<atmo::ScatteringOrders> build_scattering_orders(const Context& c
                       std::to_string(ATMOSH_ORDERS_MAX_WAVELENGTHS) + ")");
   OrdersGpuPasses passes(ctx, times);
   return std::make_unique<atmo::ScatteringOrders>(atmosphere, o, &passes);
+}
+
+std::shared_ptr<atmo::OrdersPasses> make_orders_passes(std::shared_ptr<const Context> ctx, OrdersGpuTimes* times) {
+  if (!ctx) throw InputError("GPU orders passes: no context");
+  return std::make_shared<OrdersGpuPasses>(std::move(ctx), times);
 }
 
 }  // namespace atmosh::gpu

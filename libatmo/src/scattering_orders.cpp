@@ -237,7 +237,7 @@ std::size_t ScatteringOrders::bytes() const {
 }
 
 ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteringOptions& o)
-    : ScatteringOrders(atm, o, nullptr) {}
+    : ScatteringOrders(atm, o, o.orders_passes.get()) {}
 
 const std::vector<float>& ScatteringOrders::radiance_table() const { return impl_->sum; }
 const std::vector<float>& ScatteringOrders::ground_table() const { return impl_->esum; }
@@ -336,9 +336,11 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
   std::vector<float> sum_lin(N, 0.0f);
   auto to_log = [](double v) { return std::log(std::max(static_cast<float>(v), sg::kOrdersFloor)); };
 
-  // ---- S_1: single scattering with the phase functions.
+  // ---- S_1: single scattering with the phase functions (on the device if it does it).
   auto t0 = Clock::now();
-  parallel_for(nrays, threads, [&](std::size_t ij) {
+  const bool single_on_device = passes && passes->single_on_device();
+  if (!single_on_device)
+    parallel_for(nrays, threads, [&](std::size_t ij) {
     const int i = static_cast<int>(ij / m.nmu), j = static_cast<int>(ij % m.nmu);
     const double r = m.r_of(i), mu = ray_mu[ij];
     const Node* nd = &nodes[ij * nn];
@@ -488,7 +490,10 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     for (const Node* nd = nodes.data(); nd != nodes.data() + nodes.size(); ++nd) {
       st.node.insert(st.node.end(), {nd->t, nd->r, nd->mu, nd->w});
       st.node_coord.push_back(nd->c);
+      st.node_dens.insert(st.node_dens.end(), {nd->rho_r, nd->rho_m, nd->col[0], nd->col[1], nd->col[2]});
     }
+    st.atmosphere = &atm;
+    st.lut = &lut;
     st.ray_t = ray_t;
     st.ray_mu = ray_mu;
     st.cphi = cphi;
@@ -499,7 +504,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
       st.up_mu.push_back(v * v);
       st.up_w.push_back(v * gl.weights[z]);
     }
-    st.single = &prev;
+    st.single = single_on_device ? nullptr : &prev;
     passes->begin(st);
   }
 

@@ -24,6 +24,7 @@
 
 #include "atmosh/atmo/atmosphere.hpp"
 #include "atmosh/atmo/scattering_orders.hpp"
+#include "atmosh/atmo/shared/orders.glsl.hpp"  // ATMOSH_ORDERS_MAX_WAVELENGTHS
 #include "atmosh/gpu/context.hpp"
 
 namespace atmosh::gpu {
@@ -39,5 +40,11 @@ struct OrdersGpuTimes {
 std::unique_ptr<atmo::ScatteringOrders> build_scattering_orders(const Context& ctx, const atmo::Atmosphere& atmosphere,
                                                                 const atmo::MultipleScatteringOptions& o,
                                                                 OrdersGpuTimes* times = nullptr);
+
+// The GPU passes as a device for atmo::MultipleScatteringOptions::orders_passes (any
+// sky built with those options builds its orders tables on this GPU): they own `ctx`
+// and make it current on the thread that builds.
+std::shared_ptr<atmo::OrdersPasses> make_orders_passes(std::shared_ptr<const Context> ctx,
+                                                       OrdersGpuTimes* times = nullptr);
 
 }  // namespace atmosh::gpu

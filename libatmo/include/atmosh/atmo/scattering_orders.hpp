@@ -79,6 +79,13 @@ struct OrdersSetup {
   std::vector<shared::OrdersRayCoord> node_coord;
   std::vector<float> ray_t;
   std::vector<double> ray_mu;  // [ray]
+  // Per node [ray][n]: relative densities (Rayleigh, Mie) and the column start -> node
+  // [m] (Rayleigh, Mie, ozone): 5 values.
+  std::vector<double> node_dens;
+  // The atmosphere and its optical-depth tables (the sun's transmittance), valid during
+  // begin().
+  const Atmosphere* atmosphere = nullptr;
+  const OpticalDepthLut* lut = nullptr;
   // Sphere rule per radius: mu, w [i][nz], distance to the ground d_ground [i][n_ground],
   // transmittance to the ground t_ground [i][n_ground][wavelength]; azimuth cosines and
   // sines [nphi]; phase matrices Pr, Pm [i][(j na + a)][z nphi + b], rows normalised.
@@ -90,13 +97,17 @@ struct OrdersSetup {
   std::vector<float> sun_ground;
   // The ground irradiance's rule over the upper hemisphere: mu, weight (of d mu) [nz].
   std::vector<double> up_mu, up_w;
-  const std::vector<float>* single = nullptr;  // log S_1, [i][j][k][a][wavelength]
+  const std::vector<float>* single = nullptr;  // log S_1, [i][j][k][a][wavelength]; nullptr
+                                               // when the device computes it (single_on_device)
 };
 
 // The passes of orders >= 2 on another device. The tables stay there between passes.
 class OrdersPasses {
  public:
   virtual ~OrdersPasses() = default;
+  // True if begin() computes S_1 itself (from the nodes and the sun table); the CPU
+  // then skips its single-scattering pass.
+  virtual bool single_on_device() const { return false; }
   // Uploads the set-up; the current table S is S_1.
   virtual void begin(const OrdersSetup& setup) = 0;
   // J_order from the current S and the ground's light of order - 1 (order 2: the direct
@@ -113,7 +124,7 @@ class OrdersPasses {
 class ScatteringOrders {
  public:
   // Builds orders 2..o.orders (o.orders >= 2; InputError otherwise or for options out
-  // of range). Threads: o.threads.
+  // of range). Threads: o.threads. The passes of orders >= 2 on o.orders_passes if set.
   ScatteringOrders(const Atmosphere& atmosphere, const MultipleScatteringOptions& o);
   // The same with the passes of orders >= 2 (scattering density, radiance, ground
   // irradiance) run by `passes` (nullptr: on the CPU); the set-up and S_1 stay here.
