@@ -3,8 +3,8 @@
 //
 // atmo::ScatteringOrders computes its set-up on the CPU (the texels' rays and their
 // transmittance, the scattering density's sphere rule and phase matrices, the direct
-// sun on the ground) and the single-scattering table S_1; OrdersGpuPasses runs every
-// pass of orders 2..N on the GPU, the tables staying there between passes:
+// sun on the ground); the GPU runs every pass, the tables staying there between passes:
+//   orders_single.comp    S_1 (sky_lib.glsl's sun lookups on the build's own tables);
 //   orders_incoming.comp  I_{k-1} on the sphere rule (table lookup + the ground's light);
 //   orders_density.comp   J_k at every texel (the phase matrices times I_{k-1}), log;
 //   orders_ground.comp    E_{k-1}, the sky's irradiance on the ground, per sun sample;
@@ -13,9 +13,10 @@
 // Each shader is assembled from shared/geometry.glsl.hpp (float and double) and
 // shared/orders.glsl.hpp (double: the tables' parametrisations, lookup coordinates,
 // blend, ray nodes), the same functions the CPU build calls, and
-// gpu/shaders/orders_lib.glsl (buffers, the per-wavelength corner loop). Positions
-// and table coordinates in double, table values and sums in float (as the CPU's
-// float tables; the CPU sums in double).
+// gpu/shaders/orders_lib.glsl (buffers, the per-wavelength corner loop); S_1 from the
+// sky pass's parts (gpu::sky_parts) and the same orders block. Positions and table
+// coordinates in double, table values and sums in float (as the CPU's float tables;
+// the CPU sums in double); S_1's sun lookups take float altitudes and cosines.
 // Agreement with the CPU tables: docs/gpu.md ("Successive orders on the GPU"), test
 // GpuOrders.*. At most 64 wavelengths (Unsupported otherwise).
 #pragma once
@@ -29,7 +30,8 @@
 
 namespace atmosh::gpu {
 
-// Seconds of the GPU passes (compile, upload and each pass with its read-back).
+// Seconds of the GPU passes: compile (the programs; llvmpipe JITs at the first dispatch),
+// upload (with S_1), passes of orders >= 2 with their read-backs.
 struct OrdersGpuTimes {
   double compile_s = 0, upload_s = 0, passes_s = 0;
 };
