@@ -127,7 +127,8 @@ class ScatteringOrders {
   // of range). Threads: o.threads. The passes of orders >= 2 on o.orders_passes if set.
   ScatteringOrders(const Atmosphere& atmosphere, const MultipleScatteringOptions& o);
   // The same with the passes of orders >= 2 (scattering density, radiance, ground
-  // irradiance) run by `passes` (nullptr: on the CPU); the set-up and S_1 stay here.
+  // irradiance), and S_1 if passes->single_on_device(), run by `passes` (nullptr: on
+  // the CPU); the set-up stays here.
   ScatteringOrders(const Atmosphere& atmosphere, const MultipleScatteringOptions& o, OrdersPasses* passes);
   ~ScatteringOrders();
 
