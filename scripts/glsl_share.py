@@ -37,6 +37,12 @@ SHADERS = {
     "view_ray_check.comp": SKY_PARTS + ["gpu/shaders/view_ray_check.comp"],
     "shared_check.comp": [SHARED + "geometry.glsl.hpp", SHARED + "lut.glsl.hpp", "gpu/shaders/shared_check.comp"],
 }
+# The successive-orders passes (gpu::build_scattering_orders's orders_parts in gpu/src/orders.cpp).
+ORDERS_PARTS = [SHARED + "geometry.glsl.hpp", SHARED + "orders.glsl.hpp", "gpu/shaders/orders_lib.glsl"]
+for _s in ("orders_incoming.comp", "orders_density.comp", "orders_ground.comp", "orders_radiance.comp"):
+    SHADERS[_s] = ORDERS_PARTS + ["gpu/shaders/" + _s]
+# S_1: the sky parts (sun_lookup, phase_value) and the orders block (orders.cpp's single_parts).
+SHADERS["orders_single.comp"] = SKY_PARTS[:4] + [SHARED + "orders.glsl.hpp"] + SKY_PARTS[4:] + ["gpu/shaders/orders_single.comp"]
 
 
 # Macros a shader is assembled with (gpu::render_sky's Program).

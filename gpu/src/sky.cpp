@@ -16,6 +16,7 @@
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/gpu/program.hpp"
+#include "sun_inputs.hpp"
 #include "atmosh/parallel.hpp"
 #include "atmosh/sh/quadrature.hpp"
 
@@ -561,6 +562,42 @@ std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepth
   }
   if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+// ---- The sun lookups' inputs for another table (gpu/src/sun_inputs.hpp): SkyInputs'
+// fields that sun_lookup and phase_value read, for `lut` (built for `atm`).
+SunLookupInputs sun_lookup_inputs(const atmo::OpticalDepthLut& lut, const atmo::Atmosphere& atm) {
+  SunLookupInputs in;
+  Params& p = in.params;
+  set_constituents(p, atm);
+  const int nw = static_cast<int>(atm.wavelengths_nm().size());
+  p.nw = nw;
+  int off_ground = 0;
+  in.tables = lut_tables_from_cpu(lut, atm, off_ground, p.off_sun);
+  p.n_sun = lut.options().sun_directions;
+  in.shells = lut.shell_rho();
+  in.shells.insert(in.shells.end(), lut.shell_inverse_denominators().begin(), lut.shell_inverse_denominators().end());
+  p.n_shells = static_cast<int>(lut.shell_rho().size());
+  if (atm.has(atmo::kOzone))
+    p.ozone = linear_nodes(atmo::PiecewiseLinearColumn(atm.profile(atmo::kOzone), atm.ground_radius()));
+  for (int c = 0; c < 2; ++c) {
+    p.sub[c] = linear_nodes(lut.subtracted(c));
+    p.subq[c] = ramps(lut.subtracted_curvature(c), 0.0);
+    const auto ps = phase_spec(atm, c);
+    p.phase_model[c] = phase_code(ps.model);
+    p.phase_p[4 * c] = static_cast<float>(ps.model == atmo::PhaseSpec::Model::Rayleigh ? ps.depolarization : ps.g);
+    p.phase_p[4 * c + 1] = static_cast<float>(ps.g2);
+    p.phase_p[4 * c + 2] = static_cast<float>(ps.weight);
+  }
+  in.spectral.assign(static_cast<std::size_t>(7 * nw), 0.0f);
+  for (int i = 0; i < nw; ++i) {
+    const auto& k = atm.coefficients(static_cast<std::size_t>(i));
+    for (int c = 0; c < 3; ++c) {
+      in.spectral[sg::sky_spectral(c, nw, i)] = static_cast<float>(atm.has(c) ? k.extinction[c] : 0.0);
+      in.spectral[sg::sky_spectral(3 + c, nw, i)] = static_cast<float>(atm.has(c) ? k.scattering[c] : 0.0);
+    }
+  }
+  return in;
 }
 
 }  // namespace atmosh::gpu

@@ -10,6 +10,7 @@
 #include "atmosh/atmo/optical_depth.hpp"
 #include "atmosh/atmo/phase.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/atmo/shared/orders.glsl.hpp"
 #include "atmosh/dispatch.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/parallel.hpp"
@@ -22,8 +23,7 @@ namespace sg = shared;
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kElevationMin = -36.0 * kPi / 180.0;  // lowest tabulated sun elevation
-constexpr float kFloor = 1e-30f;                       // values below are stored as this, read as 0
-constexpr float kLogFloor = -69.07755279f;       // log(kFloor)
+// Values below sg::kOrdersFloor are stored as it, read as 0 (sg::orders_log_visible).
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
@@ -64,12 +64,7 @@ void zenith_rule(double R, double r, int n, std::vector<double>& mu, std::vector
 //   c(V) = (V / 2) / (1 + (V / kSpreadV0)^2),  at most kSpreadV0 / 4 (+2.5 %).
 // kSpreadV0 = 0.1 (corners within a factor ~1.9 of each other at mid-cell are
 // corrected fully).
-constexpr float kSpreadV0 = 0.1f;
-inline float spread_correction(float V) {
-  if (!(V > 0)) return 0.0f;
-  const float x = V / kSpreadV0;
-  return 0.5f * V / (1.0f + x * x);
-}
+// (sg::orders_spread_correction, sg::orders_blend_log: shared/orders.glsl.hpp.)
 
 namespace {
 // exp of the weighted mean of 16 corners' logarithms plus the spread correction, into
@@ -113,9 +108,8 @@ ATMOSH_DISPATCH void blend_log_corners(std::size_t nw, const float* const* p, co
   }
   for (q = 0; q < nw; ++q) {
     const float l = ref[q] + acc[q];
-    const float V0 = acc2[q] - acc[q] * acc[q], V = V0 > 0.0f ? V0 : 0.0f, x = V / kSpreadV0;
-    const float v = exp_neg_f(-(l + 0.5f * V / (1.0f + x * x)));
-    out[q] = l > kLogFloor + 0.7f ? v : 0.0f;
+    const float v = exp_neg_f(-sg::orders_blend_log(ref[q], acc[q], acc2[q]));
+    out[q] = sg::orders_log_visible(l) ? v : 0.0f;
   }
 }
 
@@ -165,101 +159,41 @@ struct ScatteringOrders::Impl {
   std::size_t index(int i, int j, int k, int a) const {
     return ((((static_cast<std::size_t>(i) * nmu + j) * ns + k) * na + a) * nw);
   }
-  double r_of(int i) const {
-    const double rho = H * i / (nr - 1);
-    return std::sqrt(rho * rho + R * R);
-  }
+  double r_of(int i) const { return sg::orders_radius(i, nr, R, H); }
   // View sample j at radius r: its cosine and the ray's length.
   void mu_of(double r, int j, double& mu, double& d) const {
-    const double rho = std::sqrt(std::max(r * r - R * R, 0.0));
-    if (j < half) {
-      const double x = double(j) / (half - 1), dmin = r - R, dmax = rho;
-      d = dmin + x * (dmax - dmin);
-      mu = d == 0 ? -1.0 : std::clamp(-(rho * rho + d * d) / (2.0 * r * d), -1.0, 1.0);
-    } else {
-      const double x = double(j - half) / (half - 1), dmin = T - r, dmax = rho + H;
-      d = dmin + x * (dmax - dmin);
-      mu = d == 0 ? 1.0 : std::clamp((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
-    }
+    const sg::OrdersView v = sg::orders_view(r, j, half, R, T, H);
+    mu = v.mu;
+    d = v.d;
   }
   // Sun coordinate u in [0, 1]: u0 = m / (1 + m) at the horizon (m = -sin(min
   // elevation)); on each side x in [-1, 1] and mu_s = s x (a + (1 - a)|x|) (s = m
   // below, 1 above, a = 0.3): ~6x denser near the horizon than uniform in mu_s, where
   // the light changes fastest (the terminator).
-  static constexpr double kA = 0.3;
+  // (sg::orders_mus_of_u, sg::orders_u_of_mus with m = -sin(kElevationMin).)
   double mus_of(int k) const { return mus_of_u(double(k) / (ns - 1)); }
-  static double mus_of_u(double u) {
-    const double m = -std::sin(kElevationMin), u0 = m / (1.0 + m);
-    if (u < u0) {
-      const double x = (u0 - u) / u0;
-      return -m * x * (kA + (1.0 - kA) * x);
-    }
-    const double x = (u - u0) / (1.0 - u0);
-    return x * (kA + (1.0 - kA) * x);
-  }
-  static double u_of_mus(double mu_s) {
-    const double m = -std::sin(kElevationMin), u0 = m / (1.0 + m);
-    const double v = mu_s < 0 ? std::min(-mu_s / m, 1.0) : std::min(mu_s, 1.0);
-    const double x = (-kA + std::sqrt(kA * kA + 4.0 * (1.0 - kA) * v)) / (2.0 * (1.0 - kA));
-    return mu_s < 0 ? u0 * (1.0 - x) : u0 + (1.0 - u0) * x;
-  }
+  static double sun_m() { return -std::sin(kElevationMin); }
+  static double mus_of_u(double u) { return sg::orders_mus_of_u(u, sun_m()); }
+  static double u_of_mus(double mu_s) { return sg::orders_u_of_mus(mu_s, sun_m()); }
   // Azimuth samples uniform in cos(phi): t = (1 - cos phi) / 2 in [0, 1]. In twilight
   // the sky about the sun's vertical plane is close to log L = A + B cos phi (tens of
   // times brighter toward the sun than away from it), which this coordinate
   // interpolates exactly where a uniform phi grid (its previous form) bends it: with 8
   // azimuths the uniform phi grid put orders N = 4 7-14 % low at sun -9 deg, this one
   // within -5.4 ... +2.3 % (docs/radiative-transfer.md, "Twilight").
-  static double t_of_cphi(double cphi) { return 0.5 * (1.0 - cphi); }
-  double phi_of(int a) const { return std::acos(std::clamp(1.0 - 2.0 * a / (na - 1), -1.0, 1.0)); }
-  static double nu_of(double mu, double mu_s, double phi) {
-    return std::clamp(mu * mu_s + std::sqrt(std::max(0.0, (1 - mu * mu) * (1 - mu_s * mu_s))) * std::cos(phi), -1.0,
-                      1.0);
-  }
+  // (t = (1 - cos phi) / 2: sg::orders_sun_coord.)
+  double phi_of(int a) const { return std::acos(sg::orders_azimuth_cos(a, na)); }
+  static double nu_of(double mu, double mu_s, double phi) { return sg::orders_nu(mu, mu_s, std::cos(phi)); }
 
-  // Interpolation coordinates of the radius and the view (independent of the sun).
-  struct RayCoord {
-    int i0 = 0, j0 = 0;
-    float fr = 0, fm = 0;
-  };
+  // Interpolation coordinates of the radius and the view (independent of the sun), and
+  // of the sun and the azimuth (the rest of the corners' position).
+  using RayCoord = sg::OrdersRayCoord;
+  using SunCoord = sg::OrdersSunCoord;
   RayCoord ray_coord(double r, double mu, bool ground) const {
-    RayCoord c;
-    const double rho = std::sqrt(std::max(r * r - R * R, 0.0));
-    const double ur = std::clamp(rho / H, 0.0, 1.0) * (nr - 1);
-    c.i0 = std::min(static_cast<int>(ur), nr - 2);
-    c.fr = static_cast<float>(ur - c.i0);
-    double d, dmin, dmax;
-    if (ground) {
-      d = std::max(sg::distance_to_ground(r, mu, R), 0.0);
-      dmin = r - R;
-      dmax = rho;
-    } else {
-      d = std::max(sg::distance_to_top(r, mu, T), 0.0);
-      dmin = T - r;
-      dmax = rho + H;
-    }
-    const double x = dmax > dmin ? std::clamp((d - dmin) / (dmax - dmin), 0.0, 1.0) : 0.0;
-    const double um = x * (half - 1);
-    c.j0 = std::min(static_cast<int>(um), half - 2);
-    c.fm = static_cast<float>(um - c.j0);
-    if (!ground) c.j0 += half;
-    return c;
+    return sg::orders_ray_coord(r, mu, ground, R, T, H, nr, half);
   }
-  // Sun and azimuth coordinates of a lookup (the rest of the corners' position).
-  struct SunCoord {
-    int k0 = 0, a0 = 0;
-    float fs = 0, fa = 0;
-  };
   SunCoord sun_coord(double mu, double mu_s, double nu) const {
-    SunCoord s;
-    const double us = u_of_mus(mu_s) * (ns - 1);
-    s.k0 = std::min(static_cast<int>(us), ns - 2);
-    s.fs = static_cast<float>(us - s.k0);
-    const double den = std::sqrt(std::max(0.0, (1 - mu * mu) * (1 - mu_s * mu_s)));
-    const double cphi = den > 1e-9 ? std::clamp((nu - mu * mu_s) / den, -1.0, 1.0) : 1.0;
-    const double ua = t_of_cphi(cphi) * (na - 1);
-    s.a0 = std::min(static_cast<int>(ua), na - 2);
-    s.fa = static_cast<float>(ua - s.a0);
-    return s;
+    return sg::orders_sun_coord(mu, mu_s, nu, ns, na, sun_m());
   }
   // exp of the multilinear interpolation of a log table into out[0..nw).
   void interp(const float* tab, const RayCoord& c, double mu, double mu_s, double nu, float* out) const {
@@ -278,19 +212,19 @@ struct ScatteringOrders::Impl {
     for (int di = 0; di < 2; ++di)
       for (int dj = 0; dj < 2; ++dj)
         for (int dk = 0; dk < 2; ++dk, ++n) {
-          w[n] = (di ? c.fr : 1 - c.fr) * (dj ? c.fm : 1 - c.fm) * (dk ? s.fs : 1 - s.fs);
+          w[n] = sg::orders_corner_weight(c.fr, c.fm, s.fs, di, dj, dk);
           p[n] = tab + index(c.i0 + di, c.j0 + dj, s.k0 + dk, s.a0);
         }
   }
   // Ground irradiance table (log, [mu_s sample][wavelength]) at mu_s.
   void interp_ground(const std::vector<float>& e, double mu_s, float* out) const {
-    const double us = u_of_mus(mu_s) * (ns - 1);
-    const int k0 = std::min(static_cast<int>(us), ns - 2);
-    const float fs = static_cast<float>(us - k0);
+    const sg::OrdersSunCoord c = sg::orders_ground_coord(mu_s, ns, sun_m());
+    const int k0 = c.k0;
+    const float fs = c.fs;
     for (std::size_t q = 0; q < nw; ++q) {
       const float a = e[k0 * nw + q], b = e[(k0 + 1) * nw + q];
-      const float v = (1 - fs) * a + fs * b;
-      out[q] = v > kLogFloor + 0.7f ? std::exp(v + spread_correction(fs * (1 - fs) * (b - a) * (b - a))) : 0.0f;
+      const float v = sg::orders_ground_log(a, b, fs);
+      out[q] = sg::orders_log_visible(v) ? std::exp(sg::orders_ground_log_corrected(a, b, fs)) : 0.0f;
     }
   }
 };
@@ -303,6 +237,13 @@ std::size_t ScatteringOrders::bytes() const {
 }
 
 ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteringOptions& o)
+    : ScatteringOrders(atm, o, o.orders_passes.get()) {}
+
+const std::vector<float>& ScatteringOrders::radiance_table() const { return impl_->sum; }
+const std::vector<float>& ScatteringOrders::ground_table() const { return impl_->esum; }
+std::vector<int> ScatteringOrders::table_size() const { return {impl_->nr, impl_->nmu, impl_->ns, impl_->na}; }
+
+ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteringOptions& o, OrdersPasses* passes)
     : impl_(std::make_unique<Impl>()) {
   validate(o);
   if (o.orders < 2) throw InputError("scattering.orders = " + std::to_string(o.orders) + ": the tables need >= 2");
@@ -364,28 +305,12 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     const bool ground = j < m.half;
     Node* nd = &nodes[ij * nn];
     // Steps gathered toward the densest point: the tangent point (rays to the top
-    // that dip first), the ground, or the start.
-    const double st = -r * mu;
+    // that dip first), the ground, or the start (sg::orders_node).
     for (int k = 0; k < nn; ++k) {
-      const double u = double(k) / K;
-      double t;
-      if (!ground && mu < 0 && st > 0 && st < d) {  // two pieces around the tangent point
-        const int k_t = K / 2;
-        if (k <= k_t) {
-          const double v = double(k) / k_t;
-          t = st * (1.0 - std::pow(1.0 - v, 1.5));
-        } else {
-          const double v = double(k - k_t) / (K - k_t);
-          t = st + (d - st) * v * std::sqrt(v);
-        }
-      } else if (ground) {
-        t = d * (1.0 - std::pow(1.0 - u, 1.5));
-      } else {
-        t = d * u * std::sqrt(u);
-      }
-      nd[k].t = t;
-      nd[k].r = (ground && k == K) ? m.R : std::max(sg::radius_along(r, mu, t), m.R);
-      nd[k].mu = sg::mu_along(r, mu, t, nd[k].r);
+      const sg::OrdersNode q = sg::orders_node(r, mu, d, ground, K, k, m.R);
+      nd[k].t = q.t;
+      nd[k].r = q.r;
+      nd[k].mu = q.mu;
       const glm::dvec3 rho = atm.density(std::max(nd[k].r - m.R, 0.0));
       nd[k].rho_r = rho[kRayleigh];
       nd[k].rho_m = rho[kMie];
@@ -409,11 +334,13 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
   const std::size_t N = m.texels() * nw;
   std::vector<float> prev(N), next(N), dens(N);
   std::vector<float> sum_lin(N, 0.0f);
-  auto to_log = [](double v) { return std::log(std::max(static_cast<float>(v), kFloor)); };
+  auto to_log = [](double v) { return std::log(std::max(static_cast<float>(v), sg::kOrdersFloor)); };
 
-  // ---- S_1: single scattering with the phase functions.
+  // ---- S_1: single scattering with the phase functions (on the device if it does it).
   auto t0 = Clock::now();
-  parallel_for(nrays, threads, [&](std::size_t ij) {
+  const bool single_on_device = passes && passes->single_on_device();
+  if (!single_on_device)
+    parallel_for(nrays, threads, [&](std::size_t ij) {
     const int i = static_cast<int>(ij / m.nmu), j = static_cast<int>(ij % m.nmu);
     const double r = m.r_of(i), mu = ray_mu[ij];
     const Node* nd = &nodes[ij * nn];
@@ -431,7 +358,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
       if (!(nd[n].w > 0)) continue;
       const auto sun_at = lut.sun_at(nd[n].r);
       for (std::size_t ka = 0; ka < nka; ++ka) {
-        const double mus_y = std::clamp((r * mus[ka] + nd[n].t * nu[ka]) / nd[n].r, -1.0, 1.0);
+        const double mus_y = sg::orders_sun_cosine_at(r, mus[ka], nd[n].t, nu[ka], nd[n].r);
         const LutColumn c = sun_at(mus_y);
         if (c.hits_ground) continue;
         const glm::dvec3 x = nd[n].col + c.column;
@@ -482,7 +409,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
         for (int z = 0; z < nz; ++z) {
           const double snq = std::sqrt(std::max(0.0, 1 - S.mu[z] * S.mu[z]));
           for (int b = 0; b < nphi; ++b) {
-            const double c = std::clamp(mu * S.mu[z] + sn * snq * (cp * cphi[b] + sp * sphi[b]), -1.0, 1.0);
+            const double c = sg::orders_sphere_cos(mu, sn, cp, sp, S.mu[z], snq, cphi[b], sphi[b]);
             const double wq = S.w[z] * 2.0 * kPi / nphi;
             const double vr = wq * pr.value(c), vm = wq * pm.value(c);
             S.Pr[row + z * nphi + b] = static_cast<float>(vr);
@@ -519,7 +446,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
         const double v = 0.5 * (gl.nodes[z] + 1.0), mu = v * v, wmu = v * gl.weights[z];
         const Impl::RayCoord c = m.ray_coord(m.R, mu, false);
         for (int b = 0; b < nphi; ++b) {
-          const double nu = std::clamp(mu * mu_s + std::sqrt((1 - mu * mu) * (1 - mu_s * mu_s)) * cphi[b], -1.0, 1.0);
+          const double nu = sg::orders_nu(mu, mu_s, cphi[b]);
           m.interp(tab.data(), c, mu, mu_s, nu, L.data());
           for (std::size_t q = 0; q < nw; ++q) e[k * nw + q] += wmu * (2.0 * kPi / nphi) * mu * L[q];
         }
@@ -529,11 +456,65 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
   };
   std::vector<double> e_sum(static_cast<std::size_t>(m.ns) * nw, 0.0);
   std::vector<float> e_prev_log;  // E_{n-2} (log) for n > 2
+  if (passes) {  // the set-up and S_1 to the device that runs the passes
+    OrdersSetup st;
+    st.nr = m.nr, st.nmu = m.nmu, st.half = m.half, st.ns = m.ns, st.na = m.na, st.nn = nn;
+    st.nz = nz, st.nphi = nphi, st.n_ground = sph[0].n_ground, st.nw = nw;
+    st.R = m.R, st.T = m.T, st.H = m.H, st.sun_m = Impl::sun_m(), st.albedo = albedo;
+    st.sr = sr, st.sm = sm;
+    for (int i = 0; i < m.nr; ++i) {
+      const glm::dvec3 rho = atm.density(std::max(m.r_of(i) - m.R, 0.0));
+      st.rho_r.push_back(rho[kRayleigh]);
+      st.rho_m.push_back(rho[kMie]);
+      const Sphere& S = sph[static_cast<std::size_t>(i)];
+      st.sphere_mu.insert(st.sphere_mu.end(), S.mu.begin(), S.mu.end());
+      st.sphere_w.insert(st.sphere_w.end(), S.w.begin(), S.w.end());
+      st.d_ground.insert(st.d_ground.end(), S.d_ground.begin(), S.d_ground.end());
+      st.t_ground.insert(st.t_ground.end(), S.t_ground.begin(), S.t_ground.end());
+      st.Pr.insert(st.Pr.end(), S.Pr.begin(), S.Pr.end());
+      st.Pm.insert(st.Pm.end(), S.Pm.begin(), S.Pm.end());
+      for (int k = 0; k < m.ns; ++k) {  // order 2's direct sun on the ground (as the J pass)
+        const double r = m.r_of(i), mu_s = m.mus_of(k), ss = std::sqrt(std::max(0.0, 1 - mu_s * mu_s));
+        for (int z = 0; z < S.n_ground; ++z) {
+          const double snq = std::sqrt(std::max(0.0, 1 - S.mu[z] * S.mu[z]));
+          for (int b = 0; b < nphi; ++b) {
+            const double nu = sg::orders_nu_of_sines(S.mu[z], mu_s, snq, ss, cphi[b]);
+            const double mus_g = sg::orders_ground_sun_cosine(r, mu_s, S.d_ground[z], nu, m.R);
+            const LutColumn cs = mus_g > 0 ? lut.sun(m.R, std::min(mus_g, 1.0)) : LutColumn{};
+            for (std::size_t q = 0; q < nw; ++q)
+              st.sun_ground.push_back(mus_g > 0 && !cs.hits_ground ? static_cast<float>(tr(cs.column, q)) : 0.0f);
+          }
+        }
+      }
+    }
+    for (const Node* nd = nodes.data(); nd != nodes.data() + nodes.size(); ++nd) {
+      st.node.insert(st.node.end(), {nd->t, nd->r, nd->mu, nd->w});
+      st.node_coord.push_back(nd->c);
+      st.node_dens.insert(st.node_dens.end(), {nd->rho_r, nd->rho_m, nd->col[0], nd->col[1], nd->col[2]});
+    }
+    st.atmosphere = &atm;
+    st.lut = &lut;
+    st.ray_t = ray_t;
+    st.ray_mu = ray_mu;
+    st.cphi = cphi;
+    st.sphi = sphi;
+    const auto gl = sh::gauss_legendre(nz);  // as ground_irradiance_of
+    for (std::size_t z = 0; z < gl.nodes.size(); ++z) {
+      const double v = 0.5 * (gl.nodes[z] + 1.0);
+      st.up_mu.push_back(v * v);
+      st.up_w.push_back(v * gl.weights[z]);
+    }
+    st.single = single_on_device ? nullptr : &prev;
+    passes->begin(st);
+  }
 
   for (int order = 2; order <= orders_; ++order) {
     // ---- J_order from I_{order-1} = S_{order-1} + the ground's light of order - 1.
     t0 = Clock::now();
-    parallel_for(static_cast<std::size_t>(m.nr) * m.ns, threads, [&](std::size_t ik) {
+    if (passes)
+      passes->density(order, e_prev_log);
+    else
+      parallel_for(static_cast<std::size_t>(m.nr) * m.ns, threads, [&](std::size_t ik) {
       const int i = static_cast<int>(ik / m.ns), k = static_cast<int>(ik % m.ns);
       const Sphere& S = sph[static_cast<std::size_t>(i)];
       const double r = m.r_of(i), mu_s = m.mus_of(k), ss = std::sqrt(std::max(0.0, 1 - mu_s * mu_s));
@@ -543,11 +524,11 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
         const Impl::RayCoord c = m.ray_coord(r, S.mu[z], ground);
         const double snq = std::sqrt(std::max(0.0, 1 - S.mu[z] * S.mu[z]));
         for (int b = 0; b < nphi; ++b) {
-          const double nu = std::clamp(S.mu[z] * mu_s + snq * ss * cphi[b], -1.0, 1.0);
+          const double nu = sg::orders_nu_of_sines(S.mu[z], mu_s, snq, ss, cphi[b]);
           float* Iq = &I[(static_cast<std::size_t>(z) * nphi + b) * nw];
           m.interp(prev.data(), c, S.mu[z], mu_s, nu, Iq);
           if (!ground || !(albedo > 0)) continue;
-          const double mus_g = (r * mu_s + S.d_ground[z] * nu) / m.R;
+          const double mus_g = sg::orders_ground_sun_cosine(r, mu_s, S.d_ground[z], nu, m.R);
           if (order == 2) {  // the direct sun on the ground
             if (!(mus_g > 0)) continue;
             const LutColumn cs = lut.sun(m.R, std::min(mus_g, 1.0));
@@ -574,7 +555,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     pass_s_.push_back(since(t0));
 
     // ---- E_{order-1} from S_{order-1} (for the next order's ground, and the sky's).
-    const std::vector<double> e = ground_irradiance_of(prev);
+    const std::vector<double> e = passes ? passes->ground_irradiance() : ground_irradiance_of(prev);
     e_prev_log.assign(e.size(), 0.0f);
     for (std::size_t q = 0; q < e.size(); ++q) {
       e_prev_log[q] = to_log(e[q]);
@@ -583,7 +564,10 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
 
     // ---- S_order = int T J_order along the texels' rays.
     t0 = Clock::now();
-    parallel_for(nrays, threads, [&](std::size_t ij) {
+    if (passes)
+      passes->radiance();
+    else
+      parallel_for(nrays, threads, [&](std::size_t ij) {
       const int i = static_cast<int>(ij / m.nmu), j = static_cast<int>(ij % m.nmu);
       const double r = m.r_of(i), mu = ray_mu[ij];
       const Node* nd = &nodes[ij * nn];
@@ -603,7 +587,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
         if (!(nd[n].w > 0)) continue;
         const float* Tn = T + static_cast<std::size_t>(n) * nw;
         for (std::size_t ka = 0; ka < nka; ++ka) {
-          const double mus_y = std::clamp((r * mus[ka] + nd[n].t * nu[ka]) / nd[n].r, -1.0, 1.0);
+          const double mus_y = sg::orders_sun_cosine_at(r, mus[ka], nd[n].t, nu[ka], nd[n].r);
           const Impl::SunCoord sc = m.sun_coord(nd[n].mu, mus_y, nu[ka]);
           m.corners(dens.data(), nd[n].c, sc, p, w);
           blend_log_corners_acc(nw, p, w, sc.fa, nd[n].w, Tn, &acc[ka * nw]);
@@ -623,6 +607,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     pass_s_.push_back(since(t0));
     std::swap(prev, next);
   }
+  if (passes) passes->sum(sum_lin);
   m.sum.resize(N);
   for (std::size_t q = 0; q < N; ++q) m.sum[q] = to_log(sum_lin[q]);
   m.esum.resize(e_sum.size());

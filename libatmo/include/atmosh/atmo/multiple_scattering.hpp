@@ -53,6 +53,7 @@ namespace atmosh::atmo {
 
 class Atmosphere;
 class OpticalDepthLut;
+class OrdersPasses;  // scattering_orders.hpp
 
 enum class ScatteringMethod { Single, Orders, Approximate };
 // "single", "orders", "approximate".
@@ -82,6 +83,9 @@ struct MultipleScatteringOptions {
   int orders_sphere_azimuth = 12;   // and azimuths over [0, 2 pi), >= 4
   int orders_ray_steps = 24;        // steps per ray of the in-scattered radiance, >= 4
   int threads = 0;                  // table builds (0..1024; 0 = the CPUs this process may use)
+  // orders: the device that runs the passes of orders >= 2 (nullptr: the CPU), e.g. the
+  // GPU's (gpu::make_orders_passes, gpu/orders.hpp). Used only while tables are built.
+  std::shared_ptr<OrdersPasses> orders_passes;
 };
 // InputError naming the option (as "scattering.<name>") for values out of range.
 void validate(const MultipleScatteringOptions& o);

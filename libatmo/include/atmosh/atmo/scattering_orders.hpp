@@ -52,14 +52,84 @@
 
 namespace atmosh::atmo {
 
+namespace shared {
+struct OrdersRayCoord;  // shared/orders.glsl.hpp (complete where OrdersSetup is built or read)
+}
 class Atmosphere;
 class OpticalDepthLut;
+
+// The build's set-up as the CPU computes it, handed to OrdersPasses (the passes of
+// orders >= 2 on another device, gpu::OrdersGpuPasses): sizes, coefficients, the
+// texels' rays and their nodes, the scattering density's sphere rule and phase
+// matrices, and the single-scattering table S_1. Layouts as in scattering_orders.cpp.
+struct OrdersSetup {
+  int nr = 0, nmu = 0, half = 0, ns = 0, na = 0;  // table sizes
+  int nn = 0;                                     // nodes per texel ray (orders_ray_steps + 1)
+  int nz = 0, nphi = 0, n_ground = 0;             // sphere rule: zenith cosines (the first n_ground
+                                                  // toward the ground), azimuths
+  std::size_t nw = 0;
+  double R = 0, T = 0, H = 0;
+  double sun_m = 0;   // -sin(lowest tabulated sun elevation): sg::orders_mus_of_u's m
+  double albedo = 0;  // ground
+  std::vector<double> sr, sm;  // scattering coefficients [1/m] at the ground, [wavelength]
+  std::vector<double> rho_r, rho_m;  // relative densities at the radius samples [i]
+  // Texel rays [ray = i nmu + j][node n]: (t, r, mu, w) [m, m, -, m], their lookup
+  // coordinates, and the transmittance start -> node [ray][n][wavelength].
+  std::vector<double> node;
+  std::vector<shared::OrdersRayCoord> node_coord;
+  std::vector<float> ray_t;
+  std::vector<double> ray_mu;  // [ray]
+  // Per node [ray][n]: relative densities (Rayleigh, Mie) and the column start -> node
+  // [m] (Rayleigh, Mie, ozone): 5 values.
+  std::vector<double> node_dens;
+  // The atmosphere and its optical-depth tables (the sun's transmittance), valid during
+  // begin().
+  const Atmosphere* atmosphere = nullptr;
+  const OpticalDepthLut* lut = nullptr;
+  // Sphere rule per radius: mu, w [i][nz], distance to the ground d_ground [i][n_ground],
+  // transmittance to the ground t_ground [i][n_ground][wavelength]; azimuth cosines and
+  // sines [nphi]; phase matrices Pr, Pm [i][(j na + a)][z nphi + b], rows normalised.
+  std::vector<double> sphere_mu, sphere_w, d_ground, cphi, sphi;
+  std::vector<float> t_ground, Pr, Pm;
+  // Order 2's ground: the direct sun's transmittance at the ground point of each
+  // ground-bound sphere direction, [i][k][z < n_ground][b][wavelength] (0: sun below
+  // the horizon there).
+  std::vector<float> sun_ground;
+  // The ground irradiance's rule over the upper hemisphere: mu, weight (of d mu) [nz].
+  std::vector<double> up_mu, up_w;
+  const std::vector<float>* single = nullptr;  // log S_1, [i][j][k][a][wavelength]; nullptr
+                                               // when the device computes it (single_on_device)
+};
+
+// The passes of orders >= 2 on another device. The tables stay there between passes.
+class OrdersPasses {
+ public:
+  virtual ~OrdersPasses() = default;
+  // True if begin() computes S_1 itself (from the nodes and the sun table); the CPU
+  // then skips its single-scattering pass.
+  virtual bool single_on_device() const { return false; }
+  // Uploads the set-up; the current table S is S_1.
+  virtual void begin(const OrdersSetup& setup) = 0;
+  // J_order from the current S and the ground's light of order - 1 (order 2: the direct
+  // sun, setup.sun_ground; later: e_prev_log, log E_{order-2}... as the CPU: [k][wavelength]).
+  virtual void density(int order, const std::vector<float>& e_prev_log) = 0;
+  // E of the current S at every tabulated sun direction, [k][wavelength].
+  virtual std::vector<double> ground_irradiance() = 0;
+  // S_order from J_order: the current S becomes it, and it is added to the sum.
+  virtual void radiance() = 0;
+  // The sum of S_2..S_N (linear), [texel][wavelength].
+  virtual void sum(std::vector<float>& sum_lin) = 0;
+};
 
 class ScatteringOrders {
  public:
   // Builds orders 2..o.orders (o.orders >= 2; InputError otherwise or for options out
-  // of range). Threads: o.threads.
+  // of range). Threads: o.threads. The passes of orders >= 2 on o.orders_passes if set.
   ScatteringOrders(const Atmosphere& atmosphere, const MultipleScatteringOptions& o);
+  // The same with the passes of orders >= 2 (scattering density, radiance, ground
+  // irradiance), and S_1 if passes->single_on_device(), run by `passes` (nullptr: on
+  // the CPU); the set-up stays here.
+  ScatteringOrders(const Atmosphere& atmosphere, const MultipleScatteringOptions& o, OrdersPasses* passes);
   ~ScatteringOrders();
 
   // Radiance of orders 2..N [1/sr per unit solar irradiance] along the ray from
@@ -79,6 +149,12 @@ class ScatteringOrders {
   // Time of each pass: [0] the single-scattering table, then per order k >= 2 the
   // scattering density and the radiance (2 (k - 1) - 1 and 2 (k - 1)).
   const std::vector<double>& pass_times_s() const { return pass_s_; }
+  // The tables as stored: log of sum_{k=2..N} S_k [i][j][k][a][wavelength] (sizes:
+  // table_size) and log of sum_{k=1..N-1} E_k [k][wavelength].
+  const std::vector<float>& radiance_table() const;
+  const std::vector<float>& ground_table() const;
+  // nr, nmu, ns, na.
+  std::vector<int> table_size() const;
 
   struct Impl;
 

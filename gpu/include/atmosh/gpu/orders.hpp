@@ -1,0 +1,52 @@
+// atmosh/gpu/orders.hpp — the successive-orders tables (atmo::ScatteringOrders,
+// scattering_orders.hpp) built on the GPU (OpenGL 4.3 compute, headless EGL).
+//
+// atmo::ScatteringOrders computes its set-up on the CPU (the texels' rays and their
+// transmittance, the scattering density's sphere rule and phase matrices, the direct
+// sun on the ground); the GPU runs every pass, the tables staying there between passes:
+//   orders_single.comp    S_1 (sky_lib.glsl's sun lookups on the build's own tables);
+//   orders_incoming.comp  I_{k-1} on the sphere rule (table lookup + the ground's light);
+//   orders_density.comp   J_k at every texel (the phase matrices times I_{k-1}), log;
+//   orders_ground.comp    E_{k-1}, the sky's irradiance on the ground, per sun sample;
+//   orders_radiance.comp  S_k at every texel (transmittance x J_k along its ray), log,
+//                          and the sum of the orders.
+// Each shader is assembled from shared/geometry.glsl.hpp (float and double) and
+// shared/orders.glsl.hpp (double: the tables' parametrisations, lookup coordinates,
+// blend, ray nodes), the same functions the CPU build calls, and
+// gpu/shaders/orders_lib.glsl (buffers, the per-wavelength corner loop); S_1 from the
+// sky pass's parts (gpu::sky_parts) and the same orders block. Positions and table
+// coordinates in double, table values and sums in float (as the CPU's float tables;
+// the CPU sums in double); S_1's sun lookups take float altitudes and cosines.
+// Agreement with the CPU tables: docs/gpu.md ("Successive orders on the GPU"), test
+// GpuOrders.*. At most 64 wavelengths (Unsupported otherwise).
+#pragma once
+
+#include <memory>
+
+#include "atmosh/atmo/atmosphere.hpp"
+#include "atmosh/atmo/scattering_orders.hpp"
+#include "atmosh/atmo/shared/orders.glsl.hpp"  // ATMOSH_ORDERS_MAX_WAVELENGTHS
+#include "atmosh/gpu/context.hpp"
+
+namespace atmosh::gpu {
+
+// Seconds of the GPU passes: compile (the programs; llvmpipe JITs at the first dispatch),
+// upload (with S_1), passes of orders >= 2 with their read-backs.
+struct OrdersGpuTimes {
+  double compile_s = 0, upload_s = 0, passes_s = 0;
+};
+
+// The tables of atmo::ScatteringOrders(atmosphere, o) with the passes of orders >= 2
+// on the GPU of ctx (made current on this thread). InputError as the CPU build;
+// Unsupported (gpu/sky.hpp) for more than 64 wavelengths.
+std::unique_ptr<atmo::ScatteringOrders> build_scattering_orders(const Context& ctx, const atmo::Atmosphere& atmosphere,
+                                                                const atmo::MultipleScatteringOptions& o,
+                                                                OrdersGpuTimes* times = nullptr);
+
+// The GPU passes as a device for atmo::MultipleScatteringOptions::orders_passes (any
+// sky built with those options builds its orders tables on this GPU): they own `ctx`
+// and make it current on the thread that builds.
+std::shared_ptr<atmo::OrdersPasses> make_orders_passes(std::shared_ptr<const Context> ctx,
+                                                       OrdersGpuTimes* times = nullptr);
+
+}  // namespace atmosh::gpu
