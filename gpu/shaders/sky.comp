@@ -1,8 +1,12 @@
-// Single-scattering sky radiance, one invocation per pixel: SkyIntegrator::radiance
-// (libatmo/src/sky.cpp) through the same shared code (shared/view_ray.glsl.hpp: the
-// ray's set-up, its cuts, the walk along it, the node's terms; shared/scatter.glsl.hpp:
-// the integrand), on the inputs of sky_lib.glsl. Assembled with ATMOSH_SKY_TRACE defined.
+// Sky radiance, one invocation per pixel: SkyIntegrator::radiance (libatmo/src/sky.cpp)
+// through the same shared code (shared/view_ray.glsl.hpp: the ray's set-up, its cuts,
+// the walk along it, the node's terms; shared/scatter.glsl.hpp: the integrand;
+// shared/ms_approx.glsl.hpp: the all-orders multiple-scattering table's lookup and
+// term, where params.ms_altitudes > 0), on the inputs of sky_lib.glsl. Assembled with
+// ATMOSH_SKY_TRACE defined.
 layout(local_size_x = ATMOSH_ITEM_GROUP_SIZE) in;
+
+layout(std430, binding = ATMOSH_BIND_MS_TABLE) readonly buffer MsTable { float ms_tab[]; };
 
 // The pixel's state that sky_visit adds to (GLSL has no closures).
 SkyViewRay g_ray;
@@ -18,10 +22,23 @@ float tau_at(int i, vec3 x) {
                               x[0], x[1], x[2]);
 }
 
-// SkyIntegrator::shade's node: the sun column (none in the Earth's shadow) and the
+// SkyIntegrator::add_ms_node: sigma_s Psi_ms T(observer, node) w at every wavelength,
+// Psi_ms interpolated (log-bilinear) at the node's radius and sun cosine mus.
+#define MS_TABLE(k) ms_tab[k]
+#define MS_ADD(i, psi) g_acc[i] += ms_sky_term(exp(-tau_at(i, vec3(nd.column))), psi, \
+    spec[sky_spectral(3, params.nw, i)], spec[sky_spectral(4, params.nw, i)], float(nd.rho[0] * nd.w), float(nd.rho[1] * nd.w));
+void add_ms_node(SkyViewNode nd, double mus) {
+  ATMOSH_MS_LOOKUP(double, float, nd.r, mus, params.ground_radius_d, params.top_radius_d - params.ground_radius_d,
+                   params.ms_altitudes, params.ms_suns, min(params.nw, kMaxWavelengths), MS_TABLE, MS_ADD);
+}
+
+// SkyIntegrator::shade's node: the multiple-scattering term (every node, those in the
+// Earth's shadow included), the sun column (none in the Earth's shadow) and the
 // integrand at every wavelength.
 void sky_visit(SkyViewNode nd) {
-  float mus = float(sky_node_sun_cosine(g_ray, nd));
+  double mus_d = sky_node_sun_cosine(g_ray, nd);
+  if (params.ms_altitudes > 0) add_ms_node(nd, mus_d);
+  float mus = float(mus_d);
   vec4 to_sun = sun_lookup(float(sky_altitude(nd.r, params.ground_radius_d)), mus);
   if (to_sun.w > 0.5) return;
   SkyNodeTerms t = sky_node_terms(nd, dvec3(to_sun.xyz), double(g_p_ray), double(g_p_mie));
