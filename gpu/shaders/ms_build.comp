@@ -54,7 +54,7 @@ void main() {
   if (item >= params.n_items) return;
   int ns = params.ms_suns, a = item / ns, s = item - a * ns, steps = params.ms_steps;
   int nz = params.ms_zenith, n_lo = ms_zenith_below(nz), n_hi = nz - n_lo;
-  nw = min(params.nw, kMaxWavelengths);
+  nw = params.nw;  // <= kMaxWavelengths (host); a bound of 64 would unroll every loop over it
   naz = params.ms_azimuths;
   double R = params.ground_radius_d, T = params.top_radius_d, w_z;
   r = R + ms_row_altitude(a, params.ms_altitudes, T - R);

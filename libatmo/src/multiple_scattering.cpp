@@ -326,13 +326,14 @@ MultipleScatteringLut::MultipleScatteringLut(const Atmosphere& atmosphere, const
 }
 
 void MultipleScatteringLut::psi(double r, double mu_s, double* out) const {
-  using namespace sg;  // the macro's functions (sky.comp's lookup too)
-  const int nw = static_cast<int>(nw_);
-#define ATMOSH_MS_TABLE(k) table_[static_cast<std::size_t>(k)]
-#define ATMOSH_MS_OUT(i, psi) out[i] = (psi);
-  ATMOSH_MS_LOOKUP(double, double, r, mu_s, R_, top_, na_, ns_, nw, ATMOSH_MS_TABLE, ATMOSH_MS_OUT)
-#undef ATMOSH_MS_OUT
-#undef ATMOSH_MS_TABLE
+  // The shared lookup (sky.comp's too).
+  const double ua = sg::ms_altitude_index(r, R_, top_, na_), us = sg::ms_sun_index(mu_s, ns_);
+  const int a0 = sg::ms_cell_start(ua, na_), s0 = sg::ms_cell_start(us, ns_);
+  const double fa = ua - double(a0), fs = us - double(s0);
+  const double* p00 = &table_[(static_cast<std::size_t>(a0) * ns_ + s0) * nw_];
+  const double* p10 = p00 + static_cast<std::size_t>(ns_) * nw_;
+  for (std::size_t i = 0; i < nw_; ++i)
+    out[i] = sg::ms_psi_of_log(sg::ms_log_bilinear(fa, fs, p00[i], p00[nw_ + i], p10[i], p10[nw_ + i]));
 }
 
 std::vector<double> MultipleScatteringLut::psi_direct(const Atmosphere& atmosphere, const OpticalDepthLut& sun,

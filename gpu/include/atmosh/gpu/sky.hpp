@@ -10,7 +10,10 @@
 // (shared/geometry.glsl.hpp), the table lookup (shared/lut.glsl.hpp) and the
 // view-ray cuts (shared/view_ray.glsl.hpp) taken from the shared headers at
 // build time. Pixel directions come from
-// atmo::sky_pixel_direction.
+// atmo::sky_pixel_direction. With ScatteringMethod::Approximate it adds, at every node,
+// the all-orders multiple-scattering term of atmo::MultipleScatteringLut's table (the
+// integrator's, uploaded as float, or built by gpu/shaders/ms_build.comp), looked up
+// through shared/ms_approx.glsl.hpp as on the CPU; ScatteringMethod::Orders is CPU-only.
 //
 // Precision: float, except positions along the view ray and its cuts, and the sun
 // lookups' ray geometry and table interpolation (double; float radii would put ~0.5 m

@@ -85,24 +85,6 @@ ATMOSH_FN real ms_log_bilinear(real fa, real fs, real l00, real l01, real l10, r
   return w00 * l00 + w01 * l01 + w10 * l10 + w11 * l11;
 }
 
-// The lookup: Psi [1/sr] at radius r and sun zenith cosine mu_s (coordinates in REAL, the
-// interpolation of the logarithms in LREAL), wavelengths 0..nw of a
-// table of na x ns entries (ground radius R, height top), read through TABLE(k) (k the
-// index of an entry's first wavelength, [altitude][sun][wavelength]), each passed as
-// STORE(i, psi). (A macro over accessors: a std::vector on the CPU, a storage buffer on
-// the GPU.)
-#define ATMOSH_MS_LOOKUP(REAL, LREAL, r, mu_s, R, top, na, ns, nw, TABLE, STORE)                      \
-  {                                                                                          \
-    REAL ms_ua_ = ms_altitude_index(r, R, top, na), ms_us_ = ms_sun_index(mu_s, ns);         \
-    int ms_a0_ = ms_cell_start(ms_ua_, na), ms_s0_ = ms_cell_start(ms_us_, ns);              \
-    LREAL ms_fa_ = LREAL(ms_ua_ - REAL(ms_a0_)), ms_fs_ = LREAL(ms_us_ - REAL(ms_s0_));      \
-    int ms_p00_ = (ms_a0_ * (ns) + ms_s0_) * (nw), ms_p10_ = ms_p00_ + (ns) * (nw);          \
-    for (int ms_i_ = 0; ms_i_ < (nw); ++ms_i_)                                               \
-      STORE(ms_i_, ms_psi_of_log(ms_log_bilinear(ms_fa_, ms_fs_, TABLE(ms_p00_ + ms_i_),     \
-                                                 TABLE(ms_p00_ + (nw) + ms_i_), TABLE(ms_p10_ + ms_i_), \
-                                                 TABLE(ms_p10_ + (nw) + ms_i_))));           \
-  }
-
 // ---- an entry: the sphere rule ----
 
 // Cosine of the horizon seen from radius r above a ground of radius R (<= 0).
