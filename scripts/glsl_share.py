@@ -28,10 +28,12 @@ import sys
 
 SHARED = "libatmo/include/atmosh/atmo/shared/"
 SKY_PARTS = [SHARED + "geometry.glsl.hpp", SHARED + "lut.glsl.hpp", SHARED + "scatter.glsl.hpp",
-             SHARED + "view_ray.glsl.hpp", SHARED + "sky_params.glsl.hpp", "gpu/shaders/sky_lib.glsl"]
+             SHARED + "ms_approx.glsl.hpp", SHARED + "view_ray.glsl.hpp", SHARED + "sky_params.glsl.hpp",
+             "gpu/shaders/sky_lib.glsl"]
 SHADERS = {
     "sky.comp": SKY_PARTS + ["gpu/shaders/sky.comp"],  # assembled with ATMOSH_SKY_TRACE (DEFINES)
     "lut_build.comp": SKY_PARTS + ["gpu/shaders/lut_build.comp"],
+    "ms_build.comp": SKY_PARTS + ["gpu/shaders/ms_build.comp"],
     "sun_lookup.comp": SKY_PARTS + ["gpu/shaders/sun_lookup.comp"],
     "ozone_check.comp": SKY_PARTS + ["gpu/shaders/ozone_check.comp"],
     "view_ray_check.comp": SKY_PARTS + ["gpu/shaders/view_ray_check.comp"],

@@ -1,8 +1,12 @@
-// Single-scattering sky radiance, one invocation per pixel: SkyIntegrator::radiance
-// (libatmo/src/sky.cpp) through the same shared code (shared/view_ray.glsl.hpp: the
-// ray's set-up, its cuts, the walk along it, the node's terms; shared/scatter.glsl.hpp:
-// the integrand), on the inputs of sky_lib.glsl. Assembled with ATMOSH_SKY_TRACE defined.
+// Sky radiance, one invocation per pixel: SkyIntegrator::radiance (libatmo/src/sky.cpp)
+// through the same shared code (shared/view_ray.glsl.hpp: the ray's set-up, its cuts,
+// the walk along it, the node's terms; shared/scatter.glsl.hpp: the integrand;
+// shared/ms_approx.glsl.hpp: the all-orders multiple-scattering table's lookup and
+// term, where params.ms_altitudes > 0), on the inputs of sky_lib.glsl. Assembled with
+// ATMOSH_SKY_TRACE defined.
 layout(local_size_x = ATMOSH_ITEM_GROUP_SIZE) in;
+
+layout(std430, binding = ATMOSH_BIND_MS_TABLE) readonly buffer MsTable { float ms_tab[]; };
 
 // The pixel's state that sky_visit adds to (GLSL has no closures).
 SkyViewRay g_ray;
@@ -18,16 +22,31 @@ float tau_at(int i, vec3 x) {
                               x[0], x[1], x[2]);
 }
 
-// SkyIntegrator::shade's node: the sun column (none in the Earth's shadow) and the
-// integrand at every wavelength.
+// SkyIntegrator::shade's node, in one loop over the wavelengths (one loop keeps llvmpipe's
+// compilation short): the multiple-scattering term at every node, those in the Earth's
+// shadow included (SkyIntegrator::add_ms_node: sigma_s Psi_ms T(observer, node) w, Psi_ms
+// interpolated log-bilinearly at the node's radius and sun cosine), and where the sun is
+// not in the Earth's shadow the single-scattering integrand.
 void sky_visit(SkyViewNode nd) {
-  float mus = float(sky_node_sun_cosine(g_ray, nd));
-  vec4 to_sun = sun_lookup(float(sky_altitude(nd.r, params.ground_radius_d)), mus);
-  if (to_sun.w > 0.5) return;
+  double mus = sky_node_sun_cosine(g_ray, nd), top = params.top_radius_d - params.ground_radius_d;
+  vec4 to_sun = sun_lookup(float(sky_altitude(nd.r, params.ground_radius_d)), float(mus));
+  bool lit = to_sun.w < 0.5, ms = params.ms_altitudes > 0;
+  if (!lit && !ms) return;
   SkyNodeTerms t = sky_node_terms(nd, dvec3(to_sun.xyz), double(g_p_ray), double(g_p_mie));
-  for (int i = 0; i < min(params.nw, kMaxWavelengths); ++i)
-    g_acc[i] += scattering_term(exp(-tau_at(i, vec3(t.x[0], t.x[1], t.x[2]))), spec[sky_spectral(3, params.nw, i)],
-                                spec[sky_spectral(4, params.nw, i)], t.sr, t.sm);
+  int na = max(params.ms_altitudes, 2), ns = max(params.ms_suns, 2), nw = params.nw;  // nw <= kMaxWavelengths
+  double ua = ms_altitude_index(nd.r, params.ground_radius_d, top, na), us = ms_sun_index(mus, ns);
+  int a0 = ms_cell_start(ua, na), s0 = ms_cell_start(us, ns), p00 = (a0 * ns + s0) * nw, p10 = p00 + ns * nw;
+  float fa = float(ua - double(a0)), fs = float(us - double(s0)), rr = float(nd.rho[0] * nd.w), rm = float(nd.rho[1] * nd.w);
+  for (int i = 0; i < nw; ++i) {
+    if (lit)
+      g_acc[i] += scattering_term(exp(-tau_at(i, vec3(t.x[0], t.x[1], t.x[2]))), spec[sky_spectral(3, nw, i)],
+                                  spec[sky_spectral(4, nw, i)], t.sr, t.sm);
+    if (ms)
+      g_acc[i] += ms_sky_term(exp(-tau_at(i, vec3(nd.column))),
+                              ms_psi_of_log(ms_log_bilinear(fa, fs, ms_tab[p00 + i], ms_tab[p00 + nw + i], ms_tab[p10 + i],
+                                                            ms_tab[p10 + nw + i])),
+                              spec[sky_spectral(3, nw, i)], spec[sky_spectral(4, nw, i)], rr, rm);
+  }
 }
 
 void main() {

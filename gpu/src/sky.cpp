@@ -12,6 +12,7 @@
 #include "atmosh/atmo/colour.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
+#include "atmosh/atmo/shared/ms_approx.glsl.hpp"
 #include "atmosh/atmo/shared/sky_params.glsl.hpp"
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/error.hpp"
@@ -41,7 +42,8 @@ static_assert(sizeof(sg::GpuLinearNodes) == 4 * (3 * sg::kMaxLinearNodes + 1));
 static_assert(sizeof(sg::GpuRamps) == 4 * (2 * sg::kMaxLinearNodes + 1));
 static_assert(offsetof(Params, ozone) == offsetof(Params, albedo) + 4);
 static_assert(offsetof(Params, n_items) == offsetof(Params, build_ramps) + 3 * sizeof(sg::GpuRamps));
-static_assert(sizeof(Params) == offsetof(Params, log_encoded) + 3 * sizeof(int));
+static_assert(offsetof(Params, ms_altitudes) == offsetof(Params, log_encoded) + 3 * sizeof(int));
+static_assert(sizeof(Params) == offsetof(Params, ms_unused) + sizeof(int));
 
 // Closed-form column at lookup (OpticalDepthLut: piecewise-linear profiles with
 // few nodes), else interpolated from the tables.
@@ -158,13 +160,16 @@ std::vector<ShaderPart> sky_parts(const std::string& main_shader) {
   const ShaderPart lut = embedded_source("libatmo/include/atmosh/atmo/shared/lut.glsl.hpp");
   const ShaderPart scatter = embedded_source("libatmo/include/atmosh/atmo/shared/scatter.glsl.hpp");
   const ShaderPart geometry = embedded_source("libatmo/include/atmosh/atmo/shared/geometry.glsl.hpp");
+  const ShaderPart ms = embedded_source("libatmo/include/atmosh/atmo/shared/ms_approx.glsl.hpp");
   return {geometry,
           lut,
           scatter,
+          ms,
           real_type_part("double"),
           geometry,  // its ray geometry again, in double (the rest is pasted once)
           lut,
           scatter,
+          ms,
           embedded_source("libatmo/include/atmosh/atmo/shared/view_ray.glsl.hpp"),
           embedded_source("libatmo/include/atmosh/atmo/shared/sky_params.glsl.hpp"),
           embedded_source("gpu/shaders/sky_lib.glsl"),
@@ -232,13 +237,21 @@ class SkyInputs {
     b_tab_->bind(ATMOSH_BIND_TABLES);
     b_shell_->bind(ATMOSH_BIND_NODES);
     b_spec_->bind(ATMOSH_BIND_SPECTRAL);
+    if (b_ms_) b_ms_->bind(ATMOSH_BIND_MS_TABLE);
+  }
+  // The multiple-scattering table the sky pass adds (log Psi, [altitude][sun][wavelength]),
+  // `altitudes` x `suns` entries; none: single scattering.
+  void set_ms_table(const std::vector<float>& t, int altitudes, int suns) {
+    b_ms_ = std::make_unique<Buffer>(t.size() * sizeof(float), t.data());
+    p_.ms_altitudes = altitudes;
+    p_.ms_suns = suns;
   }
   // The parameter block describing these inputs (the pass adds its own fields).
   const Params& params() const { return p_; }
 
  private:
   Params p_{};
-  std::unique_ptr<Buffer> b_tab_, b_shell_, b_spec_, b_shell_d_;
+  std::unique_ptr<Buffer> b_tab_, b_shell_, b_spec_, b_shell_d_, b_ms_;
 };
 
 // The constituents' fields of the parameter block common to the sky and table passes.
@@ -333,6 +346,8 @@ SkyInputs::SkyInputs(const Context& ctx, const atmo::SkyIntegrator& sky, bool gp
   b_shell_ = std::make_unique<Buffer>(shells.size() * sizeof(float), shells.data());
   b_spec_ = std::make_unique<Buffer>(spec.size() * sizeof(float), spec.data());
   b_shell_d_ = std::make_unique<Buffer>(shells_d.size() * sizeof(double), shells_d.data());
+  const float none = 0.0f;  // never an unbound buffer: the sky pass declares the table
+  b_ms_ = std::make_unique<Buffer>(sizeof(float), &none);
 }
 
 // Work groups for n items, as (gx, gy) within the per-dimension limit (shared
@@ -343,14 +358,66 @@ void dispatch_items(const Program& prog, std::size_t n) {
   prog.dispatch(static_cast<unsigned>(gx), static_cast<unsigned>(std::max<std::size_t>(gy, 1)));
 }
 
+// The multiple-scattering table on the GPU (ms_build.comp) from the inputs' sun table:
+// one invocation per entry, every wavelength; [entry][wavelength] log Psi.
+std::vector<float> ms_table_on_gpu(const SkyInputs& inputs, const atmo::MultipleScatteringOptions& o) {
+  atmo::validate(o);
+  static const std::vector<ShaderPart> parts = sky_parts("gpu/shaders/ms_build.comp");
+  Program prog(parts);
+  // The zenith rule's Gauss-Legendre nodes, below then above the horizon (as the CPU).
+  const int n_lo = sg::ms_zenith_below(o.ms_zenith_directions), n_hi = o.ms_zenith_directions - n_lo;
+  std::vector<double> rule;
+  for (int n : {n_lo, n_hi}) {
+    const auto gl = sh::gauss_legendre(n);
+    rule.insert(rule.end(), gl.nodes.begin(), gl.nodes.end());
+    rule.insert(rule.end(), gl.weights.begin(), gl.weights.end());
+  }
+  Params params = inputs.params();
+  const std::size_t entries = static_cast<std::size_t>(o.ms_altitudes) * o.ms_sun_directions;
+  params.n_items = static_cast<int>(entries);
+  params.ms_altitudes = o.ms_altitudes;
+  params.ms_suns = o.ms_sun_directions;
+  params.ms_zenith = o.ms_zenith_directions;
+  params.ms_azimuths = o.ms_azimuth_directions;
+  params.ms_steps = o.ms_ray_steps;
+  Buffer b_rule(rule.size() * sizeof(double), rule.data()),
+      b_out(entries * static_cast<std::size_t>(params.nw) * sizeof(float));
+  inputs.bind();
+  b_rule.bind(ATMOSH_BIND_RULE);
+  b_out.bind(ATMOSH_BIND_TABLE_OUT);
+  const auto b_params = bind_params(params);
+  check_gl("multiple-scattering table parameters");
+  dispatch_items(prog, entries);
+  std::vector<float> t(entries * static_cast<std::size_t>(params.nw));
+  b_out.download(t.data(), t.size() * sizeof(float));
+  return t;
+}
+
 }  // namespace
+
+std::vector<float> build_ms_table(const Context& ctx, const atmo::SkyIntegrator& sky, bool gpu_tables, double* seconds) {
+  const std::string why = sky_unsupported_reason(sky);
+  if (!why.empty()) throw Unsupported("GPU multiple-scattering table: " + why);
+  ctx.make_current();
+  const auto t0 = std::chrono::steady_clock::now();
+  const SkyInputs inputs(ctx, sky, gpu_tables);
+  std::vector<float> t = ms_table_on_gpu(inputs, sky.options().scattering);
+  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return t;
+}
+
+std::vector<float> ms_table_from_cpu(const atmo::MultipleScatteringLut& lut) {
+  std::vector<float> t(lut.log_table().size());
+  for (std::size_t k = 0; k < t.size(); ++k) t[k] = static_cast<float>(lut.log_table()[k]);
+  return t;
+}
 
 atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, atmo::SkyProjection projection,
                           int width, int height, double altitude_m, const glm::dvec3& sun, bool keep_spectral,
                           bool gpu_tables) {
   if (width < 1 || height < 1 || width > 65536 || height > 65536)
     throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
-  if (sky.method() != atmo::ScatteringMethod::Single)  // the shaders compute single scattering
+  if (sky.method() == atmo::ScatteringMethod::Orders)  // single scattering, or with the all-orders table
     throw Unsupported(std::string("GPU sky: scattering method '") + atmo::scattering_method_name(sky.method()) + "'");
   const std::string why = sky_unsupported_reason(sky);
   if (!why.empty()) throw Unsupported("GPU sky: " + why);
@@ -363,7 +430,13 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
 
   static const std::vector<ShaderPart> parts = sky_parts("gpu/shaders/sky.comp");
   Program prog(parts, "#define ATMOSH_SKY_TRACE 1\n");  // the shared walk along the ray with sky.comp's hooks
-  const SkyInputs inputs(ctx, sky, gpu_tables);
+  SkyInputs inputs(ctx, sky, gpu_tables);
+  if (sky.method() == atmo::ScatteringMethod::Approximate) {
+    // The integrator's table (it builds one anyway), or the same table built on the GPU.
+    const auto& mo = sky.options().scattering;
+    inputs.set_ms_table(gpu_tables || !sky.ms_lut() ? ms_table_on_gpu(inputs, mo) : ms_table_from_cpu(*sky.ms_lut()),
+                        mo.ms_altitudes, mo.ms_sun_directions);
+  }
 
   // Pixel directions (the CPU projection).
   const std::size_t n = static_cast<std::size_t>(width) * height;

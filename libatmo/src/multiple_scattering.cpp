@@ -10,6 +10,8 @@
 #include "atmosh/atmo/optical_depth.hpp"
 #include "atmosh/atmo/phase.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
+#include "atmosh/atmo/shared/ms_approx.glsl.hpp"
+#include "atmosh/atmo/shared/scatter.glsl.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/parallel.hpp"
 #include "atmosh/sh/quadrature.hpp"
@@ -78,20 +80,10 @@ void validate(const MultipleScatteringOptions& o) {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// The table's sun coordinate: x = 2u - 1 in [-1, 1], mu_s = x (a + (1 - a)|x|) with
-// a = 1/4: four times denser near the horizon (mu_s = 0) than uniform, where Psi
-// changes fastest (the terminator), and the inverse.
-constexpr double kSunA = 0.25;
-double ms_sun_cosine(double u) {
-  const double x = 2.0 * u - 1.0;
-  return x * (kSunA + (1.0 - kSunA) * std::fabs(x));
-}
-double ms_sun_coordinate(double mu_s) {
-  const double m = std::fabs(mu_s);
-  const double x = (-kSunA + std::sqrt(kSunA * kSunA + 4.0 * (1.0 - kSunA) * m)) / (2.0 * (1.0 - kSunA));
-  return 0.5 * (1.0 + std::copysign(x, mu_s));
-}
-constexpr double kPsiFloor = 1e-200;  // [1/sr]: below, Psi is stored as this (and read as 0)
+// The table's coordinates, the sphere rule, the steps and the entry's terms:
+// shared/ms_approx.glsl.hpp (the GPU's ms_build.comp and sky.comp use the same code).
+// The sun coordinate is four times denser near the horizon (mu_s = 0) than uniform,
+// where Psi changes fastest (the terminator).
 
 // Everything an entry of the table needs, independent of the entry.
 struct PsiSetup {
@@ -101,6 +93,8 @@ struct PsiSetup {
   std::vector<double> er, em, eo, sr, sm;  // [wavelength] extinction and scattering [1/m]
   PhaseFunction pr, pm;
   int zenith_n = 0;  // zenith cosines of the sphere rule (zenith_rule)
+  int zenith_lo = 0, zenith_hi = 0;  // below and above the horizon
+  std::vector<double> zenith_gl;     // their Gauss-Legendre rules: x_lo, w_lo, x_hi, w_hi
   std::vector<double> cos_phi, sin_phi;
   double w_phi = 0;               // weight of one azimuth (mirrored)
   int steps = 0;
@@ -112,22 +106,13 @@ struct PsiSetup {
   // Gauss-Legendre on [0, 1]) gathers them toward the horizon, where the grazing rays'
   // columns change fastest and twilight's light comes from.
   void zenith_rule(double r, std::vector<double>& mu, std::vector<double>& w) const {
-    mu.clear();
-    w.clear();
-    const double R = atm.ground_radius();
-    const double mu_h = -std::sqrt(std::max(0.0, 1.0 - (R / r) * (R / r)));
-    const int n_lo = std::max(1, zenith_n / 4), n_hi = zenith_n - n_lo;
-    const auto lo = sh::gauss_legendre(n_lo), hi = sh::gauss_legendre(n_hi);
-    for (std::size_t k = 0; k < lo.nodes.size(); ++k) {
-      const double v = 0.5 * (lo.nodes[k] + 1.0);
-      mu.push_back(mu_h - (mu_h + 1.0) * v * v);
-      w.push_back((mu_h + 1.0) * 2.0 * v * 0.5 * lo.weights[k]);
-    }
-    for (std::size_t k = 0; k < hi.nodes.size(); ++k) {
-      const double v = 0.5 * (hi.nodes[k] + 1.0);
-      mu.push_back(mu_h + (1.0 - mu_h) * v * v);
-      w.push_back((1.0 - mu_h) * 2.0 * v * 0.5 * hi.weights[k]);
-    }
+    using namespace sg;  // the macro's functions
+    mu.assign(static_cast<std::size_t>(zenith_n), 0.0);
+    w.assign(static_cast<std::size_t>(zenith_n), 0.0);
+    const double mu_h = ms_horizon_cosine(r, atm.ground_radius());
+#define ATMOSH_MS_RULE(i) zenith_gl[static_cast<std::size_t>(i)]
+    for (int j = 0; j < zenith_n; ++j) ATMOSH_MS_ZENITH_NODE(mu[j], w[j], j, zenith_lo, zenith_hi, mu_h, ATMOSH_MS_RULE);
+#undef ATMOSH_MS_RULE
   }
 
   PsiSetup(const Atmosphere& a, const OpticalDepthLut& s, const MultipleScatteringOptions& o)
@@ -145,13 +130,20 @@ struct PsiSetup {
       sm.push_back(a.has(kMie) ? k.scattering[kMie] : 0.0);
     }
     zenith_n = o.ms_zenith_directions;
+    zenith_lo = sg::ms_zenith_below(zenith_n);
+    zenith_hi = zenith_n - zenith_lo;
+    for (int n : {zenith_lo, zenith_hi}) {  // the GPU's rule buffer (gpu/src/sky.cpp) too
+      const auto gl = sh::gauss_legendre(n);
+      zenith_gl.insert(zenith_gl.end(), gl.nodes.begin(), gl.nodes.end());
+      zenith_gl.insert(zenith_gl.end(), gl.weights.begin(), gl.weights.end());
+    }
     const int na = o.ms_azimuth_directions;
     for (int k = 0; k < na; ++k) {
-      const double phi = kPi * (k + 0.5) / na;
+      const double phi = sg::ms_azimuth(k, na);
       cos_phi.push_back(std::cos(phi));
       sin_phi.push_back(std::sin(phi));
     }
-    w_phi = 2.0 * kPi / na;  // [0, pi] mirrored onto [0, 2 pi)
+    w_phi = sg::ms_azimuth_weight(na);  // [0, pi] mirrored onto [0, 2 pi)
     steps = o.ms_ray_steps;
     albedo = a.spec().planet.ground_albedo;
   }
@@ -171,9 +163,8 @@ struct SphereRay {
 };
 
 void trace_sphere_ray(const PsiSetup& S, double r, double mu, SphereRay& ray) {
+  using namespace sg;  // the macro's functions
   const double R = S.atm.ground_radius(), T = S.atm.top_radius();
-  ray.ground = sg::ray_hits_ground(r, mu, R);
-  const double d = ray.ground ? sg::distance_to_ground(r, mu, R) : sg::distance_to_top(r, mu, T);
   const int n = S.steps + 1;
   ray.n = n;
   ray.t.resize(n);
@@ -184,27 +175,28 @@ void trace_sphere_ray(const PsiSetup& S, double r, double mu, SphereRay& ray) {
   ray.rho_m.resize(n);
   ray.ts.assign(static_cast<std::size_t>(n) * S.nw, 0.0);
   std::vector<glm::dvec3> rho(n);
-  for (int k = 0; k < n; ++k) {
-    const double u = double(k) / S.steps;
-    ray.t[k] = d * u * std::sqrt(u);
-    ray.r[k] = k == n - 1 && ray.ground ? R : sg::radius_along(r, mu, ray.t[k]);
-    rho[k] = S.atm.density(std::max(ray.r[k] - R, 0.0));
-    ray.rho_r[k] = rho[k][kRayleigh];
-    ray.rho_m[k] = rho[k][kMie];
-  }
-  for (int k = 1; k < n; ++k) {
-    const double dt = ray.t[k] - ray.t[k - 1];
-    ray.col[k] = ray.col[k - 1] + 0.5 * dt * (rho[k - 1] + rho[k]);
-    ray.wt[k - 1] += 0.5 * dt;
-    ray.wt[k] += 0.5 * dt;
-  }
+  // The shared walk (ms_build.comp's too): distances, radii, densities, view columns and
+  // trapezoid weights of the steps.
+#define ATMOSH_MS_DENSITY(h) S.atm.density(h)
+#define ATMOSH_MS_STORE(k)     \
+  ray.ground = ms_ground_;     \
+  ray.t[k] = ms_t_;            \
+  ray.r[k] = ms_ry_;           \
+  rho[k] = ms_rho_;            \
+  ray.rho_r[k] = ms_rho_[kRayleigh]; \
+  ray.rho_m[k] = ms_rho_[kMie];      \
+  ray.col[k] = ms_col_;        \
+  ray.wt[k] = ms_wt_;
+  ATMOSH_MS_RAY_STEPS(double, glm::dvec3, r, mu, R, T, S.steps, ATMOSH_MS_DENSITY, ATMOSH_MS_STORE)
+#undef ATMOSH_MS_STORE
+#undef ATMOSH_MS_DENSITY
   ray.tview.resize(S.nw);
   for (int k = 0; k < n; ++k) {
     const glm::dvec3 x = ray.col[k];
     double* ts = &ray.ts[static_cast<std::size_t>(k) * S.nw];
     for (std::size_t i = 0; i < S.nw; ++i) {
       const double tr = exp_neg(S.er[i] * x[0] + S.em[i] * x[1] + S.eo[i] * x[2]);
-      ts[i] = (S.sr[i] * rho[k][kRayleigh] + S.sm[i] * rho[k][kMie]) * tr;
+      ts[i] = sg::scattering_term(tr, S.sr[i], S.sm[i], rho[k][kRayleigh], rho[k][kMie]);
       if (k == n - 1) ray.tview[i] = tr;
     }
   }
@@ -223,7 +215,7 @@ void psi_row(const PsiSetup& S, double r, const double* mu_s, int ns, double* ou
   for (int j = 0; j < nz; ++j) {
     trace_sphere_ray(S, r, mu_w[j], rays[j]);
     // f_ms: no sun. The inner integral over the ray, then the sphere (every azimuth alike).
-    const double wdir = w_w[j] * 2.0 * kPi * pu;
+    const double wdir = sg::ms_direction_weight(w_w[j], 2.0 * kPi, pu);
     for (int k = 0; k < rays[j].n; ++k) {
       const double* ts = &rays[j].ts[static_cast<std::size_t>(k) * nw];
       for (std::size_t i = 0; i < nw; ++i) f[i] += wdir * rays[j].wt[k] * ts[i];
@@ -233,28 +225,35 @@ void psi_row(const PsiSetup& S, double r, const double* mu_s, int ns, double* ou
   // functions, normalised to 1 over the rule.
   const std::size_t nq = static_cast<std::size_t>(nz * na);
   std::vector<double> nu_v(ns * nq), pr_v(ns * nq), pm_v(ns * nq);
+  {
+    using namespace sg;  // the macros' functions
+    const double mu_h = ms_horizon_cosine(r, R);
+#define ATMOSH_MS_RULE(i) S.zenith_gl[static_cast<std::size_t>(i)]
+#define ATMOSH_MS_COS_PHI(a) S.cos_phi[static_cast<std::size_t>(a)]
+#define ATMOSH_MS_PHASE(c, nu) ((c) == 0 ? S.pr : S.pm).value(nu)
+#define ATMOSH_MS_STORE(j, a)                                              \
+  const std::size_t q = s * nq + static_cast<std::size_t>((j) * na + (a)); \
+  nu_v[q] = ms_nu_;                                                        \
+  pr_v[q] = ms_pr_;                                                        \
+  pm_v[q] = ms_pm_;
   for (int s = 0; s < ns; ++s) {
-    const double ms = mu_s[s], ss = std::sqrt(std::max(0.0, 1.0 - ms * ms));
     double norm_r = 0, norm_m = 0;
-    for (int j = 0; j < nz; ++j)
-      for (int a = 0; a < na; ++a) {
-        const double sw = std::sqrt(std::max(0.0, 1.0 - mu_w[j] * mu_w[j]));
-        const std::size_t q = s * nq + static_cast<std::size_t>(j * na + a);
-        nu_v[q] = std::clamp(sw * S.cos_phi[a] * ss + mu_w[j] * ms, -1.0, 1.0);
-        pr_v[q] = S.pr.value(nu_v[q]);
-        pm_v[q] = S.pm.value(nu_v[q]);
-        norm_r += w_w[j] * S.w_phi * pr_v[q];
-        norm_m += w_w[j] * S.w_phi * pm_v[q];
-      }
+    ATMOSH_MS_PHASE_NORMS(norm_r, norm_m, double, nz, na, S.zenith_lo, S.zenith_hi, mu_h, ATMOSH_MS_RULE,
+                          ATMOSH_MS_COS_PHI, mu_s[s], S.w_phi, ATMOSH_MS_PHASE, ATMOSH_MS_STORE)
+#undef ATMOSH_MS_STORE
+#undef ATMOSH_MS_PHASE
+#undef ATMOSH_MS_COS_PHI
+#undef ATMOSH_MS_RULE
     for (std::size_t q = 0; q < nq; ++q) {
       pr_v[s * nq + q] /= norm_r;
       pm_v[s * nq + q] /= norm_m;
     }
   }
+  }
   std::vector<double> l2(static_cast<std::size_t>(ns) * nw, 0.0);
   for (int j = 0; j < nz; ++j) {
     const SphereRay& ray = rays[j];
-    const double wdir = w_w[j] * S.w_phi * pu;
+    const double wdir = sg::ms_direction_weight(w_w[j], S.w_phi, pu);
     for (int k = 0; k < ray.n; ++k) {
       // The sun table at this point's radius, reduced once for every sun and azimuth.
       const OpticalDepthLut::SunAtRadius sun_at = S.sun.sun_at(ray.r[k]);
@@ -263,34 +262,39 @@ void psi_row(const PsiSetup& S, double r, const double* mu_s, int ns, double* ou
         double* acc = &l2[static_cast<std::size_t>(s) * nw];
         for (int a = 0; a < na; ++a) {
           const std::size_t q = s * nq + static_cast<std::size_t>(j * na + a);
-          const double mus_y = std::clamp((r * mu_s[s] + ray.t[k] * nu_v[q]) / ray.r[k], -1.0, 1.0);
+          const double mus_y = sg::ms_point_sun_cosine(r, mu_s[s], ray.t[k], nu_v[q], ray.r[k]);
           const LutColumn c = sun_at(mus_y);
           if (c.hits_ground) continue;  // the Earth's shadow
           const glm::dvec3 x = ray.col[k] + c.column;
           const double rr = ray.rho_r[k] * pr_v[q] * w, rm = ray.rho_m[k] * pm_v[q] * w;
           for (std::size_t i = 0; i < nw; ++i)
-            acc[i] += (S.sr[i] * rr + S.sm[i] * rm) * exp_neg(S.er[i] * x[0] + S.em[i] * x[1] + S.eo[i] * x[2]);
+            acc[i] += sg::scattering_term(exp_neg(sg::column_optical_depth(S.er[i], S.em[i], S.eo[i], x[0], x[1], x[2])),
+                                          S.sr[i], S.sm[i], rr, rm);
         }
       }
     }
     if (!ray.ground || !(S.albedo > 0)) continue;
     // The ground at the ray's end, lit by the sun (Lambertian).
+    using namespace sg;  // the macro's functions (ms_build.comp's ground too)
+#define ATMOSH_MS_SUN(mu)                    \
+  const LutColumn ms_c_ = S.sun.sun(R, mu);  \
+  const bool ms_lit_ = !ms_c_.hits_ground;   \
+  const glm::dvec3 ms_sun_ = ms_c_.column;
+#define ATMOSH_MS_ADD(g, col)                \
+  for (std::size_t i = 0; i < nw; ++i)       \
+    acc[i] += (g) * ray.tview[i] * exp_neg(column_optical_depth(S.er[i], S.em[i], S.eo[i], col[0], col[1], col[2]));
     for (int s = 0; s < ns; ++s)
       for (int a = 0; a < na; ++a) {
         const std::size_t q = s * nq + static_cast<std::size_t>(j * na + a);
-        const double mus_g = (r * mu_s[s] + ray.t[ray.n - 1] * nu_v[q]) / R;
-        if (!(mus_g > 0)) continue;
-        const LutColumn c = S.sun.sun(R, std::min(mus_g, 1.0));
-        if (c.hits_ground) continue;
-        const double g = wdir * S.albedo / kPi * mus_g;
         double* acc = &l2[static_cast<std::size_t>(s) * nw];
-        for (std::size_t i = 0; i < nw; ++i)
-          acc[i] += g * ray.tview[i] * exp_neg(S.er[i] * c.column[0] + S.em[i] * c.column[1] + S.eo[i] * c.column[2]);
+        ATMOSH_MS_GROUND(double, r, mu_s[s], ray.t[ray.n - 1], nu_v[q], R, wdir, S.albedo, ATMOSH_MS_SUN, ATMOSH_MS_ADD)
       }
+#undef ATMOSH_MS_ADD
+#undef ATMOSH_MS_SUN
   }
   for (int s = 0; s < ns; ++s)
     for (std::size_t i = 0; i < nw; ++i)
-      out[static_cast<std::size_t>(s) * nw + i] = l2[static_cast<std::size_t>(s) * nw + i] / std::max(1.0 - f[i], 1e-12);
+      out[static_cast<std::size_t>(s) * nw + i] = sg::ms_psi_entry(l2[static_cast<std::size_t>(s) * nw + i], f[i]);
 }
 
 }  // namespace
@@ -307,35 +311,29 @@ MultipleScatteringLut::MultipleScatteringLut(const Atmosphere& atmosphere, const
   nw_ = S.nw;
   table_.assign(static_cast<std::size_t>(na_) * ns_ * nw_, 0.0);
   std::vector<double> mus(static_cast<std::size_t>(ns_));
-  for (int s = 0; s < ns_; ++s) mus[s] = ms_sun_cosine(double(s) / (ns_ - 1));
+  for (int s = 0; s < ns_; ++s) mus[s] = sg::ms_sun_cosine(double(s) / (ns_ - 1));
   parallel_for(static_cast<std::size_t>(na_), o.threads, [&](std::size_t a) {
-    const double u = double(a) / (na_ - 1);
-    const double h = top_ * u * u;
+    const double h = sg::ms_row_altitude(static_cast<int>(a), na_, top_);
     std::vector<double> row(static_cast<std::size_t>(ns_) * nw_);
     psi_row(S, R_ + h, mus.data(), ns_, row.data());
     // Logarithms: in the Earth's shadow Psi falls by orders of magnitude between
     // neighbouring sun directions, which bilinear interpolation of the values would
     // smear; the interpolation of the logarithms follows exponential falls exactly.
     for (std::size_t k = 0; k < row.size(); ++k)
-      table_[a * static_cast<std::size_t>(ns_) * nw_ + k] = std::log(std::max(row[k], kPsiFloor));
+      table_[a * static_cast<std::size_t>(ns_) * nw_ + k] = sg::ms_table_value(row[k]);
   });
   build_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void MultipleScatteringLut::psi(double r, double mu_s, double* out) const {
-  const double h = std::clamp((r - R_) / top_, 0.0, 1.0);
-  const double ua = std::sqrt(h) * (na_ - 1), us = ms_sun_coordinate(std::clamp(mu_s, -1.0, 1.0)) * (ns_ - 1);
-  const int a0 = std::min(static_cast<int>(ua), na_ - 2), s0 = std::min(static_cast<int>(us), ns_ - 2);
-  const double fa = ua - a0, fs = us - s0;
-  const double w00 = (1 - fa) * (1 - fs), w01 = (1 - fa) * fs, w10 = fa * (1 - fs), w11 = fa * fs;
+  // The shared lookup (sky.comp's too).
+  const double ua = sg::ms_altitude_index(r, R_, top_, na_), us = sg::ms_sun_index(mu_s, ns_);
+  const int a0 = sg::ms_cell_start(ua, na_), s0 = sg::ms_cell_start(us, ns_);
+  const double fa = ua - double(a0), fs = us - double(s0);
   const double* p00 = &table_[(static_cast<std::size_t>(a0) * ns_ + s0) * nw_];
-  const double* p01 = p00 + nw_;
   const double* p10 = p00 + static_cast<std::size_t>(ns_) * nw_;
-  const double* p11 = p10 + nw_;
-  for (std::size_t i = 0; i < nw_; ++i) {
-    const double v = std::exp(w00 * p00[i] + w01 * p01[i] + w10 * p10[i] + w11 * p11[i]);
-    out[i] = v > 2 * kPsiFloor ? v : 0.0;
-  }
+  for (std::size_t i = 0; i < nw_; ++i)
+    out[i] = sg::ms_psi_of_log(sg::ms_log_bilinear(fa, fs, p00[i], p00[nw_ + i], p10[i], p10[nw_ + i]));
 }
 
 std::vector<double> MultipleScatteringLut::psi_direct(const Atmosphere& atmosphere, const OpticalDepthLut& sun,

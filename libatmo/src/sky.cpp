@@ -12,6 +12,7 @@
 #include "sky_impl.hpp"
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
+#include "atmosh/atmo/shared/ms_approx.glsl.hpp"
 #include "atmosh/atmo/shared/scatter.glsl.hpp"
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/dispatch.hpp"
@@ -339,7 +340,8 @@ void SkyIntegrator::add_ms_node(std::size_t nw, const ViewNode& nd, double mu_s,
   const double rr = nd.rho[kRayleigh] * nd.w, rm = nd.rho[kMie] * nd.w;
   const glm::dvec3 x = nd.column;
   for (std::size_t i = 0; i < nw; ++i)
-    acc[i] += (cr[i] * rr + cm[i] * rm) * psi[i] * exp_neg(er[i] * x[0] + em[i] * x[1] + eo[i] * x[2]);
+    acc[i] += sg::ms_sky_term(exp_neg(sg::column_optical_depth(er[i], em[i], eo[i], x[0], x[1], x[2])), psi[i], cr[i],
+                              cm[i], rr, rm);  // sky.comp's too
 }
 
 void SkyIntegrator::radiance(double altitude_m, const glm::dvec3& view, const glm::dvec3& sun, double* out) const {

@@ -206,10 +206,16 @@ TEST(GpuSky, ParameterBlockLayoutMatches) {
       {"params.log_encoded[0]", offsetof(sg::GpuSkyParams, log_encoded)},
       {"params.build_ramps[0].radius[0]", offsetof(sg::GpuSkyParams, build_ramps) + offsetof(sg::GpuRamps, radius)},
       {"params.build_ramps[2].n", offsetof(sg::GpuSkyParams, build_ramps) + 2 * sizeof(sg::GpuRamps) + offsetof(sg::GpuRamps, n)},
+      {"params.ms_altitudes", offsetof(sg::GpuSkyParams, ms_altitudes)},
+      {"params.ms_suns", offsetof(sg::GpuSkyParams, ms_suns)},
+      {"params.ms_zenith", offsetof(sg::GpuSkyParams, ms_zenith)},
+      {"params.ms_azimuths", offsetof(sg::GpuSkyParams, ms_azimuths)},
+      {"params.ms_steps", offsetof(sg::GpuSkyParams, ms_steps)},
+      {"params.ms_unused", offsetof(sg::GpuSkyParams, ms_unused)},
   };
-  ASSERT_EQ(members.size(), 49u);  // every member, and the ends of the nested arrays
+  ASSERT_EQ(members.size(), 55u);  // every member, and the ends of the nested arrays
   for (const auto& [name, offset] : members) EXPECT_EQ(prog.buffer_variable_offset(name), int(offset)) << name;
-  EXPECT_EQ(offsetof(sg::GpuSkyParams, log_encoded) + 3 * sizeof(int), sizeof(sg::GpuSkyParams));
+  EXPECT_EQ(offsetof(sg::GpuSkyParams, ms_unused) + sizeof(int), sizeof(sg::GpuSkyParams));
 }
 
 // The GPU closed-form ozone column (sky_lib.glsl, float) against the CPU's

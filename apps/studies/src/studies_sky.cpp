@@ -121,8 +121,9 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
   // gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line
   // notice (atmosh::resolve_device, the toolkit's one device policy).
   used = "cpu";
-  if (request != DeviceRequest::cpu && sky.method() != ScatteringMethod::Single) {
-    // The GPU pass computes single scattering only.
+  if (request != DeviceRequest::cpu && sky.method() == ScatteringMethod::Orders) {
+    // The GPU pass computes single scattering, alone or with the all-orders table
+    // (approximate); the orders tables are CPU-only.
     const std::string what = std::string("scattering method '") + scattering_method_name(sky.method()) + "'";
     tell(resolve_device(request, GpuUnusable{GpuUnusable::Why::unsupported, what, "use --scattering single or --device cpu"},
                         "rendering on the CPU"));

@@ -10,7 +10,10 @@
 // (shared/geometry.glsl.hpp), the table lookup (shared/lut.glsl.hpp) and the
 // view-ray cuts (shared/view_ray.glsl.hpp) taken from the shared headers at
 // build time. Pixel directions come from
-// atmo::sky_pixel_direction.
+// atmo::sky_pixel_direction. With ScatteringMethod::Approximate it adds, at every node,
+// the all-orders multiple-scattering term of atmo::MultipleScatteringLut's table (the
+// integrator's, uploaded as float, or built by gpu/shaders/ms_build.comp), looked up
+// through shared/ms_approx.glsl.hpp as on the CPU; ScatteringMethod::Orders is CPU-only.
 //
 // Precision: float, except positions along the view ray and its cuts, and the sun
 // lookups' ray geometry and table interpolation (double; float radii would put ~0.5 m
@@ -62,6 +65,21 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
 std::vector<float> build_lut_tables(const Context& ctx, const atmo::OpticalDepthLut& lut, const atmo::Atmosphere& atm,
                                     int& off_ground, int& off_sun, double* seconds = nullptr);
 
+// The all-orders multiple-scattering table (atmo::MultipleScatteringLut, Hillaire 2020)
+// of the integrator's atmosphere, sun table and options (sky.options().scattering: the
+// ms_* sizes and rule, whatever the integrator's method), built on the GPU
+// (gpu/shaders/ms_build.comp: the entries' math of shared/ms_approx.glsl.hpp, the sky
+// pass's sun lookup; radii and cosines in double, sums in float), laid out as
+// MultipleScatteringLut::log_table() ([altitude][sun][wavelength] log Psi), in float.
+// gpu_tables: from GPU-built optical-depth tables (build_lut_tables). Agreement with the
+// CPU table: docs/gpu.md. Unsupported for atmospheres sky_unsupported_reason rejects,
+// InputError for options out of range. `seconds`: wall time (compile, upload, dispatch,
+// read-back).
+std::vector<float> build_ms_table(const Context& ctx, const atmo::SkyIntegrator& sky, bool gpu_tables = false,
+                                  double* seconds = nullptr);
+// The CPU table in the same layout, in float (what render_sky uploads by default).
+std::vector<float> ms_table_from_cpu(const atmo::MultipleScatteringLut& lut);
+
 // The shader parts of the sky and table passes, in order: the shared geometry
 // (float), the shared table math (float and double builds), the shared view-ray
 // cuts (double), sky_lib.glsl, then
@@ -71,9 +89,13 @@ std::vector<ShaderPart> sky_parts(const std::string& main_shader);
 // Empty when the GPU sky supports the integrator's atmosphere, else the reason.
 std::string sky_unsupported_reason(const atmo::SkyIntegrator& sky);
 
-// Renders with ctx (made current on this thread). gpu_tables: rebuild the
-// integrator's optical-depth tables on the GPU (build_lut_tables) instead of
-// uploading its CPU-built ones.
+// Renders with ctx (made current on this thread): single scattering, or with
+// ScatteringMethod::Approximate single scattering plus the all-orders term of the
+// multiple-scattering table at every node of the view ray (the CPU's add_ms_node,
+// through shared/ms_approx.glsl.hpp); Unsupported for ScatteringMethod::Orders.
+// gpu_tables: rebuild the integrator's optical-depth tables (build_lut_tables) and its
+// multiple-scattering table (build_ms_table) on the GPU instead of uploading its
+// CPU-built ones.
 atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, atmo::SkyProjection projection,
                           int width, int height, double altitude_m, const glm::dvec3& sun, bool keep_spectral,
                           bool gpu_tables = false);

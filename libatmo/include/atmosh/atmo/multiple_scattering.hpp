@@ -108,6 +108,12 @@ class MultipleScatteringLut {
   int sun_directions() const { return ns_; }
   std::size_t wavelengths() const { return nw_; }
   std::size_t bytes() const { return table_.size() * sizeof(double); }
+  // The table itself: log Psi [log(1/sr)] as [altitude][sun direction][wavelength], in
+  // the coordinates of shared/ms_approx.glsl.hpp (the GPU sky uploads it; tests compare
+  // the GPU's build with it), and the radii it was built for [m].
+  const std::vector<double>& log_table() const { return table_; }
+  double ground_radius() const { return R_; }
+  double top_altitude() const { return top_; }
   double build_time_s() const { return build_s_; }
 
  private:

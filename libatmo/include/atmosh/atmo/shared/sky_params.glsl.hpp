@@ -1,6 +1,6 @@
 // atmosh/atmo/shared/sky_params.glsl.hpp — the parameter block of the GPU's
 // atmosphere passes (gpu/shaders/sky_lib.glsl and the shaders assembled after it:
-// sky.comp, sun_lookup.comp, lut_build.comp, ozone_check.comp), declared once for
+// sky.comp, sun_lookup.comp, lut_build.comp, ms_build.comp, ozone_check.comp), declared once for
 // the C++ side that fills it (gpu/src/sky.cpp) and the GLSL side that reads it
 // (`layout(std430) readonly buffer ... { GpuSkyParams params; }` in sky_lib.glsl).
 //
@@ -40,6 +40,7 @@ const int kMaxWavelengths = 64;  // wavelengths of the GPU sky (accumulated per 
 #define ATMOSH_BIND_RULE 11       // double: table build, Gauss-Legendre rule on (0, 1): x[n], w[n]
 #define ATMOSH_BIND_SHELL_RADII 12  // double: table build, shell radii
 #define ATMOSH_BIND_PARAMS 13     // GpuSkyParams
+#define ATMOSH_BIND_MS_TABLE 14   // float: multiple-scattering table, log Psi [altitude][sun][wavelength] (ms_approx)
 
 // The passes run one invocation per item in work groups of ATMOSH_ITEM_GROUP_SIZE, as a grid
 // of groups_x x groups_y groups (groups_x <= kMaxGroupsX, within every driver's limit;
@@ -119,6 +120,15 @@ struct GpuSkyParams {
   int n_dirs;                      // directions of the table being built
   int table_kind;                  // 0: toward the top, 1: toward the ground
   int log_encoded[3];              // tabulated with log encoding (output)
+  // The all-orders multiple-scattering table (shared/ms_approx.glsl.hpp; sky.comp looks it
+  // up, ms_build.comp builds it): rows and columns (ms_altitudes = 0: none, single
+  // scattering), and the build's sphere rule and steps per ray (MultipleScatteringOptions).
+  int ms_altitudes;
+  int ms_suns;
+  int ms_zenith;
+  int ms_azimuths;
+  int ms_steps;
+  int ms_unused;                   // keeps the count of 4-byte members even (no padding)
 };
 
 // ATMOSH_GLSL_END
