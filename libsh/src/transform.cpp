@@ -73,7 +73,6 @@ ThreadWork& thread_work() {
 }
 
 constexpr int B = 8;  // lanes (ring pairs) per block
-constexpr int kColBlock = 8;  // orders per block when columns are regrouped into degree rows
 
 struct Pairs {
   std::vector<int> north, south;  // south = -1: no partner
@@ -901,22 +900,17 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     parallel_for_m(bands, threads, [&] { return AnaScratch<8>(padded, bands); }, columns);
   else
     parallel_for_m(bands, threads, [&] { return AnaScratch<4>(padded, bands); }, columns);
-  // columns into the coefficient vector, blocks of kColBlock orders: per block, the degree
-  // rows in order, each giving two short runs (orders m0.. and -m0..) and each column read
-  // in sequence (one pass over all rows with one line per column and row cost a tenth of
-  // an analysis at L = 256 in cache misses)
-  parallel_for_m((bands + kColBlock - 1) / kColBlock, threads, [] { return NoScratch{}; }, [&](NoScratch&, int blk) {
-    const int m0 = blk * kColBlock, m1 = std::min(bands, m0 + kColBlock);
-    for (int l = m0; l < bands; ++l) {
-      double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-      const int me = std::min(m1, l + 1);
-      for (int m = m0; m < me; ++m) {
-        const double* c = col + col_offset(m) + 2 * (l - m);
-        row[m] += c[0];
-        if (m > 0) row[-m] += c[1];
-      }
+  // columns into the coefficient vector, degree rows in order (the columns' current
+  // lines, one per m <= l, stay in L2)
+  for (int l = 0; l < bands; ++l) {
+    double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+    row[0] += col[col_offset(0) + 2 * l];
+    for (int m = 1; m <= l; ++m) {
+      const double* c = col + col_offset(m) + 2 * (l - m);
+      row[m] += c[0];
+      row[-m] += c[1];
     }
-  });
+  }
 }
 }  // namespace
 
@@ -943,20 +937,18 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
   constexpr int QB = 16;  // ring pairs per block of the sums
   const int nqb = (padded + QB - 1) / QB;
   double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
-  // blocks of kColBlock orders (as at the end of the analysis): per block the degree rows in
-  // order, two short runs each, and every column written in sequence
-  parallel_for_m((bands + kColBlock - 1) / kColBlock, threads, [] { return NoScratch{}; }, [&](NoScratch&, int blk) {
-    const int m0 = blk * kColBlock, m1 = std::min(bands, m0 + kColBlock);
-    for (int l = m0; l < bands; ++l) {
-      const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-      const int me = std::min(m1, l + 1);
-      for (int m = m0; m < me; ++m) {
-        double* c = col + col_offset(m) + 2 * (l - m);
-        c[0] = row[m];
-        c[1] = m > 0 ? row[-m] : 0.0;
-      }
+  // degree rows read once, in order; the columns' current lines (one per m <= l, 64 kB at
+  // L = 1024) stay in L2
+  for (int l = 0; l < bands; ++l) {
+    const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+    col[col_offset(0) + 2 * l] = row[0];
+    col[col_offset(0) + 2 * l + 1] = 0.0;
+    for (int m = 1; m <= l; ++m) {
+      double* c = col + col_offset(m) + 2 * (l - m);
+      c[0] = row[m];
+      c[1] = row[-m];
     }
-  });
+  }
 
   struct Scratch {
     AnaCoef cf;
