@@ -1287,11 +1287,19 @@ void emit_orders(const double* spec, int n, int count, double* out) {
 
 template <class T>
 void RealFft::forward(const T* f, int count, double* out) {
-  if constexpr (std::is_same_v<T, double>)
-    std::memcpy(real_, f, sizeof(double) * n_);
-  else
+  const double* in = real_;
+  if constexpr (std::is_same_v<T, double>) {
+    // an out-of-place r2c leaves its input alone (FFTW_PRESERVE_INPUT is its default): rows
+    // with the alignment of the plan's array are read in place, others copied
+    if (fftw_alignment_of(const_cast<double*>(f)) == fftw_alignment_of(real_))
+      in = f;
+    else
+      std::memcpy(real_, f, sizeof(double) * n_);
+  } else {
     for (int j = 0; j < n_; ++j) real_[j] = static_cast<double>(f[j]);
-  fftw_execute_dft_r2c(static_cast<const FftPlans*>(plans_)->r2c, real_, reinterpret_cast<fftw_complex*>(spec_));
+  }
+  fftw_execute_dft_r2c(static_cast<const FftPlans*>(plans_)->r2c, const_cast<double*>(in),
+                       reinterpret_cast<fftw_complex*>(spec_));
   // X_k = sum_j f_j e^{-2 pi i j k / n} = a_k - i b_k
   emit_orders(spec_, n_, count, out);
 }
@@ -1361,6 +1369,12 @@ void RealFft::inverse(const double* cs, int count, double* v) {
   for (int m = 1; m < nspec; ++m) {
     spec_[2 * m] = m < count ? 0.5 * cs[2 * m] : 0.0;
     spec_[2 * m + 1] = m < count ? -0.5 * cs[2 * m + 1] : 0.0;
+  }
+  // straight into v where it has the alignment of the plan's array (c2r destroys only its
+  // input, spec_)
+  if (fftw_alignment_of(v) == fftw_alignment_of(real_)) {
+    fftw_execute_dft_c2r(static_cast<const FftPlans*>(plans_)->c2r, reinterpret_cast<fftw_complex*>(spec_), v);
+    return;
   }
   fftw_execute_dft_c2r(static_cast<const FftPlans*>(plans_)->c2r, reinterpret_cast<fftw_complex*>(spec_), real_);
   std::copy(real_, real_ + n_, v);
