@@ -547,9 +547,11 @@ template <int W>
 void ana_column(int kmax, const double* x, const double* mant, const int* ex, const double* f,
                 const ColCoef& cf, AnaWork<W>& w, V4* sums) {
   const int ngroups = w.ngroups;
-  int nx = 0;
+  // plain blocks are made in place in act (ring order); the others go to nat[gi] and run
+  // their extended phase there
+  int nx = 0, nplain = 0;
   for (int gi = 0; gi < ngroups; ++gi) {
-    AnaGroup<W>& g = w.nat[gi];
+    AnaGroup<W>& g = w.act[nplain];
     std::memcpy(&g.ec, f + 4 * W * gi, 4 * W * sizeof(double));  // ec, es, oc, os
     bool plain = true;
     for (int k = 0; k < W; ++k) {
@@ -563,7 +565,12 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
       if (le != 0) plain = false;
     }
     w.join[gi] = 0;
-    if (!plain) w.ids[nx++] = gi;
+    if (plain) {
+      ++nplain;
+    } else {
+      w.nat[gi] = g;
+      w.ids[nx++] = gi;
+    }
   }
   // Blocks none of whose lanes reach 2^-kJoinExp by step kmax contribute nothing
   // (ana_skip): they are skipped instead of being stepped to kmax for nothing.
@@ -581,11 +588,9 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
     else
       ana_extended4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), w.live.data(), sums);
   }
-  // the plain blocks in ring order, then the others by the step they join at
-  int nlive = 0;
-  for (int gi = 0; gi < ngroups; ++gi)
-    if (w.join[gi] == 0) w.act[nlive++] = w.nat[gi];
-  const int nplain = nlive;
+  // the plain blocks in ring order (already in act), then the others by the step they join
+  // at (an extended block never joins at step 0: its lanes start below the fold threshold)
+  int nlive = nplain;
   const int* join = w.join.data();
   std::sort(w.ids.begin(), w.ids.begin() + nx, [&](int p, int q) { return join[p] < join[q] || (join[p] == join[q] && p < q); });
   for (int i = 0; i < nx && join[w.ids[i]] <= kmax; ++i) w.act[nlive++] = w.nat[w.ids[i]];
