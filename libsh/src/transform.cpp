@@ -907,11 +907,13 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     parallel_for_m(bands, threads, [&] { return AnaScratch<4>(padded, bands); }, columns);
   // columns into the coefficient vector, degree rows in order (the columns' current
   // lines, one per m <= l, stay in L2)
+  // (col_offset(m) + 2 (l - m) grows by 2 (bands - m) from m - 1 to m)
   for (int l = 0; l < bands; ++l) {
     double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-    row[0] += col[col_offset(0) + 2 * l];
+    const double* c = col + 2 * static_cast<std::size_t>(l);
+    row[0] += c[0];
     for (int m = 1; m <= l; ++m) {
-      const double* c = col + col_offset(m) + 2 * (l - m);
+      c += 2 * static_cast<std::size_t>(bands - m);
       row[m] += c[0];
       row[-m] += c[1];
     }
@@ -944,12 +946,14 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
   double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
   // degree rows read once, in order; the columns' current lines (one per m <= l, 64 kB at
   // L = 1024) stay in L2
+  // (col_offset(m) + 2 (l - m) grows by 2 (bands - m) from m - 1 to m)
   for (int l = 0; l < bands; ++l) {
     const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-    col[col_offset(0) + 2 * l] = row[0];
-    col[col_offset(0) + 2 * l + 1] = 0.0;
+    double* c = col + 2 * static_cast<std::size_t>(l);
+    c[0] = row[0];
+    c[1] = 0.0;
     for (int m = 1; m <= l; ++m) {
-      double* c = col + col_offset(m) + 2 * (l - m);
+      c += 2 * static_cast<std::size_t>(bands - m);
       c[0] = row[m];
       c[1] = row[-m];
     }
