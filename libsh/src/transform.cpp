@@ -547,9 +547,11 @@ template <int W>
 void ana_column(int kmax, const double* x, const double* mant, const int* ex, const double* f,
                 const ColCoef& cf, AnaWork<W>& w, V4* sums) {
   const int ngroups = w.ngroups;
-  int nx = 0;
+  // plain blocks are made in place in act (ring order); the others go to nat[gi] and run
+  // their extended phase there
+  int nx = 0, nplain = 0;
   for (int gi = 0; gi < ngroups; ++gi) {
-    AnaGroup<W>& g = w.nat[gi];
+    AnaGroup<W>& g = w.act[nplain];
     std::memcpy(&g.ec, f + 4 * W * gi, 4 * W * sizeof(double));  // ec, es, oc, os
     bool plain = true;
     for (int k = 0; k < W; ++k) {
@@ -563,7 +565,12 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
       if (le != 0) plain = false;
     }
     w.join[gi] = 0;
-    if (!plain) w.ids[nx++] = gi;
+    if (plain) {
+      ++nplain;
+    } else {
+      w.nat[gi] = g;
+      w.ids[nx++] = gi;
+    }
   }
   // Blocks none of whose lanes reach 2^-kJoinExp by step kmax contribute nothing
   // (ana_skip): they are skipped instead of being stepped to kmax for nothing.
@@ -581,11 +588,9 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
     else
       ana_extended4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), w.live.data(), sums);
   }
-  // the plain blocks in ring order, then the others by the step they join at
-  int nlive = 0;
-  for (int gi = 0; gi < ngroups; ++gi)
-    if (w.join[gi] == 0) w.act[nlive++] = w.nat[gi];
-  const int nplain = nlive;
+  // the plain blocks in ring order (already in act), then the others by the step they join
+  // at (an extended block never joins at step 0: its lanes start below the fold threshold)
+  int nlive = nplain;
   const int* join = w.join.data();
   std::sort(w.ids.begin(), w.ids.begin() + nx, [&](int p, int q) { return join[p] < join[q] || (join[p] == join[q] && p < q); });
   for (int i = 0; i < nx && join[w.ids[i]] <= kmax; ++i) w.act[nlive++] = w.nat[w.ids[i]];
@@ -902,11 +907,13 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     parallel_for_m(bands, threads, [&] { return AnaScratch<4>(padded, bands); }, columns);
   // columns into the coefficient vector, degree rows in order (the columns' current
   // lines, one per m <= l, stay in L2)
+  // (col_offset(m) + 2 (l - m) grows by 2 (bands - m) from m - 1 to m)
   for (int l = 0; l < bands; ++l) {
     double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-    row[0] += col[col_offset(0) + 2 * l];
+    const double* c = col + 2 * static_cast<std::size_t>(l);
+    row[0] += c[0];
     for (int m = 1; m <= l; ++m) {
-      const double* c = col + col_offset(m) + 2 * (l - m);
+      c += 2 * static_cast<std::size_t>(bands - m);
       row[m] += c[0];
       row[-m] += c[1];
     }
@@ -939,12 +946,14 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
   double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
   // degree rows read once, in order; the columns' current lines (one per m <= l, 64 kB at
   // L = 1024) stay in L2
+  // (col_offset(m) + 2 (l - m) grows by 2 (bands - m) from m - 1 to m)
   for (int l = 0; l < bands; ++l) {
     const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-    col[col_offset(0) + 2 * l] = row[0];
-    col[col_offset(0) + 2 * l + 1] = 0.0;
+    double* c = col + 2 * static_cast<std::size_t>(l);
+    c[0] = row[0];
+    c[1] = 0.0;
     for (int m = 1; m <= l; ++m) {
-      double* c = col + col_offset(m) + 2 * (l - m);
+      c += 2 * static_cast<std::size_t>(bands - m);
       c[0] = row[m];
       c[1] = row[-m];
     }
@@ -1287,11 +1296,19 @@ void emit_orders(const double* spec, int n, int count, double* out) {
 
 template <class T>
 void RealFft::forward(const T* f, int count, double* out) {
-  if constexpr (std::is_same_v<T, double>)
-    std::memcpy(real_, f, sizeof(double) * n_);
-  else
+  const double* in = real_;
+  if constexpr (std::is_same_v<T, double>) {
+    // an out-of-place r2c leaves its input alone (FFTW_PRESERVE_INPUT is its default): rows
+    // with the alignment of the plan's array are read in place, others copied
+    if (fftw_alignment_of(const_cast<double*>(f)) == fftw_alignment_of(real_))
+      in = f;
+    else
+      std::memcpy(real_, f, sizeof(double) * n_);
+  } else {
     for (int j = 0; j < n_; ++j) real_[j] = static_cast<double>(f[j]);
-  fftw_execute_dft_r2c(static_cast<const FftPlans*>(plans_)->r2c, real_, reinterpret_cast<fftw_complex*>(spec_));
+  }
+  fftw_execute_dft_r2c(static_cast<const FftPlans*>(plans_)->r2c, const_cast<double*>(in),
+                       reinterpret_cast<fftw_complex*>(spec_));
   // X_k = sum_j f_j e^{-2 pi i j k / n} = a_k - i b_k
   emit_orders(spec_, n_, count, out);
 }
@@ -1361,6 +1378,12 @@ void RealFft::inverse(const double* cs, int count, double* v) {
   for (int m = 1; m < nspec; ++m) {
     spec_[2 * m] = m < count ? 0.5 * cs[2 * m] : 0.0;
     spec_[2 * m + 1] = m < count ? -0.5 * cs[2 * m + 1] : 0.0;
+  }
+  // straight into v where it has the alignment of the plan's array (c2r destroys only its
+  // input, spec_)
+  if (fftw_alignment_of(v) == fftw_alignment_of(real_)) {
+    fftw_execute_dft_c2r(static_cast<const FftPlans*>(plans_)->c2r, reinterpret_cast<fftw_complex*>(spec_), v);
+    return;
   }
   fftw_execute_dft_c2r(static_cast<const FftPlans*>(plans_)->c2r, reinterpret_cast<fftw_complex*>(spec_), real_);
   std::copy(real_, real_ + n_, v);
@@ -1444,6 +1467,37 @@ void pair_sums(int bands, const double* fn, const double* fs, double wn, double 
     oc[m] = x * (nc - sc);
     os[m] = x * (ns - ss);
   }
+}
+}  // namespace
+
+namespace {
+// The ring sums of a block of 4 ring pairs from lane rows to the m-major layout:
+// out[m * mstride + 4 f + k] = lanes[(4 k + f) * ls + m], four orders at a time by 4x4
+// transposes in registers (the scalar gather read 16 rows at once, a tenth of an analysis
+// at L = 256).
+ATMOSH_DISPATCH
+void lanes_to_ring_sums4(int L, const double* __restrict lanes, std::size_t ls, double* __restrict out,
+                         std::size_t mstride) {
+  typedef double V __attribute__((vector_size(32)));
+  auto load = [](const double* p) {
+    V v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  };
+  int m = 0;
+  for (; m + 4 <= L; m += 4)
+    for (int f = 0; f < 4; ++f) {
+      const V r0 = load(lanes + (0 + f) * ls + m), r1 = load(lanes + (4 + f) * ls + m);
+      const V r2 = load(lanes + (8 + f) * ls + m), r3 = load(lanes + (12 + f) * ls + m);
+      const V t0 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6), t1 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7);
+      const V t2 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6), t3 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
+      const V c[4] = {__builtin_shufflevector(t0, t2, 0, 1, 4, 5), __builtin_shufflevector(t1, t3, 0, 1, 4, 5),
+                      __builtin_shufflevector(t0, t2, 2, 3, 6, 7), __builtin_shufflevector(t1, t3, 2, 3, 6, 7)};
+      for (int i = 0; i < 4; ++i) std::memcpy(out + (m + i) * mstride + 4 * f, &c[i], sizeof(V));
+    }
+  for (; m < L; ++m)
+    for (int f = 0; f < 4; ++f)
+      for (int k = 0; k < 4; ++k) out[m * mstride + 4 * f + k] = lanes[(4 * k + f) * ls + m];
 }
 }  // namespace
 
@@ -1550,10 +1604,14 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
                 pr.x[q], out, LS);
     }
     // one contiguous run of 4 W values per m
-    for (int m = 0; m < L; ++m) {
-      double* o = fm + detail::ring_sum_index(padded, W, m, blk * W, 0);
-      for (int f = 0; f < 4; ++f)
-        for (int k = 0; k < W; ++k) o[f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * LS + m];
+    double* const o = fm + detail::ring_sum_index(padded, W, 0, blk * W, 0);
+    if (W == 4) {
+      lanes_to_ring_sums4(L, lanes.data(), LS, o, static_cast<std::size_t>(padded) * 4);
+    } else {
+      for (int m = 0; m < L; ++m)
+        for (int f = 0; f < 4; ++f)
+          for (int k = 0; k < W; ++k)
+            o[static_cast<std::size_t>(m) * padded * 4 + f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * LS + m];
     }
   };
   atmosh::parallel_for_ranges_local(
