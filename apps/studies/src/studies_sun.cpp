@@ -156,7 +156,10 @@ StudyTable sun_accuracy_table(int year, const std::vector<double>& lats, std::si
     out.rows.push_back(s);
   }
   io::StudySpec& spec = out.spec;
-  spec.title = "Sun position: error against SPA vs time per evaluation (" + std::to_string(year) + ")";
+  // Appended piecewise: GCC 12's -Wrestrict misreads "literal" + std::string (its bug 105329).
+  spec.title = "Sun position: error against SPA vs time per evaluation (";
+  spec.title += std::to_string(year);
+  spec.title += ')';
   spec.error_max_column = "error_max_deg";
   spec.error_rms_column = "error_rms_deg";
   spec.error_axis_label = "max angular error vs SPA [deg]";
