@@ -156,10 +156,7 @@ StudyTable sun_accuracy_table(int year, const std::vector<double>& lats, std::si
     out.rows.push_back(s);
   }
   io::StudySpec& spec = out.spec;
-  // Appended piecewise: GCC 12's -Wrestrict misreads "literal" + std::string (its bug 105329).
-  spec.title = "Sun position: error against SPA vs time per evaluation (";
-  spec.title += std::to_string(year);
-  spec.title += ')';
+  spec.title = "Sun position: error against SPA vs time per evaluation (" + std::to_string(year) + ")";
   spec.error_max_column = "error_max_deg";
   spec.error_rms_column = "error_rms_deg";
   spec.error_axis_label = "max angular error vs SPA [deg]";
@@ -169,7 +166,10 @@ StudyTable sun_accuracy_table(int year, const std::vector<double>& lats, std::si
   prov = io::Provenance::current();
   prov.add("year", static_cast<double>(year));
   std::string l;
-  for (double v : lats) l += (l.empty() ? "" : ",") + io::format_double(v);
+  for (double v : lats) {  // appended piecewise: GCC 12 warns falsely (-Wrestrict, its bug 105329) on "," + string
+    if (!l.empty()) l += ',';
+    l += io::format_double(v);
+  }
   prov.add("latitudes_deg", l);
   prov.add("reference", "NREL SPA (Reda & Andreas 2008), same delta T (Espenak & Meeus), UT1-UTC = 0");
   prov.add("error", "great-circle angle between geometric topocentric directions, degrees");
