@@ -34,10 +34,11 @@ void run_sky(const SkyCmd& c) {
     throw InputError("--projection " + c.projection + ": netCDF sky images are equirect (elevation x azimuth)");
   if (netcdf && !c.png.empty()) throw InputError("--png: only with an EXR output");
   if (!c.png.empty()) check_output_file(c.png, {".png"}, "--png");
-  const auto s = q.scene_for(scene_or_default(c.scene_file));
-  const studies::SunPlacement sun = studies::place_sun(s, c.sun);
+  check_device(c.device);  // every option before the work: make_sky_model builds the tables (seconds)
   const auto proj = atmo::parse_sky_projection(c.projection);
   const auto size = parse_size(c.size, "--size");
+  const auto s = q.scene_for(scene_or_default(c.scene_file));
+  const studies::SunPlacement sun = studies::place_sun(s, c.sun);
   check_memory(studies::sky_output_bytes(size[0], size[1], atmo::spectrum_wavelengths(s.atmosphere.spectrum).size(),
                                          c.spectral),
                "--size " + c.size + (c.spectral ? " --spectral" : ""));
@@ -45,7 +46,6 @@ void run_sky(const SkyCmd& c) {
     check_time(studies::sky_rays_work(s, q, mul_units(size[0], size[1])), q.threads, "--size " + c.size);
   const auto model = studies::make_sky_model(s, q.sky(s), sun.distance_au);
   const double h = std::max(sun.observer_height_m, 0.0);
-  check_device(c.device);
   std::string used;
   const atmo::SkyImage img = studies::render_sky_on(c.device, *model->sky, proj, size[0], size[1], h, sun.direction(),
                                                     c.spectral, q.threads, used, notice);
