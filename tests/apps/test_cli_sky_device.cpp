@@ -14,6 +14,7 @@
 #include "atmosh/io/exr.hpp"
 #include "atmosh/scene/scene.hpp"
 #include "run_cli.hpp"
+#include "without_egl.hpp"
 
 using atmosh::test::count_lines;
 using atmosh::test::expect_bad_input;
@@ -88,26 +89,27 @@ TEST(CliSkyDevice, SkyAndRunRenderOnTheGpuLikeTheCpu) {
 TEST(CliSkyDevice, BadDeviceIsBadInput) {
   const fs::path d = scratch_dir("atmosh_cli_sky_device", "bad");
   expect_bad_input("sky --sun-elevation 20 --size 8x4 --device tpu -o '" + (d / "x.exr").string() + "'", "tpu");
+  // checked with the other options, before the scene is read (and its tables built)
+  expect_bad_input("sky --sun-elevation 20 --size 8x4 --scene '" + (d / "missing.toml").string() + "' --device tpu -o '" +
+                       (d / "x.exr").string() + "'",
+                   "tpu");
   expect_bad_input("run --quick --device tpu -o '" + (d / "r").string() + "'", "tpu");
 }
 
 TEST(CliSkyDevice, WithoutAnEglDeviceAutoFallsBackAndGpuFails) {
   const fs::path d = scratch_dir("atmosh_cli_sky_device", "none");
-  const char* old = std::getenv("__EGL_VENDOR_LIBRARY_FILENAMES");
-  const std::string saved = old ? old : "";
   // Single scattering, which the GPU pass computes: auto falls back for want of an EGL
   // device, not for the method.
   atmosh::scene::Scene single = atmosh::scene::default_scene();
   single.scattering.method = atmosh::atmo::ScatteringMethod::Single;
   const fs::path scene_file = d / "single.toml";
   std::ofstream(scene_file) << atmosh::scene::to_toml(single);
-  setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/atmosh_no_egl_vendor.json", 1);
-  const auto a = run_cli("run '" + scene_file.string() + "' --quick --device auto -o '" + (d / "a").string() + "'");
-  const auto g = run_cli("sky --sun-elevation 20 --size 8x4 --device gpu -o '" + (d / "g.exr").string() + "'");
-  if (old)
-    setenv("__EGL_VENDOR_LIBRARY_FILENAMES", saved.c_str(), 1);
-  else
-    unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+  atmosh::test::CliResult a, g;
+  {
+    const atmosh::test::WithoutEglDevice no_egl;
+    a = run_cli("run '" + scene_file.string() + "' --quick --device auto -o '" + (d / "a").string() + "'");
+    g = run_cli("sky --sun-elevation 20 --size 8x4 --device gpu -o '" + (d / "g.exr").string() + "'");
+  }
   ASSERT_EQ(a.exit_code, 0) << a.err;
   EXPECT_NE(a.err.find("rendering on the CPU"), std::string::npos) << a.err;
   EXPECT_EQ(g.exit_code, 1) << g.err;
