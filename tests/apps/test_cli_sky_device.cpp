@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include "atmosh/io/exr.hpp"
 #include "atmosh/scene/scene.hpp"
@@ -60,9 +61,12 @@ TEST(CliSkyDevice, SkyAndRunRenderOnTheGpuLikeTheCpu) {
   EXPECT_LT(max_rel_y(eg, ec), 1e-4);
 
   // The built-in scene's sky-image output with single scattering, quick, on the GPU and
-  // on the CPU; with its own multiple scattering --device gpu is refused.
+  // on the CPU; with its own multiple scattering --device gpu is refused. Its other
+  // outputs (studies, SH, sun track) are left out: --device changes only sky images.
   atmosh::scene::Scene single = atmosh::scene::default_scene();
   single.scattering.method = atmosh::atmo::ScatteringMethod::Single;
+  std::erase_if(single.outputs, [](const atmosh::scene::Output& o) { return o.kind != "sky-image"; });
+  ASSERT_EQ(single.outputs.size(), 1u);
   const fs::path scene_file = d / "single.toml";
   std::ofstream(scene_file) << atmosh::scene::to_toml(single);
   const auto rg = run_cli("run '" + scene_file.string() + "' --quick --device gpu -o '" + (d / "run_gpu").string() + "'");
@@ -98,21 +102,24 @@ TEST(CliSkyDevice, BadDeviceIsBadInput) {
 
 TEST(CliSkyDevice, WithoutAnEglDeviceAutoFallsBackAndGpuFails) {
   const fs::path d = scratch_dir("atmosh_cli_sky_device", "none");
-  // Single scattering, which the GPU pass computes: auto falls back for want of an EGL
-  // device, not for the method.
+  // Single scattering, which the GPU pass computes: auto falls back and gpu fails for want
+  // of an EGL device, not for the method. The scene's sky-image output only (what
+  // --device changes).
   atmosh::scene::Scene single = atmosh::scene::default_scene();
   single.scattering.method = atmosh::atmo::ScatteringMethod::Single;
+  std::erase_if(single.outputs, [](const atmosh::scene::Output& o) { return o.kind != "sky-image"; });
   const fs::path scene_file = d / "single.toml";
   std::ofstream(scene_file) << atmosh::scene::to_toml(single);
   atmosh::test::CliResult a, g;
   {
     const atmosh::test::WithoutEglDevice no_egl;
     a = run_cli("run '" + scene_file.string() + "' --quick --device auto -o '" + (d / "a").string() + "'");
-    g = run_cli("sky --sun-elevation 20 --size 8x4 --device gpu -o '" + (d / "g.exr").string() + "'");
+    g = run_cli("sky --sun-elevation 20 --size 8x4 --scattering single --device gpu -o '" + (d / "g.exr").string() + "'");
   }
   ASSERT_EQ(a.exit_code, 0) << a.err;
   EXPECT_NE(a.err.find("rendering on the CPU"), std::string::npos) << a.err;
   EXPECT_EQ(g.exit_code, 1) << g.err;
   EXPECT_EQ(count_lines(g.err), 1) << g.err;
+  EXPECT_EQ(g.err.find("scattering"), std::string::npos) << g.err;  // the device failed, not the method
   EXPECT_FALSE(fs::exists(d / "g.exr"));
 }
