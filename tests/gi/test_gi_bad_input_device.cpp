@@ -13,7 +13,6 @@
 #include "atmosh/gi/methods.hpp"
 
 namespace {
-using atmosh::test::expect_bad_input;
 using atmosh::test::run_cli;
 namespace gi = atmosh::gi;
 
@@ -26,8 +25,11 @@ TEST(GiBadInputDevice, ASceneWithoutExtentIsBadInputOnEveryDevice) {
   for (const char* device : {"cpu", "gpu", "auto"}) {
     const std::string args = "gi render --mesh '" + obj.string() + "' --method lpv --grid 4 --pixel-samples 1 " +
                              "--size 8x8 --device " + device + " -o '" + (dir / "x.exr").string() + "'";
-    expect_bad_input(args, "bounding box is empty");
-    EXPECT_EQ(run_cli(args).err.find("--device"), std::string::npos) << device;
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(atmosh::test::count_lines(r.err), 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("bounding box is empty"), std::string::npos) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.find("--device"), std::string::npos) << args << "\n" << r.err;  // not taken for a missing GPU
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));
 }
