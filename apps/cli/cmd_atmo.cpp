@@ -22,15 +22,6 @@ AtmosphereSpec load_atmosphere(const std::string& scene_file, const std::string&
   return preset(preset_name.empty() ? "earth-graphics" : preset_name);
 }
 
-std::vector<int> parse_int_list(const std::string& text, const std::string& what) {
-  std::vector<int> v;
-  for (double d : parse_list(text, what)) {
-    if (d != std::floor(d) || d < 4 || d > 4096) throw InputError(what + ": '" + text + "' must be integers in [4, 4096]");
-    v.push_back(static_cast<int>(d));
-  }
-  return v;
-}
-
 }  // namespace
 
 void register_atmo_commands(CLI::App& app) {
@@ -140,8 +131,8 @@ void register_atmo_commands(CLI::App& app) {
       if (o->quick && (os->count() > 0 || od->count() > 0))
         throw InputError("--quick: sweeps its own two settings; drop --shells/--directions or --quick");
       studies::LutConvergenceOptions lo;
-      lo.shells = parse_int_list(o->shells, "--shells");
-      lo.directions = parse_int_list(o->directions, "--directions");
+      lo.shells = parse_int_list(o->shells, "--shells", 4, 4096);
+      lo.directions = parse_int_list(o->directions, "--directions", 4, 4096);
       lo.quick = o->quick;
       lo.device = o->device;
       lo.notice = notice;

@@ -61,14 +61,8 @@ void run_render(const GiCmd& o) {
 }
 
 std::vector<int> int_list(const std::string& text, const std::string& what, int lo, int hi) {
-  std::vector<int> out;
-  if (text == "none") return out;  // no rows of this kind
-  for (double v : parse_list(text, what)) {
-    if (v != std::floor(v) || v < lo || v > hi)
-      throw InputError(what + ": '" + text + "' needs integers in " + std::to_string(lo) + ".." + std::to_string(hi));
-    out.push_back(static_cast<int>(v));
-  }
-  return out;
+  if (text == "none") return {};  // no rows of this kind
+  return parse_int_list(text, what, lo, hi);
 }
 
 void run_converge(const GiConvergeCmd& co) {
@@ -76,8 +70,9 @@ void run_converge(const GiConvergeCmd& co) {
   if (o.scene.builtin.empty() && o.scene.mesh.empty())
     throw InputError("give exactly one of --scene-builtin NAME or --mesh FILE");
   gi::ConvergeOptions c;
-  c.bands = int_list(co.bands, "--bands-list", 1, 16);
-  c.grids = int_list(co.grids, "--grids", 1, 64);
+  // The probe rows' lists take no "none": every probe grid is built with the most bands.
+  c.bands = parse_int_list(co.bands, "--bands-list", 1, 16);
+  c.grids = parse_int_list(co.grids, "--grids", 1, 64);
   c.path_samples = int_list(co.path_samples, "--path-samples", 2, 10000000);
   c.study.radiosity_grids = int_list(co.radiosity_grids, "--radiosity-grids", 1, 64);
   c.study.radiosity_bands = int_list(co.radiosity_bands, "--radiosity-bands", 1, 3);

@@ -28,16 +28,6 @@ glm::dvec3 view_option(const std::string& text, const std::string& option) {
   return {v[0], v[1], v[2]};
 }
 
-std::vector<int> int_list(const std::string& text, const std::string& option, int lo, int hi, const char* what) {
-  std::vector<int> out;
-  for (double d : parse_list(text, option)) {
-    if (d < lo || d > hi || d != std::floor(d))
-      throw InputError(option + ": " + io::format_double(d) + " is not an integer in " + what);
-    out.push_back(static_cast<int>(d));
-  }
-  return out;
-}
-
 struct RelightCmd {
   std::string transfer, out, size = "256x256", view = "1,-1.6,1.1", light_csv;
   std::vector<std::string> light_dirs;
@@ -167,7 +157,7 @@ void register_prt_commands(CLI::App& app) {
       p.width = sz[0];
       p.height = sz[1];
       if (sz[0] > 4096 || sz[1] > 4096) throw InputError("--pixels: '" + o->pixels + "' exceeds 4096x4096");
-      p.depth_maps = int_list(o->depth_maps, "--depth-maps", 16, 16384, "16..16384");
+      p.depth_maps = parse_int_list(o->depth_maps, "--depth-maps", 16, 16384);
       p.view = view_option(o->view, "--view");
       const prt::Mesh mesh = studies::prt_input_mesh(o->mesh, o->mesh.empty() ? o->builtin : "", o->resolution);
       p.mode = sh::prt::parse_transfer_mode(o->mode);
@@ -175,7 +165,7 @@ void register_prt_commands(CLI::App& app) {
         throw InputError("--mode: unshadowed transfer is exact (closed form); converge takes shadowed or interreflected");
       if (o->bands < 1 || o->bands > 16) throw InputError("--bands: must be in 1..16, got " + std::to_string(o->bands));
       p.bands = o->bands;
-      p.strata = int_list(o->strata, "--strata", 1, 2000, "1..2000");
+      p.strata = parse_int_list(o->strata, "--strata", 1, 2000);
       p.reference_strata = studies::strata_of_samples(o->reference_samples, "--samples");
       p.threads = threads_option(o->threads);
       p.notice = notice;

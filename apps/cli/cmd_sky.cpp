@@ -10,11 +10,6 @@
 #include "atmosh/studies/summaries.hpp"
 #include "cli_common.hpp"
 #include "progress.hpp"
-#ifdef ATMOSH_HAVE_GPU
-#include "atmosh/gpu/context.hpp"
-#include "atmosh/gpu/orders.hpp"
-#include "atmosh/gpu/sky.hpp"
-#endif
 
 namespace atmosh::cli {
 
@@ -39,37 +34,21 @@ void run_sky(const SkyCmd& c) {
     throw InputError("--projection " + c.projection + ": netCDF sky images are equirect (elevation x azimuth)");
   if (netcdf && !c.png.empty()) throw InputError("--png: only with an EXR output");
   if (!c.png.empty()) check_output_file(c.png, {".png"}, "--png");
-  auto s = q.scene_for(scene_or_default(c.scene_file));
-  const studies::SunPlacement sun = studies::place_sun(s, c.sun);
+  check_device(c.device);  // every option before the work: make_sky_model builds the tables (seconds)
   const auto proj = atmo::parse_sky_projection(c.projection);
   const auto size = parse_size(c.size, "--size");
+  auto s = q.scene_for(scene_or_default(c.scene_file));
+  const studies::SunPlacement sun = studies::place_sun(s, c.sun);
   check_memory(studies::sky_output_bytes(size[0], size[1], atmo::spectrum_wavelengths(s.atmosphere.spectrum).size(),
                                          c.spectral),
                "--size " + c.size + (c.spectral ? " --spectral" : ""));
   if (c.device == "cpu")  // the estimate is of the CPU's loop
     check_time(studies::sky_rays_work(s, q, mul_units(size[0], size[1])), q.threads, "--size " + c.size);
-  check_device(c.device);
-  // --device gpu|auto with the orders method: the orders tables' passes run on the GPU
-  // (gpu/orders.hpp); the image is rendered on the CPU (the GPU sky pass computes single
-  // scattering), after render_sky_on's notice.
-  std::string orders_device = "cpu", device = c.device;
-#ifdef ATMOSH_HAVE_GPU
-  if (c.device != "cpu" && s.scattering.method == atmo::ScatteringMethod::Orders && s.scattering.orders >= 2 &&
-      atmo::spectrum_wavelengths(s.atmosphere.spectrum).size() <= ATMOSH_ORDERS_MAX_WAVELENGTHS) {
-    try {
-      s.scattering.orders_passes = gpu::make_orders_passes(std::make_shared<const gpu::Context>());
-      orders_device = "gpu";
-      device = "auto";
-      notice("orders tables: built on the GPU");
-    } catch (const gpu::Unavailable& e) {
-      notice(std::string("orders tables: no GPU (") + e.what() + "), built on the CPU");
-    }
-  }
-#endif
+  const std::string orders_device = studies::use_orders_tables_device(s, c.device, notice);
   const auto model = studies::make_sky_model(s, q.sky(s), sun.distance_au);
   const double h = std::max(sun.observer_height_m, 0.0);
   std::string used;
-  const atmo::SkyImage img = studies::render_sky_on(device, *model->sky, proj, size[0], size[1], h, sun.direction(),
+  const atmo::SkyImage img = studies::render_sky_on(c.device, *model->sky, proj, size[0], size[1], h, sun.direction(),
                                                     c.spectral, q.threads, used, notice);
   auto prov = studies::sky_provenance(*model, sun);
   prov.add("device", used);

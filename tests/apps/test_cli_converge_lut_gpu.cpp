@@ -22,6 +22,7 @@
 #include "atmosh/atmo/optical_depth.hpp"
 #include "atmosh/atmo/presets.hpp"
 #include "run_cli.hpp"
+#include "without_egl.hpp"
 
 namespace fs = std::filesystem;
 using atmosh::test::count_lines;
@@ -323,15 +324,12 @@ TEST(CliConvergeLutGpu, BadDeviceIsBadInput) {
 // tests/gpu/test_fallback.cpp); atmosh inherits the variable from this process.
 TEST(CliConvergeLutGpu, WithoutAnEglDeviceAutoFallsBackAndGpuFails) {
   const fs::path d = scratch_dir("atmosh_cli_lut_gpu", "none");
-  const char* old = std::getenv("__EGL_VENDOR_LIBRARY_FILENAMES");
-  const std::string saved = old ? old : "";
-  setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/atmosh_no_egl_vendor.json", 1);
-  const auto a = run_cli("converge lut --device auto" + kSmall + " -o '" + (d / "lut").string() + "'");
-  const auto g = run_cli("converge lut --device gpu" + kSmall + " -o '" + (d / "lut_g").string() + "'");
-  if (old)
-    setenv("__EGL_VENDOR_LIBRARY_FILENAMES", saved.c_str(), 1);
-  else
-    unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+  atmosh::test::CliResult a, g;
+  {
+    const atmosh::test::WithoutEglDevice no_egl;
+    a = run_cli("converge lut --device auto" + kSmall + " -o '" + (d / "lut").string() + "'");
+    g = run_cli("converge lut --device gpu" + kSmall + " -o '" + (d / "lut_g").string() + "'");
+  }
   ASSERT_EQ(a.exit_code, 0) << a.err;
   EXPECT_EQ(count_lines(a.err), 1) << a.err;
   const auto rows = csv_rows(d / "lut.csv");

@@ -11,6 +11,7 @@
 
 #include "atmosh/io/csv.hpp"
 #include "run_cli.hpp"
+#include "without_egl.hpp"
 
 namespace fs = std::filesystem;
 using atmosh::test::count_lines;
@@ -19,17 +20,14 @@ using atmosh::test::scratch_dir;
 
 TEST(CliPrtDevice, WithoutAnEglDeviceAutoFallsBackAndGpuFails) {
   const fs::path d = scratch_dir("atmosh_cli_prt_device", "none");
-  const char* old = std::getenv("__EGL_VENDOR_LIBRARY_FILENAMES");
-  const std::string saved = old ? old : "";
-  setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/atmosh_no_egl_vendor.json", 1);
   const std::string args = " --scene-builtin sphere-on-plane --resolution 4 --strata 2 --reference-samples 16 "
                            "--pixels 8x8 --depth-maps 64 -o ";
-  const auto a = run_cli("prt converge --device auto" + args + "'" + (d / "a").string() + "'");
-  const auto g = run_cli("prt converge --device gpu" + args + "'" + (d / "g").string() + "'");
-  if (old)
-    setenv("__EGL_VENDOR_LIBRARY_FILENAMES", saved.c_str(), 1);
-  else
-    unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+  atmosh::test::CliResult a, g;
+  {
+    const atmosh::test::WithoutEglDevice no_egl;
+    a = run_cli("prt converge --device auto" + args + "'" + (d / "a").string() + "'");
+    g = run_cli("prt converge --device gpu" + args + "'" + (d / "g").string() + "'");
+  }
   ASSERT_EQ(a.exit_code, 0) << a.err;
   EXPECT_EQ(count_lines(a.err), 1) << a.err;
   EXPECT_NE(a.err.find("the study has no GPU rows"), std::string::npos) << a.err;

@@ -10,10 +10,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include "atmosh/io/exr.hpp"
 #include "atmosh/scene/scene.hpp"
 #include "run_cli.hpp"
+#include "without_egl.hpp"
 
 using atmosh::test::count_lines;
 using atmosh::test::expect_bad_input;
@@ -59,9 +61,12 @@ TEST(CliSkyDevice, SkyAndRunRenderOnTheGpuLikeTheCpu) {
   EXPECT_LT(max_rel_y(eg, ec), 1e-4);
 
   // The built-in scene's sky-image output with single scattering, quick, on the GPU and
-  // on the CPU; with its own multiple scattering --device gpu is refused.
+  // on the CPU; with its own multiple scattering --device gpu is refused. Its other
+  // outputs (studies, SH, sun track) are left out: --device changes only sky images.
   atmosh::scene::Scene single = atmosh::scene::default_scene();
   single.scattering.method = atmosh::atmo::ScatteringMethod::Single;
+  std::erase_if(single.outputs, [](const atmosh::scene::Output& o) { return o.kind != "sky-image"; });
+  ASSERT_EQ(single.outputs.size(), 1u);
   const fs::path scene_file = d / "single.toml";
   std::ofstream(scene_file) << atmosh::scene::to_toml(single);
   const auto rg = run_cli("run '" + scene_file.string() + "' --quick --device gpu -o '" + (d / "run_gpu").string() + "'");
@@ -116,32 +121,78 @@ TEST(CliSkyDevice, ApproximateScatteringRendersOnTheGpuLikeTheCpu) {
   EXPECT_NE(a.out.find("\"device\": \"gpu\""), std::string::npos) << a.out;
 }
 
+// Orders with --device auto: the tables go to a hardware GPU, and stay on the CPU (with a
+// one-line notice naming the renderer) on a software one such as Mesa llvmpipe, which
+// builds them ~11x slower than the CPU (docs/gpu.md); the image is the CPU's either way
+// and its provenance says where the tables were built. Small tables: the property is the
+// device decision, not the tables' accuracy (tests/gpu/test_orders.cpp compares them).
+TEST(CliSkyDevice, OrdersTablesFollowTheDevicePolicy) {
+  const fs::path d = scratch_dir("atmosh_cli_sky_device", "orders");
+  atmosh::scene::Scene sc = atmosh::scene::default_scene();
+  sc.scattering.method = atmosh::atmo::ScatteringMethod::Orders;
+  sc.scattering.orders = 2;
+  sc.scattering.orders_radii = 4;
+  sc.scattering.orders_view_directions = 8;
+  sc.scattering.orders_sun_directions = 4;
+  sc.scattering.orders_azimuths = 4;
+  sc.scattering.orders_sphere_zenith = 4;
+  sc.scattering.orders_sphere_azimuth = 4;
+  sc.scattering.orders_ray_steps = 4;
+  const fs::path scene_file = d / "orders.toml";
+  std::ofstream(scene_file) << atmosh::scene::to_toml(sc);
+  const std::string base = "sky --scene '" + scene_file.string() + "' --sun-elevation 10 --size 8x4 --json";
+  const auto a = run_cli(base + " --device auto -o '" + (d / "a.exr").string() + "'");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const auto attrs = atmosh::io::read_exr(d / "a.exr").string_attributes;
+  ASSERT_TRUE(attrs.count("atmosh:orders_tables_device"));
+  const std::string where = attrs.at("atmosh:orders_tables_device");
+  EXPECT_EQ(attrs.at("atmosh:device"), "cpu");  // the sky pass has no orders term
+  if (where == "gpu") {
+    EXPECT_NE(a.err.find("orders tables: built on the GPU"), std::string::npos) << a.err;
+  } else {
+    ASSERT_EQ(where, "cpu");
+    EXPECT_NE(a.err.find("orders tables: built on the CPU ("), std::string::npos) << a.err;
+    // with an EGL context, the reason is the software renderer (the CI's llvmpipe)
+    if (a.err.find("no GPU") == std::string::npos)
+      EXPECT_NE(a.err.find("software renderer"), std::string::npos) << a.err;
+  }
+  // gpu: refused before any table is built, naming the method (exit 1: no GPU path)
+  const auto g = run_cli(base + " --device gpu -o '" + (d / "g.exr").string() + "'");
+  EXPECT_EQ(g.exit_code, 1) << g.err;
+  EXPECT_NE(g.err.find("scattering method 'orders'"), std::string::npos) << g.err;
+  EXPECT_FALSE(fs::exists(d / "g.exr"));
+}
+
 TEST(CliSkyDevice, BadDeviceIsBadInput) {
   const fs::path d = scratch_dir("atmosh_cli_sky_device", "bad");
   expect_bad_input("sky --sun-elevation 20 --size 8x4 --device tpu -o '" + (d / "x.exr").string() + "'", "tpu");
+  // checked with the other options, before the scene is read (and its tables built)
+  expect_bad_input("sky --sun-elevation 20 --size 8x4 --scene '" + (d / "missing.toml").string() + "' --device tpu -o '" +
+                       (d / "x.exr").string() + "'",
+                   "tpu");
   expect_bad_input("run --quick --device tpu -o '" + (d / "r").string() + "'", "tpu");
 }
 
 TEST(CliSkyDevice, WithoutAnEglDeviceAutoFallsBackAndGpuFails) {
   const fs::path d = scratch_dir("atmosh_cli_sky_device", "none");
-  const char* old = std::getenv("__EGL_VENDOR_LIBRARY_FILENAMES");
-  const std::string saved = old ? old : "";
-  // Single scattering, which the GPU pass computes: auto falls back for want of an EGL
-  // device, not for the method.
+  // Single scattering, which the GPU pass computes: auto falls back and gpu fails for want
+  // of an EGL device, not for the method. The scene's sky-image output only (what
+  // --device changes).
   atmosh::scene::Scene single = atmosh::scene::default_scene();
   single.scattering.method = atmosh::atmo::ScatteringMethod::Single;
+  std::erase_if(single.outputs, [](const atmosh::scene::Output& o) { return o.kind != "sky-image"; });
   const fs::path scene_file = d / "single.toml";
   std::ofstream(scene_file) << atmosh::scene::to_toml(single);
-  setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/atmosh_no_egl_vendor.json", 1);
-  const auto a = run_cli("run '" + scene_file.string() + "' --quick --device auto -o '" + (d / "a").string() + "'");
-  const auto g = run_cli("sky --sun-elevation 20 --size 8x4 --device gpu -o '" + (d / "g.exr").string() + "'");
-  if (old)
-    setenv("__EGL_VENDOR_LIBRARY_FILENAMES", saved.c_str(), 1);
-  else
-    unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+  atmosh::test::CliResult a, g;
+  {
+    const atmosh::test::WithoutEglDevice no_egl;
+    a = run_cli("run '" + scene_file.string() + "' --quick --device auto -o '" + (d / "a").string() + "'");
+    g = run_cli("sky --sun-elevation 20 --size 8x4 --scattering single --device gpu -o '" + (d / "g.exr").string() + "'");
+  }
   ASSERT_EQ(a.exit_code, 0) << a.err;
   EXPECT_NE(a.err.find("rendering on the CPU"), std::string::npos) << a.err;
   EXPECT_EQ(g.exit_code, 1) << g.err;
   EXPECT_EQ(count_lines(g.err), 1) << g.err;
+  EXPECT_EQ(g.err.find("scattering"), std::string::npos) << g.err;  // the device failed, not the method
   EXPECT_FALSE(fs::exists(d / "g.exr"));
 }

@@ -432,7 +432,9 @@ TEST(Netcdf, CliSkyExrConvertsValueForValue) {
   std::vector<float> cube(nw * 6 * 12);
   ASSERT_EQ(nc_get_var_float(r.id, r.var("spectral_radiance"), cube.data()), NC_NOERR);
   for (std::size_t i = 0; i < nw; ++i) {
-    if (i > 0) EXPECT_GT(wl[i], wl[i - 1]);
+    if (i > 0) {
+      EXPECT_GT(wl[i], wl[i - 1]);
+    }
     std::ostringstream name;
     name << "L_" << wl[i] << "nm";
     const auto& ch = e.channel(name.str());
@@ -494,7 +496,7 @@ TEST(Netcdf, CliSkyWritesNetcdf) {
                          (dir / "fmt.json").string() + " 2>/dev/null")
                             .c_str()),
             0);
-  for (const std::string bad : {"--projection fisheye -o " + (dir / "f.nc").string(),
+  for (const std::string& bad : {"--projection fisheye -o " + (dir / "f.nc").string(),
                                 "--format netcdf -o " + (dir / "b.exr").string(),
                                 "-o " + (dir / "p.nc").string() + " --png " + (dir / "p.png").string()}) {
     EXPECT_EQ(WEXITSTATUS(std::system((bin + common + bad + " > /dev/null 2>&1").c_str())), 2) << bad;

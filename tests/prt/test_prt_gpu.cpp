@@ -8,7 +8,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 
 #include "../gpu/gpu_fixture.hpp"
 #include "atmosh/error.hpp"
@@ -16,7 +15,6 @@
 
 namespace {
 using namespace atmosh;
-constexpr double kPi = std::numbers::pi;
 
 struct Diff {
   double rms = 0, max = 0, ao_mean = 0;  // transfer errors relative to max |T_ref|_2; mean |AO - AO_ref|
@@ -133,7 +131,9 @@ TEST(GpuPrt, MoreBandsThanOnePassHoldsAgreeWithTheCpu) {
   EXPECT_LT(d.ao_mean, 2e-3);
   // Band 0 is ambient occlusion (sh/prt.hpp): both outputs agree with each other.
   for (std::size_t p = 0; p < g.mask.size(); ++p)
-    if (g.mask[p] != 0) ASSERT_NEAR(sh::prt::ambient_occlusion(g.coeffs[p * 36], 0.8), g.ao[p], 1e-5);
+    if (g.mask[p] != 0) {
+      ASSERT_NEAR(sh::prt::ambient_occlusion(g.coeffs[p * 36], 0.8), g.ao[p], 1e-5);
+    }
 }
 
 }  // namespace

@@ -41,19 +41,23 @@ LpvOptions lpv_options(const MethodOptions& o) {
   return l;
 }
 
-// Runs f, a pass on the GPU; what made the GPU unusable, if it failed: InputError where
-// atmosh was built without atmosh::gpu, any other runtime_error where no EGL context opened
-// (gpu::Unavailable) or the driver refused.
+// Runs f, a pass on the GPU; what made the GPU unusable, if it failed: not built where
+// atmosh was built without atmosh::gpu (f is not run), a runtime_error where no EGL context
+// opened (gpu::Unavailable) or the driver refused. An InputError from f is bad input, as
+// it would be on the CPU: it goes to the caller (exit 2), never taken for a missing GPU.
 template <class F>
 std::optional<GpuUnusable> try_gpu(F&& f) {
+#ifdef ATMOSH_GI_HAVE_GPU
   try {
     f();
-  } catch (const InputError& e) {
-    return GpuUnusable{GpuUnusable::Why::not_built, e.what(), ""};
   } catch (const std::runtime_error& e) {
     return GpuUnusable{GpuUnusable::Why::no_device, e.what(), ""};
   }
   return std::nullopt;
+#else
+  (void)f;
+  return GpuUnusable{GpuUnusable::Why::not_built, "atmosh::gpu is not built", ""};
+#endif
 }
 
 void need(bool ok, const std::string& msg) {
@@ -105,6 +109,8 @@ void check_method_options(const MethodOptions& o) {
 
 MethodResult render_method(const Scene& scene, const Camera& camera, int width, int height, const MethodOptions& o) {
   check_method_options(o);
+  validate(scene);  // what every method checks, here before the first pass on either device
+  check_view(camera, width, height);
   MethodResult r;
   if (o.method == "path" && o.device != DeviceRequest::cpu)
     r.device = resolve_device(o.device, GpuUnusable{GpuUnusable::Why::unsupported, "method '" + o.method + "'", ""},

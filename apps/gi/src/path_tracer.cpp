@@ -293,14 +293,9 @@ Irradiance estimate_per_query(const Scene& scene, std::size_t n, std::size_t gra
 RadianceImage render(const Scene& scene, const Camera& cam, int width, int height, const TraceOptions& opt) {
   check_options(opt);
   validate(scene);
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw InputError("gi render: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
-  const glm::dvec3 fw = cam.forward, upv = cam.up;
-  const glm::dvec3 rx = glm::cross(fw, upv);
-  if (!(glm::length(fw) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
-      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
-    throw InputError("gi render: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
-  const glm::dvec3 f = glm::normalize(fw), right = glm::normalize(rx), up = glm::cross(right, f);
+  check_view(cam, width, height);
+  const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(glm::cross(cam.forward, cam.up)),
+                   up = glm::cross(right, f);
   const double th = std::tan(0.5 * cam.vertical_fov_deg * kPi / 180), aspect = static_cast<double>(width) / height;
 
   const auto t_setup = Clock::now();

@@ -253,4 +253,14 @@ void validate(const Scene& s) {
     throw InputError("gi scene: up and north must be orthogonal unit vectors");
 }
 
+void check_view(const Camera& cam, int width, int height) {
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw InputError("gi: image size " + std::to_string(width) + "x" + std::to_string(height) +
+                     " is out of range (1..16384 a side)");
+  const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
+  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
+      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
+    throw InputError("gi: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
+}
+
 }  // namespace atmosh::gi

@@ -60,7 +60,8 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
   static std::atomic<unsigned> counter{0};
   // Hidden temporary in the same folder; keeps the extension so format-sniffing
   // writers (OpenCV) pick the right encoder.
-  const fs::path tmp = dir / ("." + target.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+  // std::string('.') first: GCC 12 warns falsely (-Wrestrict, its bug 105329) on "." + string.
+  const fs::path tmp = dir / (std::string(1, '.') + target.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
                               std::to_string(counter++) + target.extension().string());
   try {
     writer(tmp);

@@ -225,9 +225,16 @@ std::string plot_json(const PreparedPlot& p) {
     const Series& r = s.series[k];
     o += std::string(k ? "," : "") + "\n    {\"label\": " + json_string(r.label) + ", \"style\": \"" +
          style_name(r.style) + "\", \"x\": [";
-    for (std::size_t i = 0; i < r.x.size(); ++i) o += (i ? "," : "") + json_number(r.x[i]);
+    // The comma appended on its own: GCC 12 warns falsely (-Wrestrict, its bug 105329) on "," + string.
+    for (std::size_t i = 0; i < r.x.size(); ++i) {
+      if (i) o += ',';
+      o += json_number(r.x[i]);
+    }
     o += "], \"y\": [";
-    for (std::size_t i = 0; i < r.y.size(); ++i) o += (i ? "," : "") + json_number(r.y[i]);
+    for (std::size_t i = 0; i < r.y.size(); ++i) {
+      if (i) o += ',';
+      o += json_number(r.y[i]);
+    }
     o += "]}";
   }
   return o + "\n  ]\n}\n";

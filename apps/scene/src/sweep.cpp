@@ -50,9 +50,12 @@ double round_range_value(double v) {
 
 std::vector<Value> read_values(const toml::table& t, const std::string& path, const std::string& src) {
   std::vector<Value> out;
-  auto fail = [&](const std::string& key, const std::string& what) {
-    throw InputError(src + ": " + path + "." + key + ": " + what);
-  };
+  struct Fail {  // a function object, so that it can be [[noreturn]]
+    const std::string &src, &path;
+    [[noreturn]] void operator()(const std::string& key, const std::string& what) const {
+      throw InputError(src + ": " + path + "." + key + ": " + what);
+    }
+  } const fail{src, path};
   std::set<std::string> known = {"key", "values", "from", "to", "step", "count"};
   for (const auto& [k, v] : t)
     if (!known.count(std::string(k.str()))) fail(std::string(k.str()), "unknown key");

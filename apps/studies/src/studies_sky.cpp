@@ -25,6 +25,8 @@
 #include "atmosh/io/plot.hpp"
 #include "atmosh/scene/outputs.hpp"
 #ifdef ATMOSH_HAVE_GPU
+#include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/orders.hpp"
 #include "atmosh/gpu/sky.hpp"
 #endif
 
@@ -150,6 +152,42 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
   SkyImage img = render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
   add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (SkyOptions::sun_model)
   return img;
+}
+
+std::string use_orders_tables_device(scene::Scene& s, const std::string& device, const Notice& notice) {
+  const DeviceRequest request = parse_device_request(device);
+  if (request == DeviceRequest::cpu || s.scattering.method != atmo::ScatteringMethod::Orders || s.scattering.orders < 2)
+    return "cpu";
+  // gpu asks for the image on the GPU, which has no orders term: refused here, before the
+  // tables are built (render_sky_on would refuse it after).
+  if (request == DeviceRequest::gpu)
+    resolve_device(request, GpuUnusable{GpuUnusable::Why::unsupported, "scattering method 'orders'",
+                                        "use --scattering single or approximate, or --device cpu or auto"},
+                   "rendering on the CPU");
+  auto tell = [&](const std::string& why) {
+    if (notice) notice("orders tables: built on the CPU (" + why + ")");
+  };
+#ifdef ATMOSH_HAVE_GPU
+  if (atmo::spectrum_wavelengths(s.atmosphere.spectrum).size() > ATMOSH_ORDERS_MAX_WAVELENGTHS) {
+    tell("more than " + std::to_string(ATMOSH_ORDERS_MAX_WAVELENGTHS) + " wavelengths");
+    return "cpu";
+  }
+  try {
+    auto ctx = std::make_shared<const gpu::Context>();
+    if (ctx->info().software) {
+      tell("the GPU is the software renderer " + ctx->info().renderer);
+      return "cpu";
+    }
+    s.scattering.orders_passes = gpu::make_orders_passes(std::move(ctx));
+    if (notice) notice("orders tables: built on the GPU");
+    return "gpu";
+  } catch (const gpu::Unavailable& e) {
+    tell(std::string("no GPU: ") + e.what());
+  }
+#else
+  tell("atmosh was built without ATMOSH_WITH_GPU");
+#endif
+  return "cpu";
 }
 
 glm::dvec3 SunPlacement::direction() const { return atmo::enu_direction_from_zenith(90.0 - elevation_deg, azimuth_deg); }

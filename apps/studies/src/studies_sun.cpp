@@ -166,7 +166,10 @@ StudyTable sun_accuracy_table(int year, const std::vector<double>& lats, std::si
   prov = io::Provenance::current();
   prov.add("year", static_cast<double>(year));
   std::string l;
-  for (double v : lats) l += (l.empty() ? "" : ",") + io::format_double(v);
+  for (double v : lats) {  // appended piecewise: GCC 12 warns falsely (-Wrestrict, its bug 105329) on "," + string
+    if (!l.empty()) l += ',';
+    l += io::format_double(v);
+  }
   prov.add("latitudes_deg", l);
   prov.add("reference", "NREL SPA (Reda & Andreas 2008), same delta T (Espenak & Meeus), UT1-UTC = 0");
   prov.add("error", "great-circle angle between geometric topocentric directions, degrees");

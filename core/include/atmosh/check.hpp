@@ -44,6 +44,21 @@ inline std::vector<double> parse_list(const std::string& text, const std::string
   return out;
 }
 
+// Comma-separated integers, each in [lo, hi] ("4, 8,16"; "8.0" is 8): the list the
+// command line takes for counts, bands, grids, orders. Fails as parse_list does for what is
+// not a list of numbers, else "<what>: <item> in '<text>' is not an integer in <lo>..<hi>"
+// for the first item that is not.
+inline std::vector<int> parse_int_list(const std::string& text, const std::string& what, int lo, int hi) {
+  std::vector<int> out;
+  for (double v : parse_list(text, what)) {
+    if (v != std::floor(v) || v < lo || v > hi)
+      throw InputError(what + ": " + format_double(v) + " in '" + text + "' is not an integer in " + std::to_string(lo) +
+                       ".." + std::to_string(hi));
+    out.push_back(static_cast<int>(v));
+  }
+  return out;
+}
+
 // "x,y,z" -> three finite doubles.
 inline std::array<double, 3> parse_triple(const std::string& text, const std::string& what) {
   const auto v = parse_list(text, what);

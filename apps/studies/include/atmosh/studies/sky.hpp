@@ -106,6 +106,16 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
                              int width, int height, double altitude_m, const glm::dvec3& sun, bool spectral, int threads,
                              std::string& used, const Notice& notice = {});
 
+// Where a sky image on `device` builds the orders tables of scene `s` (the orders method,
+// orders >= 2; "cpu" for anything else): "auto" on a hardware GPU sets
+// s.scattering.orders_passes to the GPU's passes (gpu/orders.hpp) and returns "gpu";
+// otherwise "cpu", with a one-line notice why (no EGL device, more wavelengths than the GPU
+// passes hold, or a software renderer: Mesa llvmpipe builds the tables ~11x slower than
+// the CPU, docs/gpu.md). "gpu" asks for the image on the GPU, whose sky pass has no orders
+// term: std::runtime_error as render_sky_on's, before any table is built. The image with
+// orders is rendered on the CPU (render_sky_on, with its notice).
+std::string use_orders_tables_device(scene::Scene& s, const std::string& device, const Notice& notice = {});
+
 // Writes the EXR (R,G,B,X,Y,Z [+ L_<nm>nm]) and, if png is non-empty, a tone-mapped
 // PNG with its operator and exposure in <png>.json. Returns the exposure used.
 double write_sky_image(const atmo::SkyImage& img, const std::filesystem::path& exr, const std::filesystem::path& png,
