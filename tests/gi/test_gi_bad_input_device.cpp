@@ -7,9 +7,11 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "../apps/run_cli.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/gi/driver.hpp"
 #include "atmosh/gi/methods.hpp"
 
 namespace {
@@ -54,6 +56,28 @@ TEST(GiBadInputDevice, RenderMethodChecksTheViewBeforeItsFirstPass) {
   m.method = "lpv";
   m.device = atmosh::DeviceRequest::gpu;
   EXPECT_THROW(gi::render_method(s, blind, 8, 8, m), atmosh::InputError);
+}
+
+// gi::converge_methods builds every probe grid at the most bands of its list: a library
+// caller's empty list is bad input naming the option, found before the reference render.
+TEST(GiBadInputDevice, ConvergeRejectsAnEmptyBandsListBeforeAnyWork) {
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::ConvergeOptions c;
+  c.bands.clear();
+  const auto dir = atmosh::test::scratch_dir("atmosh_gi_bad_device", "converge");
+  std::vector<std::string> steps;
+  try {
+    gi::converge_methods(s, 6, 6, c, dir, [&](const std::string& name, const auto& work) {
+      steps.push_back(name);
+      work({});
+    });
+    ADD_FAILURE() << "an empty bands list was studied";
+  } catch (const atmosh::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--bands-list"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("empty"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(steps.empty());
+  EXPECT_FALSE(std::filesystem::exists(dir / "reference.exr"));
 }
 
 }  // namespace

@@ -241,6 +241,8 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
   const RenderOptions& o = co.method;
   const StepRunner step = step_runner ? step_runner : [](const std::string&, const std::function<void(const ProgressCallback&)>& work) { work({}); };
   const int threads = resolve_threads(o.threads, "--threads");
+  // Every probe grid is built at the most bands listed: an empty list has no most.
+  if (co.bands.empty()) throw InputError("--bands-list: the list of probe bands to study is empty");
   const int max_bands = *std::max_element(co.bands.begin(), co.bands.end());
   // --device gpu|auto: the GPU forms as extra rows ("<method>-gpu"); decided before any work.
   const DeviceRequest device = parse_device_request(o.device, "--device");

@@ -446,14 +446,9 @@ ShRgb interpolate(const ProbeGrid& g, const glm::dvec3& p) {
 RadianceImage render_probes(const Scene& scene, const Camera& cam, int width, int height, const ProbeGrid& grid,
                             bool grid_includes_sun, const ProbeRenderOptions& opt) {
   validate(scene);
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw InputError("gi probes: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  check_view(cam, width, height);
   if (opt.samples < 1 || opt.samples > 1000000)
     throw InputError("gi probes: camera rays per pixel must be in 1..1000000, got " + std::to_string(opt.samples));
-  const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
-  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
-      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
-    throw InputError("gi probes: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
   const auto ts = Clock::now();
   const prt::RayScene rays(scene.mesh);
   const double off = rays.offset();

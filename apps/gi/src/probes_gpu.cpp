@@ -75,8 +75,7 @@ struct Frame {  // the pinhole of render_receivers: pixel (row, col) looks along
 RadianceImage render_probes_frame(const Scene& scene, const Camera& cam, int width, int height, const ProbeGrid& grid,
                                   bool grid_includes_sun, bool gpu) {
   validate(scene);
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw InputError("gi probes: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  check_view(cam, width, height);
   if (grid.bands < 1 || grid.bands > 3)
     throw InputError("gi probes: a probe frame needs 1..3 bands, got " + std::to_string(grid.bands));
   if (scene.sun && !grid_includes_sun)
@@ -88,9 +87,6 @@ RadianceImage render_probes_frame(const Scene& scene, const Camera& cam, int wid
       if (c.size() != static_cast<std::size_t>(grid.bands) * grid.bands)
         throw InputError("gi probes: a probe's coefficients do not match the grid's bands");
   const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
-  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
-      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
-    throw InputError("gi probes: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
   Frame fr;
   fr.f = glm::normalize(cam.forward);
   fr.right = glm::normalize(rx);
@@ -166,13 +162,9 @@ struct ProbeFrameGpu::Impl {};
 
 ProbeFrameGpu::ProbeFrameGpu(const Scene& scene, const Camera& cam, int width, int height) {
   validate(scene);
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw InputError("gi probes: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
-  const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
-  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
-      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
-    throw InputError("gi probes: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
+  check_view(cam, width, height);
 #ifdef ATMOSH_GI_HAVE_GPU
+  const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
   impl_ = std::make_unique<Impl>();
   Impl& m = *impl_;
   m.scene = scene;

@@ -70,8 +70,7 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
                                        std::uint64_t seed, int threads, const ShadowMapOptions& so,
                                        double* gpu_seconds) {
   validate(scene);
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw InputError("gi: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  check_view(cam, width, height);
   if (samples < 1 || samples > 1000000)
     throw InputError("gi radiosity: direct-light samples per pixel must be in 1..1000000, got " + std::to_string(samples));
   if (so.resolution < 16 || so.resolution > 16384)
@@ -89,9 +88,6 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
     throw InputError("gi: emitter distance-map resolution must be in 16..4096, got " +
                      std::to_string(so.emitter_resolution));
   const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
-  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
-      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
-    throw InputError("gi: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
 #ifdef ATMOSH_GI_HAVE_GPU
   const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(rx), up = glm::cross(right, f);
   const double th = std::tan(0.5 * cam.vertical_fov_deg * std::numbers::pi / 180),

@@ -116,14 +116,10 @@ glm::dvec3 DirectLight::irradiance(Rng& rng, const glm::dvec3& p, const glm::dve
 RadianceImage render_receivers(const Scene& scene, const prt::RayScene& rays, const Camera& cam, int width, int height,
                                int samples, std::uint64_t seed, int threads, const ReceiverShade& shade,
                                std::uint64_t salt) {
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw InputError("gi: image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  check_view(cam, width, height);
   if (samples < 1 || samples > 1000000)
     throw InputError("gi: camera rays per pixel must be in 1..1000000, got " + std::to_string(samples));
   const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
-  if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
-      !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))
-    throw InputError("gi: camera needs a finite eye, forward and up not parallel, and 0 < fov < 180 degrees");
   const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(rx), up = glm::cross(right, f);
   const double th = std::tan(0.5 * cam.vertical_fov_deg * kPi / 180), aspect = static_cast<double>(width) / height;
   const std::vector<glm::dvec3> normal = triangle_normals(scene.mesh);

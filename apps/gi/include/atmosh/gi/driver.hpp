@@ -108,7 +108,8 @@ struct ConvergeStudy {
 using StepRunner = std::function<void(const std::string& name, const std::function<void(const ProgressCallback&)>& work)>;
 // Renders the reference and every row; writes dir/reference.exr|png and, per probe row,
 // dir/<method>_b<B>_g<G>.exr|png (error.* = the row minus the reference). Directly seen
-// emitters (and a 1-pixel border) are left out of the errors.
+// emitters (and a 1-pixel border) are left out of the errors. Throws InputError naming
+// --bands-list, before any work, when options.bands is empty.
 ConvergeStudy converge_methods(const Scene& scene, int width, int height, const ConvergeOptions& options,
                                const std::filesystem::path& dir, const StepRunner& step = {});
 
