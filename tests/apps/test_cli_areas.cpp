@@ -98,7 +98,9 @@ TEST(CliAreas, OpticalDepthLutErrorEstimateCoversTheError) {
     const double error = std::abs(total - jr["total"].get<double>());
     EXPECT_GT(estimate, 0.0) << args;
     EXPECT_LE(error, estimate) << args;
-    if (std::string(c.preset) == "earth-graphics") EXPECT_LT(estimate, 1e-4 * total) << args;
+    if (std::string(c.preset) == "earth-graphics") {
+      EXPECT_LT(estimate, 1e-4 * total) << args;
+    }
   }
 }
 

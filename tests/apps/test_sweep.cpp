@@ -121,7 +121,9 @@ TEST(Sweep, ShardsMergeToTheWholeSweep) {
   const auto t = a.column("time_s");
   for (std::size_t i = 0; i < a.rows.size(); ++i)
     for (std::size_t c = 0; c < a.columns.size(); ++c)
-      if (c != t) EXPECT_EQ(a.rows[i][c], b.rows[i][c]);
+      if (c != t) {
+        EXPECT_EQ(a.rows[i][c], b.rows[i][c]);
+      }
   // A missing shard, or a shard given twice, is an error.
   EXPECT_THROW(merge_sweep({parts[0], parts[1]}, d / "bad.csv"), atmosh::InputError);
   EXPECT_THROW(merge_sweep({parts[0], parts[1], parts[2], parts[2]}, d / "bad.csv"), atmosh::InputError);

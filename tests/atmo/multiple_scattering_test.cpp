@@ -180,7 +180,9 @@ void expect_plausible_twilight_to_minus18(const Atmosphere& atm, const SkyIntegr
       EXPECT_TRUE(std::isfinite(y)) << el;
       EXPECT_GT(y, 0.0) << el;
     }
-    if (el <= 0.0) EXPECT_LT(zen, prev) << el;
+    if (el <= 0.0) {
+      EXPECT_LT(zen, prev) << el;
+    }
     prev = zen;
     if (el == -12.0) {
       EXPECT_GT(zen, 1e-4) << zen;
@@ -318,7 +320,9 @@ TEST(ScatteringOrders, ConservativeAtmosphereCreatesNoEnergy) {
     }
     for (int i = 0; i < 3; ++i) {
       EXPECT_LT(up[i] / mu_s, 1.0) << albedo << " " << i;
-      if (albedo == 1.0) EXPECT_GT(up[i] / mu_s, 0.85) << i;
+      if (albedo == 1.0) {
+        EXPECT_GT(up[i] / mu_s, 0.85) << i;
+      }
     }
     EXPECT_GT(up[1], prev);
     prev = up[1];

@@ -313,7 +313,9 @@ TEST(OpticalDepthLutPiecewise, DegenerateRaysFiniteAndSunBlocked) {
         EXPECT_TRUE(std::isfinite(v.column[c]) && v.column[c] >= 0.0) << h << " " << mu;
         EXPECT_TRUE(std::isfinite(s.column[c]) && s.column[c] >= 0.0) << h << " " << mu;
       }
-      if (s.hits_ground) EXPECT_EQ(s.column, glm::dvec3(0.0));
+      if (s.hits_ground) {
+        EXPECT_EQ(s.column, glm::dvec3(0.0));
+      }
     }
   auto blocked = lut.sun(R + 30e3, -0.5);
   EXPECT_TRUE(blocked.hits_ground);

@@ -204,7 +204,9 @@ TEST(RadiativeTransferSlab, IsotropicMatchesTheIntegralEquationOverAReflectingGr
     const SlabResult r = slab_reflection_transmission({g.tau, g.omega, SlabPhase::Isotropic, 0.0, g.A}, g.mu0, g.mu, 0.3, o);
     EXPECT_LE(std::abs(r.reflection - ref), 3.0 * r.reflection_stderr + 2e-5 * ref)
         << g.tau << " " << g.A << ": mc " << r.reflection << " +- " << r.reflection_stderr << ", solver " << ref;
-    if (!kSanitized) EXPECT_LE(std::abs(r.reflection - ref), 0.005 * ref) << g.tau << " " << g.A;
+    if (!kSanitized) {
+      EXPECT_LE(std::abs(r.reflection - ref), 0.005 * ref) << g.tau << " " << g.A;
+    }
   }
 }
 
@@ -488,7 +490,9 @@ TEST(RadiativeTransferSky, GuidedScatteringAgreesWithThePlainEstimator) {
           << "sun " << c.sun_el << ", " << ra.wavelengths_nm[i] << " nm: plain " << ra.radiance[i] << " +- "
           << ra.radiance_stderr[i] << ", guided " << rb.radiance[i] << " +- " << rb.radiance_stderr[i];
       // The comparison has teeth (twilight: 3 000 paths per wavelength give 4-10 %).
-      if (!kSanitized) EXPECT_LT(rb.radiance_stderr[i], (c.sun_el < 0 ? 0.15 : 0.05) * rb.radiance[i]);
+      if (!kSanitized) {
+        EXPECT_LT(rb.radiance_stderr[i], (c.sun_el < 0 ? 0.15 : 0.05) * rb.radiance[i]);
+      }
     }
   }
 }

@@ -65,7 +65,9 @@ TEST(SharedViewRayCuts, AreTheSortedCutSetOfTheRay) {
     ASSERT_EQ(c.n, int(ref.size())) << "r " << r << " mu " << mu;
     for (int i = 0; i < c.n; ++i) {
       EXPECT_NEAR(c.s[i], ref[i], 1e-9 * kT) << i;  // two ways of solving the same quadratic
-      if (i > 0) EXPECT_LE(c.s[i - 1], c.s[i]);  // ascending, no sort needed by the caller
+      if (i > 0) {
+        EXPECT_LE(c.s[i - 1], c.s[i]);  // ascending, no sort needed by the caller
+      }
     }
     EXPECT_EQ(c.s[0], 0.0);
     EXPECT_EQ(c.s[c.n - 1], s_end);
@@ -164,7 +166,9 @@ TEST(SharedLutLookup, WindowsContainTheSampleAndWeightsReproduceCubics) {
     const int w = sg::lut_window_start(k, S);
     EXPECT_GE(w, 0);
     EXPECT_LE(w + 3, S - 1);
-    if (k >= 0 && k < S - 1) EXPECT_TRUE(w <= k && k + 1 <= w + 3) << k;  // the interval lies in the window
+    if (k >= 0 && k < S - 1) {
+      EXPECT_TRUE(w <= k && k + 1 <= w + 3) << k;  // the interval lies in the window
+    }
     const double lo = rho[std::clamp(k, 0, S - 1)], hi = rho[std::clamp(k + 1, 0, S - 1)];
     for (double f : {0.0, 0.3, 0.77, 1.0}) {
       const double x = lo + f * (hi - lo);
@@ -282,7 +286,9 @@ TEST(SharedTraversal, TableRayPiecesTileTheRayAtEveryCrossing) {
     EXPECT_EQ(pieces.back().second, L);
     for (std::size_t i = 0; i < pieces.size(); ++i) {
       ASSERT_LT(pieces[i].first, pieces[i].second);
-      if (i > 0) ASSERT_EQ(pieces[i].first, pieces[i - 1].second);
+      if (i > 0) {
+        ASSERT_EQ(pieces[i].first, pieces[i - 1].second);
+      }
     }
     ASSERT_EQ(pieces.size(), expect.size() + 1) << "trial " << trial;
     for (std::size_t i = 0; i < expect.size(); ++i)

@@ -250,7 +250,9 @@ TEST(SunDisc, ImagePixelOnTheDiscCentre) {
   }
   EXPECT_GT(img.Y[p], 1e8f);  // ~1e9 cd/m^2
   for (std::size_t q = 0; q < img.Y.size(); ++q)
-    if (q != p) EXPECT_EQ(img.Y[q], before.Y[q]) << q;
+    if (q != p) {
+      EXPECT_EQ(img.Y[q], before.Y[q]) << q;
+    }
   SkyOptions po = o;
   po.sun_model = SunModel::Point;
   const SkyIntegrator point(atm, solar, po);

@@ -95,7 +95,9 @@ TEST(ParallelFor, EachWorkerBuildsItsScratchOnce) {
       for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(hits[i].load(), 1) << n << " " << threads;
       const std::size_t ranges = (n + 6) / 7;
       EXPECT_LE(static_cast<std::size_t>(made.load()), std::min<std::size_t>(ranges, static_cast<std::size_t>(threads)));
-      if (n > 0) EXPECT_GE(made.load(), 1);
+      if (n > 0) {
+        EXPECT_GE(made.load(), 1);
+      }
       EXPECT_EQ(foreign.load(), 0);
     }
 }

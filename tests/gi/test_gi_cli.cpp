@@ -200,7 +200,9 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
       const double ring = std::stod(line.substr(c1 + 1, c2 - c1 - 1)), leak = std::stod(line.substr(c2 + 1));
       EXPECT_TRUE(ring >= 0 && std::isfinite(ring)) << line;
       EXPECT_TRUE(leak >= 0 && std::isfinite(leak)) << line;
-      if (line.find("bands=1 ") != std::string::npos) EXPECT_GT(ring, 0) << line;
+      if (line.find("bands=1 ") != std::string::npos) {
+        EXPECT_GT(ring, 0) << line;
+      }
     }
   }
   EXPECT_TRUE(header);

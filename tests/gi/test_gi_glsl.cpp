@@ -241,7 +241,9 @@ TEST(GiGlsl, RadiosityPassOnTheGpuAgreesWithTheCpu) {
       worst_all = std::max(worst_all, worst);
       EXPECT_LT(p999, 2e-6) << "bands " << bands << " bounces " << B;
       EXPECT_LT(worst, 1e-5) << "bands " << bands << " bounces " << B;  // measured 3.3e-7
-      if (B == 0) EXPECT_LT(worst, 1e-6) << "bands " << bands;  // no walk: L_e + a / pi E_direct only
+      if (B == 0) {
+        EXPECT_LT(worst, 1e-6) << "bands " << bands;  // no walk: L_e + a / pi E_direct only
+      }
     }
   }
   RecordProperty("worst_rel", std::to_string(worst_all));

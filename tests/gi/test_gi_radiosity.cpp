@@ -264,13 +264,17 @@ TEST(GiRadiosity, CornellBoxAgainstThePathTracerWithinMeasuredBounds) {
         prev_mean = e.mean_rel;
         rms.push_back(e.rms_rel);
       }
-      if (bands == 2 && B == 0) EXPECT_NEAR(e.mean_rel, 0.53, 0.04);  // direct light: 53 % of the light
+      if (bands == 2 && B == 0) {
+        EXPECT_NEAR(e.mean_rel, 0.53, 0.04);  // direct light: 53 % of the light
+      }
       if (bands == 2 && B == 2) {
         EXPECT_LT(e.rms_rel, 0.6);
         EXPECT_GT(e.mean_rel, 0.62);
         EXPECT_LT(e.mean_rel, 0.8);
       }
-      if (bands == 1 && B == 2) EXPECT_GT(e.rms_rel, 1.0);  // one band: the walk lands mid-air
+      if (bands == 1 && B == 2) {
+        EXPECT_GT(e.rms_rel, 1.0);  // one band: the walk lands mid-air
+      }
     }
   EXPECT_LT(rms[2], rms[0]);
 }

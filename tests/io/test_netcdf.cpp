@@ -376,7 +376,9 @@ TEST(Netcdf, CliTablesConvertAndMatchTheirCsv) {
       const auto v = r.doubles(netcdf_variable_name(col), 4);
       for (std::size_t i = 0; i < 4; ++i) {
         const double want = csv.number(i, csv.column(col));
-        if (std::isnan(want)) EXPECT_TRUE(std::isnan(v[i])) << col;
+        if (std::isnan(want)) {
+          EXPECT_TRUE(std::isnan(v[i])) << col;
+        }
         else EXPECT_EQ(v[i], want) << col << " row " << i;
       }
     }

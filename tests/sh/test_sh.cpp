@@ -302,7 +302,9 @@ TEST(Basis, BatchesAgreeAtEveryOutputAlignment) {
         float* outf = buff.data();
         while (reinterpret_cast<std::uintptr_t>(outf) % 64) ++outf;
         outf += off;
-        if (L == 4) ASSERT_TRUE(evaluate_fast_batch(4, n, xf.data(), yf.data(), zf.data(), outf, stride));
+        if (L == 4) {
+          ASSERT_TRUE(evaluate_fast_batch(4, n, xf.data(), yf.data(), zf.data(), outf, stride));
+        }
         else evaluate_batch(L, n, xf.data(), yf.data(), zf.data(), outf, stride);
         for (std::size_t k = 0; k < n; ++k) {
           const auto g = evaluate(L, dirs[k]);
@@ -480,7 +482,9 @@ TEST(Projection, SolidAnglesSumTo4Pi) {
         approx += 6 * 4.0 / (N * N) / std::pow(1 + u * u + v * v, 1.5);
       }
     EXPECT_NEAR(s, 4 * kPi, 1e-12) << N;
-    if (N <= 2) EXPECT_GT(std::abs(approx - 4 * kPi), 0.1) << "the centre-point weight is not exact";
+    if (N <= 2) {
+      EXPECT_GT(std::abs(approx - 4 * kPi), 0.1) << "the centre-point weight is not exact";
+    }
   }
   for (int H : {1, 2, 5, 90}) {
     double s = 0;
@@ -508,7 +512,9 @@ TEST(Projection, ImagesOfConstantsAndCubeOrientation) {
   // solid-angle rule: m != 0 and odd l vanish exactly (uniform rule in p, mirror-symmetric
   // rows); c_20 is the midpoint error of the pixel-centre basis value, O(1/H^2).
   for (int i = 1; i < 9; ++i)
-    if (i != sh_index(2, 0)) EXPECT_NEAR(ce[i], 0.0, 1e-12);
+    if (i != sh_index(2, 0)) {
+      EXPECT_NEAR(ce[i], 0.0, 1e-12);
+    }
   std::vector<float> img64(2 * 64 * 64, 1.0f);
   const auto ce64 = project_equirect(ImageView{128, 64, 1, img64.data()}, 3, 1, PixelRule::solid_angle)[0];
   EXPECT_LT(std::abs(ce64[6]), std::abs(ce[6]) / 40);

@@ -187,7 +187,9 @@ TEST(Gaunt, AllTriplesAgreeWithQuadratureAndSelectionRules) {
           ++zeros;
         }
         // symmetric in its three arguments
-        if (a < b && b < c) EXPECT_NEAR(gaunt(lc, mc, la, ma, lb, mb), v, 1e-15);
+        if (a < b && b < c) {
+          EXPECT_NEAR(gaunt(lc, mc, la, ma, lb, mb), v, 1e-15);
+        }
       }
   EXPECT_GT(zeros, 40000);
 }

@@ -55,10 +55,11 @@ TEST(Quadrature, FejerAndClenshawCurtisIntegrateMonomials) {
       double s = 0;
       for (int j = 0; j < n; ++j) s += wf[j] * std::pow(std::cos(kPi * (j + 0.5) / n), k);
       const double exact = k % 2 ? 0.0 : 2.0 / (k + 1);
-      if (k <= dmax_f)
+      if (k <= dmax_f) {
         EXPECT_NEAR(s, exact, 4e-15 * n) << "fejer n=" << n << " k=" << k;
-      else if (k % 2 == 0 && n <= 16)
+      } else if (k % 2 == 0 && n <= 16) {
         EXPECT_GT(std::abs(s - exact), 1e-9) << "degree bound is sharp: fejer n=" << n << " k=" << k;
+      }
     }
     for (double w : wf) EXPECT_GT(w, 0.0);
     if (n < 2) continue;
@@ -68,10 +69,11 @@ TEST(Quadrature, FejerAndClenshawCurtisIntegrateMonomials) {
       double s = 0;
       for (int j = 0; j < n; ++j) s += wc[j] * std::pow(std::cos(kPi * j / N), k);
       const double exact = k % 2 ? 0.0 : 2.0 / (k + 1);
-      if (k <= dmax_c)
+      if (k <= dmax_c) {
         EXPECT_NEAR(s, exact, 4e-15 * n) << "cc n=" << n << " k=" << k;
-      else if (k % 2 == 0 && n <= 16)
+      } else if (k % 2 == 0 && n <= 16) {
         EXPECT_GT(std::abs(s - exact), 1e-9) << "degree bound is sharp: cc n=" << n << " k=" << k;
+      }
     }
     for (double w : wc) EXPECT_GT(w, 0.0);
   }
@@ -317,7 +319,9 @@ TEST(Transform, RealFftMatchesDirectSums) {
       }
       EXPECT_NEAR(v[j], static_cast<double>(s), 1e-13 * n) << n << " " << j;
     }
-    if (n > 1) EXPECT_THROW(fft.inverse(cs.data(), cmax + 1, v.data()), atmosh::InputError);
+    if (n > 1) {
+      EXPECT_THROW(fft.inverse(cs.data(), cmax + 1, v.data()), atmosh::InputError);
+    }
   }
 }
 

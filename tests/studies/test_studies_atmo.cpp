@@ -96,9 +96,12 @@ TEST(StudiesAtmo, ZenithSweepMatchesTheClosedForms) {
   const double mu_ground = -std::sqrt(1.0 - std::pow(kR / (kR + h), 2.0));
   for (const auto& w : sweep.rows) {
     const double mu = std::cos(w.zenith_deg * std::numbers::pi / 180.0);
-    if (std::abs(mu - mu_ground) > 1e-9) EXPECT_EQ(w.hits_ground, mu < mu_ground) << w.zenith_deg;
-    if (w.tau_reference > 0.0)
+    if (std::abs(mu - mu_ground) > 1e-9) {
+      EXPECT_EQ(w.hits_ground, mu < mu_ground) << w.zenith_deg;
+    }
+    if (w.tau_reference > 0.0) {
       EXPECT_NEAR(w.relative_error, std::abs(w.tau_lut - w.tau_reference) / w.tau_reference, 1e-15);
+    }
     EXPECT_TRUE(std::isfinite(w.tau_reference) && std::isfinite(w.tau_lut));
   }
   // Optical depth grows with the zenith angle while the ray looks up.

@@ -79,7 +79,9 @@ TEST(Studies, SunElevationStudyRowsAreTheSkySummaryAtEachElevation) {
   // sun below the horizon sends no direct light.
   for (std::size_t i = 1; i < st.rows.size(); ++i) {
     EXPECT_GT(st.rows[i].zenith.xyz.Y, st.rows[i - 1].zenith.xyz.Y) << st.elevations_deg[i];
-    if (st.elevations_deg[i - 1] > 0) EXPECT_GT(st.rows[i].sun_transmitted.Y, st.rows[i - 1].sun_transmitted.Y);
+    if (st.elevations_deg[i - 1] > 0) {
+      EXPECT_GT(st.rows[i].sun_transmitted.Y, st.rows[i - 1].sun_transmitted.Y);
+    }
   }
   EXPECT_EQ(st.rows[0].sun_transmitted.Y, 0.0);
   // The varied elevation is recorded as a column, the fixed azimuth as a value.
