@@ -14,50 +14,14 @@
 #include <glm/geometric.hpp>
 
 #include "atmosh/gpu/program.hpp"
+#include "gl_objects.hpp"
 
 namespace atmosh::gpu {
 
 namespace {
 using Clock = std::chrono::steady_clock;
 
-struct Mat4 {  // column-major (row r, column c -> m[c * 4 + r])
-  float m[16] = {};
-  void set(int r, int c, double v) { m[c * 4 + r] = static_cast<float>(v); }
-};
-
-template <void (*Gen)(GLsizei, GLuint*), void (*Del)(GLsizei, const GLuint*)>
-struct GlNames {
-  std::vector<GLuint> ids;
-  explicit GlNames(std::size_t n) : ids(n, 0) {
-    if (n) Gen(static_cast<GLsizei>(n), ids.data());
-  }
-  ~GlNames() {
-    if (!ids.empty()) Del(static_cast<GLsizei>(ids.size()), ids.data());
-  }
-  GlNames(const GlNames&) = delete;
-  GlNames& operator=(const GlNames&) = delete;
-};
-using Textures = GlNames<glGenTextures, glDeleteTextures>;
-using Framebuffers = GlNames<glGenFramebuffers, glDeleteFramebuffers>;
-using GlBuffers = GlNames<glGenBuffers, glDeleteBuffers>;
-using VertexArrays = GlNames<glGenVertexArrays, glDeleteVertexArrays>;
-
-void storage_2d(GLuint tex, GLenum format, int w, int h) {
-  glBindTexture(GL_TEXTURE_2D, tex);
-  glTexStorage2D(GL_TEXTURE_2D, 1, format, w, h);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-}
-
-void check_framebuffer(const char* what) {
-  const GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-  if (st != GL_FRAMEBUFFER_COMPLETE)
-    throw std::runtime_error(std::string("OpenGL framebuffer incomplete (") + std::to_string(st) + ") in " + what);
-}
-
-std::vector<ShaderPart> parts(const char* path) { return {embedded_source(path)}; }
+using namespace detail;  // gl_objects.hpp
 
 // The mesh as a triangle soup in float relative to the bounding-box centre: position,
 // normal, albedo, emission + one-sided flag (13 floats a vertex).
@@ -392,7 +356,9 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   gbuf.set("eval_offset", static_cast<float>(eo ? eo->eval_offset : 0.0));
   gbuf.set("shadow_offset", static_cast<float>(eo ? eo->shadow_offset : 0.0));
   for (int f = 0; f < 6; ++f) {
-    const std::string i = "[" + std::to_string(f) + "]";
+    std::string i = "[";  // appended: GCC 12 warns falsely (-Wrestrict, bug 105329) on "[" + std::string
+    i += std::to_string(f);
+    i += ']';
     gbuf.set(("face_f" + i).c_str(), static_cast<float>(ff[f].x), static_cast<float>(ff[f].y), static_cast<float>(ff[f].z));
     gbuf.set(("face_r" + i).c_str(), static_cast<float>(fr[f].x), static_cast<float>(fr[f].y), static_cast<float>(fr[f].z));
     gbuf.set(("face_u" + i).c_str(), static_cast<float>(fu[f].x), static_cast<float>(fu[f].y), static_cast<float>(fu[f].z));

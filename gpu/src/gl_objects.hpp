@@ -1,0 +1,59 @@
+// Private helpers of the rasterisation passes (prt.cpp, gi_raster.cpp): GL names held by
+// RAII, a column-major matrix for uniforms, 2D texture storage, the framebuffer check and
+// a program's one-source parts. Include after <GL/glcorearb.h>.
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "atmosh/gpu/program.hpp"
+
+namespace atmosh::gpu::detail {
+
+// Column-major 4x4 from rows (row r, column c -> m[c * 4 + r]).
+struct Mat4 {
+  float m[16] = {};
+  void set(int r, int c, double v) { m[c * 4 + r] = static_cast<float>(v); }
+};
+
+// RAII holder of n GL names made by Gen and released by Del.
+template <void (*Gen)(GLsizei, GLuint*), void (*Del)(GLsizei, const GLuint*)>
+struct GlNames {
+  std::vector<GLuint> ids;
+  explicit GlNames(std::size_t n) : ids(n, 0) {
+    if (n) Gen(static_cast<GLsizei>(n), ids.data());
+  }
+  ~GlNames() {
+    if (!ids.empty()) Del(static_cast<GLsizei>(ids.size()), ids.data());
+  }
+  GlNames(const GlNames&) = delete;
+  GlNames& operator=(const GlNames&) = delete;
+};
+using Textures = GlNames<glGenTextures, glDeleteTextures>;
+using Framebuffers = GlNames<glGenFramebuffers, glDeleteFramebuffers>;
+using GlBuffers = GlNames<glGenBuffers, glDeleteBuffers>;
+using VertexArrays = GlNames<glGenVertexArrays, glDeleteVertexArrays>;
+
+// One level of `format`, nearest filtering, clamped to the edge.
+inline void storage_2d(GLuint tex, GLenum format, int w, int h) {
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glTexStorage2D(GL_TEXTURE_2D, 1, format, w, h);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+// std::runtime_error naming `what` unless the bound framebuffer is complete.
+inline void check_framebuffer(const char* what) {
+  const GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (st != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error(std::string("OpenGL framebuffer incomplete (") + std::to_string(st) + ") in " + what);
+}
+
+// The embedded shader source at `path` as a program's only part.
+inline std::vector<ShaderPart> parts(const char* path) { return {embedded_source(path)}; }
+
+}  // namespace atmosh::gpu::detail
