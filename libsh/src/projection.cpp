@@ -304,18 +304,20 @@ Channels project_equirect_sampled(const ImageView& img, int bands, const Project
   return out;
 }
 
-glm::dvec3 cube_texel_direction(int face, int col, int row, int size) {
-  const double u = 2.0 * (col + 0.5) / size - 1.0, v = 2.0 * (row + 0.5) / size - 1.0;
-  glm::dvec3 d;
+glm::dvec3 cube_face_point(int face, double u, double v) {
   switch (face) {
-    case 0: d = {1, -v, -u}; break;
-    case 1: d = {-1, -v, u}; break;
-    case 2: d = {u, 1, v}; break;
-    case 3: d = {u, -1, -v}; break;
-    case 4: d = {u, -v, 1}; break;
-    case 5: d = {-u, -v, -1}; break;
+    case 0: return {1, -v, -u};
+    case 1: return {-1, -v, u};
+    case 2: return {u, 1, v};
+    case 3: return {u, -1, -v};
+    case 4: return {u, -v, 1};
+    case 5: return {-u, -v, -1};
     default: throw InputError("cube face must be 0..5, got " + std::to_string(face));
   }
+}
+
+glm::dvec3 cube_texel_direction(int face, int col, int row, int size) {
+  const glm::dvec3 d = cube_face_point(face, 2.0 * (col + 0.5) / size - 1.0, 2.0 * (row + 0.5) / size - 1.0);
   return d / std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
 }
 

@@ -42,18 +42,6 @@ TraceOptions trace_options(const ProbeOptions& o) {
 
 std::size_t texels(int n) { return static_cast<std::size_t>(6) * n * n; }
 
-// Direction of cube-map face f at (u, v) in [-1, 1]^2 (libsh's orientation, projection.hpp).
-glm::dvec3 face_direction(int f, double u, double v) {
-  switch (f) {
-    case 0: return {1, -v, -u};
-    case 1: return {-1, -v, u};
-    case 2: return {u, 1, v};
-    case 3: return {u, -1, -v};
-    case 4: return {u, -v, 1};
-    default: return {-u, -v, -1};
-  }
-}
-
 // Rays of probe p = ray / texels(n), texel t = ray % texels(n) (face, row, col order): the
 // texel-centre direction, or (jitter) a uniform point of the texel's (u, v) square with
 // weight J(u, v) A_uv / Omega_texel, J = (1 + u^2 + v^2)^(-3/2) the solid angle per unit
@@ -71,7 +59,7 @@ RayDirection texel_rays(int n, bool jitter) {
     const double u = 2 * (c + ju) / n - 1, v = 2 * (r + jv) / n - 1;
     const double q = 1 + u * u + v * v;
     w = jitter ? (4.0 / (static_cast<double>(n) * n)) / (q * std::sqrt(q)) / omega[static_cast<std::size_t>(r) * n + c] : 1.0;
-    return face_direction(f, u, v);
+    return sh::cube_face_point(f, u, v);
   };
 }
 
@@ -292,7 +280,7 @@ std::vector<sh::CubeMap> surface_probe_cubes(const Scene& scene, const SurfaceRa
   for (int f = 0; f < 6; ++f)
     for (int r = 0; r < n; ++r)
       for (int c = 0; c < n; ++c) {
-        const glm::dvec3 d = face_direction(f, 2 * (c + 0.5) / n - 1, 2 * (r + 0.5) / n - 1);
+        const glm::dvec3 d = sh::cube_face_point(f, 2 * (c + 0.5) / n - 1, 2 * (r + 0.5) / n - 1);
         const std::size_t t = f * nn + static_cast<std::size_t>(r) * n + c;
         dirs[t] = d;
         env[t] = environment_radiance(scene, glm::normalize(d));

@@ -134,6 +134,9 @@ struct CubeMap {
   int size = 0, channels = 0;
   std::vector<float> faces[6];  ///< faces[f][(c * size + row) * size + col]
 };
+/// The point (u, v) in [-1, 1]^2 of face f on the cube [-1, 1]^3 (not unit length): the
+/// faces' orientation of CubeMap; InputError for f outside 0..5.
+glm::dvec3 cube_face_point(int face, double u, double v);
 /// Direction of the centre of texel (col, row) of face f (unit length).
 glm::dvec3 cube_texel_direction(int face, int col, int row, int size);
 /// Exact solid angle of texel (col, row) (same on every face).
