@@ -73,21 +73,6 @@ void upload(const GiMeshView& m, Soup& s) {
   check_gl("gi raster: mesh upload");
 }
 
-// Orthographic projection along -s (s towards the light) over the bounding sphere, as
-// prt.cpp's depth maps: x, y on axes ex, ey / radius, depth (radius - p.s) / (2 radius).
-Mat4 light_matrix(const glm::dvec3& s, double radius) {
-  const glm::dvec3 ex = glm::normalize(std::abs(s.z) < 0.9 ? glm::cross(glm::dvec3(0, 0, 1), s)
-                                                           : glm::cross(glm::dvec3(1, 0, 0), s));
-  const glm::dvec3 ey = glm::cross(s, ex);
-  Mat4 lp;
-  for (int c = 0; c < 3; ++c) {
-    lp.set(0, c, ex[c] / radius);
-    lp.set(1, c, ey[c] / radius);
-    lp.set(2, c, -s[c] / radius);
-  }
-  lp.set(3, 3, 1.0);
-  return lp;
-}
 
 // Reads attachment `att` of the bound read framebuffer (RGBA float, GL rows from the bottom).
 std::vector<float> read_rgba(GLuint fb, int att, int w, int h) {

@@ -3,10 +3,13 @@
 // a program's one-source parts. Include after <GL/glcorearb.h>.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <glm/geometric.hpp>
 
 #include "atmosh/gpu/program.hpp"
 
@@ -35,6 +38,23 @@ using Textures = GlNames<glGenTextures, glDeleteTextures>;
 using Framebuffers = GlNames<glGenFramebuffers, glDeleteFramebuffers>;
 using GlBuffers = GlNames<glGenBuffers, glDeleteBuffers>;
 using VertexArrays = GlNames<glGenVertexArrays, glDeleteVertexArrays>;
+
+// Orthographic projection along -s (s a unit vector towards the light) over a bounding
+// sphere of `radius` about the origin: x, y on axes ex, ey / radius, depth (radius - p.s) /
+// (2 radius), nearest to the light first (the depth maps of prt.cpp and gi_raster.cpp).
+inline Mat4 light_matrix(const glm::dvec3& s, double radius) {
+  const glm::dvec3 ex = glm::normalize(std::abs(s.z) < 0.9 ? glm::cross(glm::dvec3(0, 0, 1), s)
+                                                           : glm::cross(glm::dvec3(1, 0, 0), s));
+  const glm::dvec3 ey = glm::cross(s, ex);
+  Mat4 lp;
+  for (int c = 0; c < 3; ++c) {
+    lp.set(0, c, ex[c] / radius);
+    lp.set(1, c, ey[c] / radius);
+    lp.set(2, c, -s[c] / radius);
+  }
+  lp.set(3, 3, 1.0);
+  return lp;
+}
 
 // One level of `format`, nearest filtering, clamped to the edge.
 inline void storage_2d(GLuint tex, GLenum format, int w, int h) {

@@ -197,17 +197,7 @@ PrtPixelResult prt_pixel_transfer(const Context& ctx, const PrtMeshView& mesh, c
   const auto t_loop = Clock::now();
   for (std::size_t s = 0; s < samples.dirs.size(); ++s) {
     const glm::dvec3 d = glm::normalize(samples.dirs[s]);
-    // Orthographic frame along d: depth = (radius - p.d) / (2 radius), nearest to the light first.
-    const glm::dvec3 ex = glm::normalize(std::abs(d.z) < 0.9 ? glm::cross(glm::dvec3(0, 0, 1), d)
-                                                             : glm::cross(glm::dvec3(1, 0, 0), d));
-    const glm::dvec3 ey = glm::cross(d, ex);
-    Mat4 lp;
-    for (int c = 0; c < 3; ++c) {
-      lp.set(0, c, ex[c] / radius);
-      lp.set(1, c, ey[c] / radius);
-      lp.set(2, c, -d[c] / radius);
-    }
-    lp.set(3, 3, 1.0);
+    const Mat4 lp = light_matrix(d, radius);  // depth = (radius - p.d) / (2 radius)
     if (opt.visibility) {
       glBindFramebuffer(GL_FRAMEBUFFER, fbo.ids[1]);
       glViewport(0, 0, D, D);
