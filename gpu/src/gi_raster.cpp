@@ -307,20 +307,7 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   const glm::dvec3 eye = cam.eye - soup.centre;
   const double dist = glm::length(eye);
   const double near_d = std::max(dist - radius, 1e-3 * radius), far_d = dist + radius;
-  const double aspect = static_cast<double>(W) / H, th = cam.tan_half_fov;
-  const double sx = 1.0 / (th * aspect), sy = 1.0 / th;
-  const double a = -(far_d + near_d) / (far_d - near_d), b = -2.0 * far_d * near_d / (far_d - near_d);
-  Mat4 vp;
-  for (int c = 0; c < 3; ++c) {
-    vp.set(0, c, sx * cam.right[c]);
-    vp.set(1, c, sy * cam.up[c]);
-    vp.set(2, c, a * cam.back[c]);
-    vp.set(3, c, -cam.back[c]);
-  }
-  vp.set(0, 3, -sx * glm::dot(cam.right, eye));
-  vp.set(1, 3, -sy * glm::dot(cam.up, eye));
-  vp.set(2, 3, -a * glm::dot(cam.back, eye) + b);
-  vp.set(3, 3, glm::dot(cam.back, eye));
+  const Mat4 vp = camera_matrix(cam.right, cam.up, cam.back, cam.tan_half_fov, eye, W, H, near_d, far_d);
   gbuf.use();
   gbuf.set_mat4("view_proj", vp.m);
   gbuf.set_mat4("light_proj", lp.m);

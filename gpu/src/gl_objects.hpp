@@ -56,6 +56,28 @@ inline Mat4 light_matrix(const glm::dvec3& s, double radius) {
   return lp;
 }
 
+// Perspective view-projection of a camera at `eye` with unit axes right, up, back (looking
+// along -back), tan of half the vertical field of view, a W x H image and depth range
+// [near_d, far_d] (OpenGL clip space; the PRT and gi G-buffer passes).
+inline Mat4 camera_matrix(const glm::dvec3& right, const glm::dvec3& up, const glm::dvec3& back, double tan_half_fov,
+                          const glm::dvec3& eye, int W, int H, double near_d, double far_d) {
+  const double aspect = static_cast<double>(W) / H, th = tan_half_fov;
+  const double sx = 1.0 / (th * aspect), sy = 1.0 / th;
+  const double a = -(far_d + near_d) / (far_d - near_d), b = -2.0 * far_d * near_d / (far_d - near_d);
+  Mat4 vp;
+  for (int c = 0; c < 3; ++c) {
+    vp.set(0, c, sx * right[c]);
+    vp.set(1, c, sy * up[c]);
+    vp.set(2, c, a * back[c]);
+    vp.set(3, c, -back[c]);
+  }
+  vp.set(0, 3, -sx * glm::dot(right, eye));
+  vp.set(1, 3, -sy * glm::dot(up, eye));
+  vp.set(2, 3, -a * glm::dot(back, eye) + b);
+  vp.set(3, 3, glm::dot(back, eye));
+  return vp;
+}
+
 // One level of `format`, nearest filtering, clamped to the edge.
 inline void storage_2d(GLuint tex, GLenum format, int w, int h) {
   glBindTexture(GL_TEXTURE_2D, tex);

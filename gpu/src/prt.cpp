@@ -123,20 +123,7 @@ PrtPixelResult prt_pixel_transfer(const Context& ctx, const PrtMeshView& mesh, c
     const glm::dvec3 eye = cam.eye - centre;
     const double dist = glm::length(eye);
     const double near_d = std::max(dist - radius, 1e-6 * radius), far_d = dist + radius;
-    const double aspect = static_cast<double>(W) / H, th = cam.tan_half_fov;
-    Mat4 vp;
-    const double sx = 1.0 / (th * aspect), sy = 1.0 / th;
-    const double a = -(far_d + near_d) / (far_d - near_d), b = -2.0 * far_d * near_d / (far_d - near_d);
-    for (int c = 0; c < 3; ++c) {
-      vp.set(0, c, sx * cam.right[c]);
-      vp.set(1, c, sy * cam.up[c]);
-      vp.set(2, c, a * cam.back[c]);
-      vp.set(3, c, -cam.back[c]);
-    }
-    vp.set(0, 3, -sx * glm::dot(cam.right, eye));
-    vp.set(1, 3, -sy * glm::dot(cam.up, eye));
-    vp.set(2, 3, -a * glm::dot(cam.back, eye) + b);
-    vp.set(3, 3, glm::dot(cam.back, eye));
+    const Mat4 vp = camera_matrix(cam.right, cam.up, cam.back, cam.tan_half_fov, eye, W, H, near_d, far_d);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo.ids[0]);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t_pos, 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, t_nrm, 0);
