@@ -123,3 +123,28 @@ TEST(HostileMesh, PlyCountsIndicesAndValuesAreChecked) {
             std::string::npos);
   EXPECT_NE(error_of(write("magic.ply", "PLY?\n")).find("does not start with 'ply'"), std::string::npos);
 }
+
+// The mesh library's triangulation step aborted the process (exit 134, an internal
+// assertion) on a triangle strip whose restarts (-1) leave segments of fewer than three
+// vertices: its primitive-type flags claimed polygons that were not there. Such a file now
+// loads its real triangles or is refused, and a polygon is still cut into triangles.
+TEST(HostileMesh, StripsWithRestartsAndPolygonsLoad) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n";
+  const std::string verts = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+  const std::string strip = head + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n" + verts;
+  for (const std::string list : {"5 0 1 -1 2 0\n", "1 -1\n", "7 0 1 2 -1 3 -1 -1\n"}) {
+    const std::string msg = error_of(write("strip.ply", strip + list));
+    EXPECT_TRUE(msg.empty() || msg.find("strip.ply") != std::string::npos) << msg;
+  }
+  // A unit square as one quad face: two triangles of total area 1, on the four file vertices.
+  const prt::Mesh q = prt::load_mesh(write(
+      "quad.ply", head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + verts + "4 0 1 2 3\n"));
+  ASSERT_EQ(q.triangles.size(), 2u);
+  ASSERT_EQ(q.positions.size(), 4u);
+  double area = 0;
+  for (const auto& t : q.triangles) {
+    const glm::dvec3 a = q.positions[t[0]], b = q.positions[t[1]], c = q.positions[t[2]];
+    area += 0.5 * std::abs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+  }
+  EXPECT_NEAR(area, 1.0, 1e-12);
+}

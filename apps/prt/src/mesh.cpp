@@ -329,12 +329,42 @@ class PlyCheck {
 Mesh load_ply(const std::filesystem::path& file) {
   PlyCheck(file).run();  // before the mesh library sees the file
   Assimp::Importer imp;
-  // No vertex joining or other changes: the file's vertices are the mesh's vertices.
-  const aiScene* sc = imp.ReadFile(file.string(), aiProcess_Triangulate);
-  if (sc == nullptr || sc->mNumMeshes == 0) {
-    std::string msg = sc ? "no mesh in file" : imp.GetErrorString();
+  // Read without post-processing first: no vertex joining or other changes (the file's
+  // vertices are the mesh's vertices), and nothing runs on faces not yet checked.
+  const aiScene* sc = imp.ReadFile(file.string(), 0);
+  const auto unreadable = [&](std::string msg) {
     std::replace(msg.begin(), msg.end(), '\n', ' ');
-    throw InputError(file.string() + ": not a readable PLY mesh (" + msg + ")");
+    return InputError(file.string() + ": not a readable PLY mesh (" + msg + ")");
+  };
+  if (sc == nullptr) throw unreadable(imp.GetErrorString());
+  if (sc->mNumMeshes == 0) throw unreadable("no mesh in file");
+  // The triangulation step trusts each mesh's primitive-type flags and aborts the process
+  // when they claim polygons that are not there (e.g. the degenerate faces a triangle strip
+  // with restarts leaves). Check every index, then set the flags from the faces themselves.
+  bool polygons = false;
+  for (unsigned k = 0; k < sc->mNumMeshes; ++k) {
+    aiMesh* am = sc->mMeshes[k];
+    unsigned types = 0;
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+      const aiFace& face = am->mFaces[f];
+      for (unsigned j = 0; j < face.mNumIndices; ++j)
+        if (face.mIndices[j] >= am->mNumVertices)
+          throw InputError(file.string() + ": face " + std::to_string(f) + " names vertex " +
+                           std::to_string(face.mIndices[j]) + " of " + std::to_string(am->mNumVertices));
+      switch (face.mNumIndices) {
+        case 0: break;
+        case 1: types |= aiPrimitiveType_POINT; break;
+        case 2: types |= aiPrimitiveType_LINE; break;
+        case 3: types |= aiPrimitiveType_TRIANGLE; break;
+        default: types |= aiPrimitiveType_POLYGON; polygons = true;
+      }
+    }
+    // A mesh without faces of any kind gets a non-polygon flag, so that the step leaves it alone.
+    am->mPrimitiveTypes = types != 0 ? types : aiPrimitiveType_POINT;
+  }
+  if (polygons) {
+    sc = imp.ApplyPostProcessing(aiProcess_Triangulate);
+    if (sc == nullptr) throw unreadable(imp.GetErrorString());
   }
   Mesh m;
   m.name = file.string();
