@@ -360,7 +360,7 @@ Mesh load_ply(const std::filesystem::path& file) {
       }
     }
     // A mesh without faces of any kind gets a non-polygon flag, so that the step leaves it alone.
-    am->mPrimitiveTypes = types != 0 ? types : aiPrimitiveType_POINT;
+    am->mPrimitiveTypes = types != 0 ? types : static_cast<unsigned>(aiPrimitiveType_POINT);
   }
   if (polygons) {
     sc = imp.ApplyPostProcessing(aiProcess_Triangulate);
