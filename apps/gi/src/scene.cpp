@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "atmosh/check.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/exr.hpp"
 #include "atmosh/prt/bake.hpp"
@@ -254,9 +255,7 @@ void validate(const Scene& s) {
 }
 
 void check_view(const Camera& cam, int width, int height) {
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw InputError("gi: image size " + std::to_string(width) + "x" + std::to_string(height) +
-                     " is out of range (1..16384 a side)");
+  require_image_size(width, height, "gi");
   const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
   if (!(glm::length(cam.forward) > 0) || !(glm::length(rx) > 0) || !std::isfinite(glm::length(rx)) ||
       !std::isfinite(glm::length(cam.eye)) || !(cam.vertical_fov_deg > 0 && cam.vertical_fov_deg < 180))

@@ -16,6 +16,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "atmosh/check.hpp"
 #include "atmosh/error.hpp"
 #include "atmosh/io/atomic.hpp"
 #include "atmosh/parallel.hpp"
@@ -123,8 +124,7 @@ bool RayScene::intersect(const glm::dvec3& org, const glm::dvec3& dir, double tn
 // ---- camera -------------------------------------------------------------------------------
 PixelCamera::PixelCamera(const Mesh& mesh, int width_, int height_, const glm::dvec3& view_dir)
     : width(width_), height(height_) {
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
+  require_image_size(width, height, "prt");
   if (!(glm::length(view_dir) > 0) || !std::isfinite(glm::length(view_dir)))
     throw InputError("view direction is zero or not finite");
   glm::dvec3 lo = mesh.positions[0], hi = lo;

@@ -82,4 +82,13 @@ inline std::array<int, 2> parse_size(const std::string& text, const std::string&
   }
 }
 
+// A rendered image's size: "<what>: image size WxH is out of range (1..16384 a side)"
+// unless both sides are in 1..16384 (the largest texture side GL 4.5 drivers must take
+// is 16384, and the CPU renderers keep the same bound).
+inline void require_image_size(int width, int height, const std::string& what) {
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw InputError(what + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
+                     " is out of range (1..16384 a side)");
+}
+
 }  // namespace atmosh
