@@ -423,7 +423,7 @@ struct ProbeProjector::Impl {
   Vbo vbo, ibo;
   Tex colour, depth;
   Fbo fbo;
-  std::unique_ptr<Buffer> env, sh;
+  std::unique_ptr<Buffer> env, sh, texel_int;
 };
 
 ProbeProjector::ProbeProjector(const Context& ctx, const CubeRasterMesh& mesh,
@@ -474,12 +474,14 @@ ProbeProjector::ProbeProjector(const Context& ctx, const CubeRasterMesh& mesh,
   m.env = std::make_unique<Buffer>(env.size() * sizeof(float), env.data());
   const std::vector<float> zero(centres.size() * 3 * static_cast<std::size_t>(stride), 0.0f);
   m.sh = std::make_unique<Buffer>(zero.size() * sizeof(float), zero.data());
+  const std::size_t n = static_cast<std::size_t>(NS / supersample);
+  m.texel_int = std::make_unique<Buffer>(static_cast<std::size_t>(m.batch) * 6 * n * n * 3 * sizeof(float));
   check_gl("probe projector setup");
 }
 
 ProbeProjector::~ProbeProjector() = default;
 
-void ProbeProjector::run(int bands, const std::vector<double>& window, const ProbeSun& sun) const {
+void ProbeProjector::run(int bands, const std::vector<double>& window, const ProbeSun& sun, double* split) const {
   const Impl& m = *impl_;
   if (bands < 1 || bands > m.max_bands) throw std::invalid_argument("ProbeProjector::run: bands out of range");
   if (!window.empty() && window.size() < static_cast<std::size_t>(bands))
@@ -509,7 +511,18 @@ void ProbeProjector::run(int bands, const std::vector<double>& window, const Pro
                  static_cast<float>(sun.irradiance[2]));
   m.env->bind(0);
   m.sh->bind(1);
+  m.texel_int->bind(2);
+  const int N = NS / m.supersample;
   const GLsizei n_indices = static_cast<GLsizei>(m.mesh.indices.size());
+  if (split != nullptr) split[0] = split[1] = 0;
+  auto t_lap = Clock::now();
+  auto lap = [&](int k) {
+    if (split == nullptr) return;
+    glFinish();
+    const auto t = Clock::now();
+    split[k] += std::chrono::duration<double>(t - t_lap).count();
+    t_lap = t;
+  };
   for (std::size_t first = 0; first < nc; first += static_cast<std::size_t>(m.batch)) {
     const int count = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(m.batch), nc - first));
     // 1. the batch's cube maps into the atlas
@@ -530,15 +543,20 @@ void ProbeProjector::run(int bands, const std::vector<double>& window, const Pro
     glBindVertexArray(0);
     glDisable(GL_SCISSOR_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    lap(0);
     // 2. its projection (reads the atlas as a texture; the next batch's draws wait for it)
     m.project->use();
     m.project->set("count", count);
     m.project->set("first", static_cast<int>(first));
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, m.colour.id);
-    const unsigned groups = static_cast<unsigned>((static_cast<std::size_t>(count) * bands * bands + 63) / 64);
-    glDispatchCompute(groups, 1, 1);
+    m.project->set("stage", 0);
+    glDispatchCompute(static_cast<unsigned>((static_cast<std::size_t>(count) * 6 * N * N + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    m.project->set("stage", 1);
+    glDispatchCompute(static_cast<unsigned>((static_cast<std::size_t>(count) * bands * bands + 63) / 64), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    lap(1);
   }
   glBindTexture(GL_TEXTURE_2D, 0);
   check_gl("probe projector run");

@@ -471,13 +471,22 @@ ProbeFrameResident::ProbeFrameResident(const Scene& scene, const Camera& cam, in
 
 ProbeFrameResident::~ProbeFrameResident() = default;
 
-RadianceImage ProbeFrameResident::render() const {
+RadianceImage ProbeFrameResident::render(double* pass_seconds) const {
 #ifdef ATMOSH_GI_HAVE_GPU
   const Impl& m = *impl_;
   const auto t0 = std::chrono::steady_clock::now();
+  auto t_pass = t0;
+  auto lap = [&](int k) {
+    if (pass_seconds == nullptr) return;
+    gpu::finish();
+    const auto t = std::chrono::steady_clock::now();
+    pass_seconds[k] = std::chrono::duration<double>(t - t_pass).count();
+    t_pass = t;
+  };
   m.ctx.make_current();
   // 1-2. cube maps and their projection into the SH buffer
-  m.projector->run(m.opt.probes.bands, m.window, gpu::ProbeSun{});
+  m.projector->run(m.opt.probes.bands, m.window, gpu::ProbeSun{}, pass_seconds);
+  if (pass_seconds != nullptr) t_pass = std::chrono::steady_clock::now();
   // 3. the sun's shadow map
   m.prog->use();
   m.prog->set("has_sun", m.shadow ? 1 : 0);
@@ -500,6 +509,7 @@ RadianceImage ProbeFrameResident::render() const {
     m.prog->set("sun_bias", static_cast<float>(m.opt.shadow_bias));
     m.prog->set("sun_pcf", m.opt.shadow_pcf);
   }
+  lap(2);
   // 4. the receivers' shading from the SH buffer
   m.projector->bind_sh(0);
   m.prog->set("grid_lo", static_cast<float>(m.grid_lo.x), static_cast<float>(m.grid_lo.y), static_cast<float>(m.grid_lo.z));
@@ -509,6 +519,7 @@ RadianceImage ProbeFrameResident::render() const {
   m.raster->draw_resident(*m.prog);
   // 5. the image: the frame's only read-back
   const std::vector<float> rgba = m.raster->read();
+  lap(3);
   const std::size_t npx = static_cast<std::size_t>(m.width) * m.height;
   RadianceImage img;
   img.width = m.width;
@@ -522,6 +533,7 @@ RadianceImage ProbeFrameResident::render() const {
   img.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return img;
 #else
+  (void)pass_seconds;
   throw InputError("gi probes: this build has no GPU library (atmosh::gpu)");
 #endif
 }

@@ -119,7 +119,9 @@ class ProbeProjector {
   ProbeProjector(const ProbeProjector&) = delete;
   ProbeProjector& operator=(const ProbeProjector&) = delete;
   /// Rasterise and project (bands 1..max_bands; window: one weight per band, empty = 1).
-  void run(int bands, const std::vector<double>& window, const ProbeSun& sun) const;
+  /// `split_seconds` (optional, 2 entries): the draws' and the projections' wall time, each
+  /// batch's draws and projection then waited for (glFinish; for profiling).
+  void run(int bands, const std::vector<double>& window, const ProbeSun& sun, double* split_seconds = nullptr) const;
   /// Binds the coefficient buffer ([(probe * 3 + channel) * stride + i]) to a storage binding.
   void bind_sh(unsigned binding) const;
   /// Reads the coefficients back (diagnostics and the CPU's use; not part of a resident frame).

@@ -278,7 +278,11 @@ class ProbeFrameResident {
   ProbeFrameResident(const ProbeFrameResident&) = delete;
   ProbeFrameResident& operator=(const ProbeFrameResident&) = delete;
   /// One frame (passes 1–5); stats.seconds: the frame, upload of uniforms to read-back.
-  RadianceImage render() const;
+  /// `pass_seconds` (optional, 4 entries): the cube maps' draws, their projection, the sun's
+  /// shadow map, the shading + read-back — each pass then waits for the GPU (glFinish) before
+  /// the next starts, which serialises the frame (for profiling; the frame's own time is
+  /// without it).
+  RadianceImage render(double* pass_seconds = nullptr) const;
   /// The probes' coefficients of the last frame, read back (diagnostics; not part of a frame).
   ProbeGrid grid() const;
 
