@@ -24,6 +24,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "atmosh/gi/path_tracer.hpp"
 #include "atmosh/gi/probes.hpp"
 #include "atmosh/gi/scene.hpp"
 #include "atmosh/prt/mesh.hpp"
@@ -260,6 +261,18 @@ TEST(GiProbesResident, FrameUnderSunAndSkyMatchesTheCpuProbeMethod) {
   EXPECT_LT(e.rms_rel, 0.06);
   EXPECT_NEAR(e.mean_rel, 1.0, 0.01);
   EXPECT_LT(e.max_rel, 1.0);
+  // Both against the path tracer (128 paths a pixel): the resident frame's error is the CPU
+  // method's within 0.02 (rms_rel); measured in docs/gi.md.
+  gi::TraceOptions t;
+  t.samples = 128;
+  t.seed = 5;
+  const gi::RadianceImage ref = gi::render(s, s.camera, w, h, t);
+  const gi::ImageError eg = gi::image_error(img, ref), ec = gi::image_error(cpu, ref);
+  std::printf("[ measured ] against the path tracer: resident frame rms %.4f max %.4f mean %.4f; CPU probes rms %.4f "
+              "max %.4f mean %.4f\n",
+              eg.rms_rel, eg.max_rel, eg.mean_rel, ec.rms_rel, ec.max_rel, ec.mean_rel);
+  EXPECT_LT(eg.rms_rel, ec.rms_rel + 0.02);
+  EXPECT_NEAR(eg.mean_rel, ec.mean_rel, 0.01);
 }
 #endif
 
