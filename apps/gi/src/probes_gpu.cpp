@@ -1,6 +1,9 @@
 // Radiance probes of a baked surface radiance, rasterised on the GPU (see probes.hpp,
 // "Probes of a baked surface radiance"): the sub-triangles with their per-vertex radiance
-// drawn into cube maps by gpu::render_cube_maps (gpu/shaders/gi_probe_cube.vert/.frag).
+// drawn into cube maps by gpu::render_cube_maps (gpu/shaders/gi_probe_cube.vert/.frag),
+// projected to SH on the GPU by gpu::ProbeProjector (gi_probe_project.comp, ProbeRaster::gpu_sh),
+// the probe frame (ProbeFrameGpu) and the GPU-resident frame with the sun's shadow map
+// (ProbeFrameResident: cube maps -> SH -> shading in one context, one read-back).
 #include <algorithm>
 #include <array>
 #include <chrono>
