@@ -242,6 +242,37 @@ TEST(GiProbesResident, GpuProjectionAgreesWithTheCpuProjection) {
   EXPECT_LT(worst2, 1e-5);
 }
 
+TEST(GiProbesResident, ResidentFrameEqualsTheChainedPasses) {
+  ATMOSH_NEED_GPU();
+  // Cornell box (no sun): the resident frame against the same passes chained through the CPU —
+  // the probes projected on the GPU and read back (ProbeRaster::gpu_sh), then uploaded to the
+  // probe frame (ProbeFrameGpu). Same floats in, same shader: equal to float rounding.
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::SurfaceRadianceOptions so;
+  so.divisions = 4;
+  so.samples = 4;
+  const gi::SurfaceRadiance f = gi::bake_surface_radiance(s, so);
+  gi::ProbeFrameOptions fo;
+  fo.grid = 2;
+  fo.probes.bands = 3;
+  fo.probes.cube_size = 4;
+  fo.supersample = 2;
+  const int w = 40, h = 32;
+  const gi::RadianceImage resident = gi::ProbeFrameResident(s, s.camera, w, h, f, fo).render();
+  const gi::ProbeGrid g = gi::build_probe_grid_surface(s, f, fo.grid, fo.probes, gi::ProbeRaster::gpu_sh, fo.supersample);
+  const gi::RadianceImage chained = gi::ProbeFrameGpu(s, s.camera, w, h).render(g, false);
+  double scale = 0, worst = 0;
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t i = 0; i < chained.mean[c].size(); ++i) {
+      scale = std::max(scale, static_cast<double>(chained.mean[c][i]));
+      worst = std::max(worst, std::abs(static_cast<double>(resident.mean[c][i]) - chained.mean[c][i]));
+    }
+  ASSERT_GT(scale, 0);
+  std::printf("[ measured ] resident frame vs chained passes (Cornell box, 40 x 32): %.3g of the largest radiance\n",
+              worst / scale);
+  EXPECT_LE(worst / scale, 1e-6);
+}
+
 TEST(GiProbesResident, FrameUnderSunAndSkyMatchesTheCpuProbeMethod) {
   ATMOSH_NEED_GPU();
   const gi::Scene s = sphere_on_plane_sun_sky();
