@@ -149,8 +149,9 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
       const int supersample = std::clamp(std::min(o.surface_supersample, 512 / std::max(o.cube_size, 1)), 1, 16);
       // Without visibility weighting and with bands <= 3 the whole frame is GPU-resident
       // (ProbeFrameResident: cube maps, their projection, the sun's shadow map and the shading in
-      // one context, only the image read back); otherwise the cube maps are rasterised and the
-      // frame shaded by the CPU's camera rays.
+      // one context, only the image read back); otherwise the cube maps are rasterised and
+      // projected on the GPU (only the coefficients read back) and the frame shaded by the CPU's
+      // camera rays.
       const bool resident = !o.probe_visibility && p.bands <= 3;
       const std::optional<GpuUnusable> unusable = try_gpu([&] {
         if (resident) {
@@ -167,7 +168,7 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
           r.image.stats.rays += f.stats.rays;
           r.image.stats.shadow_rays += f.stats.shadow_rays;
         } else {
-          g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::gpu, supersample);
+          g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::gpu_sh, supersample);
         }
       });
       r.device = resolve_device(o.device, unusable, "ray casting the probes' cube maps on the CPU");
