@@ -386,3 +386,51 @@ BENCHMARK(BM_GpuFrame512)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(3);
+
+// The GPU-resident probe frame at 512 x 512 (gi::ProbeFrameResident, docs/gi.md "Radiance
+// probes on the GPU, resident"): per frame the cube maps of the 4^3 probes (N = 8 rendered at
+// 32: supersample 4, from the baked field, divisions 16) rasterised, projected to 3 bands by
+// the compute pass, the sun's shadow map (1024^2) where the scene has a sun, the receivers
+// shaded from the SH buffer, and the image read back — one context, no read-back between the
+// passes. arg 0: the scene (0 the Cornell box and its light; 1 sphere-on-plane under the sun
+// 135°, 40° and a uniform sky of 0.3). Context, programs and the first frame (llvmpipe
+// compiles shaders at their first use) outside the timing. Counters: each pass's share, from
+// a separate serialised frame per iteration (glFinish after each pass).
+void BM_ProbeResidentFrame512(benchmark::State& state) {
+  gi::Scene s = gi::builtin_scene(state.range(0) == 0 ? "cornell-box" : "sphere-on-plane");
+  if (state.range(0) == 1) {
+    s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(1.0), 0.0};
+    s.env_bands = 1;
+    for (int c = 0; c < 3; ++c) s.env_sh[c] = {0.3 * 2 * 1.7724538509055160273};  // L / Y_00
+  }
+  gi::SurfaceRadianceOptions so;
+  so.samples = 4;
+  const gi::SurfaceRadiance f = gi::bake_surface_radiance(s, so);
+  gi::ProbeFrameOptions fo;
+  fo.grid = 4;
+  fo.probes.bands = 3;
+  fo.probes.cube_size = 8;
+  fo.supersample = 4;
+  double passes[4] = {0, 0, 0, 0}, sums[4] = {0, 0, 0, 0};
+  try {
+    const gi::ProbeFrameResident frame(s, s.camera, 512, 512, f, fo);
+    benchmark::DoNotOptimize(frame.render().mean[0].data());
+    for (auto _ : state) {
+      const gi::RadianceImage img = frame.render();
+      benchmark::DoNotOptimize(img.mean[0].data());
+      state.SetIterationTime(img.stats.seconds);
+      state.PauseTiming();
+      benchmark::DoNotOptimize(frame.render(passes).mean[0].data());
+      for (int k = 0; k < 4; ++k) sums[k] += passes[k];
+      state.ResumeTiming();
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+  const double n = static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
+  state.counters["cubes_ms"] = 1e3 * sums[0] / n;
+  state.counters["project_ms"] = 1e3 * sums[1] / n;
+  state.counters["shadow_ms"] = 1e3 * sums[2] / n;
+  state.counters["shade_read_ms"] = 1e3 * sums[3] / n;
+}
+BENCHMARK(BM_ProbeResidentFrame512)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(5);

@@ -1,9 +1,10 @@
 // Radiance probes: per fragment (the surface point at the pixel centre), as
-// gi::render_probes without visibility and without a separate sun:
-//   L = L_e (the side seen) + a / pi max(0, E(p, n)),
+// gi::render_probes without visibility:
+//   L = L_e (the side seen) + a / pi (max(0, E(p, n)) + E_sun max(0, n . s) V(p)),
 //   E = sum over the 8 probes around p of w_q gi_sh_irradiance(c_q, bands, n)
 // (trilinear weights, p clamped to the span of the probe centres; n the flat normal turned
-// towards the eye). Follows the block of atmosh/gi/shared/radiosity.glsl.hpp (gi_sh_irradiance).
+// towards the eye). Follows the block of atmosh/gi/shared/radiosity.glsl.hpp (gi_sh_irradiance)
+// and gi_probe_sun.glsl (the sun's shadow-map factor; 0 when has_sun is 0).
 layout(std430, binding = 0) readonly buffer Probes { float probe_sh[]; };  // [probe][channel][9]
 uniform vec3 eye;       // relative to the same centre as the positions
 uniform vec3 grid_lo;
@@ -45,5 +46,6 @@ void main() {
     int probe = (q.z * grid_n + q.y) * grid_n + q.x;
     for (int ch = 0; ch < 3; ++ch) E[ch] += w * probe_irradiance(probe, ch, n);
   }
-  radiance = vec4((front ? v_emit_front : v_emit_back) + v_albedo / 3.14159265358979324 * max(E, vec3(0.0)), 1.0);
+  vec3 Es = sun_irradiance * probe_sun_factor(v_position, n);
+  radiance = vec4((front ? v_emit_front : v_emit_back) + v_albedo / 3.14159265358979324 * (max(E, vec3(0.0)) + Es), 1.0);
 }

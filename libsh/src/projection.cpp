@@ -12,6 +12,7 @@
 #include "atmosh/sh/basis.hpp"
 #include "atmosh/sh/fast.hpp"
 #include "atmosh/sh/quadrature.hpp"
+#include "atmosh/sh/shared/cube.glsl.hpp"
 #include "atmosh/sh/transform.hpp"
 #include "transform_impl.hpp"
 
@@ -304,29 +305,19 @@ Channels project_equirect_sampled(const ImageView& img, int bands, const Project
   return out;
 }
 
+// The cube geometry is the shared C++/GLSL block (atmosh/sh/shared/cube.glsl.hpp), so that
+// the GPU probes' projection uses the very same texel directions and solid angles.
 glm::dvec3 cube_face_point(int face, double u, double v) {
-  switch (face) {
-    case 0: return {1, -v, -u};
-    case 1: return {-1, -v, u};
-    case 2: return {u, 1, v};
-    case 3: return {u, -1, -v};
-    case 4: return {u, -v, 1};
-    case 5: return {-u, -v, -1};
-    default: throw InputError("cube face must be 0..5, got " + std::to_string(face));
-  }
+  if (face < 0 || face > 5) throw InputError("cube face must be 0..5, got " + std::to_string(face));
+  return shared::sh_cube_face_point(face, u, v);
 }
 
 glm::dvec3 cube_texel_direction(int face, int col, int row, int size) {
-  const glm::dvec3 d = cube_face_point(face, 2.0 * (col + 0.5) / size - 1.0, 2.0 * (row + 0.5) / size - 1.0);
-  return d / std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  if (face < 0 || face > 5) throw InputError("cube face must be 0..5, got " + std::to_string(face));
+  return shared::sh_cube_texel_direction(face, col, row, size);
 }
 
-double cube_texel_solid_angle(int col, int row, int size) {
-  auto A = [](double u, double v) { return std::atan2(u * v, std::sqrt(u * u + v * v + 1.0)); };
-  const double u0 = 2.0 * col / size - 1.0, u1 = 2.0 * (col + 1) / size - 1.0;
-  const double v0 = 2.0 * row / size - 1.0, v1 = 2.0 * (row + 1) / size - 1.0;
-  return A(u0, v0) - A(u0, v1) - A(u1, v0) + A(u1, v1);
-}
+double cube_texel_solid_angle(int col, int row, int size) { return shared::sh_cube_texel_solid_angle(col, row, size); }
 
 CubeMap unpack_cross(const ImageView& img) {
   check_image(img, "unpack_cross");

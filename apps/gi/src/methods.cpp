@@ -147,9 +147,32 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
       const SurfaceRadiance f = bake_surface_radiance(scene, so);
       // supersampling within the cube-size limit (the largest s with cube_size x s <= 512)
       const int supersample = std::clamp(std::min(o.surface_supersample, 512 / std::max(o.cube_size, 1)), 1, 16);
-      const std::optional<GpuUnusable> unusable =
-          try_gpu([&] { g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::gpu, supersample); });
+      // Without visibility weighting and with bands <= 3 the whole frame is GPU-resident
+      // (ProbeFrameResident: cube maps, their projection, the sun's shadow map and the shading in
+      // one context, only the image read back); otherwise the cube maps are rasterised and
+      // projected on the GPU (only the coefficients read back) and the frame shaded by the CPU's
+      // camera rays.
+      const bool resident = !o.probe_visibility && p.bands <= 3;
+      const std::optional<GpuUnusable> unusable = try_gpu([&] {
+        if (resident) {
+          ProbeFrameOptions fo;
+          fo.grid = o.grid;
+          fo.probes = p;
+          fo.supersample = supersample;
+          const auto tb = Clock::now();
+          const ProbeFrameResident frame(scene, camera, width, height, f, fo);
+          r.build_seconds = f.seconds + since(tb);
+          const auto ts = Clock::now();
+          r.image = frame.render();
+          r.shade_seconds = since(ts);
+          r.image.stats.rays += f.stats.rays;
+          r.image.stats.shadow_rays += f.stats.shadow_rays;
+        } else {
+          g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::gpu_sh, supersample);
+        }
+      });
       r.device = resolve_device(o.device, unusable, "ray casting the probes' cube maps on the CPU");
+      if (r.device.gpu && resident) return r;
       if (!r.device.gpu) g = build_probe_grid_surface(scene, f, o.grid, p, ProbeRaster::cpu_rays, supersample);
       r.build_seconds = f.seconds + g.seconds;
       g.stats.rays += f.stats.rays;
@@ -161,12 +184,7 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     ro.threads = o.threads;
     ro.visibility = o.probe_visibility;
     const auto t0 = Clock::now();
-    // The frame on the GPU where it holds the whole shading: no sun (which needs shadow rays),
-    // no visibility weighting, bands <= 3; else the CPU's camera rays.
-    if (r.device.gpu && !scene.sun && !o.probe_visibility && g.bands <= 3)
-      r.image = render_probes_frame(scene, camera, width, height, g, false, true);
-    else
-      r.image = render_probes(scene, camera, width, height, g, false, ro);
+    r.image = render_probes(scene, camera, width, height, g, false, ro);
     r.shade_seconds = since(t0);
     r.image.stats.rays += g.stats.rays;
     r.image.stats.shadow_rays += g.stats.shadow_rays;

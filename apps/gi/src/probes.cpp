@@ -163,6 +163,41 @@ namespace detail {
 // alpha 0 where no surface is; near/far the depth range along the face's axis.
 std::vector<float> surface_cubes_gpu(const SurfaceRadiance& field, const std::vector<glm::dvec3>& positions, int n,
                                      double near, double far, double* seconds);
+// The probes' SH on the GPU (probes_gpu.cpp): cube maps of size n s rasterised and projected
+// to opt.bands (window, include_sun) without read-back of the cube maps; env 3 floats a texel
+// of the n s cube; returns [(p * 3 + channel) * bands^2 + i].
+std::vector<float> surface_sh_gpu(const Scene& scene, const SurfaceRadiance& field, const std::vector<glm::dvec3>& positions,
+                                  int n, int s, double near, double far, const std::vector<float>& env,
+                                  const ProbeOptions& opt, double* seconds);
+
+// The depth range [near, far] of the probes' cube maps at `positions` (probes.hpp) and the
+// environment radiance at the texel centres of an n x n cube (3 floats a texel, libsh's order).
+void probe_depth_range(const Scene& scene, const std::vector<glm::dvec3>& positions, double& near, double& far) {
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : scene.mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double diag = glm::length(hi - lo);
+  double reach = 0;  // the farthest bounding-box corner from any position
+  for (const auto& p : positions) {
+    if (!std::isfinite(glm::length(p))) throw InputError("gi probes: non-finite probe position");
+    for (int c = 0; c < 8; ++c)
+      reach = std::max(reach, glm::length(glm::dvec3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z) - p));
+  }
+  near = 1e-3 * diag;
+  far = reach + 2 * diag;
+}
+
+std::vector<float> texel_environment(const Scene& scene, int n) {
+  const std::size_t nn = static_cast<std::size_t>(n) * n;
+  std::vector<float> env(6 * nn * 3);
+  for (int f = 0; f < 6; ++f)
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c) {
+        const glm::dvec3 d = sh::cube_face_point(f, 2 * (c + 0.5) / n - 1, 2 * (r + 0.5) / n - 1);
+        const glm::dvec3 L = environment_radiance(scene, glm::normalize(d));
+        for (int ch = 0; ch < 3; ++ch) env[(f * nn + static_cast<std::size_t>(r) * n + c) * 3 + ch] = static_cast<float>(L[ch]);
+      }
+  return env;
+}
 }  // namespace detail
 
 namespace {
@@ -292,7 +327,7 @@ std::vector<sh::CubeMap> surface_probe_cubes(const Scene& scene, const SurfaceRa
     for (auto& face : cube.faces) face.assign(3 * nn, 0.0f);
   }
   const auto t0 = Clock::now();
-  if (where == ProbeRaster::gpu) {
+  if (where != ProbeRaster::cpu_rays) {
     const std::vector<float> tex = detail::surface_cubes_gpu(field, positions, n, near, far, raster_seconds);
     for (std::size_t p = 0; p < np; ++p)
       for (int f = 0; f < 6; ++f)
@@ -351,6 +386,22 @@ ProbeGrid build_probe_grid_surface(const Scene& scene, const SurfaceRadiance& fi
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) pos.push_back(g.position(i, j, k));
   const int N = opt.cube_size, S = supersample, NS = N * S;
+  if (where == ProbeRaster::gpu_sh) {
+    validate(scene);
+    check_field(field);
+    if (opt.include_sun && scene.sun && scene.sun->angular_radius > 0)
+      throw InputError("gi probes: include_sun needs a point sun (angular radius 0)");
+    double near = 0, far = 0;
+    detail::probe_depth_range(scene, pos, near, far);
+    const std::vector<float> c =
+        detail::surface_sh_gpu(scene, field, pos, N, S, near, far, detail::texel_environment(scene, NS), opt, nullptr);
+    const std::size_t nc = static_cast<std::size_t>(opt.bands) * opt.bands;
+    g.probes.resize(np);
+    for (std::size_t p = 0; p < np; ++p)
+      for (int ch = 0; ch < 3; ++ch) g.probes[p][ch].assign(&c[(p * 3 + ch) * nc], &c[(p * 3 + ch) * nc] + nc);
+    g.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    return g;
+  }
   std::vector<sh::CubeMap> cubes = surface_probe_cubes(scene, field, pos, NS, where);
   if (where == ProbeRaster::cpu_rays) g.stats.rays = np * texels(NS);
   if (S > 1) {  // texel means: sub-texels weighted by their exact solid angles over the texel's

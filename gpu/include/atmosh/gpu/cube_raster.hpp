@@ -77,6 +77,79 @@ class MeshRaster {
   MeshRaster(const MeshRaster&) = delete;
   MeshRaster& operator=(const MeshRaster&) = delete;
   std::vector<float> draw(const Program& program) const;
+  /// A background image (RGBA per pixel, row 0 at the top, as draw() returns) kept on the GPU:
+  /// draw_resident() starts from it instead of 0.
+  void set_background(const std::vector<float>& rgba);
+  /// The draw of draw() without the read-back: the result stays in the target (background
+  /// where nothing is drawn); read() reads it back (the only read-back of a resident frame).
+  void draw_resident(const Program& program) const;
+  std::vector<float> read() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The SH projection of radiance probes on the GPU, resident (no read-back between passes):
+/// per run, the cube maps of every centre are rasterised as by render_cube_maps (at
+/// `opt.size` = N S texels a side, batches of one atlas) and each batch is projected by the
+/// compute pass gpu/shaders/gi_probe_project.comp into one shader storage buffer of SH
+/// coefficients, as libsh's sh::project_cube does on the CPU: the basis at the centre of each
+/// texel of the N x N map times the sum of its S x S sub-texels' radiance times their exact
+/// solid angles (the shared block libsh/include/atmosh/sh/shared/cube.glsl.hpp, which
+/// sh::cube_texel_solid_angle and sh::cube_face_point are), the environment `env` where no
+/// surface is drawn; optionally a point sun's projection E Y_lm(s) added, and band l times
+/// window[l]. Precision: float sums (about 1e-6 of the largest coefficient; the texel solid
+/// angles in float lose ~1e-7 pi / (6 Omega) relative).
+struct ProbeSun {
+  bool on = false;
+  std::array<double, 3> direction{0, 0, 1};   ///< towards the sun, unit
+  std::array<double, 3> irradiance{0, 0, 0};  ///< at normal incidence, per channel
+};
+
+class ProbeProjector {
+ public:
+  /// `env`: 3 floats per texel of the N S cube ([(f N S + row) N S + col] * 3 + channel), the
+  /// radiance where no surface is; `supersample` S divides opt.size; the output holds
+  /// `stride` floats per probe and channel (stride >= max_bands^2), max_bands 1..16.
+  ProbeProjector(const Context& ctx, const CubeRasterMesh& mesh, const std::vector<std::array<double, 3>>& centres,
+                 const CubeRasterOptions& opt, int supersample, const std::vector<float>& env, int max_bands,
+                 int stride);
+  ~ProbeProjector();
+  ProbeProjector(const ProbeProjector&) = delete;
+  ProbeProjector& operator=(const ProbeProjector&) = delete;
+  /// Rasterise and project (bands 1..max_bands; window: one weight per band, empty = 1).
+  /// `split_seconds` (optional, 2 entries): the draws' and the projections' wall time, each
+  /// batch's draws and projection then waited for (glFinish; for profiling).
+  void run(int bands, const std::vector<double>& window, const ProbeSun& sun, double* split_seconds = nullptr) const;
+  /// Binds the coefficient buffer ([(probe * 3 + channel) * stride + i]) to a storage binding.
+  void bind_sh(unsigned binding) const;
+  /// Reads the coefficients back (diagnostics and the CPU's use; not part of a resident frame).
+  std::vector<float> read_sh() const;
+  int stride() const;
+  std::size_t probes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The sun's shadow map of gi_raster.hpp's G-buffer (orthographic depth along -s over the
+/// bounding sphere of `radius` about the origin, prt_depth.{vert,frag}), kept on the GPU for
+/// a later pass of the same context: `positions` a triangle soup (3 floats a vertex,
+/// relative to the bounding-sphere centre).
+class SunShadowMap {
+ public:
+  SunShadowMap(const Context& ctx, const std::vector<float>& positions, double radius, int resolution);
+  ~SunShadowMap();
+  SunShadowMap(const SunShadowMap&) = delete;
+  SunShadowMap& operator=(const SunShadowMap&) = delete;
+  /// Renders the depth map for the direction towards the sun (unit).
+  void render(const std::array<double, 3>& direction) const;
+  /// Binds the depth texture to texture unit `unit`; `light_proj` receives the column-major matrix.
+  void bind(unsigned unit, float light_proj[16]) const;
+  int resolution() const;
+  double radius() const;
 
  private:
   struct Impl;

@@ -155,8 +155,12 @@ struct SurfaceRadiance {
 /// The baked surface radiance of `scene` (InputError for bad options or an invalid scene).
 SurfaceRadiance bake_surface_radiance(const Scene& scene, const SurfaceRadianceOptions& opt);
 
-/// Where probe cube maps of a baked field are rendered.
-enum class ProbeRaster { cpu_rays, gpu };
+/// Where probe cube maps of a baked field are rendered (and projected): cpu_rays and gpu
+/// project on the CPU (sh::project_cube after read-back); gpu_sh rasterises and projects on
+/// the GPU (gpu::ProbeProjector, gpu/shaders/gi_probe_project.comp: the same texel-centre
+/// basis and exact texel solid angles, from the shared block
+/// atmosh/sh/shared/cube.glsl.hpp, summed in float) and reads back only the coefficients.
+enum class ProbeRaster { cpu_rays, gpu, gpu_sh };
 
 /// Cube maps (size N, 3 channels) of the field seen at `positions` (see above). gpu: throws
 /// InputError if atmosh was built without atmosh::gpu, gpu::Unavailable (a runtime_error)
@@ -233,6 +237,54 @@ class ProbeFrameGpu {
   ProbeFrameGpu& operator=(const ProbeFrameGpu&) = delete;
   /// One frame; stats.seconds: upload, draw, read-back and the misses.
   RadianceImage render(const ProbeGrid& grid, bool grid_includes_sun) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// A GPU-resident probe frame (one EGL context; nothing read back between the passes):
+///   1. the probes' cube maps of the baked field rasterised (gpu::ProbeProjector; atlas
+///      batches) and 2. projected to SH by a compute pass into a storage buffer (as
+///      ProbeRaster::gpu_sh; environment where no surface is drawn: the sky is in the probes);
+///   3. the sun's shadow map (gpu::SunShadowMap, gi_raster.hpp's map: 1024^2 over the
+///      bounding sphere, PCF 3 x 3, normal offset and slope-scaled bias of 1 texel);
+///   4. the scene rasterised from the camera, per fragment (gi_probe_shade.frag) the
+///      trilinear blend of the probes' SH irradiance read from that buffer plus the sun:
+///        L = L_e (side seen) + a / pi (max(0, E_probe(p, n)) + E_sun max(0, n . s) V(p)),
+///      misses keep the environment radiance along the pixel centre (computed once for the
+///      camera and kept on the GPU);
+///   5. the image read back (the frame's only read-back).
+/// It is render_probes (the CPU method: probes without the sun, the sun's direct light with
+/// a shadow ray) with the baked field's rasterised probes, pixel centres instead of jittered
+/// camera rays, a shadow map instead of shadow rays, and a disc sun taken as a point at its
+/// centre. bands 1..3, no visibility weighting; stderr_ 0.
+struct ProbeFrameOptions {
+  int grid = 4;             ///< probes per axis, 1..64
+  ProbeOptions probes;      ///< bands (1..3), cube_size, window (include_sun must be false)
+  int supersample = 4;      ///< as build_probe_grid_surface
+  int shadow_resolution = 1024;  ///< texels a side, 16..16384
+  int shadow_pcf = 1;       ///< PCF radius in texels, 0..4
+  double shadow_normal_offset = 1.0, shadow_bias = 1.0;  ///< in texels (as gpu::GiShadowOptions)
+};
+
+class ProbeFrameResident {
+ public:
+  /// Throws InputError (bad options, bands > 3, include_sun), gpu::Unavailable without a
+  /// context, InputError if atmosh was built without atmosh::gpu.
+  ProbeFrameResident(const Scene& scene, const Camera& camera, int width, int height, const SurfaceRadiance& field,
+                     const ProbeFrameOptions& opt);
+  ~ProbeFrameResident();
+  ProbeFrameResident(const ProbeFrameResident&) = delete;
+  ProbeFrameResident& operator=(const ProbeFrameResident&) = delete;
+  /// One frame (passes 1–5); stats.seconds: the frame, upload of uniforms to read-back.
+  /// `pass_seconds` (optional, 4 entries): the cube maps' draws, their projection, the sun's
+  /// shadow map, the shading + read-back — each pass then waits for the GPU (glFinish) before
+  /// the next starts, which serialises the frame (for profiling; the frame's own time is
+  /// without it).
+  RadianceImage render(double* pass_seconds = nullptr) const;
+  /// The probes' coefficients of the last frame, read back (diagnostics; not part of a frame).
+  ProbeGrid grid() const;
 
  private:
   struct Impl;
