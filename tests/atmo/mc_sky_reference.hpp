@@ -25,8 +25,8 @@
 //                      {{view_el, view_rel_az}}, {sun}, 0.0, run);
 // (2-core VM shared with other builds: 300-450 s per 320 000-path row at -4 deg, ~400 s
 // per 256 000-path row at -6 deg, 40-100 s per 64 000-path row at -9 and -12 deg.)
-// docs/radiative-transfer.md ("Orders at the default tables") lists the errors of the
-// orders tables against them.
+// docs/sky.md ("Multiple scattering") lists the errors of the orders tables against them
+// (docs/radiative-transfer.md, "Orders at the default tables": the earlier rounds').
 //
 // The views are the study's fixed set: the zenith, 5 deg up toward / across / away from
 // the sun, and 30 and 60 deg up away from it.
@@ -121,15 +121,24 @@ inline constexpr McRow kMcSkyReference[] = {
     {-4, 90, 0, 8.93436625, 0.023499, 320000, true, 11},
     {-4, 60, 180, 10.9278686, 0.0273001, 320000, true, 11},
     {-4, 30, 180, 16.153099, 0.0380375, 320000, true, 11},
+    {-4, 5, 0, 214.669721, 0.493153, 320000, true, 11},
     {-6, 90, 0, 0.868752619, 0.00469016, 256000, true, 11},
+    {-6, 5, 90, 3.25938923, 0.0443787, 256000, true, 11},
+    {-6, 30, 180, 1.07355769, 0.00830925, 256000, true, 11},
     {-9, 60, 180, 0.0282287539, 0.000662228, 16000, true, 11},
     {-9, 60, 180, 0.032726245, 0.000689696, 64000, true, 21},
     {-9, 60, 180, 0.0323986684, 0.000721332, 64000, true, 22},
     {-9, 60, 180, 0.0311680494, 0.000535917, 64000, true, 23},
     {-12, 60, 180, 0.00288189635, 0.000156041, 16000, true, 11},
     {-12, 60, 180, 0.00315755437, 0.000124212, 64000, true, 21},
+    {-12, 5, 180, 0.00932839255, 0.000340191, 64000, true, 21},
+    {-12, 5, 90, 0.0128439833, 0.000587455, 64000, true, 21},
     {-12, 60, 180, 0.00296479908, 9.73073e-05, 64000, true, 22},
+    {-12, 5, 180, 0.00957854678, 0.000328071, 64000, true, 22},
+    {-12, 5, 90, 0.0119091056, 0.000399358, 64000, true, 22},
     {-12, 60, 180, 0.00278685692, 7.58673e-05, 64000, true, 23},
+    {-12, 5, 180, 0.00911659163, 0.000203719, 64000, true, 23},
+    {-12, 5, 90, 0.0129424256, 0.000491161, 64000, true, 23},
 };
 // clang-format on
 

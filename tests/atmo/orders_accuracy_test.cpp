@@ -31,16 +31,16 @@ using atmosh::test::pooled_mc_reference;
 // them; the error bar the larger of the formal one and the runs' scatter). Per view
 // e = L / L_mc - 1 of the luminance, s = the pooled relative standard error. Measured
 // (docs/sky.md, "Multiple scattering"): sun >= 0 -0.08 ... +0.46 %; -2 and -3 deg
-// +0.03 ... +1.01 % (s 0.14-0.67 %); -4 deg +0.15 ... +2.81 % (s 0.24-1.61 %; the
-// two views beyond 1 % are the plain estimator's heavy-tailed rows); -6 deg -0.54 ...
-// +0.83 % (s 0.41-0.77 %); -9 deg -3.39 ... +1.04 % (s 0.24-2.33 %); -12 deg -10.1 ...
-// -0.43 % (s 0.35-3.25 %). Bounds:
+// +0.03 ... +1.01 % (s 0.14-0.67 %); -4 deg +0.15 ... +2.81 % (s 0.23-1.61 %; the
+// two views beyond 1 % are the plain estimator's heavy-tailed rows); -6 deg -0.76 ...
+// +0.51 % (s 0.41-1.06 %); -9 deg -3.39 ... +1.04 % (s 0.24-2.33 %); -12 deg -9.45 ...
+// -0.43 % (s 0.35-2.46 %). Bounds:
 //   sun >= 0: |e| <= min(1 %, 0.5 % + 3 s);
 //   -2 to -6 deg: |e| <= 1 % + 3 s (the 1 %: met or not resolved by the rows);
 //   -9 deg: |e| <= 5 % (the 5 %, met by every view);
-//   -12 deg: |e| <= 5 % + 3 s (the 5 %: missed by 60 deg up away from the sun,
-//   -8.1 % +- 2.2 %, and 5 deg up across and away, -9.7 % +- 3.3 % and -10.1 % +- 3.2 %:
-//   asserted is what the rows cannot tell from 5 %, not 5 %).
+//   -12 deg: |e| <= 10 % (the 5 % is NOT met: 60 deg up away from the sun
+//   -8.1 % +- 2.2 %, 5 deg up across -8.7 % +- 2.5 %, 5 deg up away -9.5 % +- 2.4 %,
+//   3.6-3.9 pooled standard errors from zero).
 // The default tables take ~7 s of CPU to build: Release only (a sanitizer build takes
 // minutes); the reduced tables of multiple_scattering_test.cpp run there.
 TEST(ScatteringOrders, DefaultTablesAgainstStoredMonteCarloReference) {
@@ -71,7 +71,7 @@ TEST(ScatteringOrders, DefaultTablesAgainstStoredMonteCarloReference) {
     } else if (r.sun_deg >= -9) {
       bound = 0.05;
     } else {
-      bound = 0.05 + 3 * s;
+      bound = 0.10;
     }
     EXPECT_LE(std::fabs(e), bound) << "sun " << r.sun_deg << " view " << r.view_el_deg << "/" << r.view_rel_az_deg
                                    << " (" << r.runs << " runs): L " << lum << " L_mc " << r.luminance << " +- "
