@@ -30,13 +30,14 @@ using atmosh::test::pooled_mc_reference;
 // stored view, its runs pooled (pooled_mc_reference: guided runs only where a view has
 // them; the error bar the larger of the formal one and the runs' scatter). Per view
 // e = L / L_mc - 1 of the luminance, s = the pooled relative standard error. Measured
-// (docs/sky.md, "Multiple scattering"): sun >= 0 -0.08 ... +0.46 %; -2 and -3 deg
-// +0.03 ... +1.01 % (s 0.14-0.67 %); -4 deg +0.15 ... +2.81 % (s 0.23-1.61 %; the
-// two views beyond 1 % are the plain estimator's heavy-tailed rows); -6 deg -0.76 ...
-// +0.51 % (s 0.41-1.06 %); -9 deg -3.39 ... +1.04 % (s 0.24-2.33 %); -12 deg -9.45 ...
-// -0.43 % (s 0.35-2.46 %). Bounds:
+// (docs/sky.md, "Multiple scattering"): sun >= 0 -0.08 ... +0.46 % (s 0.07-0.15 %);
+// -2 deg +0.05 ... +1.27 % (s 0.14-0.21 %); -3 deg +0.03 ... +1.71 % (s 0.14-0.33 %);
+// -4 deg +0.15 ... +0.93 % (s 0.23-0.68 %); -6 deg -0.76 ... +0.51 % (s 0.24-1.06 %);
+// -9 deg -3.56 ... +1.04 % (s 0.24-1.88 %); -12 deg -9.45 ... -0.43 % (s 0.35-2.46 %).
+// Bounds (what is met):
 //   sun >= 0: |e| <= min(1 %, 0.5 % + 3 s);
-//   -2 to -6 deg: |e| <= 1 % + 3 s (the 1 %: met or not resolved by the rows);
+//   -2 to -6 deg: |e| <= 1 % (the 1 %), except 5 deg up away from the sun at -2
+//   and -3 deg: |e| <= 2 % (there the 1 % is NOT met: +1.27 % +- 0.17 %, +1.71 % +- 0.33 %);
 //   -9 deg: |e| <= 5 % (the 5 %, met by every view);
 //   -12 deg: |e| <= 10 % (the 5 % is NOT met: 60 deg up away from the sun
 //   -8.1 % +- 2.2 %, 5 deg up across -8.7 % +- 2.5 %, 5 deg up away -9.5 % +- 2.4 %,
@@ -67,7 +68,8 @@ TEST(ScatteringOrders, DefaultTablesAgainstStoredMonteCarloReference) {
     if (r.sun_deg >= 0) {
       bound = std::min(0.01, 0.005 + 3 * s);
     } else if (r.sun_deg >= -6) {
-      bound = 0.01 + 3 * s;
+      const bool horizon_away = r.view_el_deg == 5 && r.view_rel_az_deg == 180 && r.sun_deg >= -3;
+      bound = horizon_away ? 0.02 : 0.01;
     } else if (r.sun_deg >= -9) {
       bound = 0.05;
     } else {
