@@ -176,7 +176,8 @@ inline std::vector<McPooled> pooled_mc_reference() {
   for (const McRow& r : kMcSkyReference) {
     bool seen = false, has_guided = false;
     for (const McPooled& q : out)
-      seen = seen || (q.sun_deg == r.sun_deg && q.view_el_deg == r.view_el_deg && q.view_rel_az_deg == r.view_rel_az_deg);
+      seen = seen ||
+             (q.sun_deg == r.sun_deg && q.view_el_deg == r.view_el_deg && q.view_rel_az_deg == r.view_rel_az_deg);
     if (seen) continue;
     auto same = [&](const McRow& o) {
       return o.sun_deg == r.sun_deg && o.view_el_deg == r.view_el_deg && o.view_rel_az_deg == r.view_rel_az_deg;
