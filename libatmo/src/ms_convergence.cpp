@@ -43,7 +43,7 @@ std::vector<MsStudySetting> ms_study_default_settings(bool quick) {
   approx(64, 128, d.ms_zenith_directions, d.ms_azimuth_directions, d.ms_ray_steps);
   approx(d.ms_altitudes, d.ms_sun_directions, 2 * d.ms_zenith_directions, 2 * d.ms_azimuth_directions,
          2 * d.ms_ray_steps);
-  auto orders = [&](int n, int radii, int view, int sun, int az) {
+  auto orders = [&](int n, int radii, int view, int sun, int az, int steps = 0) {
     MultipleScatteringOptions o;
     o.method = ScatteringMethod::Orders;
     o.orders = n;
@@ -51,14 +51,23 @@ std::vector<MsStudySetting> ms_study_default_settings(bool quick) {
     o.orders_view_directions = view;
     o.orders_sun_directions = sun;
     o.orders_azimuths = az;
+    if (steps > 0) o.orders_ray_steps = steps;
     out.push_back({"orders", "N=" + std::to_string(n) + " radii=" + std::to_string(radii) + " view=" +
                                  std::to_string(view) + " sun=" + std::to_string(sun) + " azimuths=" +
-                                 std::to_string(az),
+                                 std::to_string(az) + (steps > 0 ? " steps=" + std::to_string(steps) : ""),
                    o});
   };
-  for (int n : {2, 3, 4, 6}) orders(n, d.orders_radii, d.orders_view_directions, d.orders_sun_directions, d.orders_azimuths);
+  for (int n : {2, 3, 4, 6, 8})
+    orders(n, d.orders_radii, d.orders_view_directions, d.orders_sun_directions, d.orders_azimuths);
   orders(d.orders, d.orders_radii / 2, d.orders_view_directions / 2, d.orders_sun_directions / 2,
          d.orders_azimuths / 2);  // half the default in every dimension
+  // Each table dimension doubled alone (the twilight diagnosis of docs/sky.md, "Multiple
+  // scattering": which axis moves the error at sun -9 and -12 deg).
+  orders(d.orders, 2 * d.orders_radii, d.orders_view_directions, d.orders_sun_directions, d.orders_azimuths);
+  orders(d.orders, d.orders_radii, 2 * d.orders_view_directions, d.orders_sun_directions, d.orders_azimuths);
+  orders(d.orders, d.orders_radii, d.orders_view_directions, 2 * d.orders_sun_directions, d.orders_azimuths);
+  orders(d.orders, d.orders_radii, d.orders_view_directions, d.orders_sun_directions, d.orders_azimuths,
+         2 * d.orders_ray_steps);
   return out;
 }
 

@@ -14,15 +14,28 @@
 // constituents: Rayleigh, Mie, ozone; 100 km top) with 16 wavelengths 380-780 nm and a
 // black ground. Each row gives the luminance and its standard error (cd/m^2) and the
 // number of paths; "guided" rows used the reference's guided scattering (its default
-// below -5 deg), the others the plain estimator. Two independent runs are kept at -6 deg.
-// docs/radiative-transfer.md ("Orders at the default tables") lists the errors of the
-// orders tables against them.
+// below -5 deg; switched on for the later -4 deg runs), the others the plain estimator.
+// Several independent runs (other seeds, the `seed` member) are kept where one was not
+// enough: the tests pool them (pooled_mc_reference below). The later runs were made
+// with the scratch driver below, a copy of `atmosh rt sky` with RtSkyOptions::guide
+// settable (the command has no option for it):
+//   RtSkyOptions ro; ro.guide = RtLineEstimate::On;  // -4 deg; default elsewhere
+//   RtOptions run{.paths = P, .seed = S, .threads = 1}; ro.run = run;
+//   rt_reference_views(MonteCarloSky(atm, solar_spectrum_for_bins(spec.spectrum), ro),
+//                      {{view_el, view_rel_az}}, {sun}, 0.0, run);
+// (2-core VM shared with other builds: 300-450 s per 320 000-path row at -4 deg, ~400 s
+// per 256 000-path row at -6 deg, 40-100 s per 64 000-path row at -9 and -12 deg.)
+// docs/sky.md ("Multiple scattering") lists the errors of the orders tables against them
+// (docs/radiative-transfer.md, "Orders at the default tables": the earlier rounds').
 //
 // The views are the study's fixed set: the zenith, 5 deg up toward / across / away from
 // the sun, and 30 and 60 deg up away from it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace atmosh::test {
 
@@ -31,6 +44,7 @@ struct McRow {
   double luminance, stderr_;                     // cd/m^2
   std::int64_t paths;
   bool guided;
+  std::uint64_t seed = 7;
 };
 
 // clang-format off
@@ -101,7 +115,96 @@ inline constexpr McRow kMcSkyReference[] = {
     {-12, 5, 0, 0.291919, 0.001022, 512000, true},
     {-12, 5, 90, 0.0130574, 0.0004244, 512000, true},
     {-12, 5, 180, 0.00959494, 0.0003032, 512000, true},
+    // Later runs (2026-11-26; RtSkyOptions guide = On, every other option at its default;
+    // the -9 and -12 deg rows guided by default): the library call of the comment above with
+    // run = {.paths = P, .seed = S, .threads = 1}, one view per call.
+    {-2, 5, 180, 95.5841961, 0.224962, 320000, true, 11},
+    {-2, 5, 180, 95.6895268, 0.223421, 320000, true, 12},
+    {-3, 5, 180, 21.7723447, 0.0676939, 320000, true, 11},
+    {-3, 5, 180, 21.9185068, 0.0708577, 320000, true, 12},
+    {-4, 90, 0, 8.93436625, 0.023499, 320000, true, 11},
+    {-4, 60, 180, 10.9278686, 0.0273001, 320000, true, 11},
+    {-4, 30, 180, 16.153099, 0.0380375, 320000, true, 11},
+    {-4, 5, 0, 214.669721, 0.493153, 320000, true, 11},
+    {-4, 5, 90, 31.4968065, 0.0975145, 320000, true, 11},
+    {-4, 5, 180, 8.89227946, 0.0608311, 320000, true, 11},
+    {-6, 90, 0, 0.868752619, 0.00469016, 256000, true, 11},
+    {-6, 5, 90, 3.25938923, 0.0443787, 256000, true, 11},
+    {-6, 30, 180, 1.07355769, 0.00830925, 256000, true, 11},
+    {-6, 5, 180, 1.54896395, 0.0097605, 256000, true, 11},
+    {-6, 60, 180, 0.910129751, 0.00331326, 256000, true, 11},
+    {-6, 5, 0, 52.4201697, 0.155012, 256000, true, 11},
+    {-9, 60, 180, 0.0282287539, 0.000662228, 16000, true, 11},
+    {-9, 60, 180, 0.032726245, 0.000689696, 64000, true, 21},
+    {-9, 30, 180, 0.0645060021, 0.00380183, 64000, true, 21},
+    {-9, 5, 90, 0.155151277, 0.00355421, 64000, true, 21},
+    {-9, 60, 180, 0.0323986684, 0.000721332, 64000, true, 22},
+    {-9, 30, 180, 0.0585592744, 0.00103024, 64000, true, 22},
+    {-9, 5, 90, 0.148173706, 0.00249949, 64000, true, 22},
+    {-9, 60, 180, 0.0311680494, 0.000535917, 64000, true, 23},
+    {-12, 60, 180, 0.00288189635, 0.000156041, 16000, true, 11},
+    {-12, 60, 180, 0.00315755437, 0.000124212, 64000, true, 21},
+    {-12, 5, 180, 0.00932839255, 0.000340191, 64000, true, 21},
+    {-12, 5, 90, 0.0128439833, 0.000587455, 64000, true, 21},
+    {-12, 60, 180, 0.00296479908, 9.73073e-05, 64000, true, 22},
+    {-12, 5, 180, 0.00957854678, 0.000328071, 64000, true, 22},
+    {-12, 5, 90, 0.0119091056, 0.000399358, 64000, true, 22},
+    {-12, 60, 180, 0.00278685692, 7.58673e-05, 64000, true, 23},
+    {-12, 5, 180, 0.00911659163, 0.000203719, 64000, true, 23},
+    {-12, 5, 90, 0.0129424256, 0.000491161, 64000, true, 23},
 };
 // clang-format on
+
+// The runs of one view pooled: the path-weighted mean of its rows (independent runs of
+// other seeds; where a view has guided runs, only those: the plain estimator is
+// heavy-tailed below about -3 deg, its mean and standard error unreliable -- at -4 deg,
+// zenith, 2 560 000 plain paths gave 9.065 +- 0.050 and 320 000 guided ones 8.934 +-
+// 0.023 cd/m^2), with the larger of the formal standard
+// error sqrt(sum (p_i / P)^2 s_i^2) and, for two runs or more, the one the runs' scatter
+// gives, sqrt(n / (n - 1) sum (p_i / P)^2 (L_i - L)^2): in deep twilight the estimates are
+// heavy-tailed and a run's own standard error can be too small (at -9 and -12 deg, 60 deg
+// up away from the sun, 64 000-path runs of three seeds scatter by 2-3 times their stated
+// errors).
+struct McPooled {
+  double sun_deg, view_el_deg, view_rel_az_deg;
+  double luminance, stderr_;  // cd/m^2
+  std::int64_t paths;
+  int runs;
+};
+inline std::vector<McPooled> pooled_mc_reference() {
+  std::vector<McPooled> out;
+  for (const McRow& r : kMcSkyReference) {
+    bool seen = false, has_guided = false;
+    for (const McPooled& q : out)
+      seen = seen ||
+             (q.sun_deg == r.sun_deg && q.view_el_deg == r.view_el_deg && q.view_rel_az_deg == r.view_rel_az_deg);
+    if (seen) continue;
+    auto same = [&](const McRow& o) {
+      return o.sun_deg == r.sun_deg && o.view_el_deg == r.view_el_deg && o.view_rel_az_deg == r.view_rel_az_deg;
+    };
+    for (const McRow& o : kMcSkyReference) has_guided = has_guided || (same(o) && o.guided);
+    auto used = [&](const McRow& o) { return same(o) && (o.guided || !has_guided); };
+    double P = 0, sum = 0;
+    int n = 0;
+    for (const McRow& o : kMcSkyReference)
+      if (used(o)) {
+        P += static_cast<double>(o.paths);
+        sum += static_cast<double>(o.paths) * o.luminance;
+        ++n;
+      }
+    const double mean = sum / P;
+    double var_formal = 0, var_scatter = 0;
+    for (const McRow& o : kMcSkyReference)
+      if (used(o)) {
+        const double w = static_cast<double>(o.paths) / P;
+        var_formal += w * w * o.stderr_ * o.stderr_;
+        var_scatter += w * w * (o.luminance - mean) * (o.luminance - mean);
+      }
+    if (n >= 2) var_scatter *= static_cast<double>(n) / (n - 1);
+    out.push_back({r.sun_deg, r.view_el_deg, r.view_rel_az_deg, mean,
+                   std::sqrt(std::max(var_formal, n >= 2 ? var_scatter : 0.0)), static_cast<std::int64_t>(P), n});
+  }
+  return out;
+}
 
 }  // namespace atmosh::test
