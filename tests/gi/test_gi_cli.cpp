@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "../apps/run_cli.hpp"
 #include "atmosh/io/exr.hpp"
@@ -184,13 +185,24 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream csv(dir / "conv" / "gi_converge.csv");
   std::string line;
-  int gpu_rows = 0, probe_rows = 0;
+  int gpu_rows = 0, probe_rows = 0, resident_rows = 0;
   bool header = false;
   while (std::getline(csv, line)) {
     if (line.rfind("method,setting,error_max_rel,error_rms_rel,time_s,leak_rel,build_s,shade_s,mean_rel,ringing_rel,"
                    "leak_ringfree_rel", 0) == 0)
       header = true;
     if (line.rfind("#", 0) == 0) continue;  // provenance
+    if (line.rfind("probes-resident-gpu,", 0) == 0) {  // the GPU-resident probe frame: errors and frame time
+      ++resident_rows;
+      std::vector<double> v;
+      for (std::size_t a = line.find(',', line.find(',') + 1), b; a != std::string::npos && v.size() < 3; a = b) {
+        b = line.find(',', a + 1);
+        v.push_back(std::stod(line.substr(a + 1, b == std::string::npos ? b : b - a - 1)));
+      }
+      ASSERT_EQ(v.size(), 3u) << line;
+      for (double x : v) EXPECT_TRUE(std::isfinite(x) && x > 0) << line;  // error_max_rel, error_rms_rel, time_s
+      continue;
+    }
     if (line.find("-gpu") != std::string::npos) ++gpu_rows;
     if (line.rfind("probes", 0) == 0) {
       ++probe_rows;
@@ -213,6 +225,9 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
   } else {
     EXPECT_EQ(gpu_rows, 0);
   }
+
+  // probes-resident-gpu: one row per grid and band count <= 3 (bands 1 and 3 at grid 2) with a GPU
+  EXPECT_EQ(resident_rows, gpu_rows > 0 ? 2 : 0);
 }
 
 }  // namespace

@@ -359,13 +359,47 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
       so.threads = threads;
       const SurfaceRadiance f = bake_surface_radiance(s, so);
       const int supersample = std::clamp(std::min(m.surface_supersample, 512 / std::max(o.cube_size, 1)), 1, 16);
+      // probes-gpu: the baked field's cube maps rasterised and projected to SH on the GPU
+      // (ProbeRaster::gpu_sh; only the coefficients read back), shaded on the CPU as the probes.
       for (int g : co.grids) {
-        const ProbeGrid full = build_probe_grid_surface(s, f, g, p, ProbeRaster::gpu, supersample);
+        const ProbeGrid full = build_probe_grid_surface(s, f, g, p, ProbeRaster::gpu_sh, supersample);
         probe_rows(full, f.seconds + full.seconds, g, "probes-gpu");
       }
+      // probes-resident-gpu: the GPU-resident probe frame (ProbeFrameResident: cube maps, SH
+      // projection, the sun's shadow map and the shading on the GPU, one read-back) per grid and
+      // band count <= 3, pixel centres. time_s and shade_s: one frame (the second: the first
+      // draws JIT-compile on llvmpipe); build_s: the bake and the frame's setup (programs, uploads).
+      for (int g : co.grids)
+        for (int b : co.bands) {
+          if (b > 3) continue;  // the resident frame shades 1..3 bands
+          ProbeFrameOptions fo;
+          fo.grid = g;
+          fo.probes.bands = b;
+          fo.probes.cube_size = o.cube_size;
+          fo.probes.window = probe_window(o.window);
+          fo.supersample = supersample;
+          const auto t0 = std::chrono::steady_clock::now();
+          const ProbeFrameResident frame(s, s.camera, w, h, f, fo);
+          (void)frame.render();
+          const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          const RadianceImage img = frame.render();
+          const double frame_s = img.stats.seconds;
+          const ImageError e = image_error(img, ref, &mask);
+          const std::string method = "probes-resident-gpu", setting = "bands=" + num(b) + " grid=" + num(g);
+          st.rows.push_back({method, setting, e.max_rel, e.rms_rel, frame_s,
+                             {e.leak_rel, f.seconds + setup, frame_s, e.mean_rel}});
+          auto pp = prov;
+          pp.add("method", method).add("bands", num(b)).add("grid", num(g)).add("cube_size", num(o.cube_size))
+              .add("supersample", num(supersample)).add("window", o.window).add("frame_seconds", frame_s);
+          write_study_image(dir / (method + "_b" + num(b) + "_g" + num(g) + ".exr"), img, &ref,
+                            "radiance (R, G, B), GPU-resident probe frame (pixel centres, sun by a shadow map)", pp);
+        }
       prov.add("surface_divisions", num(so.divisions)).add("surface_samples", num(so.samples))
           .add("surface_supersample", num(supersample))
-          .add("surface_bake_seconds", f.seconds);
+          .add("surface_bake_seconds", f.seconds)
+          .add("probes_gpu", "cube maps rasterised and projected to SH on the GPU (gpu_sh), shaded on the CPU")
+          .add("probes_resident_gpu", "GPU-resident frame; time_s = shade_s = one frame (cube maps, projection, "
+                                      "shadow map, shading, read-back), build_s = surface bake + frame setup");
     });
   StudyOptions study = co.study;
   study.gpu = gpu;

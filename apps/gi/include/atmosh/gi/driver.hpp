@@ -100,7 +100,9 @@ struct ConvergeOptions {
 struct ConvergeStudy {
   io::StudySpec spec;
   std::vector<io::StudyRow> rows;  // path "spp=N", probes[-visibility] "bands=B grid=G", radiosity, lpv;
-                                   // with --device gpu|auto also probes-gpu[-visibility], radiosity-gpu, lpv[-noblock]-gpu
+                                   // with --device gpu|auto also probes-gpu[-visibility] (projected on the GPU,
+                                   // shaded on the CPU), probes-resident-gpu "bands=B grid=G" (B <= 3; the
+                                   // GPU-resident frame, time_s = one frame), radiosity-gpu, lpv[-noblock]-gpu
   io::Provenance provenance;
   std::string notice;  // --device auto without a usable GPU: one line for the user
 };
