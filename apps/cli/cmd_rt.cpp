@@ -72,6 +72,10 @@ void register_rt_commands(CLI::App& app) {
                   "auto (in deep twilight, sun below -7 deg) | on | off: integrate the next vertex's sunlight along "
                   "each new direction")
         ->capture_default_str();
+    c->add_option("--guide", o.guide,
+                  "auto (sun below -5 deg) | on | off: draw scattering directions partly from a pilot estimate of "
+                  "where the sunlit air is (docs/radiative-transfer.md)")
+        ->capture_default_str();
     add_run_options(c, o.run, 64000);
     add_json_flag(c, json);
     c->callback([] {

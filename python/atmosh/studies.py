@@ -253,16 +253,18 @@ def rt_slab(tau, omega, phase, mu0, mu, g=0.0, ground_albedo=0.0, phi_deg=0.0, o
 
 
 def rt_sky(sun_elevation_deg, view_elevation_deg, view_azimuth_deg, sun_azimuth_deg=180.0, scene=None, height_m=0.0,
-           ground_albedo=None, orders=0, sun_depth="table", line_estimate="auto", paths=64000, seed=1, threads=0):
+           ground_albedo=None, orders=0, sun_depth="table", line_estimate="auto", paths=64000, seed=1, threads=0,
+           guide="auto"):
     """Monte-Carlo spectral radiance of a scene's sky for one view, every scattering
     order, as `atmosh rt sky --json`: a DataFrame with one row per wavelength
     (wavelength_nm, radiance_w_m2_sr_nm, radiance_stderr_w_m2_sr_nm) and the JSON's scalar
     fields (luminance_cd_m2 and its stderr, xyz, paths, mean_orders, ...) in df.attrs.
     Angles in degrees (azimuths from north towards east), height_m above the ground,
-    ground_albedo None: the scene's; paths in total over the wavelengths."""
+    ground_albedo None: the scene's; paths in total over the wavelengths; line_estimate and
+    guide: "auto" | "on" | "off", as --line-estimate and --guide."""
     t = _st.rt_sky(_scene(scene), float(sun_elevation_deg), float(sun_azimuth_deg), float(view_elevation_deg),
                    float(view_azimuth_deg), float(height_m), -1.0 if ground_albedo is None else float(ground_albedo),
-                   int(orders), str(sun_depth), str(line_estimate), int(paths), int(seed), int(threads))
+                   int(orders), str(sun_depth), str(line_estimate), int(paths), int(seed), int(threads), str(guide))
     df = _frame(t)
     df.attrs.update(dict(t["scalars"]))
     return df

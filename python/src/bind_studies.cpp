@@ -385,7 +385,7 @@ void bind_studies(py::module_& m) {
       [](const std::optional<std::string>& scene, double sun_elevation_deg, double sun_azimuth_deg,
          double view_elevation_deg, double view_azimuth_deg, double height_m, double ground_albedo, int orders,
          const std::string& sun_depth, const std::string& line_estimate, long long paths, unsigned long long seed,
-         int threads) {
+         int threads, const std::string& guide) {
         require_in(sun_elevation_deg, -90.0, 90.0, "sun_elevation_deg");
         require_in(view_elevation_deg, -90.0, 90.0, "view_elevation_deg");
         require_in(sun_azimuth_deg, -360.0, 360.0, "sun_azimuth_deg");
@@ -397,10 +397,8 @@ void bind_studies(py::module_& m) {
         if (sun_depth == "table") so.sun_depth = atmo::RtSunDepth::Table;
         else if (sun_depth == "exact") so.sun_depth = atmo::RtSunDepth::Exact;
         else throw InputError("sun_depth: '" + sun_depth + "' is not table or exact");
-        if (line_estimate == "auto") so.line_estimate = atmo::RtLineEstimate::DeepTwilight;
-        else if (line_estimate == "on") so.line_estimate = atmo::RtLineEstimate::On;
-        else if (line_estimate == "off") so.line_estimate = atmo::RtLineEstimate::Off;
-        else throw InputError("line_estimate: '" + line_estimate + "' is not auto, on or off");
+        so.line_estimate = studies::rt_switch(line_estimate, "line_estimate");
+        so.guide = studies::rt_switch(guide, "guide");
         so.run.paths = require_paths(paths);
         so.run.seed = seed;
         so.run.threads = resolve_threads(threads);
@@ -430,14 +428,15 @@ void bind_studies(py::module_& m) {
         sc["xyz_stderr"] = std::vector<double>{r.xyz_stderr.X, r.xyz_stderr.Y, r.xyz_stderr.Z};
         sc["paths"] = r.paths, sc["paths_per_wavelength"] = r.paths_per_wavelength, sc["mean_orders"] = r.mean_orders;
         sc["orders"] = so.run.max_orders, sc["seed"] = so.run.seed, sc["threads"] = so.run.threads;
-        sc["sun_depth"] = sun_depth, sc["line_estimate"] = line_estimate;
+        sc["sun_depth"] = sun_depth, sc["line_estimate"] = line_estimate, sc["guide"] = guide;
         sc["sun_depth_rel_error"] = r.sun_depth_rel_error, sc["time_s"] = r.time_s;
         out["scalars"] = sc;
         return out;
       },
       py::arg("scene"), py::arg("sun_elevation_deg"), py::arg("sun_azimuth_deg"), py::arg("view_elevation_deg"),
       py::arg("view_azimuth_deg"), py::arg("height_m"), py::arg("ground_albedo"), py::arg("orders"),
-      py::arg("sun_depth"), py::arg("line_estimate"), py::arg("paths"), py::arg("seed"), py::arg("threads"));
+      py::arg("sun_depth"), py::arg("line_estimate"), py::arg("paths"), py::arg("seed"), py::arg("threads"),
+      py::arg("guide"));
 
   // ---- a whole sweep file (atmosh sweep FILE -o DIR) -----------------------------------
   m.def(

@@ -73,6 +73,7 @@ TEST(CliRt, HelpAndBadInput) {
         Bad{"rt slab --tau 1 --omega 1 --phase isotropic --mu0 0.5 --mu 0.5 --paths 0", "--paths"},
         Bad{"rt sky --sun-elevation 95 --view-elevation 90 --view-azimuth 0", "--sun-elevation"},
         Bad{"rt sky --sun-elevation 10 --view-elevation 90 --view-azimuth 0 --sun-depth foo", "--sun-depth"},
+        Bad{"rt sky --sun-elevation 10 --view-elevation 90 --view-azimuth 0 --guide maybe", "--guide"},
         Bad{"rt sky --scene /nonexistent.toml --sun-elevation 10 --view-elevation 90 --view-azimuth 0", "nonexistent"}}) {
     const auto r = run_cli(b.args);
     EXPECT_EQ(r.exit_code, 2) << b.args;

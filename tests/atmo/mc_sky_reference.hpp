@@ -17,8 +17,8 @@
 // below -5 deg; switched on for the later -4 deg runs), the others the plain estimator.
 // Several independent runs (other seeds, the `seed` member) are kept where one was not
 // enough: the tests pool them (pooled_mc_reference below). The later runs were made
-// with the scratch driver below, a copy of `atmosh rt sky` with RtSkyOptions::guide
-// settable (the command has no option for it):
+// with the library call below, RtSkyOptions::guide switched on (the option that
+// `atmosh rt sky --guide on` sets):
 //   RtSkyOptions ro; ro.guide = RtLineEstimate::On;  // -4 deg; default elsewhere
 //   RtOptions run{.paths = P, .seed = S, .threads = 1}; ro.run = run;
 //   rt_reference_views(MonteCarloSky(atm, solar_spectrum_for_bins(spec.spectrum), ro),

@@ -68,14 +68,19 @@ atmo::RtSkyResult rt_sky_view(const atmo::AtmosphereSpec& spec, const RtSkyReque
   if (o.sun_depth == "table") so.sun_depth = atmo::RtSunDepth::Table;
   else if (o.sun_depth == "exact") so.sun_depth = atmo::RtSunDepth::Exact;
   else throw InputError("--sun-depth: '" + o.sun_depth + "' is not table or exact");
-  if (o.line_estimate == "auto") so.line_estimate = atmo::RtLineEstimate::DeepTwilight;
-  else if (o.line_estimate == "on") so.line_estimate = atmo::RtLineEstimate::On;
-  else if (o.line_estimate == "off") so.line_estimate = atmo::RtLineEstimate::Off;
-  else throw InputError("--line-estimate: '" + o.line_estimate + "' is not auto, on or off");
+  so.line_estimate = rt_switch(o.line_estimate, "--line-estimate");
+  so.guide = rt_switch(o.guide, "--guide");
   so.run = o.run;
   so.run.max_orders = o.orders;
   so.ground_albedo = o.ground_albedo;
   return rt_sky_view(spec, o.view, so);
+}
+
+atmo::RtLineEstimate rt_switch(const std::string& word, const std::string& what) {
+  if (word == "auto") return atmo::RtLineEstimate::DeepTwilight;
+  if (word == "on") return atmo::RtLineEstimate::On;
+  if (word == "off") return atmo::RtLineEstimate::Off;
+  throw InputError(what + ": '" + word + "' is not auto, on or off");
 }
 
 }  // namespace atmosh::studies

@@ -140,7 +140,7 @@ json rt_sky_json(const RtSkyRequest& o, const scene::Scene& s, const atmo::RtSky
           {"xyz_stderr", {r.xyz_stderr.X, r.xyz_stderr.Y, r.xyz_stderr.Z}}, {"paths", r.paths},
           {"paths_per_wavelength", r.paths_per_wavelength}, {"mean_orders", r.mean_orders}, {"orders", o.orders},
           {"seed", o.run.seed}, {"threads", resolve_threads(o.run.threads)}, {"sun_depth", o.sun_depth},
-          {"line_estimate", o.line_estimate}, {"sun_depth_rel_error", r.sun_depth_rel_error}, {"time_s", r.time_s}};
+          {"line_estimate", o.line_estimate}, {"guide", o.guide}, {"sun_depth_rel_error", r.sun_depth_rel_error}, {"time_s", r.time_s}};
 }
 
 json prt_bake_json(const prt::Transfer& t, const std::string& file, double dt) {

@@ -44,9 +44,13 @@ struct RtSkyRequest {
   RtSkyView view;
   double ground_albedo = -1;  // < 0: the scene's
   std::string sun_depth = "table", line_estimate = "auto";  // table | exact; auto | on | off
+  std::string guide = "auto";  // auto (below RtSkyOptions::guide_below_deg) | on | off
   atmo::RtOptions run;
   int orders = 0;
 };
 atmo::RtSkyResult rt_sky_view(const atmo::AtmosphereSpec& atmosphere, const RtSkyRequest& request);
+// "auto" | "on" | "off" -> DeepTwilight | On | Off (the line estimate's and the guide's
+// switch); anything else: InputError "<what>: '<word>' is not auto, on or off".
+atmo::RtLineEstimate rt_switch(const std::string& word, const std::string& what);
 
 }  // namespace atmosh::studies
