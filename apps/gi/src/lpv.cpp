@@ -15,6 +15,7 @@
 #include "atmosh/parallel.hpp"
 #include "atmosh/prt/bake.hpp"
 #include "common.hpp"
+#include "raster_gpu.hpp"
 #include "receivers.hpp"
 
 #ifdef ATMOSH_GI_HAVE_GPU
@@ -265,6 +266,18 @@ GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g) {
   });
   return gv;
 }
+
+#ifdef ATMOSH_GI_HAVE_GPU
+std::vector<gpu::GiLpvSurfel> detail::lpv_surfels(const Scene& scene, const LpvGrid& g) {
+  check_grid(g);
+  const std::vector<glm::dvec3> normal = detail::triangle_normals(scene.mesh);
+  std::vector<gpu::GiLpvSurfel> out;
+  geometry_surfels(scene, g, [&](std::size_t corner, std::size_t tri, double w) {
+    out.push_back({static_cast<std::uint32_t>(corner), normal[tri], w});
+  });
+  return out;
+}
+#endif
 
 namespace {
 void check_gv(const LpvGrid& in, const GeometryVolume* gv) {

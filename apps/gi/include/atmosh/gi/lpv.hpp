@@ -53,6 +53,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -184,5 +185,39 @@ std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& accumulated, cons
 /// shading.
 RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
                                  const LpvOptions& opt, bool gpu);
+
+/// The GPU-resident LPV frame (atmosh::gpu::GiLpvFrame, gpu/gi_raster.hpp: one EGL context, every
+/// pass on the GPU, only the image read back). Made once: the context, the programs, the mesh,
+/// the grid (lpv_grid(scene, opt.grid)), the geometry volume injected from lpv_geometry's
+/// surfels (opt.blocking) and the area emitters' VPLs (lpv_vpls of the scene without its sun:
+/// opt.emitter_photons photon rays on the CPU, as lpv_inject_gpu; uploaded once — they do not
+/// depend on the camera or the sun). Each render(): the G-buffer with the sun's shadow map, the
+/// emitters' distance maps and the sky's depth maps (ShadowMapOptions, as radiosity_gbuffer_gpu;
+/// here the emitters and the sky must be on the GPU: InputError where the scene has more than 64
+/// emitting triangles or the options ask for the CPU's estimator), the sun's reflective shadow
+/// map (lpv_vpls_rsm's rectangle and texels), injection, opt.iterations propagation steps
+/// (-1: 2 grid; blocking from the second on), the application to the G-buffer
+/// (L = L_e + a / pi max(0, E_direct + E_lpv), the shared gi_lpv_receiver_irradiance) and the
+/// image's read-back; misses get environment_radiance on the CPU afterwards. The math is the
+/// shared block of atmosh/gi/shared/lpv.glsl.hpp, as the CPU LPV's. Throws InputError (bad
+/// options, no GPU library), gpu::Unavailable (a std::runtime_error) without an EGL context.
+class LpvFrameGpu {
+ public:
+  LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const ShadowMapOptions& shadow = {});
+  ~LpvFrameGpu();
+  LpvFrameGpu(const LpvFrameGpu&) = delete;
+  LpvFrameGpu& operator=(const LpvFrameGpu&) = delete;
+  /// One frame of `camera` at width x height (one sample per pixel centre, stderr 0);
+  /// stats.seconds: the GPU passes up to the read-back plus the misses' environment.
+  /// `accumulated` (optional): the propagated grid read back as well (for tests).
+  RadianceImage render(const Camera& camera, int width, int height, LpvGrid* accumulated = nullptr);
+  /// The grid and the emitters' VPLs it was made with.
+  const LpvGrid& grid() const;
+  const std::vector<Vpl>& emitter_vpls() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace atmosh::gi
