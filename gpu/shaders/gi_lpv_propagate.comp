@@ -3,16 +3,12 @@
 // face neighbours by the shared gi_lpv_gather (atmosh/gi/shared/lpv.glsl.hpp, pasted before
 // this file after gi_lpv_decl.glsl); the new field goes to `dst` and is added to `acc`.
 // Cells: 12 floats each (3 channels x SH bands 0-1, index l(l+1)+m), index (k ny + j) nx + i.
-// Blocking (when use_vis != 0): by default a table of 1 - blocking per (cell, direction, face),
-// [(t 6 + d) 5 + f], made on the CPU; with GI_LPV_CORNERS defined, the geometry volume's
-// corners (9 floats each) and the shared gi_lpv_face_blocking, evaluated here.
+// Blocking (when use_vis != 0): a table of 1 - blocking per (cell, direction, face),
+// [(t 6 + d) 5 + f] (made on the CPU by lpv_propagate_gpu, on the GPU by gi_lpv_open.comp in the
+// GPU-resident frame; both by the shared gi_lpv_face_blocking).
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Src { float src[]; };
-#ifdef GI_LPV_CORNERS
-layout(std430, binding = 1) readonly buffer Corners { float corners[]; };
-#else
 layout(std430, binding = 1) readonly buffer Vis { float vis[]; };
-#endif
 layout(std430, binding = 2) writeonly buffer Dst { float dst[]; };
 layout(std430, binding = 3) buffer Acc { float acc[]; };
 uniform int nx;
@@ -24,15 +20,8 @@ vec4 gi_lpv_fetch(ivec3 s, int ch) {
   int o = ((s.z * ny + s.y) * nx + s.x) * 12 + ch * 4;
   return vec4(src[o], src[o + 1], src[o + 2], src[o + 3]);
 }
-#ifdef GI_LPV_CORNERS
-float gi_lpv_fetch_corner(int c, int q) { return corners[c * 9 + q]; }
-float gi_lpv_open(ivec3 t, ivec3 s, int d, int f, vec3 w) {
-  return 1.0 - gi_lpv_face_blocking(s, d, ivec3(nx, ny, nz), w);
-}
-#else
 float gi_lpv_fetch_corner(int c, int q) { return 0.0; }
 float gi_lpv_open(ivec3 t, ivec3 s, int d, int f, vec3 w) { return vis[(((t.z * ny + t.y) * nx + t.x) * 6 + d) * 5 + f]; }
-#endif
 
 void main() {
   int t = int(gl_GlobalInvocationID.x);

@@ -535,11 +535,12 @@ struct GiLpvFrame::Impl {
   Program rsm{parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_rsm.frag")};
   Program points{lpv_parts("gpu/shaders/gi_lpv_points.vert"), parts("gpu/shaders/gi_lpv_points.frag")};
   Program pack{parts("gpu/shaders/gi_lpv_pack.comp")};
-  Program propagate{lpv_parts("gpu/shaders/gi_lpv_propagate.comp"), "#define GI_LPV_CORNERS 1\n"};
+  Program propagate{lpv_parts("gpu/shaders/gi_lpv_propagate.comp")};
+  Program open{lpv_parts("gpu/shaders/gi_lpv_open.comp")};
   Program apply{lpv_parts("gpu/shaders/gi_lpv_frame_apply.comp")};
   VertexArrays empty{1};
   std::size_t n_cells = 0, n_vpls = 0;
-  std::unique_ptr<Buffer> cells_a, cells_b, acc, corners, vpls;
+  std::unique_ptr<Buffer> cells_a, cells_b, acc, corners, vis, vpls;
   Impl(const Context& c, const GiMeshView& m, const GiLpvGrid& g) : ctx(c), mesh(m), grid(g) {}
   ~Impl() {  // the members' GL names are deleted in this context (where it is still alive)
     try {
@@ -628,6 +629,16 @@ GiLpvFrame::GiLpvFrame(const Context& ctx, const GiMeshView& mesh, const GiLpvGr
   I.acc->bind(3);
   I.pack.dispatch(static_cast<unsigned>((n_corners + 63) / 64));
   check_gl("gi LPV geometry pack");
+  // The open fraction of every face (static geometry: once).
+  I.vis = std::make_unique<Buffer>(I.n_cells * 30 * sizeof(float));
+  I.open.use();
+  I.open.set("nx", g.nx);
+  I.open.set("ny", g.ny);
+  I.open.set("nz", g.nz);
+  I.corners->bind(1);
+  I.vis->bind(2);
+  I.open.dispatch(static_cast<unsigned>((I.n_cells + 63) / 64));
+  check_gl("gi LPV open faces");
   glBindVertexArray(0);
 }
 
@@ -694,7 +705,7 @@ GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOption
   I.propagate.set("nx", g.nx);
   I.propagate.set("ny", g.ny);
   I.propagate.set("nz", g.nz);
-  I.corners->bind(1);
+  I.vis->bind(1);
   I.acc->bind(3);
   for (int it = 0; it < o.iterations; ++it) {
     (it % 2 == 0 ? *I.cells_a : *I.cells_b).bind(0);

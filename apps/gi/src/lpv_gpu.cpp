@@ -32,6 +32,7 @@ struct LpvFrameGpu::Impl {
   ShadowMapOptions shadow;
   LpvGrid grid;
   std::vector<Vpl> vpls;
+  std::uint64_t rays = 0;
   gpu::Context ctx;
   detail::MeshAttrs attrs;
   std::unique_ptr<gpu::GiLpvFrame> frame;
@@ -46,6 +47,7 @@ struct LpvFrameGpu::Impl {
 struct LpvFrameGpu::Impl {
   LpvGrid grid;
   std::vector<Vpl> vpls;
+  std::uint64_t rays = 0;
 };
 #endif
 
@@ -88,7 +90,7 @@ LpvFrameGpu::LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const Shadow
     if (o.emitter_photons > 0) {  // the emitters' VPLs: photon rays on the CPU, once
       Scene rest = scene;
       rest.sun.reset();
-      I.vpls = lpv_vpls(rest, o, g);
+      I.vpls = lpv_vpls(rest, o, g, &I.rays);
     }
   }
   if (I.sky) I.gsky = detail::sky_quadrature(scene, so.sky_directions, so.sky_resolution);
@@ -111,6 +113,7 @@ LpvFrameGpu::~LpvFrameGpu() = default;
 
 const LpvGrid& LpvFrameGpu::grid() const { return impl_->grid; }
 const std::vector<Vpl>& LpvFrameGpu::emitter_vpls() const { return impl_->vpls; }
+std::uint64_t LpvFrameGpu::rays() const { return impl_->rays; }
 
 RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvGrid* accumulated) {
   check_view(cam, width, height);

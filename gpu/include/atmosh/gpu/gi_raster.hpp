@@ -139,13 +139,14 @@ GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& 
 //      Phi gi_lpv_lobe(n) (the shared block atmosh/gi/shared/lpv.glsl.hpp);
 //   4. the atlas packed into a storage buffer (12 floats a cell) and the running sum;
 //   5. `iterations` propagation dispatches (gi_lpv_propagate.comp, the shared gi_lpv_gather),
-//      blocking by the shared gi_lpv_face_blocking on the geometry volume's corners (from the
-//      second iteration on, as the CPU's lpv_propagate);
+//      blocking (from the second iteration on, as the CPU's lpv_propagate) by a table of the
+//      faces' open fractions made from the geometry volume's corners by the shared
+//      gi_lpv_face_blocking (gi_lpv_open.comp);
 //   6. application to the G-buffer (gi_lpv_frame_apply.comp, the shared
 //      gi_lpv_receiver_irradiance): L = L_e + a / pi max(0, E_sun f + E_emitters + E_sky + E_lpv);
 //   7. read-back of the image (RGBA float; alpha 1 where a surface is seen, else 0 and RGB 0).
 // The geometry volume is injected once, at construction, from the given surfels (points into a
-// corner atlas, additive blending) and kept. Positions in float relative to the mesh's
+// corner atlas, additive blending), and its table of open faces made and kept (static geometry). Positions in float relative to the mesh's
 // bounding-box centre. Requires a current Context; the frame keeps its programs (compiled once).
 struct GiLpvGrid {
   glm::dvec3 lo{0.0};  ///< low corner of cell (0, 0, 0) [mesh units]

@@ -214,6 +214,8 @@ class LpvFrameGpu {
   /// The grid and the emitters' VPLs it was made with.
   const LpvGrid& grid() const;
   const std::vector<Vpl>& emitter_vpls() const;
+  /// The photon rays cast on the CPU for the emitters' VPLs.
+  std::uint64_t rays() const;
 
  private:
   struct Impl;
