@@ -245,9 +245,9 @@ void geometry_surfels(const Scene& scene, const LpvGrid& g, F&& surfel) {
           const double v = up == 0 ? (r + 1.0 / 3) / s : (r + 2.0 / 3) / s;
           const glm::dvec3 p = a + u * e1 + v * e2;
           const glm::dvec3 f = (p - g.lo) / g.h;
-          const int i = std::clamp(static_cast<int>(std::lround(f.x)), 0, g.nx),
-                    j = std::clamp(static_cast<int>(std::lround(f.y)), 0, g.ny),
-                    k = std::clamp(static_cast<int>(std::lround(f.z)), 0, g.nz);
+          const long i = std::lround(f.x), j = std::lround(f.y), k = std::lround(f.z);
+          // a surfel nearest to no corner of the grid (outside a cascade's sub-grid) is left out
+          if (i < 0 || j < 0 || k < 0 || i > g.nx || j > g.ny || k > g.nz) continue;
           surfel((static_cast<std::size_t>(k) * (g.ny + 1) + j) * (g.nx + 1) + i, tri, as / h2);
         }
   }

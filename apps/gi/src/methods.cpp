@@ -326,6 +326,18 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
         rg.result = render_method(scene, scene.camera, width, height, m);
         row(rg);
       }
+      if (block && o.lpv_cascade && g >= 2) {  // the 2-level nested cascade (CPU)
+        StudyRow rc;
+        rc.method = "lpv";
+        const LpvCascade c = build_lpv_cascade(scene, lo);
+        rc.setting = r.setting + " cascades=2";
+        const auto t1 = Clock::now();
+        rc.result.image = render_lpv_cascade(scene, scene.camera, width, height, c, lo);
+        rc.result.shade_seconds = since(t1);
+        rc.result.build_seconds = c.inject_seconds + c.propagate_seconds;
+        rc.result.image.stats.rays += c.rays;
+        row(rc);
+      }
     }
 }
 
