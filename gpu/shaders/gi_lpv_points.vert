@@ -5,7 +5,7 @@
 //   mode 0: the reflective shadow map's texel gl_VertexID (position w = 1 where a surface is;
 //           normal towards the sun; flux): a VPL in cell gi_lpv_cell_of(p + h/2 n), Phi gi_lpv_lobe(n);
 //   mode 1: a given VPL (9 floats: position already moved h/2 along n, n, flux), the same;
-//   mode 2: a geometry-volume surfel (5 floats: corner index as uint bits, n, A_s / h^2) into the
+//   mode 2: a geometry-volume surfel (4 floats: n, A_s / h^2; its corner index in `corner_index`) into the
 //           corner atlas (column i, row k (ny + 1) + j; lpv_nx.. are then the corners' counts),
 //           coefficients gi_lpv_surfel 0..8 in targets 0, 1, 2.x.
 // Points whose texel sees nothing are moved outside the clip volume.
@@ -15,6 +15,7 @@ uniform sampler2D rsm_normal;
 uniform sampler2D rsm_flux;
 uniform int rsm_width;
 layout(std430, binding = 0) readonly buffer Items { float item[]; };
+layout(std430, binding = 1) readonly buffer CornerIndex { uint corner_index[]; };
 uniform vec3 lpv_lo;  // relative to the mesh's bounding-box centre
 uniform float lpv_h;
 uniform int lpv_nx;
@@ -36,10 +37,10 @@ void main() {
   v_c1 = vec4(0.0);
   v_c2 = vec4(0.0);
   if (mode == 2) {
-    int o = gl_VertexID * 5;
-    int corner = int(floatBitsToUint(item[o]));
-    vec3 n = vec3(item[o + 1], item[o + 2], item[o + 3]);
-    float w = item[o + 4];
+    int o = gl_VertexID * 4;
+    int corner = int(corner_index[gl_VertexID]);
+    vec3 n = vec3(item[o], item[o + 1], item[o + 2]);
+    float w = item[o + 3];
     c = ivec3(corner % lpv_nx, (corner / lpv_nx) % lpv_ny, corner / (lpv_nx * lpv_ny));
     v_c0 = vec4(gi_lpv_surfel(n, w, 0), gi_lpv_surfel(n, w, 1), gi_lpv_surfel(n, w, 2), gi_lpv_surfel(n, w, 3));
     v_c1 = vec4(gi_lpv_surfel(n, w, 4), gi_lpv_surfel(n, w, 5), gi_lpv_surfel(n, w, 6), gi_lpv_surfel(n, w, 7));

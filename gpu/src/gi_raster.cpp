@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -567,7 +566,7 @@ GiLpvFrame::GiLpvFrame(const Context& ctx, const GiMeshView& mesh, const GiLpvGr
   for (const GiLpvSurfel& s : surfels)
     if (s.corner >= n_corners || !std::isfinite(s.weight + s.normal.x + s.normal.y + s.normal.z))
       throw std::invalid_argument("GiLpvFrame: a surfel outside the grid or not finite");
-  if (vpls.size() > 0x7fffffffu / 9 || surfels.size() > 0x7fffffffu / 5)
+  if (vpls.size() > 0x7fffffffu / 9 || surfels.size() > 0x7fffffffu / 4)
     throw std::invalid_argument("GiLpvFrame: too many VPLs or surfels");
   ctx.make_current();
   impl_ = std::make_unique<Impl>(ctx, mesh, g);
@@ -590,16 +589,15 @@ GiLpvFrame::GiLpvFrame(const Context& ctx, const GiMeshView& mesh, const GiLpvGr
   I.vpls = std::make_unique<Buffer>(items.size() * sizeof(float), items.data());
   // The geometry volume: the surfels as points into the corner atlas, packed into I.corners.
   items.clear();
+  std::vector<std::uint32_t> corner_index;
   for (const GiLpvSurfel& s : surfels) {
-    float bits;
-    const std::uint32_t idx = s.corner;
-    std::memcpy(&bits, &idx, sizeof bits);
-    items.push_back(bits);
+    corner_index.push_back(s.corner);
     for (int c = 0; c < 3; ++c) items.push_back(static_cast<float>(s.normal[c]));
     items.push_back(static_cast<float>(s.weight));
   }
-  if (items.empty()) items.assign(5, 0.0f);
-  const Buffer bs(items.size() * sizeof(float), items.data());
+  if (items.empty()) items.assign(4, 0.0f), corner_index.assign(1, 0);
+  const Buffer bs(items.size() * sizeof(float), items.data()),
+      bc(corner_index.size() * sizeof(std::uint32_t), corner_index.data());
   Textures tex(3);
   Framebuffers fbo(1);
   const int cw = g.nx + 1, ch = (g.ny + 1) * (g.nz + 1);
@@ -610,6 +608,7 @@ GiLpvFrame::GiLpvFrame(const Context& ctx, const GiMeshView& mesh, const GiLpvGr
   I.points.set("lpv_ny", g.ny + 1);
   I.points.set("lpv_nz", g.nz + 1);
   bs.bind(0);
+  bc.bind(1);
   glBindVertexArray(I.empty.ids[0]);
   if (!surfels.empty()) glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(surfels.size()));
   glDisable(GL_BLEND);
