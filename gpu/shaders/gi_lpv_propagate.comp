@@ -27,11 +27,13 @@ void main() {
   int t = int(gl_GlobalInvocationID.x);
   if (t >= nx * ny * nz) return;
   ivec3 c = ivec3(t % nx, (t / nx) % ny, t / (nx * ny));
-  for (int ch = 0; ch < 3; ++ch) {
-    vec4 o = gi_lpv_gather(c, ivec3(nx, ny, nz), ch, use_vis != 0);
-    for (int q = 0; q < 4; ++q) {
-      dst[t * 12 + ch * 4 + q] = o[q];
-      acc[t * 12 + ch * 4 + q] += o[q];
-    }
+  GiLpvRgb o = gi_lpv_gather(c, ivec3(nx, ny, nz), use_vis != 0);
+  for (int q = 0; q < 4; ++q) {
+    dst[t * 12 + q] = o.r[q];
+    dst[t * 12 + 4 + q] = o.g[q];
+    dst[t * 12 + 8 + q] = o.b[q];
+    acc[t * 12 + q] += o.r[q];
+    acc[t * 12 + 4 + q] += o.g[q];
+    acc[t * 12 + 8 + q] += o.b[q];
   }
 }

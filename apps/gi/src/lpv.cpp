@@ -318,10 +318,8 @@ LpvGrid step(const LpvGrid& in, const std::vector<float>* vis) {
       const glm::ivec3 c(static_cast<int>(t % in.nx), static_cast<int>(t / in.nx % in.ny),
                          static_cast<int>(t / in.nx / in.ny));
       LpvCell& dst = out.cells[t];
-      for (int ch = 0; ch < 3; ++ch) {
-        const glm::dvec4 v = shared::gi_lpv_gather(field, c, n, ch, vis != nullptr);
-        for (int q = 0; q < 4; ++q) dst[ch * 4 + q] = v[q];
-      }
+      const shared::GiLpvRgb v = shared::gi_lpv_gather(field, c, n, vis != nullptr);
+      for (int q = 0; q < 4; ++q) dst[q] = v.r[q], dst[4 + q] = v.g[q], dst[8 + q] = v.b[q];
     }
   });
   return out;

@@ -122,26 +122,41 @@ ATMOSH_GI_TEMPLATE ATMOSH_FN real gi_lpv_face_blocking(ATMOSH_GI_CTX glm::ivec3 
   return glm::clamp(gi_sh_eval(acc, 3, w), real(0), real(1));
 }
 
+// The coefficients of one cell, per channel.
+struct GiLpvRgb {
+  real4 r;
+  real4 g;
+  real4 b;
+};
+
 // One propagation step into cell c (a gather): from each face neighbour s = c - e that holds
 // light, the flux through the 5 faces of c other than the shared one, dOmega_f I_s(w_f)
-// open_f, re-emitted from c's centre as a Lambertian lobe about the face's normal. `channel`
-// 0..2; `blocking` false: every face open (gi_lpv_open is not called).
-ATMOSH_GI_TEMPLATE ATMOSH_FN real4 gi_lpv_gather(ATMOSH_GI_CTX glm::ivec3 c, glm::ivec3 dims, int channel,
-                                                 bool blocking) {
+// open_f, re-emitted from c's centre as a Lambertian lobe about the face's normal; the three
+// channels at once. `blocking` false: every face open (gi_lpv_open is not called).
+ATMOSH_GI_TEMPLATE ATMOSH_FN GiLpvRgb gi_lpv_gather(ATMOSH_GI_CTX glm::ivec3 c, glm::ivec3 dims, bool blocking) {
   real front = gi_lpv_front_solid_angle();
   real side = gi_lpv_side_solid_angle();
-  real4 sum = real4(0);
+  GiLpvRgb sum;
+  sum.r = real4(0);
+  sum.g = real4(0);
+  sum.b = real4(0);
   for (int d = 0; d < 6; ++d) {
     glm::ivec3 s = c - gi_lpv_step(d);
     if (glm::any(glm::lessThan(s, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(s, dims))) continue;
-    real4 src = gi_lpv_fetch(ATMOSH_GI_CTX_ARG s, channel);
-    if (src == real4(0)) continue;
+    real4 sr = gi_lpv_fetch(ATMOSH_GI_CTX_ARG s, 0);
+    real4 sg = gi_lpv_fetch(ATMOSH_GI_CTX_ARG s, 1);
+    real4 sb = gi_lpv_fetch(ATMOSH_GI_CTX_ARG s, 2);
+    if (sr == real4(0) && sg == real4(0) && sb == real4(0)) continue;
     for (int f = 0; f < 5; ++f) {
       real3 w = gi_lpv_face_direction(d, f);
       real v = blocking ? gi_lpv_open(ATMOSH_GI_CTX_ARG c, s, d, f, w) : real(1);
       if (v <= real(0)) continue;
-      real om = f == 0 ? front : side;
-      sum += (om * glm::dot(src, gi_lpv_sh4(w)) * v) * gi_lpv_lobe(gi_lpv_face_normal(d, f));
+      real om = (f == 0 ? front : side) * v;
+      real4 y = gi_lpv_sh4(w);
+      real4 lobe = gi_lpv_lobe(gi_lpv_face_normal(d, f));
+      sum.r += (om * glm::dot(sr, y)) * lobe;
+      sum.g += (om * glm::dot(sg, y)) * lobe;
+      sum.b += (om * glm::dot(sb, y)) * lobe;
     }
   }
   return sum;
