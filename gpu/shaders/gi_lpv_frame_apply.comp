@@ -27,7 +27,7 @@ vec4 gi_lpv_fetch(ivec3 s, int ch) {
   int o = ((s.z * lpv_ny + s.y) * lpv_nx + s.x) * 12 + ch * 4;
   return vec4(lpv[o], lpv[o + 1], lpv[o + 2], lpv[o + 3]);
 }
-float gi_lpv_open(ivec3 t, ivec3 s, int d, int f, vec3 w) { return 1.0; }
+float gi_lpv_open(ivec3 t, ivec3 s, int d, int f) { return 1.0; }
 float gi_lpv_fetch_corner(int c, int q) { return 0.0; }
 
 void main() {

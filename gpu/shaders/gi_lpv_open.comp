@@ -12,7 +12,7 @@ uniform int ny;
 uniform int nz;
 
 vec4 gi_lpv_fetch(ivec3 s, int ch) { return vec4(0.0); }
-float gi_lpv_open(ivec3 t, ivec3 s, int d, int f, vec3 w) { return 1.0; }
+float gi_lpv_open(ivec3 t, ivec3 s, int d, int f) { return 1.0; }
 float gi_lpv_fetch_corner(int c, int q) { return corners[c * 9 + q]; }
 
 void main() {

@@ -26,7 +26,7 @@ flat out vec4 v_c1;
 flat out vec4 v_c2;
 
 vec4 gi_lpv_fetch(ivec3 s, int ch) { return vec4(0.0); }
-float gi_lpv_open(ivec3 t, ivec3 s, int d, int f, vec3 w) { return 1.0; }
+float gi_lpv_open(ivec3 t, ivec3 s, int d, int f) { return 1.0; }
 float gi_lpv_fetch_corner(int c, int q) { return 0.0; }
 
 void main() {

@@ -21,7 +21,7 @@ vec4 gi_lpv_fetch(ivec3 s, int ch) {
   return vec4(src[o], src[o + 1], src[o + 2], src[o + 3]);
 }
 float gi_lpv_fetch_corner(int c, int q) { return 0.0; }
-float gi_lpv_open(ivec3 t, ivec3 s, int d, int f, vec3 w) { return vis[(((t.z * ny + t.y) * nx + t.x) * 6 + d) * 5 + f]; }
+float gi_lpv_open(ivec3 t, ivec3 s, int d, int f) { return vis[(((t.z * ny + t.y) * nx + t.x) * 6 + d) * 5 + f]; }
 
 void main() {
   int t = int(gl_GlobalInvocationID.x);

@@ -67,9 +67,26 @@ struct CpuField {
   const LpvCell& x = c.g->cells[c.g->index(s.x, s.y, s.z)];
   return {x[ch * 4], x[ch * 4 + 1], x[ch * 4 + 2], x[ch * 4 + 3]};
 }
-[[maybe_unused]] double gi_lpv_open(const CpuField& c, glm::ivec3 t, glm::ivec3, int d, int f, glm::dvec3) {
+[[maybe_unused]] double gi_lpv_open(const CpuField& c, glm::ivec3 t, glm::ivec3, int d, int f) {
   return c.vis == nullptr ? 1.0 : static_cast<double>((*c.vis)[(c.g->index(t.x, t.y, t.z) * 6 + d) * 5 + f]);
 }
+// The gather's per-face constants, tabulated once from the shared functions.
+struct FaceTable {
+  glm::dvec4 y[30], reemit[30];
+  FaceTable() {
+    for (int d = 0; d < 6; ++d)
+      for (int f = 0; f < 5; ++f) {
+        y[d * 5 + f] = shared::gi_lpv_sh4(shared::gi_lpv_face_direction(d, f));
+        reemit[d * 5 + f] = shared::gi_lpv_lobe(shared::gi_lpv_face_normal(d, f));
+      }
+  }
+};
+const FaceTable& face_table() {
+  static const FaceTable t;
+  return t;
+}
+[[maybe_unused]] glm::dvec4 gi_lpv_face_y(const CpuField&, int d, int f) { return face_table().y[d * 5 + f]; }
+[[maybe_unused]] glm::dvec4 gi_lpv_face_reemit(const CpuField&, int d, int f) { return face_table().reemit[d * 5 + f]; }
 struct CpuGeometry {
   const GeometryVolume* gv;
 };

@@ -10,13 +10,18 @@
 // per channel; the grid's cell (i, j, k) has index (k ny + j) nx + i, its corners
 // (k (ny + 1) + j) (nx + 1) + i.
 //
-// The volume is reached through three functions the caller provides (found by
+// The volume is reached through functions the caller provides (found by
 // argument-dependent lookup on the context type in C++; plain functions in a shader, declared
 // before the block is pasted):
 //   real4 gi_lpv_fetch(ctx, ivec3 s, int ch)    cell s's coefficients of channel ch (0..2);
-//   real  gi_lpv_open(ctx, ivec3 t, ivec3 s, int d, int f, real3 w)
+//   real  gi_lpv_open(ctx, ivec3 t, ivec3 s, int d, int f)
 //                                               1 - blocking of face f of the light that cell s
-//                                               sends to its neighbour t = s + step(d) along w;
+//                                               sends to its neighbour t = s + step(d) (along
+//                                               gi_lpv_face_direction(d, f));
+//   real4 gi_lpv_face_y(ctx, int d, int f)      gi_lpv_sh4(gi_lpv_face_direction(d, f)), and
+//   real4 gi_lpv_face_reemit(ctx, int d, int f) gi_lpv_lobe(gi_lpv_face_normal(d, f)): the
+//                                               gather's per-face constants (a table on the CPU;
+//                                               in a shader gi_lpv_decl.glsl computes them);
 //   real  gi_lpv_fetch_corner(ctx, int c, int q)  the geometry volume's coefficient q (0..8) at
 //                                               corner c.
 // Units: lengths in the scene's unit; I in the lights' radiance unit x length^2. Accuracy:
@@ -148,12 +153,11 @@ ATMOSH_GI_TEMPLATE ATMOSH_FN GiLpvRgb gi_lpv_gather(ATMOSH_GI_CTX glm::ivec3 c, 
     real4 sb = gi_lpv_fetch(ATMOSH_GI_CTX_ARG s, 2);
     if (sr == real4(0) && sg == real4(0) && sb == real4(0)) continue;
     for (int f = 0; f < 5; ++f) {
-      real3 w = gi_lpv_face_direction(d, f);
-      real v = blocking ? gi_lpv_open(ATMOSH_GI_CTX_ARG c, s, d, f, w) : real(1);
+      real v = blocking ? gi_lpv_open(ATMOSH_GI_CTX_ARG c, s, d, f) : real(1);
       if (v <= real(0)) continue;
       real om = (f == 0 ? front : side) * v;
-      real4 y = gi_lpv_sh4(w);
-      real4 lobe = gi_lpv_lobe(gi_lpv_face_normal(d, f));
+      real4 y = gi_lpv_face_y(ATMOSH_GI_CTX_ARG d, f);
+      real4 lobe = gi_lpv_face_reemit(ATMOSH_GI_CTX_ARG d, f);
       sum.r += (om * glm::dot(sr, y)) * lobe;
       sum.g += (om * glm::dot(sg, y)) * lobe;
       sum.b += (om * glm::dot(sb, y)) * lobe;
