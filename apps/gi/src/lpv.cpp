@@ -85,8 +85,15 @@ const FaceTable& face_table() {
   static const FaceTable t;
   return t;
 }
-[[maybe_unused]] glm::dvec4 gi_lpv_face_y(const CpuField&, int d, int f) { return face_table().y[d * 5 + f]; }
-[[maybe_unused]] glm::dvec4 gi_lpv_face_reemit(const CpuField&, int d, int f) { return face_table().reemit[d * 5 + f]; }
+// (built element by element: a copy of the table's entry is a memcpy call under AddressSanitizer)
+[[maybe_unused]] glm::dvec4 gi_lpv_face_y(const CpuField&, int d, int f) {
+  const glm::dvec4& v = face_table().y[d * 5 + f];
+  return {v.x, v.y, v.z, v.w};
+}
+[[maybe_unused]] glm::dvec4 gi_lpv_face_reemit(const CpuField&, int d, int f) {
+  const glm::dvec4& v = face_table().reemit[d * 5 + f];
+  return {v.x, v.y, v.z, v.w};
+}
 struct CpuGeometry {
   const GeometryVolume* gv;
 };

@@ -151,16 +151,33 @@ ATMOSH_GI_TEMPLATE ATMOSH_FN GiLpvRgb gi_lpv_gather(ATMOSH_GI_CTX glm::ivec3 c, 
     real4 sr = gi_lpv_fetch(ATMOSH_GI_CTX_ARG s, 0);
     real4 sg = gi_lpv_fetch(ATMOSH_GI_CTX_ARG s, 1);
     real4 sb = gi_lpv_fetch(ATMOSH_GI_CTX_ARG s, 2);
-    if (sr == real4(0) && sg == real4(0) && sb == real4(0)) continue;
+    if (sr.x == real(0) && sr.y == real(0) && sr.z == real(0) && sr.w == real(0) && sg.x == real(0) &&
+        sg.y == real(0) && sg.z == real(0) && sg.w == real(0) && sb.x == real(0) && sb.y == real(0) &&
+        sb.z == real(0) && sb.w == real(0)) {
+      continue;
+    }
     for (int f = 0; f < 5; ++f) {
       real v = blocking ? gi_lpv_open(ATMOSH_GI_CTX_ARG c, s, d, f) : real(1);
       if (v <= real(0)) continue;
       real om = (f == 0 ? front : side) * v;
       real4 y = gi_lpv_face_y(ATMOSH_GI_CTX_ARG d, f);
-      real4 lobe = gi_lpv_face_reemit(ATMOSH_GI_CTX_ARG d, f);
-      sum.r += (om * glm::dot(sr, y)) * lobe;
-      sum.g += (om * glm::dot(sg, y)) * lobe;
-      sum.b += (om * glm::dot(sb, y)) * lobe;
+      real4 e = gi_lpv_face_reemit(ATMOSH_GI_CTX_ARG d, f);
+      // component by component (vector temporaries are memcpy calls in a sanitizer build)
+      real kr = om * (sr.x * y.x + sr.y * y.y + sr.z * y.z + sr.w * y.w);
+      real kg = om * (sg.x * y.x + sg.y * y.y + sg.z * y.z + sg.w * y.w);
+      real kb = om * (sb.x * y.x + sb.y * y.y + sb.z * y.z + sb.w * y.w);
+      sum.r.x += kr * e.x;
+      sum.r.y += kr * e.y;
+      sum.r.z += kr * e.z;
+      sum.r.w += kr * e.w;
+      sum.g.x += kg * e.x;
+      sum.g.y += kg * e.y;
+      sum.g.z += kg * e.z;
+      sum.g.w += kg * e.w;
+      sum.b.x += kb * e.x;
+      sum.b.y += kb * e.y;
+      sum.b.z += kb * e.z;
+      sum.b.w += kb * e.w;
     }
   }
   return sum;
