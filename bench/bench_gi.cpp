@@ -434,3 +434,50 @@ void BM_ProbeResidentFrame512(benchmark::State& state) {
   state.counters["shade_read_ms"] = 1e3 * sums[3] / n;
 }
 BENCHMARK(BM_ProbeResidentFrame512)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(5);
+
+// The GPU-resident LPV frame (gi::LpvFrameGpu over gpu::GiLpvFrame; docs/gi.md, "The GPU-resident
+// LPV frame") at 512 x 512: per frame the G-buffer with the sun's shadow map and the lights'
+// maps (default ShadowMapOptions: sun 1024^2, area light 4 points x 6 faces x 256^2, sky 128 x
+// 256^2), the sun's RSM (sun_rays 16 per cell edge), point injection, 2 grid propagation steps
+// with the geometry volume, the application to the G-buffer and the image's read-back (wall
+// time, the misses' environment on the CPU included). Made once before: the context, the
+// programs, the emitters' VPLs (65536 photons) and the geometry volume; one frame is rendered
+// before timing (llvmpipe compiles a shader's code at its first draw). Arguments: scene (0
+// sphere-on-plane under the sun 135 deg, 40 deg and a uniform sky of 0.3; 1 the Cornell box, its
+// light; 2 sphere-on-plane under the sun alone), grid (cells along the longest axis).
+void BM_LpvResidentFrame512(benchmark::State& state) {
+  gi::Scene s = gi::builtin_scene(state.range(0) == 1 ? "cornell-box" : "sphere-on-plane");
+  if (state.range(0) != 1) s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(3.0, 2.0, 1.0)};
+  if (state.range(0) == 0) {
+    s.env_bands = 1;
+    for (int c = 0; c < 3; ++c) s.env_sh[c] = {0.3 * 2 * std::sqrt(3.14159265358979324)};
+  } else if (state.range(0) == 2) {
+    s.env_bands = 0;
+    for (auto& c : s.env_sh) c.clear();
+  }
+  gi::LpvOptions o;
+  o.grid = static_cast<int>(state.range(1));
+  double passes = 0;
+  try {
+    gi::LpvFrameGpu frame(s, o);
+    benchmark::DoNotOptimize(frame.render(s.camera, 512, 512));
+    for (auto _ : state) {
+      const gi::RadianceImage img = frame.render(s.camera, 512, 512);
+      passes += img.stats.seconds;
+      benchmark::DoNotOptimize(img.mean[0].data());
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+  state.counters["frame_ms"] = 1e3 * passes / static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
+}
+BENCHMARK(BM_LpvResidentFrame512)
+    ->Args({0, 8})
+    ->Args({0, 16})
+    ->Args({1, 8})
+    ->Args({1, 16})
+    ->Args({2, 8})
+    ->Args({2, 16})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);

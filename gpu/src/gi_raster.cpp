@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -113,8 +114,9 @@ void colour_targets(GLuint fb, const Textures& tex, int n, int w, int h, const c
 glm::dvec3 rgb(const std::vector<float>& v, std::size_t p) { return {v[4 * p], v[4 * p + 1], v[4 * p + 2]}; }
 }  // namespace
 
-GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const PrtCamera& cam, const GiSun* sun,
-                           const GiShadowOptions& so, const GiEmitterOptions* eo, const GiSkyOptions* sky) {
+namespace {
+void check_gbuffer_inputs(const PrtCamera& cam, const GiSun* sun, const GiShadowOptions& so, const GiEmitterOptions* eo,
+                          const GiSkyOptions* sky) {
   if (cam.width < 1 || cam.height < 1 || cam.width > 16384 || cam.height > 16384 || !(cam.tan_half_fov > 0) ||
       !std::isfinite(cam.tan_half_fov))
     throw std::invalid_argument("gi_gbuffer: bad camera");
@@ -130,18 +132,35 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   if (sky && (sky->directions.size() != sky->radiance.size() || sky->directions.size() > 1024 ||
               sky->resolution < 16 || sky->resolution > 8192))
     throw std::invalid_argument("gi_gbuffer: sky options out of range");
-  ctx.make_current();
-  const auto t0 = Clock::now();
-  Soup soup;
-  upload(mesh, soup);
+}
+
+// The programs of the G-buffer pass (compiled once per user: gi_gbuffer, GiLpvFrame).
+struct GBufferPrograms {
+  Program depth{parts("gpu/shaders/prt_depth.vert"), parts("gpu/shaders/prt_depth.frag")};
+  Program gbuf{parts("gpu/shaders/gi_gbuffer.vert"),
+               {embedded_source("apps/gi/include/atmosh/gi/shared/polygon.glsl.hpp"),
+                embedded_source("gpu/shaders/gi_gbuffer.frag")}};
+  std::unique_ptr<Program> dist;  // the emitters' distance maps, made when first needed
+};
+
+// The G-buffer's targets (fresh per frame: immutable texture storage) and its light buffers.
+struct GBufferTargets {
+  Textures tex{11};  // 6 colour targets + depth, shadow map, emitter distance maps + their depth, sky maps
+  Framebuffers fbo{4};
+  std::unique_ptr<Buffer> b_tri, b_pts, b_sky;
+};
+
+// The shadow map, the emitters' distance maps, the sky's depth maps and the G-buffer (6 RGBA32F
+// targets in T.tex[0..5], framebuffer T.fbo[0]) of `cam`; the context current, `soup` uploaded.
+void draw_gbuffer(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, GBufferTargets& T,
+                  const PrtCamera& cam, const GiSun* sun, const GiShadowOptions& so, const GiEmitterOptions* eo,
+                  const GiSkyOptions* sky) {
   const double radius = soup.radius;
   const int W = cam.width, H = cam.height, D = so.resolution;
-  const Program depth(parts("gpu/shaders/prt_depth.vert"), parts("gpu/shaders/prt_depth.frag"));
-  const Program gbuf(parts("gpu/shaders/gi_gbuffer.vert"),
-                     {embedded_source("apps/gi/include/atmosh/gi/shared/polygon.glsl.hpp"),
-                      embedded_source("gpu/shaders/gi_gbuffer.frag")});
-  Textures tex(11);  // 6 colour targets + depth, shadow map, emitter distance maps + their depth, sky maps
-  Framebuffers fbo(4);
+  const Program& depth = P.depth;
+  const Program& gbuf = P.gbuf;
+  Textures& tex = T.tex;
+  Framebuffers& fbo = T.fbo;
   const GLuint t_shadow = tex.ids[7], t_emaps = tex.ids[8], t_edepth = tex.ids[9], t_sky = tex.ids[10];
   const glm::dvec3 s = sun ? glm::normalize(sun->direction) : glm::dvec3(0, 0, 1);
   const Mat4 lp = light_matrix(s, radius);
@@ -211,7 +230,9 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   check_gl("gi emitter maps");
   if (n_em > 0) {
-    const Program dist(parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_distance.frag"));
+    if (!P.dist)
+      P.dist = std::make_unique<Program>(parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_distance.frag"));
+    const Program& dist = *P.dist;
     storage_2d(t_edepth, GL_DEPTH_COMPONENT32F, C, C);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo.ids[2]);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, t_edepth, 0);
@@ -256,9 +277,10 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   }
   if (etri.empty()) etri.assign(16, 0.0f);
   if (epts.empty()) epts.assign(4, 0.0f);
-  Buffer b_tri(etri.size() * sizeof(float), etri.data()), b_pts(epts.size() * sizeof(float), epts.data());
-  b_tri.bind(0);
-  b_pts.bind(1);
+  T.b_tri = std::make_unique<Buffer>(etri.size() * sizeof(float), etri.data());
+  T.b_pts = std::make_unique<Buffer>(epts.size() * sizeof(float), epts.data());
+  T.b_tri->bind(0);
+  T.b_pts->bind(1);
 
   // 3. Sky directions: an orthographic depth map each (layers of a depth array).
   const int n_sky = sky ? static_cast<int>(sky->directions.size()) : 0, S = sky ? sky->resolution : 1;
@@ -299,8 +321,8 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
     check_gl("gi sky maps");
   }
   if (skyd.empty()) skyd.assign(12, 0.0f);
-  Buffer b_sky(skyd.size() * sizeof(float), skyd.data());
-  b_sky.bind(2);
+  T.b_sky = std::make_unique<Buffer>(skyd.size() * sizeof(float), skyd.data());
+  T.b_sky->bind(2);
 
   // 4. G-buffer from the camera (prt.cpp's projection; near plane at least 1e-3 radius).
   colour_targets(fbo.ids[0], tex, 6, W, H, "gi G-buffer");
@@ -347,6 +369,21 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   glBindVertexArray(soup.vao.ids[0]);
   glDrawArrays(GL_TRIANGLES, 0, soup.count);
   check_gl("gi G-buffer pass");
+}
+}  // namespace
+
+GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const PrtCamera& cam, const GiSun* sun,
+                           const GiShadowOptions& so, const GiEmitterOptions* eo, const GiSkyOptions* sky) {
+  check_gbuffer_inputs(cam, sun, so, eo, sky);
+  ctx.make_current();
+  const auto t0 = Clock::now();
+  Soup soup;
+  upload(mesh, soup);
+  const int W = cam.width, H = cam.height;
+  GBufferPrograms P;
+  GBufferTargets T;
+  draw_gbuffer(mesh, soup, P, T, cam, sun, so, eo, sky);
+  Framebuffers& fbo = T.fbo;
   const std::vector<float> pos = read_rgba(fbo.ids[0], 0, W, H), nrm = read_rgba(fbo.ids[0], 1, W, H),
                            alb = read_rgba(fbo.ids[0], 2, W, H), emi = read_rgba(fbo.ids[0], 3, W, H),
                            eir = read_rgba(fbo.ids[0], 4, W, H), sir = read_rgba(fbo.ids[0], 5, W, H);
@@ -376,15 +413,10 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   return r;
 }
 
-GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& v) {
-  if (v.mt < 1 || v.mb < 1 || v.mt > 16384 || v.mb > 16384)
-    throw std::invalid_argument("gi_rsm: texels per side must be in 1..16384");
-  if (!(v.t1 > v.t0) || !(v.b1 > v.b0) || !std::isfinite(v.t1 - v.t0 + v.b1 - v.b0))
-    throw std::invalid_argument("gi_rsm: empty or non-finite rectangle");
-  ctx.make_current();
-  const auto t0 = Clock::now();
-  Soup soup;
-  upload(mesh, soup);
+namespace {
+// The reflective shadow map (3 RGBA32F targets in tex[0..2] of framebuffer fbo.ids[0]); the
+// context current, `soup` uploaded.
+void draw_rsm(const Soup& soup, const Program& prog, Textures& tex, Framebuffers& fbo, const GiRsmView& v) {
   const double radius = soup.radius;
   const glm::dvec3 s = glm::normalize(v.direction);
   // x_ndc = (2 (p.t) - (t0 + t1)) / (t1 - t0) with p = p_c + centre; likewise y on b; depth as
@@ -399,9 +431,6 @@ GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& 
   lp.set(0, 3, st * glm::dot(soup.centre, v.t) - (v.t0 + v.t1) / (v.t1 - v.t0));
   lp.set(1, 3, sb * glm::dot(soup.centre, v.b) - (v.b0 + v.b1) / (v.b1 - v.b0));
   lp.set(3, 3, 1.0);
-  const Program prog(parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_rsm.frag"));
-  Textures tex(4);
-  Framebuffers fbo(1);
   colour_targets(fbo.ids[0], tex, 3, v.mt, v.mb, "gi RSM");
   const glm::dvec3 beam = v.irradiance * ((v.t1 - v.t0) * (v.b1 - v.b0) / (static_cast<double>(v.mt) * v.mb));
   prog.use();
@@ -411,6 +440,26 @@ GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& 
   glBindVertexArray(soup.vao.ids[0]);
   glDrawArrays(GL_TRIANGLES, 0, soup.count);
   check_gl("gi RSM pass");
+}
+
+void check_rsm_view(const GiRsmView& v) {
+  if (v.mt < 1 || v.mb < 1 || v.mt > 16384 || v.mb > 16384)
+    throw std::invalid_argument("gi_rsm: texels per side must be in 1..16384");
+  if (!(v.t1 > v.t0) || !(v.b1 > v.b0) || !std::isfinite(v.t1 - v.t0 + v.b1 - v.b0))
+    throw std::invalid_argument("gi_rsm: empty or non-finite rectangle");
+}
+}  // namespace
+
+GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& v) {
+  check_rsm_view(v);
+  ctx.make_current();
+  const auto t0 = Clock::now();
+  Soup soup;
+  upload(mesh, soup);
+  const Program prog(parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_rsm.frag"));
+  Textures tex(4);
+  Framebuffers fbo(1);
+  draw_rsm(soup, prog, tex, fbo, v);
   const std::vector<float> pos = read_rgba(fbo.ids[0], 0, v.mt, v.mb), nrm = read_rgba(fbo.ids[0], 1, v.mt, v.mb),
                            flx = read_rgba(fbo.ids[0], 2, v.mt, v.mb);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -429,6 +478,270 @@ GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& 
     r.flux[p] = rgb(flx, p);
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace atmosh::gpu
+
+// ---------------------------------------------------------------------------------------------
+// The GPU-resident LPV frame (gi_raster.hpp, GiLpvFrame).
+namespace atmosh::gpu {
+
+namespace {
+std::vector<ShaderPart> lpv_parts(const char* path) {
+  return {embedded_source("gpu/shaders/gi_lpv_decl.glsl"),
+          embedded_source("apps/gi/include/atmosh/gi/shared/radiosity.glsl.hpp"),
+          embedded_source("apps/gi/include/atmosh/gi/shared/lpv.glsl.hpp"), embedded_source(path)};
+}
+
+// An atlas of 3 RGBA32F targets (w x h), cleared, with additive blending for points.
+void atlas_targets(GLuint fb, const Textures& tex, int w, int h, const char* what) {
+  glBindFramebuffer(GL_FRAMEBUFFER, fb);
+  GLenum draw[3];
+  for (int i = 0; i < 3; ++i) {
+    storage_2d(tex.ids[static_cast<std::size_t>(i)], GL_RGBA32F, w, h);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), GL_TEXTURE_2D,
+                           tex.ids[static_cast<std::size_t>(i)], 0);
+    draw[i] = GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i);
+  }
+  glDrawBuffers(3, draw);
+  check_framebuffer(what);
+  glViewport(0, 0, w, h);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunc(GL_ONE, GL_ONE);
+  const float zero[4] = {0, 0, 0, 0};
+  for (int i = 0; i < 3; ++i) glClearBufferfv(GL_COLOR, i, zero);
+}
+
+void bind_textures(const GLuint* ids, int n) {
+  for (int i = 0; i < n; ++i) {
+    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(i));
+    glBindTexture(GL_TEXTURE_2D, ids[i]);
+  }
+  glActiveTexture(GL_TEXTURE0);
+}
+}  // namespace
+
+struct GiLpvFrame::Impl {
+  const Context& ctx;
+  GiMeshView mesh;
+  GiLpvGrid grid;
+  Soup soup;
+  GBufferPrograms gbuffer;
+  Program rsm{parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_rsm.frag")};
+  Program points{lpv_parts("gpu/shaders/gi_lpv_points.vert"), parts("gpu/shaders/gi_lpv_points.frag")};
+  Program pack{parts("gpu/shaders/gi_lpv_pack.comp")};
+  Program propagate{lpv_parts("gpu/shaders/gi_lpv_propagate.comp")};
+  Program open{lpv_parts("gpu/shaders/gi_lpv_open.comp")};
+  Program apply{lpv_parts("gpu/shaders/gi_lpv_frame_apply.comp")};
+  VertexArrays empty{1};
+  std::size_t n_cells = 0, n_vpls = 0;
+  std::unique_ptr<Buffer> cells_a, cells_b, acc, corners, vis, vpls;
+  Impl(const Context& c, const GiMeshView& m, const GiLpvGrid& g) : ctx(c), mesh(m), grid(g) {}
+  ~Impl() {  // the members' GL names are deleted in this context (where it is still alive)
+    try {
+      ctx.make_current();
+    } catch (const std::exception&) {
+    }
+  }
+  void set_grid(const Program& p, const char* lo, const char* h, const char* nx, const char* ny, const char* nz) const {
+    const glm::dvec3 l = grid.lo - soup.centre;
+    p.set(lo, static_cast<float>(l.x), static_cast<float>(l.y), static_cast<float>(l.z));
+    p.set(h, static_cast<float>(grid.h));
+    p.set(nx, grid.nx);
+    p.set(ny, grid.ny);
+    p.set(nz, grid.nz);
+  }
+};
+
+GiLpvFrame::GiLpvFrame(const Context& ctx, const GiMeshView& mesh, const GiLpvGrid& g,
+                       const std::vector<GiLpvSurfel>& surfels, const std::vector<GiLpvVpl>& vpls) {
+  if (g.nx < 1 || g.ny < 1 || g.nz < 1 || g.nx > 16383 || static_cast<long long>(g.ny + 1) * (g.nz + 1) > 16384 ||
+      !(g.h > 0) || !std::isfinite(g.h) || !std::isfinite(g.lo.x + g.lo.y + g.lo.z))
+    throw std::invalid_argument("GiLpvFrame: bad grid (cells >= 1, (ny + 1)(nz + 1) <= 16384, h > 0)");
+  const std::size_t n_corners = static_cast<std::size_t>(g.nx + 1) * (g.ny + 1) * (g.nz + 1);
+  for (const GiLpvSurfel& s : surfels)
+    if (s.corner >= n_corners || !std::isfinite(s.weight + s.normal.x + s.normal.y + s.normal.z))
+      throw std::invalid_argument("GiLpvFrame: a surfel outside the grid or not finite");
+  if (vpls.size() > 0x7fffffffu / 9 || surfels.size() > 0x7fffffffu / 4)
+    throw std::invalid_argument("GiLpvFrame: too many VPLs or surfels");
+  ctx.make_current();
+  impl_ = std::make_unique<Impl>(ctx, mesh, g);
+  Impl& I = *impl_;
+  upload(mesh, I.soup);
+  I.n_cells = static_cast<std::size_t>(g.nx) * g.ny * g.nz;
+  const std::size_t cb = I.n_cells * 12 * sizeof(float);
+  I.cells_a = std::make_unique<Buffer>(cb);
+  I.cells_b = std::make_unique<Buffer>(cb);
+  I.acc = std::make_unique<Buffer>(cb);
+  I.corners = std::make_unique<Buffer>(n_corners * 9 * sizeof(float));
+  std::vector<float> items;
+  for (const GiLpvVpl& v : vpls) {
+    const glm::dvec3 p = v.p - I.soup.centre;
+    for (const glm::dvec3& x : {p, v.n, v.flux})
+      for (int c = 0; c < 3; ++c) items.push_back(static_cast<float>(x[c]));
+  }
+  I.n_vpls = vpls.size();
+  if (items.empty()) items.assign(9, 0.0f);
+  I.vpls = std::make_unique<Buffer>(items.size() * sizeof(float), items.data());
+  // The geometry volume: the surfels as points into the corner atlas, packed into I.corners.
+  items.clear();
+  std::vector<std::uint32_t> corner_index;
+  for (const GiLpvSurfel& s : surfels) {
+    corner_index.push_back(s.corner);
+    for (int c = 0; c < 3; ++c) items.push_back(static_cast<float>(s.normal[c]));
+    items.push_back(static_cast<float>(s.weight));
+  }
+  if (items.empty()) items.assign(4, 0.0f), corner_index.assign(1, 0);
+  const Buffer bs(items.size() * sizeof(float), items.data()),
+      bc(corner_index.size() * sizeof(std::uint32_t), corner_index.data());
+  Textures tex(3);
+  Framebuffers fbo(1);
+  const int cw = g.nx + 1, ch = (g.ny + 1) * (g.nz + 1);
+  atlas_targets(fbo.ids[0], tex, cw, ch, "gi LPV geometry atlas");
+  I.points.use();
+  I.points.set("mode", 2);
+  I.points.set("lpv_nx", g.nx + 1);
+  I.points.set("lpv_ny", g.ny + 1);
+  I.points.set("lpv_nz", g.nz + 1);
+  bs.bind(0);
+  bc.bind(1);
+  glBindVertexArray(I.empty.ids[0]);
+  if (!surfels.empty()) glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(surfels.size()));
+  glDisable(GL_BLEND);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  check_gl("gi LPV geometry injection");
+  bind_textures(tex.ids.data(), 3);
+  I.pack.use();
+  I.pack.set("atlas0", 0);
+  I.pack.set("atlas1", 1);
+  I.pack.set("atlas2", 2);
+  I.pack.set("nx", g.nx + 1);
+  I.pack.set("ny", g.ny + 1);
+  I.pack.set("nz", g.nz + 1);
+  I.pack.set("stride", 9);
+  I.pack.set("write_acc", 0);
+  I.corners->bind(0);
+  I.acc->bind(3);
+  I.pack.dispatch(static_cast<unsigned>((n_corners + 63) / 64));
+  check_gl("gi LPV geometry pack");
+  // The open fraction of every face (static geometry: once).
+  I.vis = std::make_unique<Buffer>(I.n_cells * 30 * sizeof(float));
+  I.open.use();
+  I.open.set("nx", g.nx);
+  I.open.set("ny", g.ny);
+  I.open.set("nz", g.nz);
+  I.corners->bind(1);
+  I.vis->bind(2);
+  I.open.dispatch(static_cast<unsigned>((I.n_cells + 63) / 64));
+  check_gl("gi LPV open faces");
+  glBindVertexArray(0);
+}
+
+GiLpvFrame::~GiLpvFrame() = default;
+
+GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOptions& o) {
+  Impl& I = *impl_;
+  check_gbuffer_inputs(cam, o.sun, o.shadow, o.emitters, o.sky);
+  if (o.iterations < 0 || o.iterations > 1024) throw std::invalid_argument("GiLpvFrame: iterations must be in 0..1024");
+  if (o.rsm) check_rsm_view(*o.rsm);
+  if (!std::isfinite(o.sun_irradiance.x + o.sun_irradiance.y + o.sun_irradiance.z))
+    throw std::invalid_argument("GiLpvFrame: the sun's irradiance must be finite");
+  I.ctx.make_current();
+  const auto t0 = Clock::now();
+  const GiLpvGrid& g = I.grid;
+  // 1. G-buffer (with its shadow map and the lights' maps).
+  GBufferTargets T;
+  draw_gbuffer(I.mesh, I.soup, I.gbuffer, T, cam, o.sun, o.shadow, o.emitters, o.sky);
+  // 2. The sun's reflective shadow map.
+  Textures rtex(4);
+  Framebuffers rfbo(1);
+  if (o.rsm) draw_rsm(I.soup, I.rsm, rtex, rfbo, *o.rsm);
+  // 3. Injection: RSM texels and the given VPLs as points into the cell atlas.
+  Textures atex(3);
+  Framebuffers afbo(1);
+  atlas_targets(afbo.ids[0], atex, g.nx, g.ny * g.nz, "gi LPV injection atlas");
+  I.points.use();
+  I.set_grid(I.points, "lpv_lo", "lpv_h", "lpv_nx", "lpv_ny", "lpv_nz");
+  glBindVertexArray(I.empty.ids[0]);
+  if (o.rsm) {
+    bind_textures(rtex.ids.data(), 3);
+    I.points.set("mode", 0);
+    I.points.set("rsm_position", 0);
+    I.points.set("rsm_normal", 1);
+    I.points.set("rsm_flux", 2);
+    I.points.set("rsm_width", o.rsm->mt);
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(o.rsm->mt) * o.rsm->mb);
+  }
+  if (I.n_vpls > 0) {
+    I.points.set("mode", 1);
+    I.vpls->bind(0);
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(I.n_vpls));
+  }
+  glDisable(GL_BLEND);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  check_gl("gi LPV injection");
+  // 4. Pack into the cells' buffer and the running sum.
+  bind_textures(atex.ids.data(), 3);
+  I.pack.use();
+  I.pack.set("atlas0", 0);
+  I.pack.set("atlas1", 1);
+  I.pack.set("atlas2", 2);
+  I.pack.set("nx", g.nx);
+  I.pack.set("ny", g.ny);
+  I.pack.set("nz", g.nz);
+  I.pack.set("stride", 12);
+  I.pack.set("write_acc", 1);
+  I.cells_a->bind(0);
+  I.acc->bind(3);
+  const unsigned groups = static_cast<unsigned>((I.n_cells + 63) / 64);
+  I.pack.dispatch(groups);
+  // 5. Propagation.
+  I.propagate.use();
+  I.propagate.set("nx", g.nx);
+  I.propagate.set("ny", g.ny);
+  I.propagate.set("nz", g.nz);
+  I.vis->bind(1);
+  I.acc->bind(3);
+  for (int it = 0; it < o.iterations; ++it) {
+    (it % 2 == 0 ? *I.cells_a : *I.cells_b).bind(0);
+    (it % 2 == 0 ? *I.cells_b : *I.cells_a).bind(2);
+    I.propagate.set("use_vis", o.blocking && it > 0 ? 1 : 0);
+    I.propagate.dispatch(groups);
+  }
+  check_gl("gi LPV propagation");
+  // 6. Application to the G-buffer.
+  const int W = cam.width, H = cam.height;
+  const std::size_t np = static_cast<std::size_t>(W) * H;
+  const Buffer out(np * 4 * sizeof(float));
+  bind_textures(T.tex.ids.data(), 6);
+  I.apply.use();
+  const char* names[6] = {"g_position", "g_normal", "g_albedo", "g_emission", "g_emitter", "g_sky"};
+  for (int i = 0; i < 6; ++i) I.apply.set(names[i], i);
+  I.apply.set("width", W);
+  I.apply.set("height", H);
+  I.apply.set("sun_irradiance", static_cast<float>(o.sun ? o.sun_irradiance.x : 0.0),
+              static_cast<float>(o.sun ? o.sun_irradiance.y : 0.0), static_cast<float>(o.sun ? o.sun_irradiance.z : 0.0));
+  I.set_grid(I.apply, "lpv_lo", "lpv_h", "lpv_nx", "lpv_ny", "lpv_nz");
+  out.bind(5);
+  I.acc->bind(6);
+  I.apply.dispatch(static_cast<unsigned>((W + 7) / 8), static_cast<unsigned>((H + 7) / 8));
+  check_gl("gi LPV application");
+  // 7. The image back.
+  GiLpvFrameResult r;
+  r.width = W;
+  r.height = H;
+  r.radiance.resize(np * 4);
+  out.download(r.radiance.data(), r.radiance.size() * sizeof(float));
+  r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (o.read_grid) {
+    r.grid.resize(I.n_cells * 12);
+    I.acc->download(r.grid.data(), r.grid.size() * sizeof(float));
+  }
+  glBindVertexArray(0);
   return r;
 }
 

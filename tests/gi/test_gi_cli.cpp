@@ -86,7 +86,7 @@ TEST(GiCli, ProbesRenderAndConvergeWriteTheirFiles) {
   EXPECT_TRUE(header);
   EXPECT_EQ(rows, 9);  // path spp=2, probes 2 bands x 2 grids x plain / visibility
   EXPECT_EQ(rows_radiosity, 4);  // 2 bands x 2 bounce counts
-  EXPECT_EQ(rows_lpv, 2);        // with and without the geometry volume
+  EXPECT_EQ(rows_lpv, 3);        // with and without the geometry volume, and the 2-level cascade
 }
 
 TEST(GiCli, RadiosityAndLpvRender) {

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -221,6 +222,66 @@ TEST(GiLpv, CornellBoxAgainstOneIndirectBounceWithinMeasuredBounds) {
   m.lpv_blocking = false;  // without the geometry volume light leaks through the blocks
   const gi::ImageError n = gi::image_error(gi::render_method(s, s.camera, 24, 24, m).image, ref, &mask);
   EXPECT_GT(n.leak_rel, 2 * e.leak_rel);  // measured 0.209 against 0.042
+  // the 2-level cascade (coarse grid 8, fine cells h/2 over the middle half of the box)
+  gi::LpvOptions o;
+  o.grid = 8;
+  o.samples = 16;
+  const gi::LpvCascade c = gi::build_lpv_cascade(s, o);
+  const gi::ImageError ec = gi::image_error(gi::render_lpv_cascade(s, s.camera, 24, 24, c, o), ref, &mask);
+  std::printf("Cornell box vs direct + one bounce, grid 8: one level mean %.4f rms %.4f; 2-level cascade mean %.4f "
+              "rms %.4f\n", e.mean_rel, e.rms_rel, ec.mean_rel, ec.rms_rel);
+  EXPECT_NEAR(ec.mean_rel, 1.05, 0.08) << ec.mean_rel;
+  EXPECT_LT(ec.rms_rel, 0.45) << ec.rms_rel;
+}
+
+// The cascade's injection: every VPL goes into one place — the fine level and the coarse
+// level's inner grid (the same VPLs), or the coarse level's outer grid — so the coarse level
+// carries the plane's share of the sun's flux, a E sin(el) A (closed form, as above), once.
+TEST(GiLpvCascade, EveryVplGoesIntoOnePlace) {
+  prt::Mesh m;
+  m.name = "plane";
+  m.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, {-1, -1, 0.5}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  prt::compute_normals(m);
+  const double a = 0.7, E = 3.0, el = 35 * kPi / 180;
+  gi::Scene s = gi::scene_from_mesh(m, gi::Material{glm::dvec3(a), glm::dvec3(0), false});
+  s.sun = gi::Sun{glm::dvec3(std::cos(el), 0, std::sin(el)), glm::dvec3(E), 0};
+  gi::LpvOptions o;
+  o.grid = 8;
+  o.sun_rays = 4;
+  o.iterations = 4;
+  const double expect = a * E * std::sin(el) * 4.0;
+  for (const glm::dvec3 focus : {glm::dvec3(0, 0, 0.25), glm::dvec3(-1, -1, 0)}) {
+    const gi::LpvCascade c = gi::build_lpv_cascade(s, o, &focus);
+    const double fine = gi::lpv_flux(c.fine.injected).x, inner = gi::lpv_flux(c.inner.injected).x,
+                 outer = gi::lpv_flux(c.outer.injected).x;
+    EXPECT_NEAR(inner + outer, expect, 0.005 * expect);
+    EXPECT_NEAR(fine, inner, 1e-12 * expect);
+    // the fine box: half of the 2 x 2 plane's extent per axis, so a quarter of its area
+    EXPECT_NEAR(inner, 0.25 * expect, 0.02 * expect);
+    EXPECT_NEAR(c.fine_hi.x - c.fine_lo.x, 1.0, 1e-12);
+    EXPECT_EQ(c.fine.accumulated.h, 0.5 * c.outer.accumulated.h);
+    // far from the fine box the coarse level alone; deep inside it the fine level replaces the
+    // coarse inner grid
+    for (const glm::dvec3 x : {glm::dvec3(0.9, 0.9, 0.0), glm::dvec3(focus.x + 0.1, focus.y + 0.1, 0.0)}) {  // on the plane
+      const glm::dvec3 n(0, 0, 1);
+      const bool in = x.x > c.fine_lo.x + 0.25 && x.x < c.fine_hi.x - 0.25 && x.y > c.fine_lo.y + 0.25 &&
+                      x.y < c.fine_hi.y - 0.25;
+      const bool out = x.x > c.fine_hi.x || x.y > c.fine_hi.y;
+      if (!in && !out) continue;
+      gi::RadiosityReceivers r;
+      r.position = {x};
+      r.normal = {n};
+      r.albedo = {glm::dvec3(kPi)};  // L = max(0, E_lpv)
+      r.emission = {glm::dvec3(0)};
+      r.direct = {glm::dvec3(0)};
+      const double Eo = gi::shade_lpv_receivers_cpu(c.outer.accumulated, r)[0].x;
+      const double Ei = gi::shade_lpv_receivers_cpu(in ? c.fine.accumulated : c.inner.accumulated, r)[0].x;
+      EXPECT_NEAR(gi::lpv_cascade_irradiance(c, x, n).x, Eo + Ei, 1e-12 * (1 + Eo + Ei)) << x.x << ", " << x.y;
+    }
+  }
+  o.grid = 1;
+  EXPECT_THROW(gi::build_lpv_cascade(s, o), InputError);
 }
 
 TEST(GiLpv, BadOptionsThrowInputError) {

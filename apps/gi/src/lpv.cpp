@@ -10,10 +10,12 @@
 #include <glm/geometric.hpp>
 
 #include "atmosh/error.hpp"
+#include "atmosh/gi/shared/lpv.glsl.hpp"
 #include "atmosh/gi/shared/radiosity.glsl.hpp"
 #include "atmosh/parallel.hpp"
 #include "atmosh/prt/bake.hpp"
 #include "common.hpp"
+#include "raster_gpu.hpp"
 #include "receivers.hpp"
 
 #ifdef ATMOSH_GI_HAVE_GPU
@@ -25,12 +27,7 @@ namespace atmosh::gi {
 
 namespace {
 constexpr double kPi = std::numbers::pi;
-constexpr double kY00 = 0.28209479177387814;  // 1 / (2 sqrt(pi))
-constexpr double kY1 = 0.48860251190291992;   // sqrt(3 / (4 pi))
 using Clock = std::chrono::steady_clock;
-
-// Y_00, Y_1-1, Y_10, Y_11 at unit d (Condon–Shortley phase, basis.hpp).
-std::array<double, 4> sh4(const glm::dvec3& d) { return {kY00, -kY1 * d.y, kY1 * d.z, -kY1 * d.x}; }
 
 void check(const LpvOptions& o) {
   if (o.grid < 1 || o.grid > 256) throw InputError("gi lpv: grid must be in 1..256, got " + std::to_string(o.grid));
@@ -44,74 +41,66 @@ void check(const LpvOptions& o) {
     throw InputError("gi lpv: camera rays per pixel must be in 1..1000000, got " + std::to_string(o.samples));
 }
 
+#ifdef ATMOSH_GI_HAVE_GPU
+// An LPV shader with the shared blocks pasted before it (gi_lpv_decl.glsl, radiosity.glsl.hpp,
+// lpv.glsl.hpp).
+std::vector<gpu::ShaderPart> lpv_shader(const char* path) {
+  return {gpu::embedded_source("gpu/shaders/gi_lpv_decl.glsl"),
+          gpu::embedded_source("apps/gi/include/atmosh/gi/shared/radiosity.glsl.hpp"),
+          gpu::embedded_source("apps/gi/include/atmosh/gi/shared/lpv.glsl.hpp"), gpu::embedded_source(path)};
+}
+#endif
+
 void check_grid(const LpvGrid& g) {
   if (g.nx < 1 || g.ny < 1 || g.nz < 1 || !(g.h > 0) ||
       g.cells.size() != static_cast<std::size_t>(g.nx) * g.ny * g.nz)
     throw InputError("gi lpv: the grid's cells do not match its size");
 }
 
-// One of the 5 faces a source cell's light crosses into the neighbour in direction e.
-struct Face {
-  double omega;                   // exact solid angle from the source's centre
-  glm::dvec3 dir;                 // unit direction source centre -> face centre
-  std::array<double, 4> y;        // SH of dir
-  std::array<double, 4> reemit;   // coefficients of a unit-flux Lambertian lobe about the face normal
+// The CPU's views of the volume for the shared LPV block (atmosh/gi/shared/lpv.glsl.hpp): a
+// field's cells and, for the propagation, the table of open faces (1 - blocking, float).
+struct CpuField {
+  const LpvGrid* g;
+  const std::vector<float>* vis;  // [(t * 6 + d) * 5 + f]; null: every face open
 };
-struct Direction {
-  int di, dj, dk;
-  int axis;  // 0, 1, 2
-  Face faces[5];
-};
-
-std::array<Direction, 6> directions() {
-  const LpvFaceAngles a = lpv_face_solid_angles();
-  std::array<Direction, 6> out{};
-  int q = 0;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int sgn : {1, -1}) {
-      Direction& D = out[q++];
-      glm::dvec3 e(0.0);
-      e[axis] = sgn;
-      D.di = static_cast<int>(e.x), D.dj = static_cast<int>(e.y), D.dk = static_cast<int>(e.z);
-      D.axis = axis;
-      auto lobe = [](const glm::dvec3& n) {  // Phi / pi A_l Y_lm(n) at Phi = 1: Y_00, 2/3 Y_1m
-        const auto y = sh4(n);
-        return std::array<double, 4>{y[0], 2.0 / 3 * y[1], 2.0 / 3 * y[2], 2.0 / 3 * y[3]};
-      };
-      D.faces[0] = {a.front, e, sh4(e), lobe(e)};
-      int f = 1;
-      for (int other = 0; other < 3; ++other) {
-        if (other == axis) continue;
-        for (int s2 : {1, -1}) {
-          glm::dvec3 n(0.0);
-          n[other] = s2;
-          const glm::dvec3 dir = glm::normalize(e + 0.5 * n);  // face centre at e + n/2 (unit cells)
-          D.faces[f++] = {a.side, dir, sh4(dir), lobe(n)};
-        }
+[[maybe_unused]] glm::dvec4 gi_lpv_fetch(const CpuField& c, glm::ivec3 s, int ch) {
+  const LpvCell& x = c.g->cells[c.g->index(s.x, s.y, s.z)];
+  return {x[ch * 4], x[ch * 4 + 1], x[ch * 4 + 2], x[ch * 4 + 3]};
+}
+[[maybe_unused]] double gi_lpv_open(const CpuField& c, glm::ivec3 t, glm::ivec3, int d, int f) {
+  return c.vis == nullptr ? 1.0 : static_cast<double>((*c.vis)[(c.g->index(t.x, t.y, t.z) * 6 + d) * 5 + f]);
+}
+// The gather's per-face constants, tabulated once from the shared functions.
+struct FaceTable {
+  glm::dvec4 y[30], reemit[30];
+  FaceTable() {
+    for (int d = 0; d < 6; ++d)
+      for (int f = 0; f < 5; ++f) {
+        y[d * 5 + f] = shared::gi_lpv_sh4(shared::gi_lpv_face_direction(d, f));
+        reemit[d * 5 + f] = shared::gi_lpv_lobe(shared::gi_lpv_face_normal(d, f));
       }
-    }
-  return out;
+  }
+};
+const FaceTable& face_table() {
+  static const FaceTable t;
+  return t;
 }
-
-// Blocking (0..1) at the face shared by cell (i, j, k) and its neighbour along `axis` with
-// step sgn, for light travelling along unit w.
-double blocking(const GeometryVolume& gv, int i, int j, int k, int axis, int sgn, const glm::dvec3& w) {
-  int c[3] = {i, j, k};
-  if (sgn > 0) c[axis] += 1;
-  const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-  double sum = 0;
-  double acc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-  for (int u = 0; u < 2; ++u)
-    for (int v = 0; v < 2; ++v) {
-      int p[3] = {c[0], c[1], c[2]};
-      p[a1] += u;
-      p[a2] += v;
-      const std::size_t idx = (static_cast<std::size_t>(p[2]) * (gv.ny + 1) + p[1]) * (gv.nx + 1) + p[0];
-      for (int q = 0; q < 9; ++q) acc[q] += 0.25 * gv.corners[idx][q];
-    }
-  sum = shared::gi_sh_eval(acc, 3, w);
-  return std::clamp(sum, 0.0, 1.0);
+// (built element by element: a copy of the table's entry is a memcpy call under AddressSanitizer)
+[[maybe_unused]] glm::dvec4 gi_lpv_face_y(const CpuField&, int d, int f) {
+  const glm::dvec4& v = face_table().y[d * 5 + f];
+  return {v.x, v.y, v.z, v.w};
 }
+[[maybe_unused]] glm::dvec4 gi_lpv_face_reemit(const CpuField&, int d, int f) {
+  const glm::dvec4& v = face_table().reemit[d * 5 + f];
+  return {v.x, v.y, v.z, v.w};
+}
+struct CpuGeometry {
+  const GeometryVolume* gv;
+};
+[[maybe_unused]] double gi_lpv_fetch_corner(const CpuGeometry& c, int idx, int q) {
+  return c.gv->corners[static_cast<std::size_t>(idx)][q];
+}
+glm::ivec3 dims(const LpvGrid& g) { return {g.nx, g.ny, g.nz}; }
 }  // namespace
 
 LpvFaceAngles lpv_face_solid_angles() {
@@ -124,8 +113,8 @@ LpvFaceAngles lpv_face_solid_angles() {
   // F(a, b) = atan(ab / (d sqrt(d^2 + a^2 + b^2))); by symmetry in y and subtraction in z,
   // side = 2 (F(1/2, 3/2) - F(1/2, 1/2)) at d = 1/2 = 2 (atan(3 / sqrt(11)) - atan(1 / sqrt(3))).
   LpvFaceAngles a;
-  a.front = 4 * std::asin(0.1);
-  a.side = 2 * (std::atan(3 / std::sqrt(11.0)) - kPi / 6);
+  a.front = shared::gi_lpv_front_solid_angle();
+  a.side = shared::gi_lpv_side_solid_angle();
   return a;
 }
 
@@ -147,12 +136,8 @@ LpvGrid lpv_grid(const Scene& scene, int grid) {
 
 namespace {
 void cell_of(const LpvGrid& g, const glm::dvec3& p, int& i, int& j, int& k) {
-  const glm::dvec3 f = (p - g.lo) / g.h;
-  auto c = [](double x, int n) {
-    if (!std::isfinite(x)) return 0;
-    return std::clamp(static_cast<int>(std::floor(x)), 0, n - 1);
-  };
-  i = c(f.x, g.nx), j = c(f.y, g.ny), k = c(f.z, g.nz);
+  const glm::ivec3 c = shared::gi_lpv_cell_of(p, g.lo, g.h, dims(g));
+  i = c.x, j = c.y, k = c.z;
 }
 }  // namespace
 
@@ -161,14 +146,13 @@ void lpv_add_vpl(LpvGrid& g, const glm::dvec3& p, const glm::dvec3& n, const glm
   int i, j, k;
   cell_of(g, p, i, j, k);
   LpvCell& c = g.cells[g.index(i, j, k)];
-  const auto y = sh4(n);
+  const glm::dvec4 y = shared::gi_lpv_lobe(n);  // Phi / pi A_l Y_lm(n) at Phi = 1
   for (int ch = 0; ch < 3; ++ch) {
     if (isotropic) {  // I = Phi / (4 pi): c_00 = Phi / (4 pi) sqrt(4 pi)
       c[ch * 4] += flux[ch] / std::sqrt(4 * kPi);
       continue;
     }
-    c[ch * 4] += flux[ch] * y[0];  // Phi / pi * pi * Y_00
-    for (int q = 1; q < 4; ++q) c[ch * 4 + q] += flux[ch] * (2.0 / 3) * y[q];  // Phi / pi * 2 pi / 3 * Y_1m
+    for (int q = 0; q < 4; ++q) c[ch * 4 + q] += flux[ch] * y[q];
   }
 }
 
@@ -285,9 +269,9 @@ void geometry_surfels(const Scene& scene, const LpvGrid& g, F&& surfel) {
           const double v = up == 0 ? (r + 1.0 / 3) / s : (r + 2.0 / 3) / s;
           const glm::dvec3 p = a + u * e1 + v * e2;
           const glm::dvec3 f = (p - g.lo) / g.h;
-          const int i = std::clamp(static_cast<int>(std::lround(f.x)), 0, g.nx),
-                    j = std::clamp(static_cast<int>(std::lround(f.y)), 0, g.ny),
-                    k = std::clamp(static_cast<int>(std::lround(f.z)), 0, g.nz);
+          const long i = std::lround(f.x), j = std::lround(f.y), k = std::lround(f.z);
+          // a surfel nearest to no corner of the grid (outside a cascade's sub-grid) is left out
+          if (i < 0 || j < 0 || k < 0 || i > g.nx || j > g.ny || k > g.nz) continue;
           surfel((static_cast<std::size_t>(k) * (g.ny + 1) + j) * (g.nx + 1) + i, tri, as / h2);
         }
   }
@@ -300,24 +284,24 @@ GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g) {
   gv.nx = g.nx, gv.ny = g.ny, gv.nz = g.nz;
   gv.corners.assign(static_cast<std::size_t>(g.nx + 1) * (g.ny + 1) * (g.nz + 1), {});
   const std::vector<glm::dvec3> normal = detail::triangle_normals(scene.mesh);
-  // Funk–Hecke factors of |cos|: 2 pi int_{-1}^{1} |mu| P_l(mu) dmu = 2 pi, 0, pi / 2.
-  const double lam0 = 2 * kPi, lam2 = kPi / 2;
   geometry_surfels(scene, g, [&](std::size_t corner, std::size_t tri, double w) {
-    const glm::dvec3 n = normal[tri];
-    const double yv[9] = {kY00,
-                          -kY1 * n.y,
-                          kY1 * n.z,
-                          -kY1 * n.x,
-                          1.0925484305920792 * n.x * n.y,
-                          -1.0925484305920792 * n.y * n.z,
-                          0.31539156525252005 * (3 * n.z * n.z - 1),
-                          -1.0925484305920792 * n.x * n.z,
-                          0.54627421529603959 * (n.x * n.x - n.y * n.y)};
     auto& dst = gv.corners[corner];
-    for (int q = 0; q < 9; ++q) dst[q] += (q == 0 ? lam0 : q >= 4 ? lam2 : 0.0) * yv[q] * w;
+    for (int q = 0; q < 9; ++q) dst[q] += shared::gi_lpv_surfel(normal[tri], w, q);
   });
   return gv;
 }
+
+#ifdef ATMOSH_GI_HAVE_GPU
+std::vector<gpu::GiLpvSurfel> detail::lpv_surfels(const Scene& scene, const LpvGrid& g) {
+  check_grid(g);
+  const std::vector<glm::dvec3> normal = detail::triangle_normals(scene.mesh);
+  std::vector<gpu::GiLpvSurfel> out;
+  geometry_surfels(scene, g, [&](std::size_t corner, std::size_t tri, double w) {
+    out.push_back({static_cast<std::uint32_t>(corner), normal[tri], w});
+  });
+  return out;
+}
+#endif
 
 namespace {
 void check_gv(const LpvGrid& in, const GeometryVolume* gv) {
@@ -326,63 +310,40 @@ void check_gv(const LpvGrid& in, const GeometryVolume* gv) {
     throw InputError("gi lpv: the geometry volume does not match the grid");
 }
 
-const std::array<Direction, 6>& all_directions() {
-  static const std::array<Direction, 6> dirs = directions();
-  return dirs;
-}
-
-// 1 - blocking for every (target cell, direction, face): [(t * 6 + d) * 5 + f].
+// 1 - blocking for every (target cell, direction, face): [(t * 6 + d) * 5 + f] (the shared
+// gi_lpv_face_blocking at the face the source shares with the target).
 std::vector<float> visibility_table(const LpvGrid& in, const GeometryVolume& gv) {
-  const auto& dirs = all_directions();
   std::vector<float> vis(in.cells.size() * 30, 1.0f);
+  const CpuGeometry geo{&gv};
+  const glm::ivec3 n = dims(in);
   parallel_for_ranges(in.cells.size(), 64, 0, [&](std::size_t b, std::size_t e) {
     for (std::size_t t = b; t < e; ++t) {
-      const int i = static_cast<int>(t % in.nx), j = static_cast<int>(t / in.nx % in.ny),
-                k = static_cast<int>(t / in.nx / in.ny);
+      const glm::ivec3 c(static_cast<int>(t % in.nx), static_cast<int>(t / in.nx % in.ny),
+                         static_cast<int>(t / in.nx / in.ny));
       for (int d = 0; d < 6; ++d) {
-        const Direction& D = dirs[d];
-        const int si = i - D.di, sj = j - D.dj, sk = k - D.dk;
-        if (si < 0 || sj < 0 || sk < 0 || si >= in.nx || sj >= in.ny || sk >= in.nz) continue;
+        const glm::ivec3 s = c - shared::gi_lpv_step(d);
+        if (glm::any(glm::lessThan(s, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(s, n))) continue;
         for (int f = 0; f < 5; ++f)
-          vis[(t * 6 + d) * 5 + f] =
-              static_cast<float>(1.0 - blocking(gv, si, sj, sk, D.axis, D.di + D.dj + D.dk, D.faces[f].dir));
+          vis[(t * 6 + d) * 5 + f] = static_cast<float>(
+              1.0 - shared::gi_lpv_face_blocking(geo, s, d, n, shared::gi_lpv_face_direction(d, f)));
       }
     }
   });
   return vis;
 }
 
+// One propagation step: every cell gathers from its neighbours (the shared gi_lpv_gather).
 LpvGrid step(const LpvGrid& in, const std::vector<float>* vis) {
-  const auto& dirs = all_directions();
   LpvGrid out = in;
-  for (auto& c : out.cells) c.fill(0.0);
-  std::vector<unsigned char> lit(in.cells.size(), 0);
-  for (std::size_t c = 0; c < in.cells.size(); ++c)
-    for (double v : in.cells[c]) lit[c] = lit[c] || v != 0;
+  const CpuField field{&in, vis};
+  const glm::ivec3 n = dims(in);
   parallel_for_ranges(in.cells.size(), 64, 0, [&](std::size_t b, std::size_t e) {
     for (std::size_t t = b; t < e; ++t) {
-      const int i = static_cast<int>(t % in.nx), j = static_cast<int>(t / in.nx % in.ny),
-                k = static_cast<int>(t / in.nx / in.ny);
+      const glm::ivec3 c(static_cast<int>(t % in.nx), static_cast<int>(t / in.nx % in.ny),
+                         static_cast<int>(t / in.nx / in.ny));
       LpvCell& dst = out.cells[t];
-      for (int d = 0; d < 6; ++d) {  // light arriving from the source cell t - e
-        const Direction& D = dirs[d];
-        const int si = i - D.di, sj = j - D.dj, sk = k - D.dk;
-        if (si < 0 || sj < 0 || sk < 0 || si >= in.nx || sj >= in.ny || sk >= in.nz) continue;
-        const std::size_t s = in.index(si, sj, sk);
-        if (!lit[s]) continue;
-        const LpvCell& src = in.cells[s];
-        for (int f = 0; f < 5; ++f) {
-          const Face& F = D.faces[f];
-          const double v = vis == nullptr ? 1.0 : (*vis)[(t * 6 + d) * 5 + f];
-          if (v <= 0) continue;
-          for (int ch = 0; ch < 3; ++ch) {
-            const double I = src[ch * 4] * F.y[0] + src[ch * 4 + 1] * F.y[1] + src[ch * 4 + 2] * F.y[2] +
-                             src[ch * 4 + 3] * F.y[3];
-            const double flux = F.omega * I * v;
-            for (int q = 0; q < 4; ++q) dst[ch * 4 + q] += flux * F.reemit[q];
-          }
-        }
-      }
+      const shared::GiLpvRgb v = shared::gi_lpv_gather(field, c, n, vis != nullptr);
+      for (int q = 0; q < 4; ++q) dst[q] = v.r[q], dst[4 + q] = v.g[q], dst[8 + q] = v.b[q];
     }
   });
   return out;
@@ -420,7 +381,7 @@ LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int
   check_gv(injected, gv);
 #ifdef ATMOSH_GI_HAVE_GPU
   const gpu::Context ctx;
-  gpu::Program prog({gpu::embedded_source("gpu/shaders/gi_lpv_propagate.comp")});
+  gpu::Program prog(lpv_shader("gpu/shaders/gi_lpv_propagate.comp"));
   std::vector<float> vis(1, 1.0f);
   if (gv != nullptr && iterations > 1) vis = visibility_table(injected, *gv);
   const std::size_t n = injected.cells.size();
@@ -473,7 +434,7 @@ std::vector<float> binned_sum_gpu(const char* shader, const std::vector<std::uin
                                   const std::vector<float>& items, std::size_t bins, int out_stride,
                                   double* gpu_seconds) {
   const gpu::Context ctx;
-  gpu::Program prog({gpu::embedded_source(shader)});
+  gpu::Program prog(lpv_shader(shader));
   const auto t0 = Clock::now();
   const std::vector<float> one(1, 0.0f);
   gpu::Buffer bs(start.size() * sizeof(std::uint32_t), start.data()),
@@ -586,17 +547,11 @@ void check_receivers(const RadiosityReceivers& r) {
 std::vector<glm::dvec3> shade_lpv_receivers_cpu(const LpvGrid& g, const RadiosityReceivers& r) {
   check_grid(g);
   check_receivers(r);
-  const double inv_h2 = 1.0 / (g.h * g.h);
+  const CpuField field{&g, nullptr};
   std::vector<glm::dvec3> out(r.size());
   parallel_for_ranges(r.size(), 256, 0, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
-      const glm::dvec3& n = r.normal[i];
-      const LpvCell c = lpv_sample(g, r.position[i] + 0.5 * g.h * n);
-      glm::dvec3 E(0.0);
-      for (int ch = 0; ch < 3; ++ch) {
-        const double co[9] = {c[ch * 4], c[ch * 4 + 1], c[ch * 4 + 2], c[ch * 4 + 3], 0, 0, 0, 0, 0};
-        E[ch] = std::max(0.0, shared::gi_sh_irradiance(co, 2, -n) * inv_h2);
-      }
+      const glm::dvec3 E = shared::gi_lpv_receiver_irradiance(field, r.position[i], r.normal[i], g.lo, g.h, dims(g));
       out[i] = r.emission[i] + r.albedo[i] / kPi * glm::max(r.direct[i] + E, glm::dvec3(0.0));
     }
   });
@@ -608,9 +563,7 @@ std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& g, const Radiosit
   check_receivers(r);
 #ifdef ATMOSH_GI_HAVE_GPU
   const gpu::Context ctx;
-  gpu::Program prog({gpu::embedded_source("gpu/shaders/gi_radiosity_fetch.glsl"),
-                     gpu::embedded_source("apps/gi/include/atmosh/gi/shared/radiosity.glsl.hpp"),
-                     gpu::embedded_source("gpu/shaders/gi_lpv_apply.comp")});
+  gpu::Program prog(lpv_shader("gpu/shaders/gi_lpv_apply.comp"));
   const std::size_t nr = r.size();
   const std::vector<float> rec = detail::pack_receivers(r);
   std::vector<float> cells(g.cells.size() * 12);
@@ -707,16 +660,11 @@ RadianceImage render_lpv(const Scene& scene, const Camera& camera, int width, in
   const prt::RayScene rays(scene.mesh);
   const detail::DirectLight direct(scene, rays);
   const LpvGrid& g = lpv.accumulated;
-  const double inv_h2 = 1.0 / (g.h * g.h);
+  const CpuField field{&g, nullptr};
   return detail::render_receivers(
       scene, rays, camera, width, height, opt.samples, opt.seed, opt.threads,
       [&](detail::Rng& rng, const glm::dvec3& p, const glm::dvec3& n, std::uint32_t, std::uint64_t& nr) {
-        const LpvCell c = lpv_sample(g, p + 0.5 * g.h * n);
-        glm::dvec3 E(0.0);
-        for (int ch = 0; ch < 3; ++ch) {
-          const double co[9] = {c[ch * 4], c[ch * 4 + 1], c[ch * 4 + 2], c[ch * 4 + 3], 0, 0, 0, 0, 0};
-          E[ch] = std::max(0.0, shared::gi_sh_irradiance(co, 2, -n) * inv_h2);
-        }
+        const glm::dvec3 E = shared::gi_lpv_receiver_irradiance(field, p, n, g.lo, g.h, dims(g));
         return direct.irradiance(rng, p, n, nr) + E;
       });
 }

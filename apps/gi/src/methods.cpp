@@ -215,10 +215,25 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     bool shaded = false;  // the GPU path shades its G-buffer
     if (o.device == DeviceRequest::cpu) {
       l = build_lpv(scene, lo);
-    } else {  // injection (VPLs found by rays on the CPU), geometry and propagation on the GPU where it can run
+    } else {  // the GPU-resident frame where the scene allows it (<= 64 emitting triangles), else the
+              // separate passes (injection, geometry and propagation on the GPU, emitters' VPLs by rays)
       l.iterations = lo.iterations < 0 ? 2 * lo.grid : lo.iterations;
+      std::size_t n_emitting = 0;
+      for (std::uint32_t m : scene.material) {
+        const glm::dvec3& L = scene.materials[m].emission;
+        n_emitting += L.x + L.y + L.z > 0 ? 1 : 0;
+      }
       const auto t0 = Clock::now();
       const std::optional<GpuUnusable> unusable = try_gpu([&] {
+        if (n_emitting <= 64) {
+          LpvFrameGpu frame(scene, lo);
+          l.rays = frame.rays();
+          l.inject_seconds = since(t0);  // set-up: context, programs, emitters' VPLs, geometry volume
+          r.image = frame.render(camera, width, height);
+          r.shade_seconds = r.image.stats.seconds;  // the frame: every pass, the image's read-back
+          shaded = true;
+          return;
+        }
         l.injected = lpv_inject_gpu(scene, lo, &l.rays);
         if (lo.blocking) l.geometry = lpv_geometry_gpu(scene, l.injected);
         l.inject_seconds = since(t0);
@@ -328,6 +343,18 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
         rg.setting = r.setting;
         rg.result = render_method(scene, scene.camera, width, height, m);
         row(rg);
+      }
+      if (block && o.lpv_cascade && g >= 2) {  // the 2-level nested cascade (CPU)
+        StudyRow rc;
+        rc.method = "lpv";
+        const LpvCascade c = build_lpv_cascade(scene, lo);
+        rc.setting = r.setting + " cascades=2";
+        const auto t1 = Clock::now();
+        rc.result.image = render_lpv_cascade(scene, scene.camera, width, height, c, lo);
+        rc.result.shade_seconds = since(t1);
+        rc.result.build_seconds = c.inject_seconds + c.propagate_seconds;
+        rc.result.image.stats.rays += c.rays;
+        row(rc);
       }
     }
 }

@@ -13,6 +13,7 @@
 #include "atmosh/gi/lpv.hpp"
 #include "atmosh/gi/radiosity.hpp"
 #include "atmosh/parallel.hpp"
+#include "raster_gpu.hpp"
 #include "receivers.hpp"
 
 #ifdef ATMOSH_GI_HAVE_GPU
@@ -22,38 +23,69 @@
 
 namespace atmosh::gi {
 
-namespace {
 #ifdef ATMOSH_GI_HAVE_GPU
-// The scene's per-triangle attributes as gpu::GiMeshView reads them.
-struct MeshAttrs {
-  std::vector<glm::dvec3> normal, albedo, emission;
-  std::vector<std::uint8_t> one_sided;
-  const Scene& s;
-  explicit MeshAttrs(const Scene& scene) : s(scene) {
-    normal = detail::triangle_normals(scene.mesh);
-    const std::size_t nt = scene.mesh.triangles.size();
-    albedo.resize(nt);
-    emission.resize(nt);
-    one_sided.resize(nt);
-    for (std::size_t t = 0; t < nt; ++t) {
-      const Material& m = scene.materials[scene.material[t]];
-      albedo[t] = m.albedo;
-      emission[t] = m.emission;
-      one_sided[t] = m.one_sided ? 1 : 0;
-    }
+namespace detail {
+MeshAttrs::MeshAttrs(const Scene& scene) : s(scene) {
+  normal = detail::triangle_normals(scene.mesh);
+  const std::size_t nt = scene.mesh.triangles.size();
+  albedo.resize(nt);
+  emission.resize(nt);
+  one_sided.resize(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const Material& m = scene.materials[scene.material[t]];
+    albedo[t] = m.albedo;
+    emission[t] = m.emission;
+    one_sided[t] = m.one_sided ? 1 : 0;
   }
-  gpu::GiMeshView view() const {
-    gpu::GiMeshView v;
-    v.positions = &s.mesh.positions;
-    v.triangles = &s.mesh.triangles;
-    v.normal = &normal;
-    v.albedo = &albedo;
-    v.emission = &emission;
-    v.one_sided = &one_sided;
-    return v;
+}
+gpu::GiMeshView MeshAttrs::view() const {
+  gpu::GiMeshView v;
+  v.positions = &s.mesh.positions;
+  v.triangles = &s.mesh.triangles;
+  v.normal = &normal;
+  v.albedo = &albedo;
+  v.emission = &emission;
+  v.one_sided = &one_sided;
+  return v;
+}
+
+gpu::GiSkyOptions sky_quadrature(const Scene& scene, int n, int resolution) {
+  gpu::GiSkyOptions gsky;  // spherical Fibonacci directions, weight 4 pi / N each
+  const double golden = std::numbers::pi * (1 + std::sqrt(5.0));
+  for (int k = 0; k < n; ++k) {
+    const double z = 1 - 2 * (k + 0.5) / n, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * (k + 0.5);
+    const glm::dvec3 w = glm::normalize(glm::dvec3(r * std::cos(phi), r * std::sin(phi), z));
+    gsky.directions.push_back(w);
+    gsky.radiance.push_back(environment_radiance(scene, w) * (4 * std::numbers::pi / n));
   }
-};
+  gsky.resolution = resolution;
+  return gsky;
+}
+
+gpu::GiRsmView rsm_view(const Scene& scene, const LpvOptions& opt, const LpvGrid& g) {
+  // The CPU injection's rectangle and texel count (lpv_vpls): the box's cross-section seen
+  // from the sun, m = sun_rays x ceil(longer side / h) texels a side.
+  glm::dvec3 lo, hi;
+  detail::mesh_bounds(scene.mesh, lo, hi);
+  gpu::GiRsmView v;
+  v.direction = glm::normalize(scene.sun->direction);
+  detail::onb(v.direction, v.t, v.b);
+  v.t0 = 1e300, v.t1 = -1e300, v.b0 = 1e300, v.b1 = -1e300;
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 q(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+    v.t0 = std::min(v.t0, glm::dot(q, v.t)), v.t1 = std::max(v.t1, glm::dot(q, v.t));
+    v.b0 = std::min(v.b0, glm::dot(q, v.b)), v.b1 = std::max(v.b1, glm::dot(q, v.b));
+  }
+  const int m = std::max(1, opt.sun_rays * static_cast<int>(std::ceil(std::max(v.t1 - v.t0, v.b1 - v.b0) / g.h)));
+  if (m > 16384) throw InputError("gi lpv: the reflective shadow map would exceed 16384 texels a side");
+  v.mt = v.mb = m;
+  v.irradiance = scene.sun->irradiance;
+  return v;
+}
+}  // namespace detail
 #endif
+
+namespace {
 
 [[maybe_unused]] bool has_emitters(const Scene& s) {
   for (const Material& m : s.materials)
@@ -93,7 +125,7 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
   const double th = std::tan(0.5 * cam.vertical_fov_deg * std::numbers::pi / 180),
                aspect = static_cast<double>(width) / height;
   const gpu::Context ctx;
-  const MeshAttrs attrs(scene);
+  const detail::MeshAttrs attrs(scene);
   gpu::PrtCamera pc;
   pc.eye = cam.eye;
   pc.right = right;
@@ -126,17 +158,7 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
   const bool has_env = scene.env_bands > 0 || scene.env_map.has_value();
   const bool gpu_sky = has_env && so.sky_directions > 0;
   gpu::GiSkyOptions gsky;
-  if (gpu_sky) {  // spherical Fibonacci directions, weight 4 pi / N each
-    const int N = so.sky_directions;
-    const double golden = std::numbers::pi * (1 + std::sqrt(5.0));
-    for (int k = 0; k < N; ++k) {
-      const double z = 1 - 2 * (k + 0.5) / N, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * (k + 0.5);
-      const glm::dvec3 w = glm::normalize(glm::dvec3(r * std::cos(phi), r * std::sin(phi), z));
-      gsky.directions.push_back(w);
-      gsky.radiance.push_back(environment_radiance(scene, w) * (4 * std::numbers::pi / N));
-    }
-    gsky.resolution = so.sky_resolution;
-  }
+  if (gpu_sky) gsky = detail::sky_quadrature(scene, so.sky_directions, so.sky_resolution);
   const gpu::GiGBufferResult gb = gpu::gi_gbuffer(ctx, attrs.view(), pc, sun ? &gs : nullptr, gso,
                                                   gpu_emitters ? &geo : nullptr, gpu_sky ? &gsky : nullptr);
   if (gpu_seconds != nullptr) *gpu_seconds = gb.seconds;
@@ -213,25 +235,9 @@ std::vector<Vpl> lpv_vpls_rsm(const Scene& scene, const LpvOptions& opt, const L
   if (gpu_seconds != nullptr) *gpu_seconds = 0;
   if (!sun_lit(scene)) return out;
 #ifdef ATMOSH_GI_HAVE_GPU
-  // The CPU injection's rectangle and texel count (lpv_vpls): the box's cross-section seen
-  // from the sun, m = sun_rays x ceil(longer side / h) texels a side.
-  glm::dvec3 lo, hi;
-  detail::mesh_bounds(scene.mesh, lo, hi);
-  gpu::GiRsmView v;
-  v.direction = glm::normalize(scene.sun->direction);
-  detail::onb(v.direction, v.t, v.b);
-  v.t0 = 1e300, v.t1 = -1e300, v.b0 = 1e300, v.b1 = -1e300;
-  for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 q(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
-    v.t0 = std::min(v.t0, glm::dot(q, v.t)), v.t1 = std::max(v.t1, glm::dot(q, v.t));
-    v.b0 = std::min(v.b0, glm::dot(q, v.b)), v.b1 = std::max(v.b1, glm::dot(q, v.b));
-  }
-  const int m = std::max(1, opt.sun_rays * static_cast<int>(std::ceil(std::max(v.t1 - v.t0, v.b1 - v.b0) / g.h)));
-  if (m > 16384) throw InputError("gi lpv: the reflective shadow map would exceed 16384 texels a side");
-  v.mt = v.mb = m;
-  v.irradiance = scene.sun->irradiance;
+  const gpu::GiRsmView v = detail::rsm_view(scene, opt, g);
   const gpu::Context ctx;
-  const MeshAttrs attrs(scene);
+  const detail::MeshAttrs attrs(scene);
   const gpu::GiRsmResult r = gpu::gi_rsm(ctx, attrs.view(), v);
   if (gpu_seconds != nullptr) *gpu_seconds = r.seconds;
   for (std::size_t i = 0; i < r.hit.size(); ++i) {

@@ -35,6 +35,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -125,5 +126,76 @@ struct GiRsmResult {
 };
 
 GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& view);
+
+// ---------------------------------------------------------------------------------------------
+// A GPU-resident light propagation volume frame (Kaplanyan & Dachsbacher 2010; the method and
+// its CPU form: atmosh/gi/lpv.hpp), every pass in one context, its data kept in GPU textures and
+// storage buffers between the passes, only the final image read back:
+//   1. the G-buffer of gi_gbuffer (sun shadow map, area emitters' distance maps, sky depth maps);
+//   2. the sun's reflective shadow map (gi_rsm's texels);
+//   3. injection: every RSM texel that sees a surface (and every given VPL) drawn as a point into
+//      the cell atlas (nx x ny nz texels, 3 RGBA32F targets: the 4 SH coefficients of R, G, B)
+//      with additive blending, its cell gi_lpv_cell_of(p + h/2 n) and its coefficients
+//      Phi gi_lpv_lobe(n) (the shared block atmosh/gi/shared/lpv.glsl.hpp);
+//   4. the atlas packed into a storage buffer (12 floats a cell) and the running sum;
+//   5. `iterations` propagation dispatches (gi_lpv_propagate.comp, the shared gi_lpv_gather),
+//      blocking (from the second iteration on, as the CPU's lpv_propagate) by a table of the
+//      faces' open fractions made from the geometry volume's corners by the shared
+//      gi_lpv_face_blocking (gi_lpv_open.comp);
+//   6. application to the G-buffer (gi_lpv_frame_apply.comp, the shared
+//      gi_lpv_receiver_irradiance): L = L_e + a / pi max(0, E_sun f + E_emitters + E_sky + E_lpv);
+//   7. read-back of the image (RGBA float; alpha 1 where a surface is seen, else 0 and RGB 0).
+// The geometry volume is injected once, at construction, from the given surfels (points into a
+// corner atlas, additive blending), and its table of open faces made and kept (static geometry). Positions in float relative to the mesh's
+// bounding-box centre. Requires a current Context; the frame keeps its programs (compiled once).
+struct GiLpvGrid {
+  glm::dvec3 lo{0.0};  ///< low corner of cell (0, 0, 0) [mesh units]
+  double h = 1;        ///< cell edge
+  int nx = 1, ny = 1, nz = 1;  ///< cells; ny nz <= 16384 and (ny + 1)(nz + 1) <= 16384 (atlas rows)
+};
+/// A surfel of the geometry volume: its corner index (k (ny + 1) + j)(nx + 1) + i, unit normal,
+/// A_s / h^2 (the fraction of a cell's cross-section it covers).
+struct GiLpvSurfel {
+  std::uint32_t corner = 0;
+  glm::dvec3 normal{0, 0, 1};
+  double weight = 0;
+};
+/// A VPL given to the frame (e.g. area emitters' photons): position already moved h/2 along the
+/// unit normal n, flux per channel.
+struct GiLpvVpl {
+  glm::dvec3 p{0.0}, n{0, 0, 1}, flux{0.0};
+};
+struct GiLpvFrameOptions {
+  int iterations = 16;             ///< 0..1024
+  bool blocking = true;            ///< use the geometry volume
+  const GiSun* sun = nullptr;      ///< the sun's direction (null: no sun)
+  glm::dvec3 sun_irradiance{0.0};  ///< its irradiance at normal incidence, per channel
+  GiShadowOptions shadow;
+  const GiEmitterOptions* emitters = nullptr;  ///< as gi_gbuffer
+  const GiSkyOptions* sky = nullptr;           ///< as gi_gbuffer
+  const GiRsmView* rsm = nullptr;  ///< the sun's RSM (null: no sun VPLs)
+  bool read_grid = false;          ///< also read back the accumulated grid (for tests)
+};
+struct GiLpvFrameResult {
+  int width = 0, height = 0;
+  std::vector<float> radiance;  ///< RGBA per pixel, row 0 at the top
+  std::vector<float> grid;      ///< with read_grid: 12 floats a cell (channel * 4 + SH index)
+  double seconds = 0;           ///< the passes, up to the image's read-back (glFinish included)
+};
+class GiLpvFrame {
+ public:
+  /// Uploads the mesh, the VPLs and the surfels, compiles the programs and injects the geometry
+  /// volume. std::invalid_argument for a bad grid, a surfel outside it or inconsistent input.
+  GiLpvFrame(const Context& ctx, const GiMeshView& mesh, const GiLpvGrid& grid, const std::vector<GiLpvSurfel>& surfels,
+             const std::vector<GiLpvVpl>& vpls);
+  ~GiLpvFrame();
+  GiLpvFrame(const GiLpvFrame&) = delete;
+  GiLpvFrame& operator=(const GiLpvFrame&) = delete;
+  GiLpvFrameResult render(const PrtCamera& camera, const GiLpvFrameOptions& options);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace atmosh::gpu

@@ -37,7 +37,8 @@
 // iteration's field.
 //
 // Geometry volume: cells centred at the LPV cells' corners; surfels sampled on every
-// triangle (about 16 per h^2: the triangle cut into congruent sub-triangles, one at each centroid) add to the nearest one the
+// triangle (about 16 per h^2: the triangle cut into congruent sub-triangles, one at each centroid;
+// those nearest to no corner of the grid, outside a cascade's sub-grid, left out) add to the nearest one the
 // blocking A_s |n_s . w| / h^2 (the fraction of the cell's cross-section the surfel covers
 // seen along w) as 3-band SH (|cos| is even: bands 0 and 2). At a shared face the blocking
 // is the mean of its 4 corners, clamped to [0, 1]. No blocking in the first iteration (the
@@ -53,6 +54,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -184,5 +186,73 @@ std::vector<glm::dvec3> shade_lpv_receivers_gpu(const LpvGrid& accumulated, cons
 /// shading.
 RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int width, int height, const Lpv& lpv,
                                  const LpvOptions& opt, bool gpu);
+
+/// A 2-level nested cascade (Kaplanyan & Dachsbacher 2010 nest grids of doubling cell size
+/// around the viewer; here two levels and a fixed focus). The coarse level is the LPV of
+/// lpv_grid(scene, opt.grid) (edge h); the fine level has cells of edge h/2 over the box
+/// `fine_lo`..`fine_hi`: half the scene box's extent per axis about `focus` (default: the box's
+/// centre), moved inside the box, its low corner on the coarse lattice. The VPLs are made once
+/// at the fine level's density (lpv_vpls with the fine cell edge: sun_rays per fine cell edge)
+/// and each goes into exactly one place, so no light is counted twice: a VPL whose (h/4-shifted)
+/// position lies in the fine box into the fine level and into the coarse "inner" grid, the
+/// others into the coarse "outer" grid (shifted h/2, as the one-level LPV). Each grid has its own
+/// geometry volume (opt.blocking; surfels outside the fine grid left out) and propagates
+/// opt.iterations steps (-1: 2 x grid). At a receiver x (normal n) with fine-box weight w(x)
+/// (0 outside the fine box; inside, min(1, distance to its nearest face / h) over the faces that
+/// lie inside the coarse grid — a face on the grid's boundary does not fade):
+///   E_lpv = E_outer(x) + w E_fine(x) + (1 - w) E_inner(x),
+/// each E as the one-level LPV's (lpv_sample at x + h_level/2 n, read as I / h_level^2, clamped
+/// at 0): near the focus the light of the nearby VPLs comes from the fine level, the far
+/// VPLs' light from the coarse one; away from it the coarse level carries all. The
+/// fine level's light that leaves the fine box is lost to receivers inside it.
+struct LpvCascade {
+  Lpv fine, inner, outer;        ///< fine level; coarse level: VPLs inside / outside the fine box
+  glm::dvec3 fine_lo{0.0}, fine_hi{0.0};
+  double inject_seconds = 0, propagate_seconds = 0;
+  std::uint64_t rays = 0;
+  int iterations = 0;
+};
+LpvCascade build_lpv_cascade(const Scene& scene, const LpvOptions& opt, const glm::dvec3* focus = nullptr);
+/// E_lpv of the cascade at x with unit normal n (see above).
+glm::dvec3 lpv_cascade_irradiance(const LpvCascade& c, const glm::dvec3& x, const glm::dvec3& n);
+/// Image lit by the cascade, as render_lpv (opt.samples, seed, threads). stats.seconds: shading.
+RadianceImage render_lpv_cascade(const Scene& scene, const Camera& camera, int width, int height,
+                                 const LpvCascade& c, const LpvOptions& opt);
+
+/// The GPU-resident LPV frame (atmosh::gpu::GiLpvFrame, gpu/gi_raster.hpp: one EGL context, every
+/// pass on the GPU, only the image read back). Made once: the context, the programs, the mesh,
+/// the grid (lpv_grid(scene, opt.grid)), the geometry volume injected from lpv_geometry's
+/// surfels (opt.blocking) and the area emitters' VPLs (lpv_vpls of the scene without its sun:
+/// opt.emitter_photons photon rays on the CPU, as lpv_inject_gpu; uploaded once — they do not
+/// depend on the camera or the sun). Each render(): the G-buffer with the sun's shadow map, the
+/// emitters' distance maps and the sky's depth maps (ShadowMapOptions, as radiosity_gbuffer_gpu;
+/// here the emitters and the sky must be on the GPU: InputError where the scene has more than 64
+/// emitting triangles or the options ask for the CPU's estimator), the sun's reflective shadow
+/// map (lpv_vpls_rsm's rectangle and texels), injection, opt.iterations propagation steps
+/// (-1: 2 grid; blocking from the second on), the application to the G-buffer
+/// (L = L_e + a / pi max(0, E_direct + E_lpv), the shared gi_lpv_receiver_irradiance) and the
+/// image's read-back; misses get environment_radiance on the CPU afterwards. The math is the
+/// shared block of atmosh/gi/shared/lpv.glsl.hpp, as the CPU LPV's. Throws InputError (bad
+/// options, no GPU library), gpu::Unavailable (a std::runtime_error) without an EGL context.
+class LpvFrameGpu {
+ public:
+  LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const ShadowMapOptions& shadow = {});
+  ~LpvFrameGpu();
+  LpvFrameGpu(const LpvFrameGpu&) = delete;
+  LpvFrameGpu& operator=(const LpvFrameGpu&) = delete;
+  /// One frame of `camera` at width x height (one sample per pixel centre, stderr 0);
+  /// stats.seconds: the GPU passes up to the read-back plus the misses' environment.
+  /// `accumulated` (optional): the propagated grid read back as well (for tests).
+  RadianceImage render(const Camera& camera, int width, int height, LpvGrid* accumulated = nullptr);
+  /// The grid and the emitters' VPLs it was made with.
+  const LpvGrid& grid() const;
+  const std::vector<Vpl>& emitter_vpls() const;
+  /// The photon rays cast on the CPU for the emitters' VPLs.
+  std::uint64_t rays() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace atmosh::gi

@@ -67,7 +67,8 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
 ///   radiosity: every grid in `radiosity_grids` x bands in `radiosity_bands` (1..3) x
 ///              bounces in `radiosity_bounces` (the volume built once per grid);
 ///   lpv:       every grid in `lpv_grids`, with and without the geometry volume
-///              (method names "lpv" and "lpv-noblock"), iterations 2 x grid.
+///              (method names "lpv" and "lpv-noblock"), iterations 2 x grid, and the 2-level
+///              cascade (lpv_cascade below).
 struct StudyOptions {
   std::vector<int> radiosity_grids{4, 8, 16}, radiosity_bands{1, 2}, radiosity_bounces{0, 1, 2, 3};
   std::vector<int> lpv_grids{8, 16, 32};
@@ -78,6 +79,9 @@ struct StudyOptions {
   /// grid), "lpv-gpu" / "lpv-noblock-gpu" (render_method with device gpu). The caller decides
   /// (gpu_unusable()); a GPU failure then throws.
   bool gpu = false;
+  /// Also, for every LPV grid >= 2 (after its rows), the 2-level nested cascade
+  /// (build_lpv_cascade, CPU; method "lpv", setting "grid=N iterations=K cascades=2").
+  bool lpv_cascade = true;
 };
 struct StudyRow {
   std::string method, setting;  ///< e.g. "radiosity", "bands=2 grid=8 bounces=2"

@@ -1,0 +1,186 @@
+// The GPU-resident LPV frame of a scene (LpvFrameGpu, atmosh/gi/lpv.hpp) over
+// atmosh::gpu::GiLpvFrame (atmosh/gpu/gi_raster.hpp).
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "atmosh/error.hpp"
+#include "atmosh/gi/lpv.hpp"
+#include "atmosh/gi/radiosity.hpp"
+#include "raster_gpu.hpp"
+#include "receivers.hpp"
+
+#ifdef ATMOSH_GI_HAVE_GPU
+#include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/gi_raster.hpp"
+#endif
+
+namespace atmosh::gi {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+bool sun_lit(const Scene& s) { return s.sun && s.sun->irradiance.x + s.sun->irradiance.y + s.sun->irradiance.z > 0; }
+}  // namespace
+
+#ifdef ATMOSH_GI_HAVE_GPU
+struct LpvFrameGpu::Impl {
+  Scene scene;
+  LpvOptions opt;
+  ShadowMapOptions shadow;
+  LpvGrid grid;
+  std::vector<Vpl> vpls;
+  std::uint64_t rays = 0;
+  gpu::Context ctx;
+  detail::MeshAttrs attrs;
+  std::unique_ptr<gpu::GiLpvFrame> frame;
+  bool emitters = false, sky = false;
+  gpu::GiEmitterOptions geo;
+  gpu::GiSkyOptions gsky;
+  gpu::GiRsmView rsm;
+  int iterations = 0;
+  Impl(const Scene& s, const LpvOptions& o, const ShadowMapOptions& so) : scene(s), opt(o), shadow(so), attrs(scene) {}
+};
+#else
+struct LpvFrameGpu::Impl {
+  LpvGrid grid;
+  std::vector<Vpl> vpls;
+  std::uint64_t rays = 0;
+};
+#endif
+
+LpvFrameGpu::LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const ShadowMapOptions& so) {
+  validate(scene);
+  LpvOptions o = opt;
+  if (o.iterations < -1 || o.iterations > 1024)
+    throw InputError("gi lpv: iterations must be -1 (2 x grid) or 0..1024, got " + std::to_string(o.iterations));
+  const LpvGrid g = lpv_grid(scene, o.grid);
+  if (static_cast<long long>(g.ny + 1) * (g.nz + 1) > 16384)
+    throw InputError("gi lpv: the GPU frame's atlas needs (ny + 1)(nz + 1) <= 16384 cells, grid " +
+                     std::to_string(o.grid));
+  if (so.resolution < 16 || so.resolution > 16384 || so.pcf < 0 || so.pcf > 4 ||
+      !(so.normal_offset >= 0 && so.normal_offset < 1e6) || !(so.bias >= 0 && so.bias < 1e6) ||
+      so.emitter_points < 0 || so.emitter_points > 64 || so.emitter_resolution < 16 || so.emitter_resolution > 4096 ||
+      so.sky_directions < 0 || so.sky_directions > 1024 || so.sky_resolution < 16 || so.sky_resolution > 8192)
+    throw InputError("gi lpv: shadow-map options out of range");
+#ifdef ATMOSH_GI_HAVE_GPU
+  impl_ = std::make_unique<Impl>(scene, o, so);
+  Impl& I = *impl_;
+  I.grid = g;
+  I.iterations = o.iterations < 0 ? 2 * o.grid : o.iterations;
+  std::size_t n_emitting = 0;
+  for (const glm::dvec3& L : I.attrs.emission) n_emitting += L.x + L.y + L.z > 0 ? 1 : 0;
+  I.emitters = n_emitting > 0;
+  if (I.emitters && (so.emitter_points == 0 || n_emitting > 64))
+    throw InputError("gi lpv: the GPU frame lights area emitters on the GPU only (1..64 emitting triangles, "
+                     "emitter points > 0); this scene has " + std::to_string(n_emitting));
+  I.sky = scene.env_bands > 0 || scene.env_map.has_value();
+  if (I.sky && so.sky_directions == 0)
+    throw InputError("gi lpv: the GPU frame lights the environment on the GPU only (sky directions > 0)");
+  if (I.emitters) {
+    glm::dvec3 lo, hi;
+    detail::mesh_bounds(scene.mesh, lo, hi);
+    const double off = 1e-4 * std::max(glm::length(hi - lo), 1e-30);  // prt::RayScene's ray offset
+    I.geo.points_per_triangle = so.emitter_points;
+    I.geo.resolution = so.emitter_resolution;
+    I.geo.eval_offset = 0.01 * off;
+    I.geo.shadow_offset = off;
+    if (o.emitter_photons > 0) {  // the emitters' VPLs: photon rays on the CPU, once
+      Scene rest = scene;
+      rest.sun.reset();
+      I.vpls = lpv_vpls(rest, o, g, &I.rays);
+    }
+  }
+  if (I.sky) I.gsky = detail::sky_quadrature(scene, so.sky_directions, so.sky_resolution);
+  if (sun_lit(scene)) I.rsm = detail::rsm_view(scene, o, g);
+  gpu::GiLpvGrid gg;
+  gg.lo = g.lo;
+  gg.h = g.h;
+  gg.nx = g.nx, gg.ny = g.ny, gg.nz = g.nz;
+  std::vector<gpu::GiLpvVpl> vp;
+  vp.reserve(I.vpls.size());
+  for (const Vpl& v : I.vpls) vp.push_back({v.p, v.n, v.flux});
+  const std::vector<gpu::GiLpvSurfel> surfels = o.blocking ? detail::lpv_surfels(scene, g) : std::vector<gpu::GiLpvSurfel>{};
+  I.frame = std::make_unique<gpu::GiLpvFrame>(I.ctx, I.attrs.view(), gg, surfels, vp);
+#else
+  throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+LpvFrameGpu::~LpvFrameGpu() = default;
+
+const LpvGrid& LpvFrameGpu::grid() const { return impl_->grid; }
+const std::vector<Vpl>& LpvFrameGpu::emitter_vpls() const { return impl_->vpls; }
+std::uint64_t LpvFrameGpu::rays() const { return impl_->rays; }
+
+RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvGrid* accumulated) {
+  check_view(cam, width, height);
+#ifdef ATMOSH_GI_HAVE_GPU
+  Impl& I = *impl_;
+  const auto t0 = Clock::now();
+  const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(glm::cross(cam.forward, cam.up)),
+                   up = glm::cross(right, f);
+  const double th = std::tan(0.5 * cam.vertical_fov_deg * std::numbers::pi / 180),
+               aspect = static_cast<double>(width) / height;
+  gpu::PrtCamera pc;
+  pc.eye = cam.eye;
+  pc.right = right;
+  pc.up = up;
+  pc.back = -f;
+  pc.tan_half_fov = th;
+  pc.width = width;
+  pc.height = height;
+  const bool sun = sun_lit(I.scene);
+  gpu::GiSun gs;
+  if (sun) gs.direction = glm::normalize(I.scene.sun->direction);
+  gpu::GiLpvFrameOptions fo;
+  fo.iterations = I.iterations;
+  fo.blocking = I.opt.blocking;
+  fo.sun = sun ? &gs : nullptr;
+  fo.sun_irradiance = sun ? I.scene.sun->irradiance : glm::dvec3(0.0);
+  fo.shadow.resolution = I.shadow.resolution;
+  fo.shadow.pcf = I.shadow.pcf;
+  fo.shadow.normal_offset = I.shadow.normal_offset;
+  fo.shadow.bias = I.shadow.bias;
+  fo.emitters = I.emitters ? &I.geo : nullptr;
+  fo.sky = I.sky ? &I.gsky : nullptr;
+  fo.rsm = sun ? &I.rsm : nullptr;
+  fo.read_grid = accumulated != nullptr;
+  const gpu::GiLpvFrameResult r = I.frame->render(pc, fo);
+  RadianceImage img;
+  img.width = width;
+  img.height = height;
+  img.samples = 1;
+  const std::size_t np = static_cast<std::size_t>(width) * height;
+  for (int c = 0; c < 3; ++c) {
+    img.mean[c].assign(np, 0.0f);
+    img.stderr_[c].assign(np, 0.0f);
+  }
+  for (std::size_t i = 0; i < np; ++i) {
+    if (r.radiance[4 * i + 3] == 0.0f) {
+      if (I.sky) {
+        const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
+        const double x = (2.0 * (col + 0.5) / width - 1.0) * th * aspect, y = (1.0 - 2.0 * (row + 0.5) / height) * th;
+        const glm::dvec3 L = environment_radiance(I.scene, glm::normalize(f + x * right + y * up));
+        for (int c = 0; c < 3; ++c) img.mean[c][i] = static_cast<float>(L[c]);
+      }
+      continue;
+    }
+    for (int c = 0; c < 3; ++c) img.mean[c][i] = r.radiance[4 * i + c];
+  }
+  if (accumulated != nullptr) {
+    *accumulated = I.grid;
+    for (std::size_t c = 0; c < accumulated->cells.size(); ++c)
+      for (int q = 0; q < 12; ++q) accumulated->cells[c][q] = r.grid[c * 12 + q];
+  }
+  img.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return img;
+#else
+  (void)accumulated;
+  throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
+}  // namespace atmosh::gi

@@ -1,0 +1,145 @@
+// The GPU-resident LPV frame (gi::LpvFrameGpu over gpu::GiLpvFrame: G-buffer, shadow map, RSM,
+// injection, geometry volume, propagation and application in one context, only the image read
+// back) against the CPU LPV (double) on the same inputs: the RSM's VPLs read back
+// (lpv_vpls_rsm: the same rasterisation) and the frame's emitter VPLs injected by lpv_add_vpl,
+// lpv_geometry, lpv_propagate, and shade_lpv_receivers_cpu on the rasterised G-buffer
+// (radiosity_gbuffer_gpu: the same direct light). Both use the shared block
+// atmosh/gi/shared/lpv.glsl.hpp (compiled as C++ in double and as GLSL in float), so they must
+// agree within float rounding; the LPV's own closed forms (flux conservation, a VPL's falloff,
+// the face solid angles) are tested on the CPU in test_gi_lpv.cpp. Mesa llvmpipe or any EGL
+// device; skipped without a context (ATMOSH_REQUIRE_GPU_CONTEXT=1 makes that a failure).
+#ifdef ATMOSH_GI_HAVE_GPU
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "atmosh/error.hpp"
+#include "atmosh/gi/lpv.hpp"
+#include "atmosh/gi/radiosity.hpp"
+#include "atmosh/gi/scene.hpp"
+#include "atmosh/gpu/context.hpp"
+
+namespace {
+using namespace atmosh;
+
+bool no_gpu(std::string& why) {
+  try {
+    gpu::Context probe;
+    return false;
+  } catch (const gpu::Unavailable& e) {
+    why = e.what();
+    return true;
+  }
+}
+
+struct Case {
+  const char* name;
+  gi::Scene scene;
+};
+
+TEST(GiLpvGpu, ResidentFrameAgreesWithTheCpuLpv) {
+  std::string why;
+  if (no_gpu(why)) {
+    if (std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT")) FAIL() << why;
+    GTEST_SKIP() << why;
+  }
+  // One scene with every light (a frame compiles its programs once, so one frame keeps the
+  // test short): the Cornell box's area light (emitter distance maps, emitter VPLs), a sun
+  // through its open front (shadow map, RSM VPLs) and a uniform sky (depth maps).
+  std::vector<Case> cases;
+  {
+    gi::Scene s = gi::builtin_scene("cornell-box");
+    s.sun = gi::Sun{gi::sun_direction(s, 200, 30), glm::dvec3(1.0, 0.8, 0.6)};
+    s.env_bands = 1;
+    for (int c = 0; c < 3; ++c) s.env_sh[c] = {0.3 * 2 * std::sqrt(3.14159265358979324)};
+    cases.push_back({"cornell-box + sun + sky", s});
+  }
+  const int W = 48, H = 40;
+  for (const Case& k : cases) {
+    const gi::Scene& s = k.scene;
+    gi::LpvOptions o;
+    o.grid = 8;
+    o.iterations = 12;
+    o.sun_rays = 4;
+    o.emitter_photons = 4096;
+    gi::ShadowMapOptions so;
+    so.sky_directions = 16;
+    so.sky_resolution = 128;
+    so.emitter_resolution = 128;
+    // The CPU side's rasterised inputs first: every gpu::Context that ends terminates the EGL
+    // display it shares with the frame's (gpu/context.cpp), so none may end while the frame lives.
+    gi::LpvGrid inj = gi::lpv_grid(s, o.grid);
+    std::vector<gi::Vpl> vpls = gi::lpv_vpls_rsm(s, o, inj);
+    const std::size_t n_rsm = vpls.size();
+    const gi::RadiosityGBuffer gb = gi::radiosity_gbuffer_gpu(s, s.camera, W, H, 1, 1, 0, so);
+    gi::LpvFrameGpu frame(s, o, so);
+    gi::LpvGrid acc_gpu;
+    const gi::RadianceImage img = frame.render(s.camera, W, H, &acc_gpu);
+    // the CPU LPV on the same VPLs
+    vpls.insert(vpls.end(), frame.emitter_vpls().begin(), frame.emitter_vpls().end());
+    ASSERT_GT(vpls.size(), 100u) << k.name;
+    for (const gi::Vpl& v : vpls) gi::lpv_add_vpl(inj, v.p, v.n, v.flux);
+    const gi::GeometryVolume gv = gi::lpv_geometry(s, inj);
+    const gi::LpvGrid acc = gi::lpv_propagate(inj, &gv, o.iterations);
+    double scale = 0, worst = 0;
+    for (std::size_t c = 0; c < acc.cells.size(); ++c)
+      for (int q = 0; q < 12; ++q) {
+        scale = std::max(scale, std::abs(acc.cells[c][q]));
+        worst = std::max(worst, std::abs(acc.cells[c][q] - acc_gpu.cells[c][q]));
+      }
+    ASSERT_GT(scale, 0) << k.name;
+    EXPECT_LT(worst, 1e-4 * scale) << k.name << ": accumulated grid";
+    // the image: the CPU application on the rasterised G-buffer
+    const std::vector<glm::dvec3> L = gi::shade_lpv_receivers_cpu(acc, gb.receivers);
+    std::vector<char> hit(static_cast<std::size_t>(W) * H, 0);
+    double lmax = 0, lworst = 0, ind = 0;
+    for (std::size_t r = 0; r < L.size(); ++r) {
+      const std::size_t px = gb.pixel[r];
+      hit[px] = 1;
+      for (int c = 0; c < 3; ++c) {
+        lmax = std::max(lmax, L[r][c]);
+        ASSERT_TRUE(std::isfinite(img.mean[c][px])) << k.name;
+        lworst = std::max(lworst, std::abs(img.mean[c][px] - L[r][c]));
+        // the LPV's part of the CPU's radiance
+        ind = std::max(ind, L[r][c] - gb.receivers.emission[r][c] -
+                                gb.receivers.albedo[r][c] / 3.14159265358979324 * gb.receivers.direct[r][c]);
+      }
+    }
+    ASSERT_GT(ind, 0) << k.name << ": the LPV adds light";
+    EXPECT_LT(lworst, 1e-4 * lmax) << k.name << ": image";
+    EXPECT_LT(lworst, 3e-4 * ind) << k.name << ": image against the LPV's part";
+    // misses: the environment (box-occluder's sky), exactly as the CPU's background
+    for (std::size_t i = 0; i < hit.size(); ++i)
+      if (!hit[i])
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(img.mean[c][i], gb.background[i][c], 1e-6) << k.name;
+    std::printf("%s: %zu RSM + %zu emitter VPLs; resident frame vs CPU LPV: grid %.3g of the largest coefficient, "
+                "image %.3g of the largest radiance, %.3g of the largest LPV part; frame %.3f s\n",
+                k.name, n_rsm, frame.emitter_vpls().size(), worst / scale, lworst / lmax, lworst / ind,
+                img.stats.seconds);
+  }
+}
+
+TEST(GiLpvGpu, BadOptionsThrowInputError) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::LpvOptions o;
+  o.grid = 4;
+  o.iterations = 1025;
+  EXPECT_THROW(gi::LpvFrameGpu(s, o), InputError);
+  o.iterations = 2;
+  o.grid = 0;
+  EXPECT_THROW(gi::LpvFrameGpu(s, o), InputError);
+  o.grid = 4;
+  gi::ShadowMapOptions so;
+  so.emitter_points = 0;  // the area light would need the CPU's estimator
+  EXPECT_THROW(gi::LpvFrameGpu(s, o, so), InputError);
+}
+
+}  // namespace
+#endif  // ATMOSH_GI_HAVE_GPU
