@@ -724,12 +724,16 @@ __attribute__((always_inline)) inline void syn_plain2(int kmax, const double* ap
   h = b;
 }
 
+// Ring pairs per block of the synthesis's sums (a multiple of every W).
+constexpr int kSynQB = 16;
 // Column m for all blocks: x, mant, ex per lane (padded), cf the step coefficients;
-// writes the per-lane sums E cos, E sin, O cos, O sin (O = x * D) to out[4 * q + f].
+// writes the per-lane sums E cos, E sin, O cos, O sin (O = x * D) of ring pair q to
+// out[(q / kSynQB) * bstride + 4 (q % kSynQB) + f].
 template <int W>
 __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, const double* x, const double* mant,
                                                       const int* ex, const double* ap, const double* bp,
-                                                      const double* cf, double* out) {
+                                                      const double* cf, double* out, std::size_t bstride) {
+  auto at = [&](int q) { return out + static_cast<std::size_t>(q / kSynQB) * bstride + 4 * (q % kSynQB); };
   // Leading blocks none of whose lanes reaches 2^-kJoinExp by kmax (see ana_skip) add
   // nothing to their rings: their sums are zero.
   int g0 = 0;
@@ -756,7 +760,7 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
     g0 = lo;
   }
   for (int q = 0; q < W * g0; ++q)
-    for (int f = 0; f < 4; ++f) out[4 * static_cast<std::size_t>(q) + f] = 0.0;
+    for (int f = 0; f < 4; ++f) at(q)[f] = 0.0;
   for (int gi = g0; gi < ngroups; gi += 2) {
     SynState<W> st[2];
     int k[2] = {kmax + 1, kmax + 1};
@@ -783,7 +787,7 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
     for (int b = 0; b < nb; ++b)
       for (int j = 0; j < W; ++j) {
         const int q = W * (gi + b) + j;
-        double* o = out + 4 * static_cast<std::size_t>(q);
+        double* o = at(q);
         o[0] = st[b].ec[j];
         o[1] = st[b].es[j];
         o[2] = x[q] * st[b].dc[j];
@@ -794,15 +798,15 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
 
 ATMOSH_DISPATCH
 static void syn_column4(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
-                        const double* bp, const double* cf, double* out) {
-  syn_column<4>(kmax, ngroups, x, mant, ex, ap, bp, cf, out);
+                        const double* bp, const double* cf, double* out, std::size_t bstride) {
+  syn_column<4>(kmax, ngroups, x, mant, ex, ap, bp, cf, out, bstride);
 }
 #if ATMOSH_HAS_DISPATCH
 ATMOSH_TARGET_AVX512
 #endif
 static void syn_column8(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
-                        const double* bp, const double* cf, double* out) {
-  syn_column<8>(kmax, ngroups, x, mant, ex, ap, bp, cf, out);
+                        const double* bp, const double* cf, double* out, std::size_t bstride) {
+  syn_column<8>(kmax, ngroups, x, mant, ex, ap, bp, cf, out, bstride);
 }
 }  // namespace
 
@@ -812,11 +816,16 @@ int analysis_lanes() { return has_avx512() ? 8 : 4; }
 
 // Offset of the ring sums of column m, block of W ring pairs containing pair q, field f
 // (0..3: E cos, E sin, xO cos, xO sin), lane of q: the sums are stored m-major.
+// Planes of consecutive m lie ring_sum_stride(padded) values apart: 4 padded values and 16
+// more, so that they are not a multiple of 4 kB apart (with padded a power of two they were,
+// and the writes of one block's 4 W values per m, m after m, all fell in the same L1 sets).
+inline std::size_t ring_sum_stride(int padded) { return static_cast<std::size_t>(padded) * 4 + 16; }
 inline std::size_t ring_sum_index(int padded, int W, int m, int q, int f) {
-  return (static_cast<std::size_t>(m) * padded + (q & -W)) * 4 + W * f + (q & (W - 1));
+  return static_cast<std::size_t>(m) * ring_sum_stride(padded) + static_cast<std::size_t>(q & -W) * 4 + W * f + (q & (W - 1));
 }
 
-void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads);
+void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads,
+                             bool assign);
 }  // namespace
 
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
@@ -830,7 +839,7 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
   // Ring sums regrouped m-major, in blocks of m so that both the ring rows and the m
   // planes stream.
   constexpr int MB = 8;
-  double* const fm = thread_work().fm.get(static_cast<std::size_t>(bands) * padded * 4);
+  double* const fm = thread_work().fm.get(static_cast<std::size_t>(bands) * ring_sum_stride(padded));
   parallel_for_m((bands + MB - 1) / MB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
     {
       const int mb = block * MB;
@@ -854,13 +863,14 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
       }
     }
   });
-  analysis_from_ring_sums(bands, pr, W, fm, coeffs, threads);
+  analysis_from_ring_sums(bands, pr, W, fm, coeffs, threads, false);
 }
 
 namespace {
 // Legendre sums of the analysis from the ring sums fm (see ring_sum_index); adds the
-// coefficients to coeffs.
-void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads) {
+// coefficients to coeffs, or (assign) writes them (coeffs need not be initialised).
+void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads,
+                             bool assign) {
   const auto table = legendre_table(bands);
   const auto coefs = coef_table(bands);
   const int padded = static_cast<int>(pr.x.size());
@@ -882,7 +892,8 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
     for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
     const std::size_t off = static_cast<std::size_t>(m) * padded;
-    ana_column(kmax, pr.x.data(), smant + off, sexp + off, fm + off * 4, cf, work, sums);
+    ana_column(kmax, pr.x.data(), smant + off, sexp + off, fm + static_cast<std::size_t>(m) * ring_sum_stride(padded), cf,
+               work, sums);
     // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
     // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
     double* out = col + col_offset(m);
@@ -905,17 +916,27 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     parallel_for_m(bands, threads, [&] { return AnaScratch<8>(padded, bands); }, columns);
   else
     parallel_for_m(bands, threads, [&] { return AnaScratch<4>(padded, bands); }, columns);
-  // columns into the coefficient vector, degree rows in order (the columns' current
-  // lines, one per m <= l, stay in L2)
-  // (col_offset(m) + 2 (l - m) grows by 2 (bands - m) from m - 1 to m)
-  for (int l = 0; l < bands; ++l) {
-    double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-    const double* c = col + 2 * static_cast<std::size_t>(l);
-    row[0] += c[0];
-    for (int m = 1; m <= l; ++m) {
-      c += 2 * static_cast<std::size_t>(bands - m);
-      row[m] += c[0];
-      row[-m] += c[1];
+  // columns into the coefficient vector in tiles of 8 degrees x 8 orders (a tile reads 8
+  // column runs and writes 16 row runs of 8 values; degree rows one after the other, with
+  // one line per column in flight, were latency bound: a tenth of an analysis at L = 256)
+  constexpr int T = 8;
+  for (int l0 = 0; l0 < bands; l0 += T) {
+    const int l1 = std::min(bands, l0 + T);
+    for (int m0 = 0; m0 < l1; m0 += T) {
+      const int m1 = std::min(l1, m0 + T);
+      for (int m = m0; m < m1; ++m) {
+        const double* c = col + col_offset(m);
+        for (int l = std::max(l0, m); l < l1; ++l) {
+          double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+          if (assign) {
+            row[m] = c[2 * (l - m)];
+            if (m > 0) row[-m] = c[2 * (l - m) + 1];
+          } else {
+            row[m] += c[2 * (l - m)];
+            if (m > 0) row[-m] += c[2 * (l - m) + 1];
+          }
+        }
+      }
     }
   }
 }
@@ -941,31 +962,32 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
   // of single values per (l, m) and (ring, m) cost a fifth of a synthesis at L = 1024.)
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
   double* const col = tw.col.get(col_offset(bands));
-  constexpr int QB = 16;  // ring pairs per block of the sums
+  constexpr int QB = kSynQB;  // ring pairs per block of the sums
   const int nqb = (padded + QB - 1) / QB;
   double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
-  // degree rows read once, in order; the columns' current lines (one per m <= l, 64 kB at
-  // L = 1024) stay in L2
-  // (col_offset(m) + 2 (l - m) grows by 2 (bands - m) from m - 1 to m)
-  for (int l = 0; l < bands; ++l) {
-    const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-    double* c = col + 2 * static_cast<std::size_t>(l);
-    c[0] = row[0];
-    c[1] = 0.0;
-    for (int m = 1; m <= l; ++m) {
-      c += 2 * static_cast<std::size_t>(bands - m);
-      c[0] = row[m];
-      c[1] = row[-m];
+  // degree rows into columns in tiles of 8 degrees x 8 orders (as the analysis)
+  constexpr int T = 8;
+  for (int l0 = 0; l0 < bands; l0 += T) {
+    const int l1 = std::min(bands, l0 + T);
+    for (int m0 = 0; m0 < l1; m0 += T) {
+      const int m1 = std::min(l1, m0 + T);
+      for (int m = m0; m < m1; ++m) {
+        double* c = col + col_offset(m);
+        for (int l = std::max(l0, m); l < l1; ++l) {
+          const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+          c[2 * (l - m)] = row[m];
+          c[2 * (l - m) + 1] = m > 0 ? row[-m] : 0.0;
+        }
+      }
     }
   }
 
   struct Scratch {
     AnaCoef cf;
-    std::vector<double> sc, sums;
+    std::vector<double> sc;
   };
   auto column = [&](Scratch& scratch, int m) {
     std::vector<double>& sc = scratch.sc;
-    std::vector<double>& sums = scratch.sums;
     const int kmax = (bands - 1 - m) / 2;
     if (!coefs) ana_coefficients(bands, m, scratch.cf);
     const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
@@ -988,24 +1010,17 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
       }
     }
     const std::size_t off = static_cast<std::size_t>(m) * padded;
-    if (W == 8)
-      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp,
-                  sc.data(), sums.data());
-    else
-      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp,
-                  sc.data(), sums.data());
     // block b of the sums: sm[((b * bands + m) * QB + j) * 4 + f] for pair b QB + j
-    for (int b = 0; b < nqb; ++b)
-      std::memcpy(sm + (static_cast<std::size_t>(b) * bands + m) * QB * 4, sums.data() + static_cast<std::size_t>(b) * QB * 4,
-                  sizeof(double) * 4 * std::min(QB, padded - b * QB));
+    double* const out = sm + static_cast<std::size_t>(m) * QB * 4;
+    const std::size_t bstride = static_cast<std::size_t>(bands) * QB * 4;
+    if (W == 8)
+      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp, sc.data(), out, bstride);
+    else
+      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp, sc.data(), out, bstride);
   };
   parallel_for_m(
       bands, threads,
-      [&] {
-        return Scratch{{}, std::vector<double>(4 * (static_cast<std::size_t>(bands) + 4)),
-                       std::vector<double>(4 * static_cast<std::size_t>(padded))};
-      },
-      column);
+      [&] { return Scratch{{}, std::vector<double>(4 * (static_cast<std::size_t>(bands) + 4))}; }, column);
   // ring rows from the sums, one block of 16 ring pairs at a time (its values are
   // contiguous, m after m; the 32 ring rows fill in step)
   parallel_for_m((np + QB - 1) / QB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
@@ -1019,15 +1034,29 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
         double* fn = fourier + static_cast<std::size_t>(pr.north[q]) * bands * 2;
         double* fs = pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * bands * 2 : nullptr;
         const double* v0 = sm + static_cast<std::size_t>(block) * bands * QB * 4 + 4 * static_cast<std::size_t>(q - q0);
-        for (int m = m0; m < m1; ++m) {
-          const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
-          const double sin_on = m > 0 ? 1.0 : 0.0;
-          const double* v = v0 + static_cast<std::size_t>(m) * QB * 4;
-          fn[2 * m] = scale * (v[0] + v[2]);
-          fn[2 * m + 1] = sin_on * scale * (v[1] + v[3]);
+        int mb = m0;
+        if (mb == 0) {  // m = 0: no sine part, no sqrt2
+          fn[0] = v0[0] + v0[2];
+          fn[1] = 0.0;
           if (fs) {
-            fs[2 * m] = scale * (v[0] - v[2]);
-            fs[2 * m + 1] = sin_on * scale * (v[1] - v[3]);
+            fs[0] = v0[0] - v0[2];
+            fs[1] = 0.0;
+          }
+          mb = 1;
+        }
+        // (E cos, E sin) +- (O cos, O sin), times sqrt2: two values per order at once
+        typedef double V2 __attribute__((vector_size(16)));
+        const V2 s2 = V2{} + std::numbers::sqrt2;
+        for (int m = mb; m < m1; ++m) {
+          const double* v = v0 + static_cast<std::size_t>(m) * QB * 4;
+          V2 e, o;
+          std::memcpy(&e, v, sizeof e);
+          std::memcpy(&o, v + 2, sizeof o);
+          const V2 pn = s2 * (e + o);
+          std::memcpy(fn + 2 * m, &pn, sizeof pn);
+          if (fs) {
+            const V2 ps = s2 * (e - o);
+            std::memcpy(fs + 2 * m, &ps, sizeof ps);
           }
         }
       }
@@ -1564,6 +1593,14 @@ GaussGrid regular_grid(int bands, LatitudeRule rule, int nlat, int nphi) {
 std::vector<double> analyse(const GaussGrid& g, const double* values, int threads) {
   if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
     throw InputError("analyse: grid is not initialised (use gauss_grid)");
+  std::vector<double> c(sh_count(g.bands));
+  analyse(g, values, c.data(), threads);
+  return c;
+}
+
+void analyse(const GaussGrid& g, const double* values, double* coeffs, int threads) {
+  if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
+    throw InputError("analyse: grid is not initialised (use gauss_grid)");
   threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
   // Ring sums straight into the m-major layout of the Legendre stage: one block of
@@ -1571,7 +1608,7 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
   const detail::Pairs pr = detail::make_pairs(g.nlat, g.cos_t.data(), g.sin_t.data(), true);
   const int padded = static_cast<int>(pr.x.size()), np = static_cast<int>(pr.north.size());
   const int W = detail::analysis_lanes();
-  double* const fm = detail::thread_work().fm.get(static_cast<std::size_t>(L) * padded * 4);
+  double* const fm = detail::thread_work().fm.get(static_cast<std::size_t>(L) * detail::ring_sum_stride(padded));
   const double dphi = 2.0 * std::numbers::pi / n;
   // row stride of the lane buffers: off a multiple of 4 kB (the 4 W rows are read in step)
   const std::size_t LS = static_cast<std::size_t>(L) + 8;
@@ -1606,12 +1643,12 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
     // one contiguous run of 4 W values per m
     double* const o = fm + detail::ring_sum_index(padded, W, 0, blk * W, 0);
     if (W == 4) {
-      lanes_to_ring_sums4(L, lanes.data(), LS, o, static_cast<std::size_t>(padded) * 4);
+      lanes_to_ring_sums4(L, lanes.data(), LS, o, detail::ring_sum_stride(padded));
     } else {
       for (int m = 0; m < L; ++m)
         for (int f = 0; f < 4; ++f)
           for (int k = 0; k < W; ++k)
-            o[static_cast<std::size_t>(m) * padded * 4 + f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * LS + m];
+            o[static_cast<std::size_t>(m) * detail::ring_sum_stride(padded) + f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * LS + m];
     }
   };
   atmosh::parallel_for_ranges_local(
@@ -1624,12 +1661,18 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
       [&](Scratch& scratch, std::size_t b, std::size_t e) {
         for (std::size_t blk = b; blk < e; ++blk) block(scratch, static_cast<int>(blk));
       });
-  std::vector<double> c(sh_count(L), 0.0);
-  detail::analysis_from_ring_sums(L, pr, W, fm, c.data(), threads);
-  return c;
+  detail::analysis_from_ring_sums(L, pr, W, fm, coeffs, threads, true);
 }
 
 std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int threads) {
+  if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
+    throw InputError("synthesise: grid is not initialised (use gauss_grid)");
+  std::vector<double> out(static_cast<std::size_t>(g.nlat) * g.nphi);
+  synthesise(g, coeffs, out.data(), threads);
+  return out;
+}
+
+void synthesise(const GaussGrid& g, const double* coeffs, double* values, int threads) {
   if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
     throw InputError("synthesise: grid is not initialised (use gauss_grid)");
   threads = atmosh::resolve_threads(threads);
@@ -1637,7 +1680,6 @@ std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int thr
   // every ring and order of the work array is written by legendre_synthesis
   double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
   detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four, threads);
-  std::vector<double> out(static_cast<std::size_t>(g.nlat) * n, 0.0);
   // Two rings at a time from the shared counter; each worker keeps its FFT plan.
   const int npairs = (g.nlat + 1) / 2;
   atmosh::parallel_for_ranges_local(
@@ -1646,13 +1688,11 @@ std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int thr
         for (std::size_t q = b; q < e; ++q) {
           const std::size_t r = 2 * q;
           if (static_cast<int>(r) + 1 < g.nlat)
-            fft.inverse2(four + r * L * 2, four + (r + 1) * L * 2, L, out.data() + r * n,
-                         out.data() + (r + 1) * n);
+            fft.inverse2(four + r * L * 2, four + (r + 1) * L * 2, L, values + r * n, values + (r + 1) * n);
           else
-            fft.inverse(four + r * L * 2, L, out.data() + r * n);
+            fft.inverse(four + r * L * 2, L, values + r * n);
         }
       });
-  return out;
 }
 
 }  // namespace atmosh::sh

@@ -66,5 +66,10 @@ GaussGrid regular_grid(int bands, LatitudeRule rule, int nlat = 0, int nphi = 0)
 std::vector<double> analyse(const GaussGrid& grid, const double* values, int threads = 1);
 /// Samples (nlat*nphi) of a coefficient vector (bands^2) on the grid.
 std::vector<double> synthesise(const GaussGrid& grid, const double* coeffs, int threads = 1);
+/// The same into caller-provided arrays (bands^2 coefficients / nlat*nphi samples, every
+/// value written, nothing allocated per call once the calling thread's work arrays exist;
+/// the arrays must not overlap the input). Same results, bit for bit, as the forms above.
+void analyse(const GaussGrid& grid, const double* values, double* coeffs, int threads = 1);
+void synthesise(const GaussGrid& grid, const double* coeffs, double* values, int threads = 1);
 
 }  // namespace atmosh::sh
