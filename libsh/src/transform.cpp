@@ -13,6 +13,7 @@
 #include <numbers>
 #include <string>
 #include <type_traits>
+#include <atomic>
 #include <map>
 #include <mutex>
 
@@ -125,6 +126,54 @@ void sectorals(int bands, const Pairs& p, const LegendreTable& t, double* mant, 
   }
 }
 }  // namespace
+
+// Set-up of the Legendre stage that depends on the rings alone: ring pairs, sectoral start
+// values of every order and lane, and (filled by the first transform that needs them) the
+// number of polar blocks that contribute nothing to column m, per direction.
+struct RingPlan {
+  int bands = 0;
+  Pairs pr;
+  std::vector<double> smant;
+  std::vector<int> sexp;
+  int W = 0;                                   // lanes per block the skip counts are for
+  std::unique_ptr<std::atomic<int>[]> skip_a;  // analysis (-1: not known yet)
+  std::unique_ptr<std::atomic<int>[]> skip_s;  // synthesis (-1: not known yet)
+  RingPlan(int bands_, int nrings, const double* cos_t, const double* sin_t, bool symmetric, int lanes)
+      : bands(bands_), pr(make_pairs(nrings, cos_t, sin_t, symmetric)), W(lanes),
+        skip_a(new std::atomic<int>[bands_]), skip_s(new std::atomic<int>[bands_]) {
+    const std::size_t nsect = static_cast<std::size_t>(bands) * pr.x.size();
+    smant.resize(nsect);
+    sexp.resize(nsect);
+    sectorals(bands, pr, *legendre_table(bands), smant.data(), sexp.data());
+    for (int m = 0; m < bands; ++m) {
+      skip_a[m].store(-1, std::memory_order_relaxed);
+      skip_s[m].store(-1, std::memory_order_relaxed);
+    }
+  }
+};
+namespace {
+int analysis_lanes();
+}
+
+// The plan kept with a GaussGrid: its ring plan and the fields it was made from.
+struct GridPlan {
+  int bands, nlat, nphi;
+  LatitudeRule rule;
+  std::vector<double> cos_t, sin_t, weights;
+  RingPlan rings;
+  explicit GridPlan(const GaussGrid& g)
+      : bands(g.bands), nlat(g.nlat), nphi(g.nphi), rule(g.rule), cos_t(g.cos_t), sin_t(g.sin_t), weights(g.weights),
+        rings(g.bands, g.nlat, g.cos_t.data(), g.sin_t.data(), true, analysis_lanes()) {}
+  bool matches(const GaussGrid& g) const {
+    return g.bands == bands && g.nlat == nlat && g.nphi == nphi && g.rule == rule && g.cos_t == cos_t &&
+           g.sin_t == sin_t && g.weights == weights && rings.W == analysis_lanes();
+  }
+};
+// The grid's plan where it matches the grid, else one made for this call.
+std::shared_ptr<const GridPlan> plan_for(const GaussGrid& g) {
+  if (g.plan && g.plan->matches(g)) return g.plan;
+  return std::make_shared<const GridPlan>(g);
+}
 
 
 // ---- analysis: even-degree recurrence in x^2 ------------------------------------
@@ -545,7 +594,7 @@ struct AnaScratch {
 // (E cos, E sin, xO cos, xO sin: 4 W values per block), mant/ex the sectoral values.
 template <int W>
 void ana_column(int kmax, const double* x, const double* mant, const int* ex, const double* f,
-                const ColCoef& cf, AnaWork<W>& w, V4* sums) {
+                const ColCoef& cf, AnaWork<W>& w, V4* sums, std::atomic<int>& skip_cache) {
   const int ngroups = w.ngroups;
   // plain blocks are made in place in act (ring order); the others go to nat[gi] and run
   // their extended phase there
@@ -574,12 +623,17 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
   }
   // Blocks none of whose lanes reach 2^-kJoinExp by step kmax contribute nothing
   // (ana_skip): they are skipped instead of being stepped to kmax for nothing.
+  // (depends on the rings and m alone: counted by the first transform, kept in the plan)
   int skip = 0;
   if (nx > 1) {
-    if constexpr (W == 8)
-      skip = ana_skip8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
-    else
-      skip = ana_skip4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
+    skip = skip_cache.load(std::memory_order_relaxed);
+    if (skip < 0) {
+      if constexpr (W == 8)
+        skip = ana_skip8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
+      else
+        skip = ana_skip4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
+      skip_cache.store(skip, std::memory_order_relaxed);
+    }
     for (int i = 0; i < skip; ++i) w.join[w.ids[i]] = kmax + 1;
   }
   if (nx > skip) {
@@ -732,12 +786,14 @@ constexpr int kSynQB = 16;
 template <int W>
 __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, const double* x, const double* mant,
                                                       const int* ex, const double* ap, const double* bp,
-                                                      const double* cf, double* out, std::size_t bstride) {
+                                                      const double* cf, double* out, std::size_t bstride,
+                                                      std::atomic<int>& g0_cache) {
   auto at = [&](int q) { return out + static_cast<std::size_t>(q / kSynQB) * bstride + 4 * (q % kSynQB); };
   // Leading blocks none of whose lanes reaches 2^-kJoinExp by kmax (see ana_skip) add
   // nothing to their rings: their sums are zero.
-  int g0 = 0;
-  {
+  // (depends on the rings and m alone: found by the first synthesis, kept in the plan)
+  int g0 = g0_cache.load(std::memory_order_relaxed);
+  if (g0 < 0) {
     int lo = 0, hi = ngroups;
     while (lo < hi) {
       const int mid = (lo + hi) / 2;
@@ -758,6 +814,7 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
         lo = mid + 1;
     }
     g0 = lo;
+    g0_cache.store(g0, std::memory_order_relaxed);
   }
   for (int q = 0; q < W * g0; ++q)
     for (int f = 0; f < 4; ++f) at(q)[f] = 0.0;
@@ -798,15 +855,15 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
 
 ATMOSH_DISPATCH
 static void syn_column4(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
-                        const double* bp, const double* cf, double* out, std::size_t bstride) {
-  syn_column<4>(kmax, ngroups, x, mant, ex, ap, bp, cf, out, bstride);
+                        const double* bp, const double* cf, double* out, std::size_t bstride, std::atomic<int>& g0) {
+  syn_column<4>(kmax, ngroups, x, mant, ex, ap, bp, cf, out, bstride, g0);
 }
 #if ATMOSH_HAS_DISPATCH
 ATMOSH_TARGET_AVX512
 #endif
 static void syn_column8(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
-                        const double* bp, const double* cf, double* out, std::size_t bstride) {
-  syn_column<8>(kmax, ngroups, x, mant, ex, ap, bp, cf, out, bstride);
+                        const double* bp, const double* cf, double* out, std::size_t bstride, std::atomic<int>& g0) {
+  syn_column<8>(kmax, ngroups, x, mant, ex, ap, bp, cf, out, bstride, g0);
 }
 }  // namespace
 
@@ -824,17 +881,18 @@ inline std::size_t ring_sum_index(int padded, int W, int m, int q, int f) {
   return static_cast<std::size_t>(m) * ring_sum_stride(padded) + static_cast<std::size_t>(q & -W) * 4 + W * f + (q & (W - 1));
 }
 
-void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads,
-                             bool assign);
+void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeffs, int threads, bool assign);
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads);
 }  // namespace
 
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
                        const double* fourier, bool symmetric, double* coeffs, int threads) {
   threads = atmosh::resolve_threads(threads);
-  const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
+  const RingPlan rp(bands, nrings, cos_t, sin_t, symmetric, analysis_lanes());
+  const Pairs& pr = rp.pr;
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
-  const int W = analysis_lanes();
+  const int W = rp.W;
 
   // Ring sums regrouped m-major, in blocks of m so that both the ring rows and the m
   // planes stream.
@@ -863,23 +921,21 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
       }
     }
   });
-  analysis_from_ring_sums(bands, pr, W, fm, coeffs, threads, false);
+  analysis_from_ring_sums(rp, fm, coeffs, threads, false);
 }
 
 namespace {
 // Legendre sums of the analysis from the ring sums fm (see ring_sum_index); adds the
 // coefficients to coeffs, or (assign) writes them (coeffs need not be initialised).
-void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads,
-                             bool assign) {
-  const auto table = legendre_table(bands);
+void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeffs, int threads, bool assign) {
+  const int bands = rp.bands;
+  const Pairs& pr = rp.pr;
   const auto coefs = coef_table(bands);
   const int padded = static_cast<int>(pr.x.size());
-  const bool wide = W == 8;
+  const bool wide = rp.W == 8;
   ThreadWork& tw = thread_work();
-  const std::size_t nsect = static_cast<std::size_t>(bands) * padded;
-  double* const smant = tw.smant.get(nsect);
-  int* const sexp = tw.sexp.get(nsect);
-  sectorals(bands, pr, *table, smant, sexp);
+  const double* const smant = rp.smant.data();
+  const int* const sexp = rp.sexp.data();
 
   // per-m results: column m at col_offset(m), 2 (bands - m) values
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
@@ -893,7 +949,7 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
     const std::size_t off = static_cast<std::size_t>(m) * padded;
     ana_column(kmax, pr.x.data(), smant + off, sexp + off, fm + static_cast<std::size_t>(m) * ring_sum_stride(padded), cf,
-               work, sums);
+               work, sums, rp.skip_a[m]);
     // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
     // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
     double* out = col + col_offset(m);
@@ -944,18 +1000,21 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
 
 void legendre_synthesis(int bands, int nrings, const double* cos_t, const double* sin_t,
                         const double* coeffs, bool symmetric, double* fourier, int threads) {
-  threads = atmosh::resolve_threads(threads);
-  const auto table = legendre_table(bands);
+  const RingPlan rp(bands, nrings, cos_t, sin_t, symmetric, analysis_lanes());
+  synthesis_from_plan(rp, coeffs, fourier, atmosh::resolve_threads(threads));
+}
+
+namespace {
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads) {
+  const int bands = rp.bands;
   const auto coefs = coef_table(bands);
-  const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
+  const Pairs& pr = rp.pr;
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
   ThreadWork& tw = thread_work();
-  const std::size_t nsect = static_cast<std::size_t>(bands) * padded;
-  double* const smant = tw.smant.get(nsect);
-  int* const sexp = tw.sexp.get(nsect);
-  sectorals(bands, pr, *table, smant, sexp);
-  const int W = analysis_lanes();
+  const double* const smant = rp.smant.data();
+  const int* const sexp = rp.sexp.data();
+  const int W = rp.W;
   // Coefficients regrouped m-major (column m: c_l,m and c_l,-m for l = m..bands-1 at
   // col + col_offset(m)); the per-column sums are kept in blocks of 16 ring pairs (sm,
   // 4 values per pair, m after m within a block) and turned into ring rows at the end. (Strided reads and writes
@@ -1014,9 +1073,11 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
     double* const out = sm + static_cast<std::size_t>(m) * QB * 4;
     const std::size_t bstride = static_cast<std::size_t>(bands) * QB * 4;
     if (W == 8)
-      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp, sc.data(), out, bstride);
+      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp, sc.data(), out, bstride,
+                  rp.skip_s[m]);
     else
-      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp, sc.data(), out, bstride);
+      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp, sc.data(), out, bstride,
+                  rp.skip_s[m]);
   };
   parallel_for_m(
       bands, threads,
@@ -1063,6 +1124,7 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
     }
   });
 }
+}  // namespace
 
 // Radix-2 butterflies of one stage (half = len / 2 >= 4) with the stage's twiddles
 // contiguous (wr, wi: e^{-2 pi i k / len}, k < half), so that the k loop vectorises.
@@ -1555,6 +1617,7 @@ GaussGrid gauss_grid(int bands, int nlat, int nphi) {
     g.sin_t[i] = std::sqrt((1.0 - x) * (1.0 + x));
     g.weights[i] = gl.weights[nlat - 1 - i];
   }
+  g.plan = std::make_shared<const detail::GridPlan>(g);
   return g;
 }
 
@@ -1587,6 +1650,7 @@ GaussGrid regular_grid(int bands, LatitudeRule rule, int nlat, int nphi) {
     g.cos_t[nlat - 1 - i] = -g.cos_t[i];
     g.sin_t[nlat - 1 - i] = g.sin_t[i];
   }
+  g.plan = std::make_shared<const detail::GridPlan>(g);
   return g;
 }
 
@@ -1605,9 +1669,10 @@ void analyse(const GaussGrid& g, const double* values, double* coeffs, int threa
   const int L = g.bands, n = g.nphi;
   // Ring sums straight into the m-major layout of the Legendre stage: one block of
   // ring pairs at a time (its planes stay in cache while its lanes are filled).
-  const detail::Pairs pr = detail::make_pairs(g.nlat, g.cos_t.data(), g.sin_t.data(), true);
+  const auto plan = detail::plan_for(g);
+  const detail::Pairs& pr = plan->rings.pr;
   const int padded = static_cast<int>(pr.x.size()), np = static_cast<int>(pr.north.size());
-  const int W = detail::analysis_lanes();
+  const int W = plan->rings.W;
   double* const fm = detail::thread_work().fm.get(static_cast<std::size_t>(L) * detail::ring_sum_stride(padded));
   const double dphi = 2.0 * std::numbers::pi / n;
   // row stride of the lane buffers: off a multiple of 4 kB (the 4 W rows are read in step)
@@ -1661,7 +1726,7 @@ void analyse(const GaussGrid& g, const double* values, double* coeffs, int threa
       [&](Scratch& scratch, std::size_t b, std::size_t e) {
         for (std::size_t blk = b; blk < e; ++blk) block(scratch, static_cast<int>(blk));
       });
-  detail::analysis_from_ring_sums(L, pr, W, fm, coeffs, threads, true);
+  detail::analysis_from_ring_sums(plan->rings, fm, coeffs, threads, true);
 }
 
 std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int threads) {
@@ -1679,7 +1744,7 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
   const int L = g.bands, n = g.nphi;
   // every ring and order of the work array is written by legendre_synthesis
   double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
-  detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four, threads);
+  detail::synthesis_from_plan(detail::plan_for(g)->rings, coeffs, four, threads);
   // Two rings at a time from the shared counter; each worker keeps its FFT plan.
   const int npairs = (g.nlat + 1) / 2;
   atmosh::parallel_for_ranges_local(
