@@ -1216,6 +1216,7 @@ struct FftPlans {
   FftMode mode = FftMode::real;
   int m = 0;                                   // complex FFT size: n (pair) or M (chirp)
   fftw_plan r2c = nullptr, c2r = nullptr;      // size n, real
+  fftw_plan r2c_rows[2] = {nullptr, nullptr};  // 4 / 8 consecutive rings at once (real mode, even n)
   fftw_plan fwd = nullptr, bwd = nullptr;      // size m, complex, in place
   std::vector<double> chirp;                   // w_t = e^{i pi t^2 / n}, t < n (re, im)
   std::vector<double> kf, kb;                  // FFT of the forward / inverse kernels, / M
@@ -1232,7 +1233,7 @@ struct PlanCache {
   ~PlanCache() {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
     for (auto& [n, p] : plans)
-      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd})
+      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.r2c_rows[0], p.r2c_rows[1]})
         if (q) fftw_destroy_plan(q);
     plans.clear();
   }
@@ -1273,6 +1274,21 @@ const FftPlans* fft_plans(int n) {
   fftw_free(r);
   fftw_free(c);
   bool ok = p.r2c && p.c2r;
+  if (ok && p.mode == FftMode::real && n % 2 == 0) {
+    // several rings per FFTW call (FFTW then vectorises across them): ~20 % less time per
+    // ring than one call per ring at n = 512 (AVX2, FFTW 3.3.10); still FFTW_ESTIMATE, so
+    // the plan, and the bits of the results, do not depend on timing
+    const int nc = n / 2 + 1;
+    for (int i = 0; i < 2; ++i) {
+      const int rows = i == 0 ? 4 : 8;
+      double* rr = fftw_alloc_real(static_cast<std::size_t>(n) * rows);
+      fftw_complex* cc = fftw_alloc_complex(static_cast<std::size_t>(nc) * rows);
+      p.r2c_rows[i] = fftw_plan_many_dft_r2c(1, &n, rows, rr, nullptr, 1, n, cc, nullptr, 1, nc,
+                                             FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+      fftw_free(rr);
+      fftw_free(cc);
+    }
+  }
   if (p.mode != FftMode::real) {
     int m = n;
     if (p.mode == FftMode::chirp) {
@@ -1404,6 +1420,14 @@ void RealFft::forward(const T* f, int count, double* out) {
   emit_orders(spec_, n_, count, out);
 }
 template void RealFft::forward<double>(const double*, int, double*);
+
+bool RealFft::forward_rows(const double* f, int rows, double* spectra) {
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  const fftw_plan plan = rows == 4 ? p.r2c_rows[0] : rows == 8 ? p.r2c_rows[1] : nullptr;
+  if (!plan || fftw_alignment_of(const_cast<double*>(f)) != 0 || fftw_alignment_of(spectra) != 0) return false;
+  fftw_execute_dft_r2c(plan, const_cast<double*>(f), reinterpret_cast<fftw_complex*>(spectra));
+  return true;
+}
 template void RealFft::forward<float>(const float*, int, double*);
 
 void RealFft::forward2(const double* f1, const double* f2, int count, double* out1, double* out2) {
@@ -1562,6 +1586,31 @@ void pair_sums(int bands, const double* fn, const double* fs, double wn, double 
 }  // namespace
 
 namespace {
+// The weighted ring sums of a block of W ring pairs straight from the rings' raw spectra
+// (X_k = a_k - i b_k, re/im interleaved, rows sstride values apart; lane k's north ring
+// at north + k sstride, its south ring at south + (W - 1 - k) sstride) into the m-major
+// layout: o[m * mstride + W f + k] (f: E cos, E sin, xO cos, xO sin). The same operations,
+// rounded the same way, as emit_orders + pair_sums + the regrouping (no fused multiply-add).
+ATMOSH_DISPATCH_NO_FMA
+void spectra_to_ring_sums(int L, int W, const double* north, const double* south, std::size_t sstride,
+                          const double* wn, const double* ws, const double* x, double* o, std::size_t mstride) {
+  for (int m = 0; m < L; ++m) {
+    const double sq = m > 0 ? std::numbers::sqrt2 : 1.0;
+    double* om = o + static_cast<std::size_t>(m) * mstride;
+    for (int k = 0; k < W; ++k) {
+      const double* N = north + k * sstride + 2 * static_cast<std::size_t>(m);
+      const double* S = south + (W - 1 - k) * sstride + 2 * static_cast<std::size_t>(m);
+      const double wnm = wn[k] * sq, wsm = ws[k] * sq;
+      const double nc = N[0] * wnm, ns = -N[1] * (m > 0 ? wnm : 0.0);
+      const double sc = S[0] * wsm, ss = -S[1] * (m > 0 ? wsm : 0.0);
+      om[k] = nc + sc;
+      om[W + k] = ns + ss;
+      om[2 * W + k] = x[k] * (nc - sc);
+      om[3 * W + k] = x[k] * (ns - ss);
+    }
+  }
+}
+
 // The ring sums of a block of 4 ring pairs from lane rows to the m-major layout:
 // out[m * mstride + 4 f + k] = lanes[(4 k + f) * ls + m], four orders at a time by 4x4
 // transposes in registers (the scalar gather read 16 rows at once, a tenth of an analysis
@@ -1679,12 +1728,36 @@ void analyse(const GaussGrid& g, const double* values, double* coeffs, int threa
   const std::size_t LS = static_cast<std::size_t>(L) + 8;
   // One block of W ring pairs at a time from the shared counter; each worker keeps its
   // FFT plan and lane buffers.
+  struct FftwFree {
+    void operator()(double* p) const { fftw_free(p); }
+  };
   struct Scratch {
     detail::RealFft fft;
     std::vector<double> fn, fs, lanes;  // lanes: [lane][field][m]
+    std::unique_ptr<double, FftwFree> spectra;  // 2 W rings' spectra (forward_rows)
   };
+  const std::size_t sstride = 2 * (static_cast<std::size_t>(n) / 2 + 1);
   auto block = [&](Scratch& scratch, int blk) {
     detail::RealFft& fft = scratch.fft;
+    // whole blocks of distinct north and south rings: W north rows and W south rows, each
+    // consecutive, through one FFTW call each and straight into the ring sums
+    const int q0 = blk * W, qe = q0 + W - 1;
+    if (qe < np && pr.south[qe] > pr.north[qe] && pr.north[q0] == q0 && 2 * L <= n + 2) {
+      double* const sn = scratch.spectra.get();
+      double* const ss = sn + W * sstride;
+      const int s_first = pr.south[qe];  // rows s_first .. s_first + W - 1: lanes W - 1 .. 0
+      if (fft.forward_rows(values + static_cast<std::size_t>(q0) * n, W, sn) &&
+          fft.forward_rows(values + static_cast<std::size_t>(s_first) * n, W, ss)) {
+        double wn[8], ws[8];
+        for (int k = 0; k < W; ++k) {
+          wn[k] = g.weights[pr.north[q0 + k]] * dphi;
+          ws[k] = g.weights[pr.south[q0 + k]] * dphi;
+        }
+        spectra_to_ring_sums(L, W, sn, ss, sstride, wn, ws, pr.x.data() + q0,
+                             fm + detail::ring_sum_index(padded, W, 0, q0, 0), detail::ring_sum_stride(padded));
+        return;
+      }
+    }
     std::vector<double>& fn = scratch.fn;
     std::vector<double>& fs = scratch.fs;
     std::vector<double>& lanes = scratch.lanes;
@@ -1719,9 +1792,12 @@ void analyse(const GaussGrid& g, const double* values, double* coeffs, int threa
   atmosh::parallel_for_ranges_local(
       static_cast<std::size_t>(padded / W), 1, threads,
       [&] {
-        return Scratch{detail::RealFft(n), std::vector<double>(2 * static_cast<std::size_t>(L)),
-                       std::vector<double>(2 * static_cast<std::size_t>(L)),
-                       std::vector<double>(static_cast<std::size_t>(W) * 4 * LS)};
+        Scratch s{detail::RealFft(n), std::vector<double>(2 * static_cast<std::size_t>(L)),
+                  std::vector<double>(2 * static_cast<std::size_t>(L)),
+                  std::vector<double>(static_cast<std::size_t>(W) * 4 * LS),
+                  std::unique_ptr<double, FftwFree>(reinterpret_cast<double*>(fftw_alloc_complex(W * sstride)))};
+        if (!s.spectra) throw std::bad_alloc();
+        return s;
       },
       [&](Scratch& scratch, std::size_t b, std::size_t e) {
         for (std::size_t blk = b; blk < e; ++blk) block(scratch, static_cast<int>(blk));
