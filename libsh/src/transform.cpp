@@ -1018,31 +1018,12 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
   const double* const smant = rp.smant.data();
   const int* const sexp = rp.sexp.data();
   const int W = rp.W;
-  // Coefficients regrouped m-major (column m: c_l,m and c_l,-m for l = m..bands-1 at
-  // col + col_offset(m)); the per-column sums are kept in blocks of 16 ring pairs (sm,
-  // 4 values per pair, m after m within a block) and turned into ring rows at the end. (Strided reads and writes
-  // of single values per (l, m) and (ring, m) cost a fifth of a synthesis at L = 1024.)
-  auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
-  double* const col = tw.col.get(col_offset(bands));
+  // The per-column sums are kept in blocks of 16 ring pairs (sm, 4 values per pair, m
+  // after m within a block) and turned into ring rows at the end. (Strided writes of single
+  // values per (ring, m) cost a fifth of a synthesis at L = 1024.)
   constexpr int QB = kSynQB;  // ring pairs per block of the sums
   const int nqb = (padded + QB - 1) / QB;
   double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
-  // degree rows into columns in tiles of 8 degrees x 8 orders (as the analysis)
-  constexpr int T = 8;
-  for (int l0 = 0; l0 < bands; l0 += T) {
-    const int l1 = std::min(bands, l0 + T);
-    for (int m0 = 0; m0 < l1; m0 += T) {
-      const int m1 = std::min(l1, m0 + T);
-      for (int m = m0; m < m1; ++m) {
-        double* c = col + col_offset(m);
-        for (int l = std::max(l0, m); l < l1; ++l) {
-          const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-          c[2 * (l - m)] = row[m];
-          c[2 * (l - m) + 1] = m > 0 ? row[-m] : 0.0;
-        }
-      }
-    }
-  }
 
   struct Scratch {
     AnaCoef cf;
@@ -1055,18 +1036,24 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
     const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
     // step coefficients: e_k (cos, sin) and d_k (cos, sin), zero past the last degree
     std::fill(sc.begin(), sc.begin() + 4 * (kmax + 2), 0.0);
-    const double* cm = col + col_offset(m);  // [2 (l - m) + {0, 1}]
+    // c_l,m and c_l,-m read from the degree rows (column after column, the lines of one
+    // column are those of the next: they stay in cache)
+    const double* cp = coeffs + m;  // c_l,m at cp[l (l + 1)]
+    const double* cn = coeffs - m;  // c_l,-m at cn[l (l + 1)]
+    auto row = [](int l) { return static_cast<std::size_t>(l) * (l + 1); };
     for (int k = 0; k <= kmax; ++k) {
-      sc[4 * k] = cf.alpha[k] * cm[4 * k];
-      sc[4 * k + 1] = cf.alpha[k] * cm[4 * k + 1];
+      const std::size_t r = row(m + 2 * k);
+      sc[4 * k] = cf.alpha[k] * cp[r];
+      sc[4 * k + 1] = m > 0 ? cf.alpha[k] * cn[r] : 0.0;
     }
     const int kodd = (bands - 2 - m) / 2;  // odd degrees m + 2k + 1 < bands: k <= kodd
     if (bands - 2 - m >= 0) {
       double yc = 0.0, ys = 0.0;
       for (int k = kodd; k >= 0; --k) {
         const double q = k + 1 <= kodd ? cf.qa[k + 1] : 0.0;
-        yc = cm[4 * k + 2] - q * yc;
-        ys = cm[4 * k + 3] - q * ys;
+        const std::size_t r = row(m + 2 * k + 1);
+        yc = cp[r] - q * yc;
+        ys = (m > 0 ? cn[r] : 0.0) - q * ys;
         sc[4 * k + 2] = cf.rb[k] * yc;
         sc[4 * k + 3] = cf.rb[k] * ys;
       }
