@@ -1617,7 +1617,57 @@ namespace {
 ATMOSH_DISPATCH_NO_FMA
 void spectra_to_ring_sums(int L, int W, const double* north, const double* south, std::size_t sstride,
                           const double* wn, const double* ws, const double* x, double* o, std::size_t mstride) {
-  for (int m = 0; m < L; ++m) {
+  int m0 = 0;
+  if (W == 4) {
+    // two orders at a time: the four lanes' (re, im) of orders m, m + 1 transposed in
+    // registers, then the same products and sums elementwise over the lanes
+    typedef double V __attribute__((vector_size(32)));
+    auto load = [](const double* p) {
+      V v;
+      std::memcpy(&v, p, sizeof v);
+      return v;
+    };
+    auto store = [](double* p, V v) { std::memcpy(p, &v, sizeof v); };
+    // r0..r3: (re_m, im_m, re_m+1, im_m+1) of lanes 0..3 -> re_m, im_m, re_m+1, im_m+1 over lanes
+    auto transpose = [](V r0, V r1, V r2, V r3, V& a, V& b, V& c, V& d) {
+      const V t0 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6), t1 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7);
+      const V t2 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6), t3 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
+      a = __builtin_shufflevector(t0, t2, 0, 1, 4, 5);
+      b = __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
+      c = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+      d = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
+    };
+    const V vwn = {wn[0], wn[1], wn[2], wn[3]}, vws = {ws[0], ws[1], ws[2], ws[3]}, vx = {x[0], x[1], x[2], x[3]};
+    const V zero = V{};
+    // lanes' south rows are in reverse order
+    const double* N0 = north;
+    const double* N1 = north + sstride;
+    const double* N2 = north + 2 * sstride;
+    const double* N3 = north + 3 * sstride;
+    const double* S0 = south + 3 * sstride;
+    const double* S1 = south + 2 * sstride;
+    const double* S2 = south + sstride;
+    const double* S3 = south;
+    auto emit = [&](double* om, V nre, V nim, V sre, V sim, double sq, bool sin_on) {
+      const V wnm = vwn * sq, wsm = vws * sq;
+      const V nc = nre * wnm, ns = -nim * (sin_on ? wnm : zero);
+      const V sc = sre * wsm, ss = -sim * (sin_on ? wsm : zero);
+      store(om, nc + sc);
+      store(om + 4, ns + ss);
+      store(om + 8, vx * (nc - sc));
+      store(om + 12, vx * (ns - ss));
+    };
+    for (; m0 + 2 <= L; m0 += 2) {
+      const std::size_t j = 2 * static_cast<std::size_t>(m0);
+      V nre0, nim0, nre1, nim1, sre0, sim0, sre1, sim1;
+      transpose(load(N0 + j), load(N1 + j), load(N2 + j), load(N3 + j), nre0, nim0, nre1, nim1);
+      transpose(load(S0 + j), load(S1 + j), load(S2 + j), load(S3 + j), sre0, sim0, sre1, sim1);
+      double* om = o + static_cast<std::size_t>(m0) * mstride;
+      emit(om, nre0, nim0, sre0, sim0, m0 > 0 ? std::numbers::sqrt2 : 1.0, m0 > 0);
+      emit(om + mstride, nre1, nim1, sre1, sim1, std::numbers::sqrt2, true);
+    }
+  }
+  for (int m = m0; m < L; ++m) {
     const double sq = m > 0 ? std::numbers::sqrt2 : 1.0;
     double* om = o + static_cast<std::size_t>(m) * mstride;
     for (int k = 0; k < W; ++k) {
