@@ -1453,6 +1453,27 @@ bool RealFft::inverse_rows(double* spectra, int rows, double* v) {
 }
 template void RealFft::forward<float>(const float*, int, double*);
 
+void RealFft::forward2_spectra(const double* f1, const double* f2, int count, double* s1, double* s2) {
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  const int cm = std::min(count, n_ / 2 + 1);
+  if (p.mode == FftMode::real) {
+    for (int i = 0; i < 2; ++i) {
+      const double* f = i == 0 ? f1 : f2;
+      const double* in = real_;
+      if (fftw_alignment_of(const_cast<double*>(f)) == fftw_alignment_of(real_))
+        in = f;
+      else
+        std::memcpy(real_, f, sizeof(double) * n_);
+      fftw_execute_dft_r2c(p.r2c, const_cast<double*>(in), reinterpret_cast<fftw_complex*>(spec_));
+      std::memcpy(i == 0 ? s1 : s2, spec_, sizeof(double) * 2 * cm);
+    }
+    return;
+  }
+  forward2(f1, f2, count, nullptr, nullptr);  // leaves the spectra in spec_, spec2_
+  std::memcpy(s1, spec_, sizeof(double) * 2 * cm);
+  std::memcpy(s2, spec2_, sizeof(double) * 2 * cm);
+}
+
 void RealFft::forward2(const double* f1, const double* f2, int count, double* out1, double* out2) {
   const FftPlans& p = *static_cast<const FftPlans*>(plans_);
   if (p.mode == FftMode::real) {
@@ -1500,6 +1521,7 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
     spec2_[2 * k] = 0.5 * (xp[1] + xm[1]);
     spec2_[2 * k + 1] = -0.5 * (xp[0] - xm[0]);
   }
+  if (!out1) return;  // forward2_spectra
   emit_orders(spec_, n, count, out1);
   emit_orders(spec2_, n, count, out2);
 }
@@ -1819,8 +1841,16 @@ void analyse(const GaussGrid& g, const double* values, double* coeffs, int threa
       double* const sn = scratch.spectra.get();
       double* const ss = sn + W * sstride;
       const int s_first = pr.south[qe];  // rows s_first .. s_first + W - 1: lanes W - 1 .. 0
-      if (fft.forward_rows(values + static_cast<std::size_t>(q0) * n, W, sn) &&
-          fft.forward_rows(values + static_cast<std::size_t>(s_first) * n, W, ss)) {
+      bool done = fft.forward_rows(values + static_cast<std::size_t>(q0) * n, W, sn) &&
+                  fft.forward_rows(values + static_cast<std::size_t>(s_first) * n, W, ss);
+      if (!done) {  // other sizes: ring pair by ring pair (paired or chirp FFTs)
+        for (int k = 0; k < W; ++k)
+          fft.forward2_spectra(values + static_cast<std::size_t>(pr.north[q0 + k]) * n,
+                               values + static_cast<std::size_t>(pr.south[q0 + k]) * n, L, sn + k * sstride,
+                               ss + (W - 1 - k) * sstride);
+        done = true;
+      }
+      if (done) {
         double wn[8], ws[8];
         for (int k = 0; k < W; ++k) {
           wn[k] = g.weights[pr.north[q0 + k]] * dphi;

@@ -51,6 +51,9 @@ class RealFft {
   bool inverse_rows(double* spectra, int rows, double* v);
   /// forward() of two rings (out1 from f1, out2 from f2).
   void forward2(const double* f1, const double* f2, int count, double* out1, double* out2);
+  /// The raw spectra X_k (k < count <= n/2 + 1, re/im interleaved, as forward_rows) of two
+  /// rings by the method of forward2.
+  void forward2_spectra(const double* f1, const double* f2, int count, double* s1, double* s2);
   /// v_j = sum_{m < count} (C_m cos(2 pi j m / n) + S_m sin(2 pi j m / n)) from cs[2m], cs[2m+1];
   /// needs 2 count - 1 <= n.
   void inverse(const double* cs, int count, double* v);
