@@ -882,10 +882,7 @@ inline std::size_t ring_sum_index(int padded, int W, int m, int q, int f) {
 }
 
 void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeffs, int threads, bool assign);
-// spectral_n > 0: ring rows of fourier are the inputs of FFTW's c2r of size spectral_n
-// (X_0 = C_0, X_m = (C_m - i S_m) / 2, zero up to m = spectral_n / 2; rows 2 (spectral_n / 2
-// + 1) values apart) instead of (C_m, S_m) pairs, rows 2 bands apart.
-void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads, int spectral_n = 0);
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads);
 }  // namespace
 
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
@@ -1008,7 +1005,7 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
 }
 
 namespace {
-void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads, int spectral_n) {
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads) {
   const int bands = rp.bands;
   const auto coefs = coef_table(bands);
   const Pairs& pr = rp.pr;
@@ -1018,12 +1015,31 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
   const double* const smant = rp.smant.data();
   const int* const sexp = rp.sexp.data();
   const int W = rp.W;
-  // The per-column sums are kept in blocks of 16 ring pairs (sm, 4 values per pair, m
-  // after m within a block) and turned into ring rows at the end. (Strided writes of single
-  // values per (ring, m) cost a fifth of a synthesis at L = 1024.)
+  // Coefficients regrouped m-major (column m: c_l,m and c_l,-m for l = m..bands-1 at
+  // col + col_offset(m)); the per-column sums are kept in blocks of 16 ring pairs (sm,
+  // 4 values per pair, m after m within a block) and turned into ring rows at the end. (Strided reads and writes
+  // of single values per (l, m) and (ring, m) cost a fifth of a synthesis at L = 1024.)
+  auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
+  double* const col = tw.col.get(col_offset(bands));
   constexpr int QB = kSynQB;  // ring pairs per block of the sums
   const int nqb = (padded + QB - 1) / QB;
   double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
+  // degree rows into columns in tiles of 8 degrees x 8 orders (as the analysis)
+  constexpr int T = 8;
+  for (int l0 = 0; l0 < bands; l0 += T) {
+    const int l1 = std::min(bands, l0 + T);
+    for (int m0 = 0; m0 < l1; m0 += T) {
+      const int m1 = std::min(l1, m0 + T);
+      for (int m = m0; m < m1; ++m) {
+        double* c = col + col_offset(m);
+        for (int l = std::max(l0, m); l < l1; ++l) {
+          const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+          c[2 * (l - m)] = row[m];
+          c[2 * (l - m) + 1] = m > 0 ? row[-m] : 0.0;
+        }
+      }
+    }
+  }
 
   struct Scratch {
     AnaCoef cf;
@@ -1036,24 +1052,18 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
     const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
     // step coefficients: e_k (cos, sin) and d_k (cos, sin), zero past the last degree
     std::fill(sc.begin(), sc.begin() + 4 * (kmax + 2), 0.0);
-    // c_l,m and c_l,-m read from the degree rows (column after column, the lines of one
-    // column are those of the next: they stay in cache)
-    const double* cp = coeffs + m;  // c_l,m at cp[l (l + 1)]
-    const double* cn = coeffs - m;  // c_l,-m at cn[l (l + 1)]
-    auto row = [](int l) { return static_cast<std::size_t>(l) * (l + 1); };
+    const double* cm = col + col_offset(m);  // [2 (l - m) + {0, 1}]
     for (int k = 0; k <= kmax; ++k) {
-      const std::size_t r = row(m + 2 * k);
-      sc[4 * k] = cf.alpha[k] * cp[r];
-      sc[4 * k + 1] = m > 0 ? cf.alpha[k] * cn[r] : 0.0;
+      sc[4 * k] = cf.alpha[k] * cm[4 * k];
+      sc[4 * k + 1] = cf.alpha[k] * cm[4 * k + 1];
     }
     const int kodd = (bands - 2 - m) / 2;  // odd degrees m + 2k + 1 < bands: k <= kodd
     if (bands - 2 - m >= 0) {
       double yc = 0.0, ys = 0.0;
       for (int k = kodd; k >= 0; --k) {
         const double q = k + 1 <= kodd ? cf.qa[k + 1] : 0.0;
-        const std::size_t r = row(m + 2 * k + 1);
-        yc = cp[r] - q * yc;
-        ys = (m > 0 ? cn[r] : 0.0) - q * ys;
+        yc = cm[4 * k + 2] - q * yc;
+        ys = cm[4 * k + 3] - q * ys;
         sc[4 * k + 2] = cf.rb[k] * yc;
         sc[4 * k + 3] = cf.rb[k] * ys;
       }
@@ -1079,21 +1089,12 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
     // power of two: writing 32 of them in step, one value each, thrashed L1's sets)
     const int q0 = block * QB, q1 = std::min(np, q0 + QB);
     constexpr int MC = 16;
-    const bool spectral = spectral_n > 0;
-    const std::size_t rstride = spectral ? 2 * (static_cast<std::size_t>(spectral_n) / 2 + 1) : 2 * static_cast<std::size_t>(bands);
-    typedef double V2 __attribute__((vector_size(16)));
-    // c2r's input: (C_m / 2, -S_m / 2) (exact scalings: the same bits as RealFft::inverse)
-    const V2 half = spectral ? V2{0.5, -0.5} : V2{1.0, 1.0};
     for (int m0 = 0; m0 < bands; m0 += MC) {
       const int m1 = std::min(bands, m0 + MC);
       for (int q = q0; q < q1; ++q) {
-        double* fn = fourier + static_cast<std::size_t>(pr.north[q]) * rstride;
-        double* fs = pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * rstride : nullptr;
+        double* fn = fourier + static_cast<std::size_t>(pr.north[q]) * bands * 2;
+        double* fs = pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * bands * 2 : nullptr;
         const double* v0 = sm + static_cast<std::size_t>(block) * bands * QB * 4 + 4 * static_cast<std::size_t>(q - q0);
-        if (spectral && m1 == bands) {  // zeros above the band limit, to spectral_n / 2
-          std::fill(fn + 2 * bands, fn + rstride, 0.0);
-          if (fs) std::fill(fs + 2 * bands, fs + rstride, 0.0);
-        }
         int mb = m0;
         if (mb == 0) {  // m = 0: no sine part, no sqrt2
           fn[0] = v0[0] + v0[2];
@@ -1105,16 +1106,17 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
           mb = 1;
         }
         // (E cos, E sin) +- (O cos, O sin), times sqrt2: two values per order at once
+        typedef double V2 __attribute__((vector_size(16)));
         const V2 s2 = V2{} + std::numbers::sqrt2;
         for (int m = mb; m < m1; ++m) {
           const double* v = v0 + static_cast<std::size_t>(m) * QB * 4;
           V2 e, o;
           std::memcpy(&e, v, sizeof e);
           std::memcpy(&o, v + 2, sizeof o);
-          const V2 pn = half * (s2 * (e + o));
+          const V2 pn = s2 * (e + o);
           std::memcpy(fn + 2 * m, &pn, sizeof pn);
           if (fs) {
-            const V2 ps = half * (s2 * (e - o));
+            const V2 ps = s2 * (e - o);
             std::memcpy(fs + 2 * m, &ps, sizeof ps);
           }
         }
@@ -1215,7 +1217,6 @@ struct FftPlans {
   int m = 0;                                   // complex FFT size: n (pair) or M (chirp)
   fftw_plan r2c = nullptr, c2r = nullptr;      // size n, real
   fftw_plan r2c_rows[2] = {nullptr, nullptr};  // 4 / 8 consecutive rings at once (real mode, even n)
-  fftw_plan c2r_rows[2] = {nullptr, nullptr};
   fftw_plan fwd = nullptr, bwd = nullptr;      // size m, complex, in place
   std::vector<double> chirp;                   // w_t = e^{i pi t^2 / n}, t < n (re, im)
   std::vector<double> kf, kb;                  // FFT of the forward / inverse kernels, / M
@@ -1232,7 +1233,7 @@ struct PlanCache {
   ~PlanCache() {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
     for (auto& [n, p] : plans)
-      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.r2c_rows[0], p.r2c_rows[1], p.c2r_rows[0], p.c2r_rows[1]})
+      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.r2c_rows[0], p.r2c_rows[1]})
         if (q) fftw_destroy_plan(q);
     plans.clear();
   }
@@ -1284,7 +1285,6 @@ const FftPlans* fft_plans(int n) {
       fftw_complex* cc = fftw_alloc_complex(static_cast<std::size_t>(nc) * rows);
       p.r2c_rows[i] = fftw_plan_many_dft_r2c(1, &n, rows, rr, nullptr, 1, n, cc, nullptr, 1, nc,
                                              FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
-      p.c2r_rows[i] = fftw_plan_many_dft_c2r(1, &n, rows, cc, nullptr, 1, nc, rr, nullptr, 1, n, FFTW_ESTIMATE);
       fftw_free(rr);
       fftw_free(cc);
     }
@@ -1426,29 +1426,6 @@ bool RealFft::forward_rows(const double* f, int rows, double* spectra) {
   const fftw_plan plan = rows == 4 ? p.r2c_rows[0] : rows == 8 ? p.r2c_rows[1] : nullptr;
   if (!plan || fftw_alignment_of(const_cast<double*>(f)) != 0 || fftw_alignment_of(spectra) != 0) return false;
   fftw_execute_dft_r2c(plan, const_cast<double*>(f), reinterpret_cast<fftw_complex*>(spectra));
-  return true;
-}
-
-bool RealFft::has_row_plans() const {
-  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
-  return p.r2c_rows[0] && p.r2c_rows[1] && p.c2r_rows[0] && p.c2r_rows[1];
-}
-
-bool RealFft::inverse_rows(double* spectra, int rows, double* v) {
-  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
-  if (!has_row_plans() || fftw_alignment_of(spectra) != 0) return false;
-  if (rows == 1) {
-    if (fftw_alignment_of(v) == fftw_alignment_of(real_)) {
-      fftw_execute_dft_c2r(p.c2r, reinterpret_cast<fftw_complex*>(spectra), v);
-    } else {
-      fftw_execute_dft_c2r(p.c2r, reinterpret_cast<fftw_complex*>(spectra), real_);
-      std::copy(real_, real_ + n_, v);
-    }
-    return true;
-  }
-  const fftw_plan plan = rows == 4 ? p.c2r_rows[0] : rows == 8 ? p.c2r_rows[1] : nullptr;
-  if (!plan || fftw_alignment_of(v) != 0) return false;
-  fftw_execute_dft_c2r(plan, reinterpret_cast<fftw_complex*>(spectra), v);
   return true;
 }
 template void RealFft::forward<float>(const float*, int, double*);
@@ -1921,34 +1898,9 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
     throw InputError("synthesise: grid is not initialised (use gauss_grid)");
   threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
-  const auto plan = detail::plan_for(g);
-  {
-    // real FFTs of even size: the Legendre stage writes c2r's input rows (every value up to
-    // n / 2), and blocks of 8 consecutive rings go through one FFTW call each
-    detail::RealFft probe(n);
-    if (probe.has_row_plans()) {
-      const std::size_t sstride = 2 * (static_cast<std::size_t>(n) / 2 + 1);
-      double* const spec = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * sstride);
-      detail::synthesis_from_plan(plan->rings, coeffs, spec, threads, n);
-      constexpr int R = 8;
-      const int nblk = (g.nlat + R - 1) / R;
-      atmosh::parallel_for_ranges_local(
-          static_cast<std::size_t>(nblk), 1, threads, [&] { return detail::RealFft(n); },
-          [&](detail::RealFft& fft, std::size_t b, std::size_t e) {
-            for (std::size_t blk = b; blk < e; ++blk) {
-              const int r0 = static_cast<int>(blk) * R, r1 = std::min(g.nlat, r0 + R);
-              if (r1 - r0 == R && fft.inverse_rows(spec + r0 * sstride, R, values + static_cast<std::size_t>(r0) * n))
-                continue;
-              for (int r = r0; r < r1; ++r)
-                fft.inverse_rows(spec + r * sstride, 1, values + static_cast<std::size_t>(r) * n);
-            }
-          });
-      return;
-    }
-  }
-  // every ring and order of the work array is written by the Legendre stage
+  // every ring and order of the work array is written by legendre_synthesis
   double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
-  detail::synthesis_from_plan(plan->rings, coeffs, four, threads);
+  detail::synthesis_from_plan(detail::plan_for(g)->rings, coeffs, four, threads);
   // Two rings at a time from the shared counter; each worker keeps its FFT plan.
   const int npairs = (g.nlat + 1) / 2;
   atmosh::parallel_for_ranges_local(

@@ -42,13 +42,6 @@ class RealFft {
   /// nothing, where no such plan applies (odd n, sizes other than 2^a 3^b 5^c, rows not
   /// aligned as FFTW's own arrays).
   bool forward_rows(const double* f, int rows, double* spectra);
-  /// Whether forward_rows / inverse_rows apply to this size (real FFTs, even n).
-  bool has_row_plans() const;
-  /// Rings v (rows of n values, stride n) from `rows` (1, 4 or 8) spectra in the layout of
-  /// forward_rows, as FFTW's c2r takes them (X_0 = C_0, X_m = (C_m - i S_m) / 2, up to
-  /// m = n / 2); the spectra are destroyed. Needs has_row_plans(); rows of v that are not
-  /// aligned as FFTW's arrays go through a copy (rows = 1) or are refused (false).
-  bool inverse_rows(double* spectra, int rows, double* v);
   /// forward() of two rings (out1 from f1, out2 from f2).
   void forward2(const double* f1, const double* f2, int count, double* out1, double* out2);
   /// The raw spectra X_k (k < count <= n/2 + 1, re/im interleaved, as forward_rows) of two
