@@ -76,9 +76,11 @@ GaussGrid regular_grid(int bands, LatitudeRule rule, int nlat = 0, int nphi = 0)
 std::vector<double> analyse(const GaussGrid& grid, const double* values, int threads = 1);
 /// Samples (nlat*nphi) of a coefficient vector (bands^2) on the grid.
 std::vector<double> synthesise(const GaussGrid& grid, const double* coeffs, int threads = 1);
-/// The same into caller-provided arrays (bands^2 coefficients / nlat*nphi samples, every
-/// value written, nothing allocated per call once the calling thread's work arrays exist;
-/// the arrays must not overlap the input). Same results, bit for bit, as the forms above.
+/// The same into caller-provided arrays (bands^2 coefficients / nlat*nphi samples; every
+/// value written, none read, so the array need not be initialised; it must not overlap the
+/// input). The result is neither allocated nor cleared (the large work arrays are kept per
+/// calling thread; each worker's small scratch arrays, ~L kB, are still made per call).
+/// Same results, bit for bit, as the forms above.
 void analyse(const GaussGrid& grid, const double* values, double* coeffs, int threads = 1);
 void synthesise(const GaussGrid& grid, const double* coeffs, double* values, int threads = 1);
 
