@@ -79,7 +79,7 @@ std::vector<double> synthesise(const GaussGrid& grid, const double* coeffs, int 
 /// The same into caller-provided arrays (bands^2 coefficients / nlat*nphi samples; every
 /// value written, none read, so the array need not be initialised; it must not overlap the
 /// input). The result is neither allocated nor cleared (the large work arrays are kept per
-/// calling thread; each worker's small scratch arrays, ~L kB, are still made per call).
+/// calling thread; each worker's scratch arrays, ~0.4 L kB, are still made per call).
 /// Same results, bit for bit, as the forms above.
 void analyse(const GaussGrid& grid, const double* values, double* coeffs, int threads = 1);
 void synthesise(const GaussGrid& grid, const double* coeffs, double* values, int threads = 1);
