@@ -13,6 +13,7 @@
 #include <numbers>
 #include <string>
 #include <type_traits>
+#include <atomic>
 #include <map>
 #include <mutex>
 
@@ -125,6 +126,54 @@ void sectorals(int bands, const Pairs& p, const LegendreTable& t, double* mant, 
   }
 }
 }  // namespace
+
+// Set-up of the Legendre stage that depends on the rings alone: ring pairs, sectoral start
+// values of every order and lane, and (filled by the first transform that needs them) the
+// number of polar blocks that contribute nothing to column m, per direction.
+struct RingPlan {
+  int bands = 0;
+  Pairs pr;
+  std::vector<double> smant;
+  std::vector<int> sexp;
+  int W = 0;                                   // lanes per block the skip counts are for
+  std::unique_ptr<std::atomic<int>[]> skip_a;  // analysis (-1: not known yet)
+  std::unique_ptr<std::atomic<int>[]> skip_s;  // synthesis (-1: not known yet)
+  RingPlan(int bands_, int nrings, const double* cos_t, const double* sin_t, bool symmetric, int lanes)
+      : bands(bands_), pr(make_pairs(nrings, cos_t, sin_t, symmetric)), W(lanes),
+        skip_a(new std::atomic<int>[bands_]), skip_s(new std::atomic<int>[bands_]) {
+    const std::size_t nsect = static_cast<std::size_t>(bands) * pr.x.size();
+    smant.resize(nsect);
+    sexp.resize(nsect);
+    sectorals(bands, pr, *legendre_table(bands), smant.data(), sexp.data());
+    for (int m = 0; m < bands; ++m) {
+      skip_a[m].store(-1, std::memory_order_relaxed);
+      skip_s[m].store(-1, std::memory_order_relaxed);
+    }
+  }
+};
+namespace {
+int analysis_lanes();
+}
+
+// The plan kept with a GaussGrid: its ring plan and the fields it was made from.
+struct GridPlan {
+  int bands, nlat, nphi;
+  LatitudeRule rule;
+  std::vector<double> cos_t, sin_t, weights;
+  RingPlan rings;
+  explicit GridPlan(const GaussGrid& g)
+      : bands(g.bands), nlat(g.nlat), nphi(g.nphi), rule(g.rule), cos_t(g.cos_t), sin_t(g.sin_t), weights(g.weights),
+        rings(g.bands, g.nlat, g.cos_t.data(), g.sin_t.data(), true, analysis_lanes()) {}
+  bool matches(const GaussGrid& g) const {
+    return g.bands == bands && g.nlat == nlat && g.nphi == nphi && g.rule == rule && g.cos_t == cos_t &&
+           g.sin_t == sin_t && g.weights == weights && rings.W == analysis_lanes();
+  }
+};
+// The grid's plan where it matches the grid, else one made for this call.
+std::shared_ptr<const GridPlan> plan_for(const GaussGrid& g) {
+  if (g.plan && g.plan->matches(g)) return g.plan;
+  return std::make_shared<const GridPlan>(g);
+}
 
 
 // ---- analysis: even-degree recurrence in x^2 ------------------------------------
@@ -545,7 +594,7 @@ struct AnaScratch {
 // (E cos, E sin, xO cos, xO sin: 4 W values per block), mant/ex the sectoral values.
 template <int W>
 void ana_column(int kmax, const double* x, const double* mant, const int* ex, const double* f,
-                const ColCoef& cf, AnaWork<W>& w, V4* sums) {
+                const ColCoef& cf, AnaWork<W>& w, V4* sums, std::atomic<int>& skip_cache) {
   const int ngroups = w.ngroups;
   // plain blocks are made in place in act (ring order); the others go to nat[gi] and run
   // their extended phase there
@@ -574,12 +623,17 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
   }
   // Blocks none of whose lanes reach 2^-kJoinExp by step kmax contribute nothing
   // (ana_skip): they are skipped instead of being stepped to kmax for nothing.
+  // (depends on the rings and m alone: counted by the first transform, kept in the plan)
   int skip = 0;
   if (nx > 1) {
-    if constexpr (W == 8)
-      skip = ana_skip8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
-    else
-      skip = ana_skip4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
+    skip = skip_cache.load(std::memory_order_relaxed);
+    if (skip < 0) {
+      if constexpr (W == 8)
+        skip = ana_skip8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
+      else
+        skip = ana_skip4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
+      skip_cache.store(skip, std::memory_order_relaxed);
+    }
     for (int i = 0; i < skip; ++i) w.join[w.ids[i]] = kmax + 1;
   }
   if (nx > skip) {
@@ -724,16 +778,22 @@ __attribute__((always_inline)) inline void syn_plain2(int kmax, const double* ap
   h = b;
 }
 
+// Ring pairs per block of the synthesis's sums (a multiple of every W).
+constexpr int kSynQB = 16;
 // Column m for all blocks: x, mant, ex per lane (padded), cf the step coefficients;
-// writes the per-lane sums E cos, E sin, O cos, O sin (O = x * D) to out[4 * q + f].
+// writes the per-lane sums E cos, E sin, O cos, O sin (O = x * D) of ring pair q to
+// out[(q / kSynQB) * bstride + 4 (q % kSynQB) + f].
 template <int W>
 __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, const double* x, const double* mant,
                                                       const int* ex, const double* ap, const double* bp,
-                                                      const double* cf, double* out) {
+                                                      const double* cf, double* out, std::size_t bstride,
+                                                      std::atomic<int>& g0_cache) {
+  auto at = [&](int q) { return out + static_cast<std::size_t>(q / kSynQB) * bstride + 4 * (q % kSynQB); };
   // Leading blocks none of whose lanes reaches 2^-kJoinExp by kmax (see ana_skip) add
   // nothing to their rings: their sums are zero.
-  int g0 = 0;
-  {
+  // (depends on the rings and m alone: found by the first synthesis, kept in the plan)
+  int g0 = g0_cache.load(std::memory_order_relaxed);
+  if (g0 < 0) {
     int lo = 0, hi = ngroups;
     while (lo < hi) {
       const int mid = (lo + hi) / 2;
@@ -754,9 +814,10 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
         lo = mid + 1;
     }
     g0 = lo;
+    g0_cache.store(g0, std::memory_order_relaxed);
   }
   for (int q = 0; q < W * g0; ++q)
-    for (int f = 0; f < 4; ++f) out[4 * static_cast<std::size_t>(q) + f] = 0.0;
+    for (int f = 0; f < 4; ++f) at(q)[f] = 0.0;
   for (int gi = g0; gi < ngroups; gi += 2) {
     SynState<W> st[2];
     int k[2] = {kmax + 1, kmax + 1};
@@ -783,7 +844,7 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
     for (int b = 0; b < nb; ++b)
       for (int j = 0; j < W; ++j) {
         const int q = W * (gi + b) + j;
-        double* o = out + 4 * static_cast<std::size_t>(q);
+        double* o = at(q);
         o[0] = st[b].ec[j];
         o[1] = st[b].es[j];
         o[2] = x[q] * st[b].dc[j];
@@ -794,15 +855,15 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
 
 ATMOSH_DISPATCH
 static void syn_column4(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
-                        const double* bp, const double* cf, double* out) {
-  syn_column<4>(kmax, ngroups, x, mant, ex, ap, bp, cf, out);
+                        const double* bp, const double* cf, double* out, std::size_t bstride, std::atomic<int>& g0) {
+  syn_column<4>(kmax, ngroups, x, mant, ex, ap, bp, cf, out, bstride, g0);
 }
 #if ATMOSH_HAS_DISPATCH
 ATMOSH_TARGET_AVX512
 #endif
 static void syn_column8(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
-                        const double* bp, const double* cf, double* out) {
-  syn_column<8>(kmax, ngroups, x, mant, ex, ap, bp, cf, out);
+                        const double* bp, const double* cf, double* out, std::size_t bstride, std::atomic<int>& g0) {
+  syn_column<8>(kmax, ngroups, x, mant, ex, ap, bp, cf, out, bstride, g0);
 }
 }  // namespace
 
@@ -812,25 +873,31 @@ int analysis_lanes() { return has_avx512() ? 8 : 4; }
 
 // Offset of the ring sums of column m, block of W ring pairs containing pair q, field f
 // (0..3: E cos, E sin, xO cos, xO sin), lane of q: the sums are stored m-major.
+// Planes of consecutive m lie ring_sum_stride(padded) values apart: 4 padded values and 16
+// more, so that they are not a multiple of 4 kB apart (with padded a power of two they were,
+// and the writes of one block's 4 W values per m, m after m, all fell in the same L1 sets).
+inline std::size_t ring_sum_stride(int padded) { return static_cast<std::size_t>(padded) * 4 + 16; }
 inline std::size_t ring_sum_index(int padded, int W, int m, int q, int f) {
-  return (static_cast<std::size_t>(m) * padded + (q & -W)) * 4 + W * f + (q & (W - 1));
+  return static_cast<std::size_t>(m) * ring_sum_stride(padded) + static_cast<std::size_t>(q & -W) * 4 + W * f + (q & (W - 1));
 }
 
-void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads);
+void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeffs, int threads, bool assign);
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads);
 }  // namespace
 
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
                        const double* fourier, bool symmetric, double* coeffs, int threads) {
   threads = atmosh::resolve_threads(threads);
-  const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
+  const RingPlan rp(bands, nrings, cos_t, sin_t, symmetric, analysis_lanes());
+  const Pairs& pr = rp.pr;
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
-  const int W = analysis_lanes();
+  const int W = rp.W;
 
   // Ring sums regrouped m-major, in blocks of m so that both the ring rows and the m
   // planes stream.
   constexpr int MB = 8;
-  double* const fm = thread_work().fm.get(static_cast<std::size_t>(bands) * padded * 4);
+  double* const fm = thread_work().fm.get(static_cast<std::size_t>(bands) * ring_sum_stride(padded));
   parallel_for_m((bands + MB - 1) / MB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
     {
       const int mb = block * MB;
@@ -854,22 +921,21 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
       }
     }
   });
-  analysis_from_ring_sums(bands, pr, W, fm, coeffs, threads);
+  analysis_from_ring_sums(rp, fm, coeffs, threads, false);
 }
 
 namespace {
 // Legendre sums of the analysis from the ring sums fm (see ring_sum_index); adds the
-// coefficients to coeffs.
-void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm, double* coeffs, int threads) {
-  const auto table = legendre_table(bands);
+// coefficients to coeffs, or (assign) writes them (coeffs need not be initialised).
+void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeffs, int threads, bool assign) {
+  const int bands = rp.bands;
+  const Pairs& pr = rp.pr;
   const auto coefs = coef_table(bands);
   const int padded = static_cast<int>(pr.x.size());
-  const bool wide = W == 8;
+  const bool wide = rp.W == 8;
   ThreadWork& tw = thread_work();
-  const std::size_t nsect = static_cast<std::size_t>(bands) * padded;
-  double* const smant = tw.smant.get(nsect);
-  int* const sexp = tw.sexp.get(nsect);
-  sectorals(bands, pr, *table, smant, sexp);
+  const double* const smant = rp.smant.data();
+  const int* const sexp = rp.sexp.data();
 
   // per-m results: column m at col_offset(m), 2 (bands - m) values
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
@@ -882,7 +948,8 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
     for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
     const std::size_t off = static_cast<std::size_t>(m) * padded;
-    ana_column(kmax, pr.x.data(), smant + off, sexp + off, fm + off * 4, cf, work, sums);
+    ana_column(kmax, pr.x.data(), smant + off, sexp + off, fm + static_cast<std::size_t>(m) * ring_sum_stride(padded), cf,
+               work, sums, rp.skip_a[m]);
     // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
     // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
     double* out = col + col_offset(m);
@@ -905,17 +972,27 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
     parallel_for_m(bands, threads, [&] { return AnaScratch<8>(padded, bands); }, columns);
   else
     parallel_for_m(bands, threads, [&] { return AnaScratch<4>(padded, bands); }, columns);
-  // columns into the coefficient vector, degree rows in order (the columns' current
-  // lines, one per m <= l, stay in L2)
-  // (col_offset(m) + 2 (l - m) grows by 2 (bands - m) from m - 1 to m)
-  for (int l = 0; l < bands; ++l) {
-    double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-    const double* c = col + 2 * static_cast<std::size_t>(l);
-    row[0] += c[0];
-    for (int m = 1; m <= l; ++m) {
-      c += 2 * static_cast<std::size_t>(bands - m);
-      row[m] += c[0];
-      row[-m] += c[1];
+  // columns into the coefficient vector in tiles of 8 degrees x 8 orders (a tile reads 8
+  // column runs and writes 16 row runs of 8 values; degree rows one after the other, with
+  // one line per column in flight, were latency bound: a tenth of an analysis at L = 256)
+  constexpr int T = 8;
+  for (int l0 = 0; l0 < bands; l0 += T) {
+    const int l1 = std::min(bands, l0 + T);
+    for (int m0 = 0; m0 < l1; m0 += T) {
+      const int m1 = std::min(l1, m0 + T);
+      for (int m = m0; m < m1; ++m) {
+        const double* c = col + col_offset(m);
+        for (int l = std::max(l0, m); l < l1; ++l) {
+          double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+          if (assign) {
+            row[m] = c[2 * (l - m)];
+            if (m > 0) row[-m] = c[2 * (l - m) + 1];
+          } else {
+            row[m] += c[2 * (l - m)];
+            if (m > 0) row[-m] += c[2 * (l - m) + 1];
+          }
+        }
+      }
     }
   }
 }
@@ -923,49 +1000,53 @@ void analysis_from_ring_sums(int bands, const Pairs& pr, int W, const double* fm
 
 void legendre_synthesis(int bands, int nrings, const double* cos_t, const double* sin_t,
                         const double* coeffs, bool symmetric, double* fourier, int threads) {
-  threads = atmosh::resolve_threads(threads);
-  const auto table = legendre_table(bands);
+  const RingPlan rp(bands, nrings, cos_t, sin_t, symmetric, analysis_lanes());
+  synthesis_from_plan(rp, coeffs, fourier, atmosh::resolve_threads(threads));
+}
+
+namespace {
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads) {
+  const int bands = rp.bands;
   const auto coefs = coef_table(bands);
-  const Pairs pr = make_pairs(nrings, cos_t, sin_t, symmetric);
+  const Pairs& pr = rp.pr;
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
   ThreadWork& tw = thread_work();
-  const std::size_t nsect = static_cast<std::size_t>(bands) * padded;
-  double* const smant = tw.smant.get(nsect);
-  int* const sexp = tw.sexp.get(nsect);
-  sectorals(bands, pr, *table, smant, sexp);
-  const int W = analysis_lanes();
+  const double* const smant = rp.smant.data();
+  const int* const sexp = rp.sexp.data();
+  const int W = rp.W;
   // Coefficients regrouped m-major (column m: c_l,m and c_l,-m for l = m..bands-1 at
   // col + col_offset(m)); the per-column sums are kept in blocks of 16 ring pairs (sm,
   // 4 values per pair, m after m within a block) and turned into ring rows at the end. (Strided reads and writes
   // of single values per (l, m) and (ring, m) cost a fifth of a synthesis at L = 1024.)
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
   double* const col = tw.col.get(col_offset(bands));
-  constexpr int QB = 16;  // ring pairs per block of the sums
+  constexpr int QB = kSynQB;  // ring pairs per block of the sums
   const int nqb = (padded + QB - 1) / QB;
   double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
-  // degree rows read once, in order; the columns' current lines (one per m <= l, 64 kB at
-  // L = 1024) stay in L2
-  // (col_offset(m) + 2 (l - m) grows by 2 (bands - m) from m - 1 to m)
-  for (int l = 0; l < bands; ++l) {
-    const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-    double* c = col + 2 * static_cast<std::size_t>(l);
-    c[0] = row[0];
-    c[1] = 0.0;
-    for (int m = 1; m <= l; ++m) {
-      c += 2 * static_cast<std::size_t>(bands - m);
-      c[0] = row[m];
-      c[1] = row[-m];
+  // degree rows into columns in tiles of 8 degrees x 8 orders (as the analysis)
+  constexpr int T = 8;
+  for (int l0 = 0; l0 < bands; l0 += T) {
+    const int l1 = std::min(bands, l0 + T);
+    for (int m0 = 0; m0 < l1; m0 += T) {
+      const int m1 = std::min(l1, m0 + T);
+      for (int m = m0; m < m1; ++m) {
+        double* c = col + col_offset(m);
+        for (int l = std::max(l0, m); l < l1; ++l) {
+          const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+          c[2 * (l - m)] = row[m];
+          c[2 * (l - m) + 1] = m > 0 ? row[-m] : 0.0;
+        }
+      }
     }
   }
 
   struct Scratch {
     AnaCoef cf;
-    std::vector<double> sc, sums;
+    std::vector<double> sc;
   };
   auto column = [&](Scratch& scratch, int m) {
     std::vector<double>& sc = scratch.sc;
-    std::vector<double>& sums = scratch.sums;
     const int kmax = (bands - 1 - m) / 2;
     if (!coefs) ana_coefficients(bands, m, scratch.cf);
     const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
@@ -988,24 +1069,19 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
       }
     }
     const std::size_t off = static_cast<std::size_t>(m) * padded;
-    if (W == 8)
-      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp,
-                  sc.data(), sums.data());
-    else
-      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp,
-                  sc.data(), sums.data());
     // block b of the sums: sm[((b * bands + m) * QB + j) * 4 + f] for pair b QB + j
-    for (int b = 0; b < nqb; ++b)
-      std::memcpy(sm + (static_cast<std::size_t>(b) * bands + m) * QB * 4, sums.data() + static_cast<std::size_t>(b) * QB * 4,
-                  sizeof(double) * 4 * std::min(QB, padded - b * QB));
+    double* const out = sm + static_cast<std::size_t>(m) * QB * 4;
+    const std::size_t bstride = static_cast<std::size_t>(bands) * QB * 4;
+    if (W == 8)
+      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp, sc.data(), out, bstride,
+                  rp.skip_s[m]);
+    else
+      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp, sc.data(), out, bstride,
+                  rp.skip_s[m]);
   };
   parallel_for_m(
       bands, threads,
-      [&] {
-        return Scratch{{}, std::vector<double>(4 * (static_cast<std::size_t>(bands) + 4)),
-                       std::vector<double>(4 * static_cast<std::size_t>(padded))};
-      },
-      column);
+      [&] { return Scratch{{}, std::vector<double>(4 * (static_cast<std::size_t>(bands) + 4))}; }, column);
   // ring rows from the sums, one block of 16 ring pairs at a time (its values are
   // contiguous, m after m; the 32 ring rows fill in step)
   parallel_for_m((np + QB - 1) / QB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
@@ -1019,21 +1095,36 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
         double* fn = fourier + static_cast<std::size_t>(pr.north[q]) * bands * 2;
         double* fs = pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * bands * 2 : nullptr;
         const double* v0 = sm + static_cast<std::size_t>(block) * bands * QB * 4 + 4 * static_cast<std::size_t>(q - q0);
-        for (int m = m0; m < m1; ++m) {
-          const double scale = m > 0 ? std::numbers::sqrt2 : 1.0;
-          const double sin_on = m > 0 ? 1.0 : 0.0;
-          const double* v = v0 + static_cast<std::size_t>(m) * QB * 4;
-          fn[2 * m] = scale * (v[0] + v[2]);
-          fn[2 * m + 1] = sin_on * scale * (v[1] + v[3]);
+        int mb = m0;
+        if (mb == 0) {  // m = 0: no sine part, no sqrt2
+          fn[0] = v0[0] + v0[2];
+          fn[1] = 0.0;
           if (fs) {
-            fs[2 * m] = scale * (v[0] - v[2]);
-            fs[2 * m + 1] = sin_on * scale * (v[1] - v[3]);
+            fs[0] = v0[0] - v0[2];
+            fs[1] = 0.0;
+          }
+          mb = 1;
+        }
+        // (E cos, E sin) +- (O cos, O sin), times sqrt2: two values per order at once
+        typedef double V2 __attribute__((vector_size(16)));
+        const V2 s2 = V2{} + std::numbers::sqrt2;
+        for (int m = mb; m < m1; ++m) {
+          const double* v = v0 + static_cast<std::size_t>(m) * QB * 4;
+          V2 e, o;
+          std::memcpy(&e, v, sizeof e);
+          std::memcpy(&o, v + 2, sizeof o);
+          const V2 pn = s2 * (e + o);
+          std::memcpy(fn + 2 * m, &pn, sizeof pn);
+          if (fs) {
+            const V2 ps = s2 * (e - o);
+            std::memcpy(fs + 2 * m, &ps, sizeof ps);
           }
         }
       }
     }
   });
 }
+}  // namespace
 
 // Radix-2 butterflies of one stage (half = len / 2 >= 4) with the stage's twiddles
 // contiguous (wr, wi: e^{-2 pi i k / len}, k < half), so that the k loop vectorises.
@@ -1125,6 +1216,7 @@ struct FftPlans {
   FftMode mode = FftMode::real;
   int m = 0;                                   // complex FFT size: n (pair) or M (chirp)
   fftw_plan r2c = nullptr, c2r = nullptr;      // size n, real
+  fftw_plan r2c_rows[2] = {nullptr, nullptr};  // 4 / 8 consecutive rings at once (real mode, even n)
   fftw_plan fwd = nullptr, bwd = nullptr;      // size m, complex, in place
   std::vector<double> chirp;                   // w_t = e^{i pi t^2 / n}, t < n (re, im)
   std::vector<double> kf, kb;                  // FFT of the forward / inverse kernels, / M
@@ -1141,7 +1233,7 @@ struct PlanCache {
   ~PlanCache() {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
     for (auto& [n, p] : plans)
-      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd})
+      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.r2c_rows[0], p.r2c_rows[1]})
         if (q) fftw_destroy_plan(q);
     plans.clear();
   }
@@ -1182,6 +1274,21 @@ const FftPlans* fft_plans(int n) {
   fftw_free(r);
   fftw_free(c);
   bool ok = p.r2c && p.c2r;
+  if (ok && p.mode == FftMode::real && n % 2 == 0) {
+    // several rings per FFTW call (FFTW then vectorises across them): ~20 % less time per
+    // ring than one call per ring at n = 512 (AVX2, FFTW 3.3.10); still FFTW_ESTIMATE, so
+    // the plan, and the bits of the results, do not depend on timing
+    const int nc = n / 2 + 1;
+    for (int i = 0; i < 2; ++i) {
+      const int rows = i == 0 ? 4 : 8;
+      double* rr = fftw_alloc_real(static_cast<std::size_t>(n) * rows);
+      fftw_complex* cc = fftw_alloc_complex(static_cast<std::size_t>(nc) * rows);
+      p.r2c_rows[i] = fftw_plan_many_dft_r2c(1, &n, rows, rr, nullptr, 1, n, cc, nullptr, 1, nc,
+                                             FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+      fftw_free(rr);
+      fftw_free(cc);
+    }
+  }
   if (p.mode != FftMode::real) {
     int m = n;
     if (p.mode == FftMode::chirp) {
@@ -1313,7 +1420,36 @@ void RealFft::forward(const T* f, int count, double* out) {
   emit_orders(spec_, n_, count, out);
 }
 template void RealFft::forward<double>(const double*, int, double*);
+
+bool RealFft::forward_rows(const double* f, int rows, double* spectra) {
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  const fftw_plan plan = rows == 4 ? p.r2c_rows[0] : rows == 8 ? p.r2c_rows[1] : nullptr;
+  if (!plan || fftw_alignment_of(const_cast<double*>(f)) != 0 || fftw_alignment_of(spectra) != 0) return false;
+  fftw_execute_dft_r2c(plan, const_cast<double*>(f), reinterpret_cast<fftw_complex*>(spectra));
+  return true;
+}
 template void RealFft::forward<float>(const float*, int, double*);
+
+void RealFft::forward2_spectra(const double* f1, const double* f2, int count, double* s1, double* s2) {
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  const int cm = std::min(count, n_ / 2 + 1);
+  if (p.mode == FftMode::real) {
+    for (int i = 0; i < 2; ++i) {
+      const double* f = i == 0 ? f1 : f2;
+      const double* in = real_;
+      if (fftw_alignment_of(const_cast<double*>(f)) == fftw_alignment_of(real_))
+        in = f;
+      else
+        std::memcpy(real_, f, sizeof(double) * n_);
+      fftw_execute_dft_r2c(p.r2c, const_cast<double*>(in), reinterpret_cast<fftw_complex*>(spec_));
+      std::memcpy(i == 0 ? s1 : s2, spec_, sizeof(double) * 2 * cm);
+    }
+    return;
+  }
+  forward2(f1, f2, count, nullptr, nullptr);  // leaves the spectra in spec_, spec2_
+  std::memcpy(s1, spec_, sizeof(double) * 2 * cm);
+  std::memcpy(s2, spec2_, sizeof(double) * 2 * cm);
+}
 
 void RealFft::forward2(const double* f1, const double* f2, int count, double* out1, double* out2) {
   const FftPlans& p = *static_cast<const FftPlans*>(plans_);
@@ -1362,6 +1498,7 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
     spec2_[2 * k] = 0.5 * (xp[1] + xm[1]);
     spec2_[2 * k + 1] = -0.5 * (xp[0] - xm[0]);
   }
+  if (!out1) return;  // forward2_spectra
   emit_orders(spec_, n, count, out1);
   emit_orders(spec2_, n, count, out2);
 }
@@ -1471,6 +1608,81 @@ void pair_sums(int bands, const double* fn, const double* fs, double wn, double 
 }  // namespace
 
 namespace {
+// The weighted ring sums of a block of W ring pairs straight from the rings' raw spectra
+// (X_k = a_k - i b_k, re/im interleaved, rows sstride values apart; lane k's north ring
+// at north + k sstride, its south ring at south + (W - 1 - k) sstride) into the m-major
+// layout: o[m * mstride + W f + k] (f: E cos, E sin, xO cos, xO sin). The same operations,
+// rounded the same way, as emit_orders + pair_sums + the regrouping (no fused multiply-add).
+ATMOSH_DISPATCH_NO_FMA
+void spectra_to_ring_sums(int L, int W, const double* north, const double* south, std::size_t sstride,
+                          const double* wn, const double* ws, const double* x, double* o, std::size_t mstride) {
+  int m0 = 0;
+  if (W == 4) {
+    // two orders at a time: the four lanes' (re, im) of orders m, m + 1 transposed in
+    // registers, then the same products and sums elementwise over the lanes
+    typedef double V __attribute__((vector_size(32)));
+    auto load = [](const double* p) {
+      V v;
+      std::memcpy(&v, p, sizeof v);
+      return v;
+    };
+    auto store = [](double* p, V v) { std::memcpy(p, &v, sizeof v); };
+    // r0..r3: (re_m, im_m, re_m+1, im_m+1) of lanes 0..3 -> re_m, im_m, re_m+1, im_m+1 over lanes
+    auto transpose = [](V r0, V r1, V r2, V r3, V& a, V& b, V& c, V& d) {
+      const V t0 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6), t1 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7);
+      const V t2 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6), t3 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
+      a = __builtin_shufflevector(t0, t2, 0, 1, 4, 5);
+      b = __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
+      c = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+      d = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
+    };
+    const V vwn = {wn[0], wn[1], wn[2], wn[3]}, vws = {ws[0], ws[1], ws[2], ws[3]}, vx = {x[0], x[1], x[2], x[3]};
+    const V zero = V{};
+    // lanes' south rows are in reverse order
+    const double* N0 = north;
+    const double* N1 = north + sstride;
+    const double* N2 = north + 2 * sstride;
+    const double* N3 = north + 3 * sstride;
+    const double* S0 = south + 3 * sstride;
+    const double* S1 = south + 2 * sstride;
+    const double* S2 = south + sstride;
+    const double* S3 = south;
+    auto emit = [&](double* om, V nre, V nim, V sre, V sim, double sq, bool sin_on) {
+      const V wnm = vwn * sq, wsm = vws * sq;
+      const V nc = nre * wnm, ns = -nim * (sin_on ? wnm : zero);
+      const V sc = sre * wsm, ss = -sim * (sin_on ? wsm : zero);
+      store(om, nc + sc);
+      store(om + 4, ns + ss);
+      store(om + 8, vx * (nc - sc));
+      store(om + 12, vx * (ns - ss));
+    };
+    for (; m0 + 2 <= L; m0 += 2) {
+      const std::size_t j = 2 * static_cast<std::size_t>(m0);
+      V nre0, nim0, nre1, nim1, sre0, sim0, sre1, sim1;
+      transpose(load(N0 + j), load(N1 + j), load(N2 + j), load(N3 + j), nre0, nim0, nre1, nim1);
+      transpose(load(S0 + j), load(S1 + j), load(S2 + j), load(S3 + j), sre0, sim0, sre1, sim1);
+      double* om = o + static_cast<std::size_t>(m0) * mstride;
+      emit(om, nre0, nim0, sre0, sim0, m0 > 0 ? std::numbers::sqrt2 : 1.0, m0 > 0);
+      emit(om + mstride, nre1, nim1, sre1, sim1, std::numbers::sqrt2, true);
+    }
+  }
+  for (int m = m0; m < L; ++m) {
+    const double sq = m > 0 ? std::numbers::sqrt2 : 1.0;
+    double* om = o + static_cast<std::size_t>(m) * mstride;
+    for (int k = 0; k < W; ++k) {
+      const double* N = north + k * sstride + 2 * static_cast<std::size_t>(m);
+      const double* S = south + (W - 1 - k) * sstride + 2 * static_cast<std::size_t>(m);
+      const double wnm = wn[k] * sq, wsm = ws[k] * sq;
+      const double nc = N[0] * wnm, ns = -N[1] * (m > 0 ? wnm : 0.0);
+      const double sc = S[0] * wsm, ss = -S[1] * (m > 0 ? wsm : 0.0);
+      om[k] = nc + sc;
+      om[W + k] = ns + ss;
+      om[2 * W + k] = x[k] * (nc - sc);
+      om[3 * W + k] = x[k] * (ns - ss);
+    }
+  }
+}
+
 // The ring sums of a block of 4 ring pairs from lane rows to the m-major layout:
 // out[m * mstride + 4 f + k] = lanes[(4 k + f) * ls + m], four orders at a time by 4x4
 // transposes in registers (the scalar gather read 16 rows at once, a tenth of an analysis
@@ -1526,6 +1738,7 @@ GaussGrid gauss_grid(int bands, int nlat, int nphi) {
     g.sin_t[i] = std::sqrt((1.0 - x) * (1.0 + x));
     g.weights[i] = gl.weights[nlat - 1 - i];
   }
+  g.plan = std::make_shared<const detail::GridPlan>(g);
   return g;
 }
 
@@ -1558,31 +1771,73 @@ GaussGrid regular_grid(int bands, LatitudeRule rule, int nlat, int nphi) {
     g.cos_t[nlat - 1 - i] = -g.cos_t[i];
     g.sin_t[nlat - 1 - i] = g.sin_t[i];
   }
+  g.plan = std::make_shared<const detail::GridPlan>(g);
   return g;
 }
 
 std::vector<double> analyse(const GaussGrid& g, const double* values, int threads) {
   if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
     throw InputError("analyse: grid is not initialised (use gauss_grid)");
+  std::vector<double> c(sh_count(g.bands));
+  analyse(g, values, c.data(), threads);
+  return c;
+}
+
+void analyse(const GaussGrid& g, const double* values, double* coeffs, int threads) {
+  if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
+    throw InputError("analyse: grid is not initialised (use gauss_grid)");
   threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
   // Ring sums straight into the m-major layout of the Legendre stage: one block of
   // ring pairs at a time (its planes stay in cache while its lanes are filled).
-  const detail::Pairs pr = detail::make_pairs(g.nlat, g.cos_t.data(), g.sin_t.data(), true);
+  const auto plan = detail::plan_for(g);
+  const detail::Pairs& pr = plan->rings.pr;
   const int padded = static_cast<int>(pr.x.size()), np = static_cast<int>(pr.north.size());
-  const int W = detail::analysis_lanes();
-  double* const fm = detail::thread_work().fm.get(static_cast<std::size_t>(L) * padded * 4);
+  const int W = plan->rings.W;
+  double* const fm = detail::thread_work().fm.get(static_cast<std::size_t>(L) * detail::ring_sum_stride(padded));
   const double dphi = 2.0 * std::numbers::pi / n;
   // row stride of the lane buffers: off a multiple of 4 kB (the 4 W rows are read in step)
   const std::size_t LS = static_cast<std::size_t>(L) + 8;
   // One block of W ring pairs at a time from the shared counter; each worker keeps its
   // FFT plan and lane buffers.
+  struct FftwFree {
+    void operator()(double* p) const { fftw_free(p); }
+  };
   struct Scratch {
     detail::RealFft fft;
     std::vector<double> fn, fs, lanes;  // lanes: [lane][field][m]
+    std::unique_ptr<double, FftwFree> spectra;  // 2 W rings' spectra (forward_rows)
   };
+  const std::size_t sstride = 2 * (static_cast<std::size_t>(n) / 2 + 1);
   auto block = [&](Scratch& scratch, int blk) {
     detail::RealFft& fft = scratch.fft;
+    // whole blocks of distinct north and south rings: W north rows and W south rows, each
+    // consecutive, through one FFTW call each and straight into the ring sums
+    const int q0 = blk * W, qe = q0 + W - 1;
+    if (qe < np && pr.south[qe] > pr.north[qe] && pr.north[q0] == q0 && 2 * L <= n + 2) {
+      double* const sn = scratch.spectra.get();
+      double* const ss = sn + W * sstride;
+      const int s_first = pr.south[qe];  // rows s_first .. s_first + W - 1: lanes W - 1 .. 0
+      bool done = fft.forward_rows(values + static_cast<std::size_t>(q0) * n, W, sn) &&
+                  fft.forward_rows(values + static_cast<std::size_t>(s_first) * n, W, ss);
+      if (!done) {  // other sizes: ring pair by ring pair (paired or chirp FFTs)
+        for (int k = 0; k < W; ++k)
+          fft.forward2_spectra(values + static_cast<std::size_t>(pr.north[q0 + k]) * n,
+                               values + static_cast<std::size_t>(pr.south[q0 + k]) * n, L, sn + k * sstride,
+                               ss + (W - 1 - k) * sstride);
+        done = true;
+      }
+      if (done) {
+        double wn[8], ws[8];
+        for (int k = 0; k < W; ++k) {
+          wn[k] = g.weights[pr.north[q0 + k]] * dphi;
+          ws[k] = g.weights[pr.south[q0 + k]] * dphi;
+        }
+        spectra_to_ring_sums(L, W, sn, ss, sstride, wn, ws, pr.x.data() + q0,
+                             fm + detail::ring_sum_index(padded, W, 0, q0, 0), detail::ring_sum_stride(padded));
+        return;
+      }
+    }
     std::vector<double>& fn = scratch.fn;
     std::vector<double>& fs = scratch.fs;
     std::vector<double>& lanes = scratch.lanes;
@@ -1606,38 +1861,46 @@ std::vector<double> analyse(const GaussGrid& g, const double* values, int thread
     // one contiguous run of 4 W values per m
     double* const o = fm + detail::ring_sum_index(padded, W, 0, blk * W, 0);
     if (W == 4) {
-      lanes_to_ring_sums4(L, lanes.data(), LS, o, static_cast<std::size_t>(padded) * 4);
+      lanes_to_ring_sums4(L, lanes.data(), LS, o, detail::ring_sum_stride(padded));
     } else {
       for (int m = 0; m < L; ++m)
         for (int f = 0; f < 4; ++f)
           for (int k = 0; k < W; ++k)
-            o[static_cast<std::size_t>(m) * padded * 4 + f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * LS + m];
+            o[static_cast<std::size_t>(m) * detail::ring_sum_stride(padded) + f * W + k] = lanes[(static_cast<std::size_t>(k) * 4 + f) * LS + m];
     }
   };
   atmosh::parallel_for_ranges_local(
       static_cast<std::size_t>(padded / W), 1, threads,
       [&] {
-        return Scratch{detail::RealFft(n), std::vector<double>(2 * static_cast<std::size_t>(L)),
-                       std::vector<double>(2 * static_cast<std::size_t>(L)),
-                       std::vector<double>(static_cast<std::size_t>(W) * 4 * LS)};
+        Scratch s{detail::RealFft(n), std::vector<double>(2 * static_cast<std::size_t>(L)),
+                  std::vector<double>(2 * static_cast<std::size_t>(L)),
+                  std::vector<double>(static_cast<std::size_t>(W) * 4 * LS),
+                  std::unique_ptr<double, FftwFree>(reinterpret_cast<double*>(fftw_alloc_complex(W * sstride)))};
+        if (!s.spectra) throw std::bad_alloc();
+        return s;
       },
       [&](Scratch& scratch, std::size_t b, std::size_t e) {
         for (std::size_t blk = b; blk < e; ++blk) block(scratch, static_cast<int>(blk));
       });
-  std::vector<double> c(sh_count(L), 0.0);
-  detail::analysis_from_ring_sums(L, pr, W, fm, c.data(), threads);
-  return c;
+  detail::analysis_from_ring_sums(plan->rings, fm, coeffs, threads, true);
 }
 
 std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int threads) {
+  if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
+    throw InputError("synthesise: grid is not initialised (use gauss_grid)");
+  std::vector<double> out(static_cast<std::size_t>(g.nlat) * g.nphi);
+  synthesise(g, coeffs, out.data(), threads);
+  return out;
+}
+
+void synthesise(const GaussGrid& g, const double* coeffs, double* values, int threads) {
   if (g.bands < 1 || g.nlat < 1 || g.nphi < 1 || static_cast<int>(g.cos_t.size()) != g.nlat)
     throw InputError("synthesise: grid is not initialised (use gauss_grid)");
   threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
   // every ring and order of the work array is written by legendre_synthesis
   double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
-  detail::legendre_synthesis(L, g.nlat, g.cos_t.data(), g.sin_t.data(), coeffs, true, four, threads);
-  std::vector<double> out(static_cast<std::size_t>(g.nlat) * n, 0.0);
+  detail::synthesis_from_plan(detail::plan_for(g)->rings, coeffs, four, threads);
   // Two rings at a time from the shared counter; each worker keeps its FFT plan.
   const int npairs = (g.nlat + 1) / 2;
   atmosh::parallel_for_ranges_local(
@@ -1646,13 +1909,11 @@ std::vector<double> synthesise(const GaussGrid& g, const double* coeffs, int thr
         for (std::size_t q = b; q < e; ++q) {
           const std::size_t r = 2 * q;
           if (static_cast<int>(r) + 1 < g.nlat)
-            fft.inverse2(four + r * L * 2, four + (r + 1) * L * 2, L, out.data() + r * n,
-                         out.data() + (r + 1) * n);
+            fft.inverse2(four + r * L * 2, four + (r + 1) * L * 2, L, values + r * n, values + (r + 1) * n);
           else
-            fft.inverse(four + r * L * 2, L, out.data() + r * n);
+            fft.inverse(four + r * L * 2, L, values + r * n);
         }
       });
-  return out;
 }
 
 }  // namespace atmosh::sh

@@ -36,8 +36,17 @@ class RealFft {
   /// out[2m+1] for m < count (any count: orders above n/2 are the aliases).
   template <class T>
   void forward(const T* f, int count, double* out);
+  /// The raw spectra X_k = sum_j f_j e^{-2 pi i j k / n}, k <= n/2 (re, im interleaved, row
+  /// stride n/2 + 1 complex values) of `rows` (4 or 8) consecutive rings (stride n) by one
+  /// FFTW call of a plan over all of them, made once per size. Returns false, having done
+  /// nothing, where no such plan applies (odd n, sizes other than 2^a 3^b 5^c, rows not
+  /// aligned as FFTW's own arrays).
+  bool forward_rows(const double* f, int rows, double* spectra);
   /// forward() of two rings (out1 from f1, out2 from f2).
   void forward2(const double* f1, const double* f2, int count, double* out1, double* out2);
+  /// The raw spectra X_k (k < count <= n/2 + 1, re/im interleaved, as forward_rows) of two
+  /// rings by the method of forward2.
+  void forward2_spectra(const double* f1, const double* f2, int count, double* s1, double* s2);
   /// v_j = sum_{m < count} (C_m cos(2 pi j m / n) + S_m sin(2 pi j m / n)) from cs[2m], cs[2m+1];
   /// needs 2 count - 1 <= n.
   void inverse(const double* cs, int count, double* v);

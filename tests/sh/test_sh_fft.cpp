@@ -187,3 +187,86 @@ TEST(Transform, UserFftwPlansAndWisdomSurviveLibshTeardown) {
       },
       ::testing::ExitedWithCode(0), "");
 }
+
+TEST(Transform, RingBlockFftsMatchDirectSums) {
+  // forward_rows (4 or 8 consecutive rings per FFTW call, the path of the analysis for even
+  // 2^a 3^b 5^c sizes) against direct sums in long double; rows off FFTW's alignment and
+  // sizes without such plans are refused.
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int n : {16, 96}) {
+    detail::RealFft fft(n);
+    const int nc = n / 2 + 1;
+    for (int rows : {4, 8}) {
+      double* f = fftw_alloc_real(static_cast<std::size_t>(n) * rows + 1);
+      double* spec = fftw_alloc_real(2 * static_cast<std::size_t>(nc) * rows);
+      for (int i = 0; i < n * rows; ++i) f[i] = U(rng);
+      const std::vector<double> f0(f, f + n * rows);
+      ASSERT_TRUE(fft.forward_rows(f, rows, spec));
+      for (int r = 0; r < rows; ++r)
+        for (int k = 0; k < nc; ++k) {
+          std::complex<long double> s = 0;
+          for (int j = 0; j < n; ++j) s += std::polar<long double>(f0[r * n + j], -angle(k, j, n));
+          ASSERT_NEAR(spec[2 * (r * nc + k)], static_cast<double>(s.real()), 1e-14 * n) << n << " " << r << " " << k;
+          ASSERT_NEAR(spec[2 * (r * nc + k) + 1], static_cast<double>(s.imag()), 1e-14 * n) << n << " " << r << " " << k;
+        }
+      for (int i = 0; i < n * rows; ++i) ASSERT_EQ(f[i], f0[i]) << "input changed";
+      EXPECT_FALSE(fft.forward_rows(f + 1, rows, spec)) << "a row 8 bytes off FFTW's alignment";
+      EXPECT_FALSE(fft.forward_rows(f, 3, spec)) << "3 rows: no plan";
+      fftw_free(f);
+      fftw_free(spec);
+    }
+  }
+  // odd; 2 x 7 (paired complex FFTs); 2 x 23 (chirp)
+  for (int n : {15, 14, 46}) {
+    detail::RealFft fft(n);
+    double* f = fftw_alloc_real(static_cast<std::size_t>(n) * 4);
+    double* spec = fftw_alloc_real(2 * (static_cast<std::size_t>(n) / 2 + 1) * 4);
+    for (int i = 0; i < 4 * n; ++i) f[i] = 0.0;
+    EXPECT_FALSE(fft.forward_rows(f, 4, spec)) << n;
+    fftw_free(f);
+    fftw_free(spec);
+  }
+}
+
+TEST(Transform, CallerArraysAndTheGridsPlanGiveTheSameBits) {
+  // analyse / synthesise into caller-provided arrays give the bits of the returning forms;
+  // a grid whose rings were changed after gauss_grid no longer uses the plan made with it
+  // (results as from a grid without a plan), and a copy shares its plan.
+  std::mt19937_64 rng(47);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int nphi : {66, 65}) {
+    const GaussGrid g = gauss_grid(33, 0, nphi);
+    ASSERT_TRUE(g.plan);
+    std::vector<double> c(33 * 33);
+    for (auto& v : c) v = U(rng);
+    const auto f = synthesise(g, c.data());
+    std::vector<double> f2(f.size(), std::nan("")), c2(c.size(), std::nan(""));
+    synthesise(g, c.data(), f2.data());
+    analyse(g, f.data(), c2.data());
+    const auto a = analyse(g, f.data());
+    for (std::size_t i = 0; i < f.size(); ++i) ASSERT_EQ(f[i], f2[i]) << i;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      ASSERT_EQ(a[i], c2[i]) << i;
+      ASSERT_NEAR(a[i], c[i], 1e-13) << i;
+    }
+    GaussGrid moved = g;  // shares the plan; then its rings move
+    EXPECT_EQ(moved.plan, g.plan);
+    for (int i = 0; i < moved.nlat; ++i) {
+      const double t = std::acos(moved.cos_t[i]) * 0.999;
+      moved.cos_t[i] = std::cos(t);
+      moved.sin_t[i] = std::sin(t);
+    }
+    GaussGrid bare = moved;
+    bare.plan.reset();
+    const auto am = analyse(moved, f.data()), ab = analyse(bare, f.data());
+    const auto fm = synthesise(moved, c.data()), fb = synthesise(bare, c.data());
+    double diff = 0;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      ASSERT_EQ(am[i], ab[i]) << i;
+      diff = std::max(diff, std::abs(am[i] - a[i]));
+    }
+    for (std::size_t i = 0; i < f.size(); ++i) ASSERT_EQ(fm[i], fb[i]) << i;
+    EXPECT_GT(diff, 1e-6) << "the moved rings gave the original grid's coefficients";
+  }
+}

@@ -29,9 +29,14 @@
 // samples times sr^(1/2) (integral f Y dOmega).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 namespace atmosh::sh {
+
+namespace detail {
+struct GridPlan;
+}
 
 /// Rule in latitude of a grid: Gauss–Legendre nodes, equiangular pixel-centre rings
 /// t_i = (i + 1/2) pi / nlat with Fejér's first rule, or equiangular rings with both poles
@@ -47,6 +52,11 @@ struct GaussGrid {
   std::vector<double> sin_t;    ///< per ring, >= 0
   std::vector<double> weights;  ///< Gauss–Legendre weight per ring (sum 2)
   double phi(int j) const;      ///< longitude of column j, radians
+  /// Set-up of the transforms made once with the grid by gauss_grid / regular_grid and shared
+  /// by copies (ring pairs, sectoral start values of every order and ring, polar skip counts):
+  /// used only while it matches the fields above (compared on every call), otherwise made
+  /// again per call.
+  std::shared_ptr<const detail::GridPlan> plan;
 };
 
 /// Grid for `bands` bands; nlat = 0 / nphi = 0 pick the defaults above.
@@ -66,5 +76,12 @@ GaussGrid regular_grid(int bands, LatitudeRule rule, int nlat = 0, int nphi = 0)
 std::vector<double> analyse(const GaussGrid& grid, const double* values, int threads = 1);
 /// Samples (nlat*nphi) of a coefficient vector (bands^2) on the grid.
 std::vector<double> synthesise(const GaussGrid& grid, const double* coeffs, int threads = 1);
+/// The same into caller-provided arrays (bands^2 coefficients / nlat*nphi samples; every
+/// value written, none read, so the array need not be initialised; it must not overlap the
+/// input). The result is neither allocated nor cleared (the large work arrays are kept per
+/// calling thread; each worker's scratch arrays, ~0.4 L kB, are still made per call).
+/// Same results, bit for bit, as the forms above.
+void analyse(const GaussGrid& grid, const double* values, double* coeffs, int threads = 1);
+void synthesise(const GaussGrid& grid, const double* coeffs, double* values, int threads = 1);
 
 }  // namespace atmosh::sh
