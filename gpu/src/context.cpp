@@ -5,6 +5,8 @@
 #include <GL/gl.h>
 
 #include <cstring>
+#include <map>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -42,12 +44,30 @@ bool has_ext(const char* list, const char* ext) {
   return false;
 }
 
+// EGL hands every Context of a device the same display, and eglTerminate ends every
+// context on it at once: a display is terminated only when no Context holds it (the
+// count of the Contexts made on it and not yet destroyed).
+std::mutex& display_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::map<EGLDisplay, int>& display_users() {
+  static std::map<EGLDisplay, int> users;
+  return users;
+}
+// Terminates `dpy` unless a living Context uses it (display_mutex held).
+void release_display(EGLDisplay dpy) {
+  const auto it = display_users().find(dpy);
+  if (it == display_users().end() || it->second == 0) eglTerminate(dpy);
+}
+
 bool try_display(EGLDisplay dpy, const char* platform, Context::Impl& out) {
   if (dpy == EGL_NO_DISPLAY) return false;
+  const std::lock_guard<std::mutex> lock(display_mutex());
   EGLint major = 0, minor = 0;
   if (!eglInitialize(dpy, &major, &minor)) return false;
   if (!eglBindAPI(EGL_OPENGL_API)) {
-    eglTerminate(dpy);
+    release_display(dpy);
     return false;
   }
   const EGLint cfg_attr[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
@@ -56,7 +76,7 @@ bool try_display(EGLDisplay dpy, const char* platform, Context::Impl& out) {
   const bool no_config = has_ext(eglQueryString(dpy, EGL_EXTENSIONS), "EGL_KHR_no_config_context");
   if (!eglChooseConfig(dpy, cfg_attr, &cfg, 1, &ncfg) || ncfg < 1) {
     if (!no_config) {
-      eglTerminate(dpy);
+      release_display(dpy);
       return false;
     }
     cfg = nullptr;  // EGL_NO_CONFIG_KHR
@@ -72,6 +92,7 @@ bool try_display(EGLDisplay dpy, const char* platform, Context::Impl& out) {
     }
     out.display = dpy;
     out.context = ctx;
+    ++display_users()[dpy];
     auto str = [](GLenum e) {
       const auto* s = reinterpret_cast<const char*>(glGetString(e));
       return std::string(s ? s : "");
@@ -89,7 +110,7 @@ bool try_display(EGLDisplay dpy, const char* platform, Context::Impl& out) {
                         r.find("swrast") != std::string::npos;
     return true;
   }
-  eglTerminate(dpy);
+  release_display(dpy);
   return false;
 }
 
@@ -154,9 +175,11 @@ Context::Context() : impl_(std::make_unique<Impl>()) {
 
 Context::~Context() {
   if (impl_ && impl_->display != EGL_NO_DISPLAY) {
-    eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (eglGetCurrentContext() == impl_->context)  // another Context current here stays so
+      eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (impl_->context != EGL_NO_CONTEXT) eglDestroyContext(impl_->display, impl_->context);
-    eglTerminate(impl_->display);
+    const std::lock_guard<std::mutex> lock(display_mutex());
+    if (--display_users()[impl_->display] == 0) eglTerminate(impl_->display);
   }
 }
 

@@ -2,9 +2,13 @@
 // the NVIDIA device platform on GPU machines), or a clean Unavailable — never a crash.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdlib>
+#include <memory>
+#include <string>
 
 #include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/program.hpp"
 
 TEST(GpuContext, CreatesOpenGL43CoreOrReportsUnavailable) {
   try {
@@ -21,4 +25,29 @@ TEST(GpuContext, CreatesOpenGL43CoreOrReportsUnavailable) {
     if (std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT")) FAIL() << "no EGL context: " << e.what();
     GTEST_SKIP() << e.what();
   }
+}
+
+// EGL gives every context of a device the same display, and eglTerminate ends all of
+// them: a context that ends must leave the others working (a frame object holding its
+// own context while a study makes and drops another one). Checked by a buffer round
+// trip on the first context after the second is gone.
+TEST(GpuContext, EndingOneContextLeavesTheOtherWorking) {
+  std::unique_ptr<atmosh::gpu::Context> first;
+  try {
+    first = std::make_unique<atmosh::gpu::Context>();
+  } catch (const atmosh::gpu::Unavailable& e) {
+    if (std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT")) FAIL() << "no EGL context: " << e.what();
+    GTEST_SKIP() << e.what();
+  }
+  { const atmosh::gpu::Context second; }  // made current, then destroyed
+  ASSERT_NO_THROW(first->make_current());
+  // A buffer round trip on the first context: made, filled, read back.
+  const std::array<float, 4> data{1, 2, 3, 4};
+  std::array<float, 4> back{};
+  ASSERT_NO_THROW({
+    atmosh::gpu::Buffer buffer(sizeof data, data.data());
+    buffer.download(back.data(), sizeof back);
+    atmosh::gpu::check_gl("buffer round trip");
+  });
+  EXPECT_EQ(back, data);
 }
