@@ -28,7 +28,12 @@ const SunPlacement& SceneRunContext::sun() {
 const SkyModel& SceneRunContext::sky() {
   if (!model_) {
     const SunPlacement& s = sun();
-    model_ = make_sky_model(scene, SkySettings{}.sky(scene), s.distance_au);
+    // Orders tables on the device of the scene's sky images (the one policy:
+    // use_orders_tables_device; the sky-image runner renders on options.device).
+    scene::Scene sc = scene;
+    const std::string where = use_orders_tables_device(sc, options.device, options.notice);
+    model_ = make_sky_model(sc, SkySettings{}.sky(sc), s.distance_au);
+    model_->orders_tables_device = where;
     ++skies_built;
   }
   return *model_;
@@ -55,6 +60,8 @@ const std::map<std::string_view, OutputRunner>& scene_output_runners() {
          png.replace_extension(".png");
          auto prov = sky_provenance(m, sun);
          prov.add("device", used);
+         if (m.scene.scattering.method == atmo::ScatteringMethod::Orders)
+           prov.add("orders_tables_device", m.orders_tables_device);
          write_sky_image(img, file, png, prov, out.projection, sun);
          fs::path side = png;
          side += ".json";  // the tone mapping (write_sky_image)
