@@ -60,8 +60,6 @@ const std::map<std::string_view, OutputRunner>& scene_output_runners() {
          png.replace_extension(".png");
          auto prov = sky_provenance(m, sun);
          prov.add("device", used);
-         if (m.scene.scattering.method == atmo::ScatteringMethod::Orders)
-           prov.add("orders_tables_device", m.orders_tables_device);
          write_sky_image(img, file, png, prov, out.projection, sun);
          fs::path side = png;
          side += ".json";  // the tone mapping (write_sky_image)
@@ -101,6 +99,8 @@ const std::map<std::string_view, OutputRunner>& scene_output_runners() {
          io::set_threads(resolve_threads(0));
          ElevationStudyOptions e;
          e.step_deg = ctx.options.quick ? 12 : 1;
+         e.sky.device = ctx.options.device;  // its orders tables: the sky images' device policy
+         e.sky.notice = ctx.options.notice;
          const ElevationStudy st = sun_elevation_study(ctx.scene, e);  // its own suns and sky
          ++ctx.skies_built;
          return write_elevation_study(st, stem);

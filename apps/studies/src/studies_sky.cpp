@@ -60,6 +60,7 @@ SkySettings SkySettings::checked() const {
   if (!std::isfinite(max_piece_tau) || !(max_piece_tau > 0))
     throw InputError("--max-piece-tau " + io::format_double(max_piece_tau) + " must be finite and > 0");
   q.threads = resolve_threads(threads, "--threads");
+  check_device_name(device);
   if (orders && (*orders < 1 || *orders > 64))
     throw InputError("--orders " + std::to_string(*orders) + " is outside [1, 64]");
   return q;
@@ -244,6 +245,14 @@ std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const atmo::SkyO
   return m;
 }
 
+std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const SkySettings& k, double sun_distance_au) {
+  scene::Scene sc = k.scene_for(s);
+  const std::string where = use_orders_tables_device(sc, k.device, k.notice);
+  auto m = make_sky_model(sc, k.sky(s), sun_distance_au);
+  m->orders_tables_device = where;
+  return m;
+}
+
 io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun) {
   io::Provenance p = io::Provenance::current();
   p.add("scene", m.scene.source);
@@ -251,6 +260,7 @@ io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun) {
   const auto& a = m.scene.atmosphere;
   p.add("constituents", std::string(a.rayleigh ? "rayleigh " : "") + (a.mie ? "mie " : "") + (a.ozone ? "ozone" : ""));
   p.add("wavelengths", static_cast<double>(m.atmosphere->wavelengths_nm().size()));
+  if (m.scene.scattering.method == atmo::ScatteringMethod::Orders) p.add("orders_tables_device", m.orders_tables_device);
   // NaN marks what a study varies: it is a column of the file, not one value.
   auto add_or_varied = [&p](const std::string& key, double v) {
     if (std::isnan(v))

@@ -57,6 +57,9 @@ struct SunRequest {
 };
 SunPlacement place_sun(const scene::Scene& s, const SunRequest& r);
 
+// One-line notices of a fallback (the CLI prints them on stderr after "atmosh: ").
+using Notice = std::function<void(const std::string&)>;
+
 // The settings of the sky integrator that change results (the CLI's quality options,
 // parsed). Unset optionals take the scene's value.
 struct SkySettings {
@@ -66,6 +69,11 @@ struct SkySettings {
   std::optional<atmo::ScatteringMethod> scattering;      // else the scene's [scattering] method
   std::optional<int> orders;                             // else the scene's orders
   int threads = 0;                                       // worker threads (0 = every CPU this process may use)
+  // Where the orders tables are built (use_orders_tables_device: cpu | gpu | auto) and
+  // its notices; results the same within the GPU tables' float tolerance (not part of
+  // sweep_settings).
+  std::string device = "cpu";
+  Notice notice;
   // Checked, the messages naming the options as typed (--shells 4..4096, --segments
   // 1..min(shells - 1, the cut spheres), --samples 1..8, --max-piece-tau > 0, --orders
   // 1..64, --threads 0..1024): InputError otherwise. The copy returned has its thread
@@ -89,12 +97,13 @@ struct SkyModel {
   std::string orders_tables_device = "cpu";  // where the orders tables were built (use_orders_tables_device)
 };
 std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const atmo::SkyOptions& options, double sun_distance_au);
+// The sky of scene s with settings k (k.scene_for(s), k.sky(s)), its orders tables built
+// where use_orders_tables_device(k.device) says: the studies' and sweeps' skies.
+std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const SkySettings& k, double sun_distance_au);
 
 // Provenance of a sky: scene parameters and the sun (NaN fields are recorded as varied).
 io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun);
 
-// One-line notices of a fallback (the CLI prints them on stderr after "atmosh: ").
-using Notice = std::function<void(const std::string&)>;
 
 // "cpu", "gpu" or "auto"; InputError "--device <name>: must be cpu, gpu or auto" otherwise.
 void check_device_name(const std::string& device);
