@@ -8,6 +8,7 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <ctime>
 #include <memory>
 #include <random>
 #include <string>
@@ -271,4 +272,70 @@ static void BM_SkyApproxGpu(benchmark::State& st) {
   st.SetLabel(std::string(ms ? "approximate" : "single") + ", 256x128, 16 wavelengths, " + ctx->info().renderer);
 }
 BENCHMARK(BM_SkyApproxGpu)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+#endif
+
+// The sky image with the successive-orders term (ScatteringMethod::Orders, 4 orders, the
+// default table size: 14 x 48 x 48 x 16, built once on the CPU) against the same sky
+// with single scattering, on the CPU (all cores) and on the GPU (the tables uploaded,
+// as `atmosh sky --device gpu|auto --scattering orders` does with CPU-built tables):
+// args {orders 0|1, width}; height = width / 2. The orders term is one table lookup per
+// pixel (16 corners x 16 wavelengths), next to single scattering's per-node work.
+// Tables built on the GPU: bench_orders (BM_OrdersGpu, BM_OrdersSky).
+namespace {
+struct OrdersScene {
+  AtmosphereSpec spec = spec16();
+  Atmosphere atm{spec};
+  SkyOptions options = [] {
+    SkyOptions o;
+    o.scattering.method = ScatteringMethod::Orders;
+    o.scattering.orders = 4;
+    return o;
+  }();
+  SkyIntegrator sky{atm, solar_spectrum_for_bins(spec.spectrum), options};
+};
+OrdersScene& orders_scene() {
+  static OrdersScene s;
+  return s;
+}
+}  // namespace
+
+static void BM_SkyOrdersCpu(benchmark::State& st) {
+  const bool orders = st.range(0) != 0;
+  const int w = static_cast<int>(st.range(1)), h = w / 2;
+  const SkyIntegrator& sky = orders ? orders_scene().sky : scene().sky;
+  for (auto _ : st) {
+    auto img = render_sky(sky, SkyProjection::Equirect, w, h, 0.0, enu_direction_from_zenith(70.0, 180.0), false, 0);
+    benchmark::DoNotOptimize(img.Y.data());
+  }
+  st.SetItemsProcessed(st.iterations() * w * h);
+  st.SetLabel(std::string(orders ? "orders 4" : "single") + ", " + std::to_string(w) + "x" + std::to_string(h) +
+              ", 16 wavelengths, all cores");
+}
+BENCHMARK(BM_SkyOrdersCpu)->Args({0, 256})->Args({1, 256})->Args({0, 512})->Args({1, 512})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(3);
+
+#ifdef ATMOSH_BENCH_GPU
+static void BM_SkyOrdersGpu(benchmark::State& st) {
+  atmosh::gpu::Context* ctx = context_or_skip(st);
+  if (!ctx) return;
+  const bool orders = st.range(0) != 0;
+  const int w = static_cast<int>(st.range(1)), h = w / 2;
+  const SkyIntegrator& sky = orders ? orders_scene().sky : scene().sky;
+  // Process CPU time (all threads): on a software renderer (llvmpipe runs the shader on
+  // the CPU's threads) the work itself, less sensitive to a loaded machine than wall time.
+  double cpu_s = 0;
+  for (auto _ : st) {
+    const std::clock_t c0 = std::clock();
+    auto img = atmosh::gpu::render_sky(*ctx, sky, SkyProjection::Equirect, w, h, 0.0,
+                                       enu_direction_from_zenith(70.0, 180.0), false);
+    benchmark::DoNotOptimize(img.Y.data());
+    cpu_s += double(std::clock() - c0) / CLOCKS_PER_SEC;
+  }
+  st.counters["process_cpu_s"] = cpu_s / double(st.iterations());
+  st.SetItemsProcessed(st.iterations() * w * h);
+  st.SetLabel(std::string(orders ? "orders 4 (tables uploaded)" : "single") + ", " + std::to_string(w) + "x" +
+              std::to_string(h) + ", 16 wavelengths, " + ctx->info().renderer);
+}
+BENCHMARK(BM_SkyOrdersGpu)->Args({0, 256})->Args({1, 256})->Args({0, 512})->Args({1, 512})->Args({0, 2048})
+    ->Args({1, 2048})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(3);
 #endif

@@ -1,21 +1,32 @@
 // The successive-orders tables (atmo::ScatteringOrders, 4 orders, 16 wavelengths)
 // built on the CPU (all cores) and with the passes of orders >= 2 on the GPU
 // (gpu::build_scattering_orders; the set-up and S_1 stay on the CPU): at the default
-// table size (16 x 64 x 48 x 8, sphere rule 12 x 12, 32 steps) and at a quarter of it
-// (8 x 32 x 24 x 8, 8 x 8, 16 steps). Counters: the GPU's share (gpu_passes_s: the
+// table size (14 x 48 x 48 x 16, sphere rule 12 x 12, 24 steps) and at a smaller one
+// (8 x 32 x 24 x 16, 8 x 8, 16 steps). Counters: the GPU's share (gpu_passes_s: the
 // passes with their read-backs; compile_s, upload_s). Without an EGL device the GPU
 // cases are skipped.
+// BM_OrdersSky: what `atmosh sky --scattering orders` computes, end to end: the sky
+// integrator (its optical-depth and orders tables) and a 512x256 image, all on the CPU
+// (device 0), or the orders tables and the image on the GPU (device 1: the tables by
+// gpu::make_orders_passes, the image by gpu::render_sky with them uploaded), or the
+// tables on the CPU and the image on the GPU (device 2: `--device auto` on a software
+// renderer). Counters: tables_s (the integrator's build), image_s.
 // Run: build/bin/bench_orders  (--benchmark_filter=default:0 for the quick size)
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <memory>
 
 #include "atmosh/atmo/presets.hpp"
+#include "atmosh/atmo/observer.hpp"
 #include "atmosh/atmo/scattering_orders.hpp"
+#include "atmosh/atmo/sky.hpp"
+#include "atmosh/atmo/sky_image.hpp"
 #if __has_include("atmosh/gpu/orders.hpp")  // built with ATMOSH_WITH_GPU
 #define ATMOSH_BENCH_GPU 1
 #include "atmosh/gpu/context.hpp"
 #include "atmosh/gpu/orders.hpp"
+#include "atmosh/gpu/sky.hpp"
 #endif
 
 using namespace atmosh::atmo;
@@ -77,6 +88,57 @@ void BM_OrdersGpu(benchmark::State& state) {
   state.counters["upload_s"] = t.upload_s / runs;
 }
 #endif
+
+double since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void BM_OrdersSky(benchmark::State& state) {
+  const int device = static_cast<int>(state.range(0));
+  const bool small = state.range(1) == 0;
+  const AtmosphereSpec spec = spec16();
+  const Atmosphere atm(spec);
+  SkyOptions so;
+  so.scattering = options(small);
+  const glm::dvec3 sun = enu_direction_from_zenith(96.0, 180.0);  // sun -6 deg
+  std::shared_ptr<const atmosh::gpu::Context> ctx;
+#ifdef ATMOSH_BENCH_GPU
+  if (device != 0) {
+    try {
+      ctx = std::make_shared<const atmosh::gpu::Context>();
+    } catch (const atmosh::gpu::Unavailable& e) {
+      state.SkipWithError(e.what());
+      return;
+    }
+    if (device == 1) so.scattering.orders_passes = atmosh::gpu::make_orders_passes(ctx);
+  }
+#else
+  if (device != 0) {
+    state.SkipWithError("built without ATMOSH_WITH_GPU");
+    return;
+  }
+#endif
+  double tables_s = 0, image_s = 0;
+  long runs = 0;
+  for (auto _ : state) {
+    auto t0 = std::chrono::steady_clock::now();
+    const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum), so);
+    tables_s += since(t0);
+    t0 = std::chrono::steady_clock::now();
+#ifdef ATMOSH_BENCH_GPU
+    const SkyImage img = device != 0 ? atmosh::gpu::render_sky(*ctx, sky, SkyProjection::Equirect, 512, 256, 0.0, sun, false)
+                                     : render_sky(sky, SkyProjection::Equirect, 512, 256, 0.0, sun, false, 0);
+#else
+    const SkyImage img = render_sky(sky, SkyProjection::Equirect, 512, 256, 0.0, sun, false, 0);
+#endif
+    image_s += since(t0);
+    benchmark::DoNotOptimize(img.Y.data());
+    ++runs;
+  }
+  state.counters["tables_s"] = tables_s / runs;
+  state.counters["image_s"] = image_s / runs;
+  state.SetLabel(device == 0 ? "all CPU" : device == 1 ? "tables and image on the GPU" : "CPU tables, GPU image");
+}
 }  // namespace
 
 // Arg 0: the quarter size (Small), 1: the default size.
@@ -84,3 +146,6 @@ BENCHMARK(BM_OrdersCpu)->ArgName("default")->Arg(0)->Arg(1)->Unit(benchmark::kMi
 #ifdef ATMOSH_BENCH_GPU
 BENCHMARK(BM_OrdersGpu)->ArgName("default")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3);
 #endif
+// Args {device 0 CPU | 1 GPU | 2 CPU tables + GPU image, default size 0|1}.
+BENCHMARK(BM_OrdersSky)->ArgNames({"device", "default"})->Args({0, 0})->Args({2, 0})->Args({1, 0})->Args({0, 1})
+    ->Args({2, 1})->Args({1, 1})->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3);

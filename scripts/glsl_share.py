@@ -31,7 +31,10 @@ SKY_PARTS = [SHARED + "geometry.glsl.hpp", SHARED + "lut.glsl.hpp", SHARED + "sc
              SHARED + "ms_approx.glsl.hpp", SHARED + "view_ray.glsl.hpp", SHARED + "sky_params.glsl.hpp",
              "gpu/shaders/sky_lib.glsl"]
 SHADERS = {
-    "sky.comp": SKY_PARTS + ["gpu/shaders/sky.comp"],  # assembled with ATMOSH_SKY_TRACE (DEFINES)
+    # gpu::sky_pass_parts: the orders block after view_ray, the orders tables' buffers and
+    # lookup before sky.comp; assembled with ATMOSH_SKY_TRACE (DEFINES)
+    "sky.comp": SKY_PARTS[:5] + [SHARED + "orders.glsl.hpp"] + SKY_PARTS[5:] +
+                ["gpu/shaders/sky_orders.glsl", "gpu/shaders/orders_lookup.glsl", "gpu/shaders/sky.comp"],
     "lut_build.comp": SKY_PARTS + ["gpu/shaders/lut_build.comp"],
     "ms_build.comp": SKY_PARTS + ["gpu/shaders/ms_build.comp"],
     "sun_lookup.comp": SKY_PARTS + ["gpu/shaders/sun_lookup.comp"],
@@ -40,7 +43,8 @@ SHADERS = {
     "shared_check.comp": [SHARED + "geometry.glsl.hpp", SHARED + "lut.glsl.hpp", "gpu/shaders/shared_check.comp"],
 }
 # The successive-orders passes (gpu::build_scattering_orders's orders_parts in gpu/src/orders.cpp).
-ORDERS_PARTS = [SHARED + "geometry.glsl.hpp", SHARED + "orders.glsl.hpp", "gpu/shaders/orders_lib.glsl"]
+ORDERS_PARTS = [SHARED + "geometry.glsl.hpp", SHARED + "orders.glsl.hpp", "gpu/shaders/orders_lib.glsl",
+                "gpu/shaders/orders_lookup.glsl"]
 for _s in ("orders_incoming.comp", "orders_density.comp", "orders_ground.comp", "orders_radiance.comp"):
     SHADERS[_s] = ORDERS_PARTS + ["gpu/shaders/" + _s]
 # S_1: the sky parts (sun_lookup, phase_value) and the orders block (orders.cpp's single_parts).

@@ -1,5 +1,10 @@
 // atmosh sky, atmosh study sun-elevation|day, atmosh sweep [merge], atmosh converge sky.
 #include <iostream>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <utility>
 
 #include "atmosh/atmo/time_utc.hpp"
 #include "atmosh/error.hpp"
@@ -24,6 +29,16 @@ struct SkyCmd {
   studies::SkySettings q;
 };
 
+// A notice that prints each distinct message once (a sweep builds a sky per point, on
+// several threads: one line per decision, not per point).
+studies::Notice notice_once() {
+  auto seen = std::make_shared<std::pair<std::mutex, std::set<std::string>>>();
+  return [seen](const std::string& m) {
+    const std::lock_guard<std::mutex> lock(seen->first);
+    if (seen->second.insert(m).second) notice(m);
+  };
+}
+
 void run_sky(const SkyCmd& c) {
   const studies::SkySettings q = checked_quality(c.q);
   if (c.output.empty()) throw InputError("-o is required (the EXR file to write)");
@@ -46,13 +61,13 @@ void run_sky(const SkyCmd& c) {
     check_time(studies::sky_rays_work(s, q, mul_units(size[0], size[1])), q.threads, "--size " + c.size);
   const std::string orders_device = studies::use_orders_tables_device(s, c.device, notice);
   const auto model = studies::make_sky_model(s, q.sky(s), sun.distance_au);
+  model->orders_tables_device = orders_device;  // in its provenance (sky_provenance)
   const double h = std::max(sun.observer_height_m, 0.0);
   std::string used;
   const atmo::SkyImage img = studies::render_sky_on(c.device, *model->sky, proj, size[0], size[1], h, sun.direction(),
                                                     c.spectral, q.threads, used, notice);
   auto prov = studies::sky_provenance(*model, sun);
   prov.add("device", used);
-  if (s.scattering.method == atmo::ScatteringMethod::Orders) prov.add("orders_tables_device", orders_device);
   double exposure = std::numeric_limits<double>::quiet_NaN();  // JSON null: no tone mapping in netCDF
   if (netcdf)
     studies::write_sky_netcdf_image(img, c.output, prov, c.projection, sun);
@@ -75,6 +90,7 @@ struct ElevationCmd {
 std::vector<fs::path> run_elevation_study(const ElevationCmd& o, const ProgressCallback& progress) {
   studies::ElevationStudyOptions e = o.e;
   e.sky = checked_quality(o.e.sky);
+  e.sky.notice = notice_once();
   if (o.output.empty()) throw InputError("-o is required (output folder)");
   require_range(e.from_deg, -90, 90, "--from");
   require_range(e.to_deg, -90, 90, "--to");
@@ -98,6 +114,7 @@ struct DayCmd {
 std::vector<fs::path> run_day_study(const DayCmd& o, const ProgressCallback& progress) {
   studies::DayStudyOptions d = o.d;
   d.sky = checked_quality(o.d.sky);
+  d.sky.notice = notice_once();
   if (o.output.empty()) throw InputError("-o is required (output folder)");
   if (d.date.size() != 10) throw InputError("--date '" + d.date + "' is not YYYY-MM-DD");
   atmo::parse_iso8601(d.date + "T00:00:00Z");  // InputError for a date that is not one
@@ -165,6 +182,7 @@ void register_sky_commands(CLI::App& app) {
     s->add_option("-o,--output", o.output, "Output folder")->required();
     add_format_option(s, o.netcdf);
     add_quality_options(s, o.e.sky);
+    add_device_option(s, o.e.sky.device, "where the orders tables are built (--scattering orders)");
     s->callback([] { run_step("study sun-elevation", [](auto& p) { print_files(run_elevation_study(o, p)); }); });
   }
   {
@@ -181,6 +199,7 @@ void register_sky_commands(CLI::App& app) {
     s->add_option("-o,--output", o.output, "Output folder")->required();
     add_format_option(s, o.netcdf);
     add_quality_options(s, o.d.sky);
+    add_device_option(s, o.d.sky.device, "where the orders tables are built (--scattering orders)");
     s->callback([] { run_step("study day", [](auto& p) { print_files(run_day_study(o, p)); }); });
   }
   {
@@ -193,6 +212,7 @@ void register_sky_commands(CLI::App& app) {
     sw->add_flag("--resume", resume, "Skip points already in the journal of an interrupted run");
     sw->add_option("--shard", shard, "Run shard k of N (k/N), merge later with `atmosh sweep merge`")->capture_default_str();
     add_quality_options(sw, q);
+    add_device_option(sw, q.device, "where each point's orders tables are built (--scattering orders)");
     add_format_option(sw, netcdf);
     static std::vector<std::string> merge_in;
     static std::string merge_out;
@@ -211,7 +231,8 @@ void register_sky_commands(CLI::App& app) {
       o.out_dir = out;
       o.resume = resume;
       o.set_shard(shard);
-      const studies::SkySettings k = checked_quality(q);
+      studies::SkySettings k = checked_quality(q);
+      k.notice = notice_once();
       o.threads = k.threads;
       o.settings = k.sweep_settings();
       const auto spec = scene::load_sweep(file);

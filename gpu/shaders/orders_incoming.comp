@@ -25,8 +25,7 @@ void main() {
       if (params.order == 2) {
         if (mus_g > 0.0LF) v += float(tg * mus_g * double(ground_t[sg0 + q]));
       } else {
-        float a = ground_log[g.k0 * params.nw + q], c = ground_log[(g.k0 + 1) * params.nw + q];
-        v += float(tg) * (orders_log_visible(orders_ground_log(a, c, g.fs)) ? exp(orders_ground_log_corrected(a, c, g.fs)) : 0.0);
+        v += float(tg) * orders_ground_value(ground_log[g.k0 * params.nw + q], ground_log[(g.k0 + 1) * params.nw + q], g.fs);
       }
     }
     incoming[e * params.nw + q] = v;

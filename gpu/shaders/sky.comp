@@ -2,8 +2,10 @@
 // through the same shared code (shared/view_ray.glsl.hpp: the ray's set-up, its cuts,
 // the walk along it, the node's terms; shared/scatter.glsl.hpp: the integrand;
 // shared/ms_approx.glsl.hpp: the all-orders multiple-scattering table's lookup and
-// term, where params.ms_altitudes > 0), on the inputs of sky_lib.glsl. Assembled with
-// ATMOSH_SKY_TRACE defined.
+// term, where params.ms_altitudes > 0), on the inputs of sky_lib.glsl; with the
+// successive-orders tables (op.nr > 0: sky_orders.glsl) their lookup per pixel through
+// orders_lookup.glsl and shared/orders.glsl.hpp, as SkyIntegrator::shade's orders term.
+// Assembled with ATMOSH_SKY_TRACE defined.
 layout(local_size_x = ATMOSH_ITEM_GROUP_SIZE) in;
 
 layout(std430, binding = ATMOSH_BIND_MS_TABLE) readonly buffer MsTable { float ms_tab[]; };
@@ -49,6 +51,32 @@ void sky_visit(SkyViewNode nd) {
   }
 }
 
+// SkyIntegrator::shade's orders term (method orders): orders 2..N for the whole view ray,
+// one lookup in the sum of their tables (ScatteringOrders::radiance: the observer's
+// radius clamped to the tables', the ray's own cosines), and where the ray ends on the
+// ground the sky's light reflected there, albedo / pi E_1..E_{N-1}(mu_s at the ground)
+// (ScatteringOrders::ground_irradiance) times the view ray's transmittance. Into g_acc,
+// already in radiance units (scale: the solar irradiance's per wavelength).
+void sky_add_orders(dvec3 column) {
+  int nw = params.nw, nwc = min(nw, kMaxWavelengths);
+  double r = clamp(g_ray.r, op.R, op.T);
+  OrdersRayCoord c = orders_ray_coord(r, g_ray.mu, g_ray.ground, op.R, op.T, op.H, op.nr, op.nh);
+  OrdersSunCoord s = orders_sun_coord(g_ray.mu, g_ray.mu_s, g_ray.nu, op.ns, op.na, op.sun_m);
+  int p[8];
+  float w0[8], w1[8];
+  orders_corners(c, s, p, w0, w1);
+  for (int i = 0; i < nwc; ++i)
+    g_acc[i] += spec[sky_spectral(6, nw, i)] * params.irradiance_scale * orders_blend(p, w0, w1, i);
+  if (g_ray.ground && op.albedo > 0.0LF) {
+    OrdersSunCoord g = orders_ground_coord(sky_ground_sun_cosine(g_ray), op.ns, op.sun_m);
+    float a = float(op.albedo / 3.14159265358979323846LF);
+    for (int i = 0; i < nwc; ++i)
+      g_acc[i] += spec[sky_spectral(6, nw, i)] * params.irradiance_scale * a *
+                  orders_ground_value(orders_ground[g.k0 * nw + i], orders_ground[(g.k0 + 1) * nw + i], g.fs) *
+                  exp(-tau_at(i, vec3(column)));
+  }
+}
+
 void main() {
   int pix = item_index(int(gl_GlobalInvocationID.x), int(gl_GlobalInvocationID.y), int(gl_NumWorkGroups.x));
   if (pix >= params.n_items) return;
@@ -64,6 +92,7 @@ void main() {
                             params.ext_max[2]), double(params.max_piece_optical_depth), params.gauss_x, params.gauss_w,
                             params.n_gauss, params.part_w);
     for (int i = 0; i < nwc; ++i) g_acc[i] *= spec[sky_spectral(6, nw, i)] * params.irradiance_scale;
+    if (op.nr > 0) sky_add_orders(column);
     float mus_g = float(sky_ground_sun_cosine(g_ray));
     vec4 to_sun = sun_lookup(0.0, mus_g);
     if (sky_ground_lit(g_ray, double(params.albedo), double(mus_g)) && to_sun.w < 0.5)  // ground reflection

@@ -34,6 +34,7 @@ std::vector<ShaderPart> orders_parts(const std::string& main_shader) {
           geometry,  // its ray geometry again, in double
           embedded_source("libatmo/include/atmosh/atmo/shared/orders.glsl.hpp"),
           embedded_source("gpu/shaders/orders_lib.glsl"),
+          embedded_source("gpu/shaders/orders_lookup.glsl"),  // on orders_lib's tab_in
           embedded_source(main_shader)};
 }
 

@@ -13,6 +13,7 @@
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/lut.glsl.hpp"
 #include "atmosh/atmo/shared/ms_approx.glsl.hpp"
+#include "atmosh/atmo/shared/orders.glsl.hpp"
 #include "atmosh/atmo/shared/sky_params.glsl.hpp"
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/error.hpp"
@@ -156,6 +157,17 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
   return out;
 }
 
+std::vector<ShaderPart> sky_pass_parts() {
+  std::vector<ShaderPart> parts = sky_parts("gpu/shaders/sky.comp");
+  const auto at = std::find_if(parts.begin(), parts.end(), [](const ShaderPart& p) {
+    return p.path == "libatmo/include/atmosh/atmo/shared/view_ray.glsl.hpp";
+  });
+  parts.insert(at + 1, embedded_source("libatmo/include/atmosh/atmo/shared/orders.glsl.hpp"));
+  parts.insert(parts.end() - 1, embedded_source("gpu/shaders/sky_orders.glsl"));
+  parts.insert(parts.end() - 1, embedded_source("gpu/shaders/orders_lookup.glsl"));
+  return parts;
+}
+
 std::vector<ShaderPart> sky_parts(const std::string& main_shader) {
   const ShaderPart lut = embedded_source("libatmo/include/atmosh/atmo/shared/lut.glsl.hpp");
   const ShaderPart scatter = embedded_source("libatmo/include/atmosh/atmo/shared/scatter.glsl.hpp");
@@ -238,6 +250,35 @@ class SkyInputs {
     b_shell_->bind(ATMOSH_BIND_NODES);
     b_spec_->bind(ATMOSH_BIND_SPECTRAL);
     if (b_ms_) b_ms_->bind(ATMOSH_BIND_MS_TABLE);
+    if (b_orders_) {
+      b_orders_->bind(ATMOSH_SKY_BIND_ORDERS);
+      b_orders_ground_->bind(ATMOSH_SKY_BIND_ORDERS_GROUND);
+      b_orders_params_->bind(ATMOSH_SKY_BIND_ORDERS_PARAMS);
+    }
+  }
+  // The successive-orders tables the sky pass looks up (sky_orders.glsl): those of
+  // `orders` (its CPU copy, uploaded), or none (op.nr = 0: no orders term).
+  void set_orders_tables(const atmo::ScatteringOrders* orders, const atmo::Atmosphere& atm) {
+    sg::GpuOrdersParams op{};
+    const float zero = 0.0f;
+    if (orders) {
+      const std::vector<int> n = orders->table_size();
+      op.R = atm.ground_radius();
+      op.T = atm.top_radius();
+      op.H = std::sqrt(op.T * op.T - op.R * op.R);  // as ScatteringOrders'
+      op.sun_m = orders->sun_m();
+      op.albedo = atm.spec().planet.ground_albedo;
+      op.nr = n[0], op.nmu = n[1], op.nh = n[1] / 2, op.ns = n[2], op.na = n[3];
+      op.nw = static_cast<int>(orders->wavelengths());
+      const auto& t = orders->radiance_table();
+      const auto& g = orders->ground_table();
+      b_orders_ = std::make_unique<Buffer>(t.size() * sizeof(float), t.data());
+      b_orders_ground_ = std::make_unique<Buffer>(g.size() * sizeof(float), g.data());
+    } else {
+      b_orders_ = std::make_unique<Buffer>(sizeof(float), &zero);
+      b_orders_ground_ = std::make_unique<Buffer>(sizeof(float), &zero);
+    }
+    b_orders_params_ = std::make_unique<Buffer>(sizeof(op), &op);
   }
   // The multiple-scattering table the sky pass adds (log Psi, [altitude][sun][wavelength]),
   // `altitudes` x `suns` entries; none: single scattering.
@@ -251,7 +292,7 @@ class SkyInputs {
 
  private:
   Params p_{};
-  std::unique_ptr<Buffer> b_tab_, b_shell_, b_spec_, b_shell_d_, b_ms_;
+  std::unique_ptr<Buffer> b_tab_, b_shell_, b_spec_, b_shell_d_, b_ms_, b_orders_, b_orders_ground_, b_orders_params_;
 };
 
 // The constituents' fields of the parameter block common to the sky and table passes.
@@ -417,8 +458,6 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
                           bool gpu_tables) {
   if (width < 1 || height < 1 || width > 65536 || height > 65536)
     throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
-  if (sky.method() == atmo::ScatteringMethod::Orders)  // single scattering, or with the all-orders table
-    throw Unsupported(std::string("GPU sky: scattering method '") + atmo::scattering_method_name(sky.method()) + "'");
   const std::string why = sky_unsupported_reason(sky);
   if (!why.empty()) throw Unsupported("GPU sky: " + why);
   // Same input validation as the CPU path (throws InputError).
@@ -428,9 +467,12 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   const auto& atm = sky.atmosphere();
   const int nw = static_cast<int>(atm.wavelengths_nm().size());
 
-  static const std::vector<ShaderPart> parts = sky_parts("gpu/shaders/sky.comp");
+  static const std::vector<ShaderPart> parts = sky_pass_parts();
   Program prog(parts, "#define ATMOSH_SKY_TRACE 1\n");  // the shared walk along the ray with sky.comp's hooks
   SkyInputs inputs(ctx, sky, gpu_tables);
+  // Orders: the integrator's tables (built on the CPU, or by the GPU's passes when its
+  // options named them: MultipleScatteringOptions::orders_passes), uploaded.
+  inputs.set_orders_tables(sky.orders_tables(), atm);
   if (sky.method() == atmo::ScatteringMethod::Approximate) {
     // The integrator's table (it builds one anyway), or the same table built on the GPU.
     const auto& mo = sky.options().scattering;

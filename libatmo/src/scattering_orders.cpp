@@ -221,11 +221,7 @@ struct ScatteringOrders::Impl {
     const sg::OrdersSunCoord c = sg::orders_ground_coord(mu_s, ns, sun_m());
     const int k0 = c.k0;
     const float fs = c.fs;
-    for (std::size_t q = 0; q < nw; ++q) {
-      const float a = e[k0 * nw + q], b = e[(k0 + 1) * nw + q];
-      const float v = sg::orders_ground_log(a, b, fs);
-      out[q] = sg::orders_log_visible(v) ? std::exp(sg::orders_ground_log_corrected(a, b, fs)) : 0.0f;
-    }
+    for (std::size_t q = 0; q < nw; ++q) out[q] = sg::orders_ground_value(e[k0 * nw + q], e[(k0 + 1) * nw + q], fs);
   }
 };
 
@@ -242,6 +238,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
 const std::vector<float>& ScatteringOrders::radiance_table() const { return impl_->sum; }
 const std::vector<float>& ScatteringOrders::ground_table() const { return impl_->esum; }
 std::vector<int> ScatteringOrders::table_size() const { return {impl_->nr, impl_->nmu, impl_->ns, impl_->na}; }
+double ScatteringOrders::sun_m() const { return Impl::sun_m(); }
 
 ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteringOptions& o, OrdersPasses* passes)
     : impl_(std::make_unique<Impl>()) {

@@ -234,15 +234,22 @@ TEST(GpuMultipleScattering, StiffCasesAreFinite) {
   check(white, 45.0, 0.0, "albedo 1");
 }
 
-// Orders stays on the CPU: the GPU pass refuses it (Unsupported), it does not render
-// single scattering in its place.
-TEST(GpuMultipleScattering, OrdersIsUnsupported) {
+// Orders with orders = 1 builds no tables: the GPU pass renders single scattering, as
+// the CPU's orders path does (the orders term itself: GpuOrders.SkyMatchesTheCpuImage).
+TEST(GpuMultipleScattering, OrdersOneIsSingleScattering) {
   ATMOSH_GPU_CONTEXT_OR_SKIP(ctx);
   const AtmosphereSpec spec = earth(4);
   const Atmosphere atm(spec);
   SkyOptions o;
   o.scattering.method = ScatteringMethod::Orders;
-  o.scattering.orders = 1;  // no tables to build: single scattering by the orders path
+  o.scattering.orders = 1;
   const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum), o);
-  EXPECT_THROW(gpu::render_sky(*ctx, sky, SkyProjection::Equirect, 8, 4, 0.0, {0, 0, 1}, false), gpu::Unsupported);
+  ASSERT_EQ(sky.orders_tables(), nullptr);
+  const glm::dvec3 sun = enu_direction_from_zenith(70.0, 0.0);
+  const SkyImage c = render_sky(sky, SkyProjection::Equirect, 8, 4, 0.0, sun, true, 2);
+  const SkyImage g = gpu::render_sky(*ctx, sky, SkyProjection::Equirect, 8, 4, 0.0, sun, true);
+  const ImageDiff d = compare_images(g, c);
+  EXPECT_TRUE(d.finite);
+  EXPECT_GT(d.compared, 0);
+  EXPECT_LT(d.max_rel, 1e-4);  // GpuSky.MatchesTheCpuImage's bound
 }

@@ -19,6 +19,7 @@
 #include "atmosh/atmo/shared/geometry.glsl.hpp"
 #include "atmosh/atmo/shared/sky_params.glsl.hpp"
 #include "atmosh/gpu/program.hpp"
+#include "atmosh/atmo/shared/orders.glsl.hpp"
 #include "atmosh/gpu/sky.hpp"
 #include "gpu_fixture.hpp"
 
@@ -155,7 +156,7 @@ TEST(GpuSky, UnsupportedInputIsReportedNotRendered) {
 TEST(GpuSky, ParameterBlockLayoutMatches) {
   ATMOSH_GPU_CONTEXT_OR_SKIP(ctx);
   namespace sg = atmosh::atmo::shared;
-  gpu::Program prog(gpu::sky_parts("gpu/shaders/sky.comp"), "#define ATMOSH_SKY_TRACE 1\n");
+  gpu::Program prog(gpu::sky_pass_parts(), "#define ATMOSH_SKY_TRACE 1\n");
   const std::vector<std::pair<const char*, std::size_t>> members = {
       {"params.ground_radius_d", offsetof(sg::GpuSkyParams, ground_radius_d)},
       {"params.top_radius_d", offsetof(sg::GpuSkyParams, top_radius_d)},
@@ -216,6 +217,13 @@ TEST(GpuSky, ParameterBlockLayoutMatches) {
   ASSERT_EQ(members.size(), 55u);  // every member, and the ends of the nested arrays
   for (const auto& [name, offset] : members) EXPECT_EQ(prog.buffer_variable_offset(name), int(offset)) << name;
   EXPECT_EQ(offsetof(sg::GpuSkyParams, ms_unused) + sizeof(int), sizeof(sg::GpuSkyParams));
+  // The orders tables' block of the same pass (sky_orders.glsl): GpuOrdersParams.
+  const std::vector<std::pair<const char*, std::size_t>> orders = {
+      {"op.R", offsetof(sg::GpuOrdersParams, R)},         {"op.sun_m", offsetof(sg::GpuOrdersParams, sun_m)},
+      {"op.albedo", offsetof(sg::GpuOrdersParams, albedo)}, {"op.nr", offsetof(sg::GpuOrdersParams, nr)},
+      {"op.nh", offsetof(sg::GpuOrdersParams, nh)},       {"op.na", offsetof(sg::GpuOrdersParams, na)},
+      {"op.nw", offsetof(sg::GpuOrdersParams, nw)}};
+  for (const auto& [name, offset] : orders) EXPECT_EQ(prog.buffer_variable_offset(name), int(offset)) << name;
 }
 
 // The GPU closed-form ozone column (sky_lib.glsl, float) against the CPU's

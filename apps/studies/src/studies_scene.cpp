@@ -28,7 +28,12 @@ const SunPlacement& SceneRunContext::sun() {
 const SkyModel& SceneRunContext::sky() {
   if (!model_) {
     const SunPlacement& s = sun();
-    model_ = make_sky_model(scene, SkySettings{}.sky(scene), s.distance_au);
+    // Orders tables on the device of the scene's sky images (the one policy:
+    // use_orders_tables_device; the sky-image runner renders on options.device).
+    scene::Scene sc = scene;
+    const std::string where = use_orders_tables_device(sc, options.device, options.notice);
+    model_ = make_sky_model(sc, SkySettings{}.sky(sc), s.distance_au);
+    model_->orders_tables_device = where;
     ++skies_built;
   }
   return *model_;
@@ -94,6 +99,8 @@ const std::map<std::string_view, OutputRunner>& scene_output_runners() {
          io::set_threads(resolve_threads(0));
          ElevationStudyOptions e;
          e.step_deg = ctx.options.quick ? 12 : 1;
+         e.sky.device = ctx.options.device;  // its orders tables: the sky images' device policy
+         e.sky.notice = ctx.options.notice;
          const ElevationStudy st = sun_elevation_study(ctx.scene, e);  // its own suns and sky
          ++ctx.skies_built;
          return write_elevation_study(st, stem);

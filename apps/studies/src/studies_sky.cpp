@@ -60,6 +60,7 @@ SkySettings SkySettings::checked() const {
   if (!std::isfinite(max_piece_tau) || !(max_piece_tau > 0))
     throw InputError("--max-piece-tau " + io::format_double(max_piece_tau) + " must be finite and > 0");
   q.threads = resolve_threads(threads, "--threads");
+  check_device_name(device);
   if (orders && (*orders < 1 || *orders > 64))
     throw InputError("--orders " + std::to_string(*orders) + " is outside [1, 64]");
   return q;
@@ -123,22 +124,24 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
   // gpu: the GPU pass or an error; auto: the GPU pass, else the CPU with a one-line
   // notice (atmosh::resolve_device, the toolkit's one device policy).
   used = "cpu";
-  if (request != DeviceRequest::cpu && sky.method() == ScatteringMethod::Orders) {
-    // The GPU pass computes single scattering, alone or with the all-orders table
-    // (approximate); the orders tables are CPU-only.
-    const std::string what = std::string("scattering method '") + scattering_method_name(sky.method()) + "'";
-    tell(resolve_device(request, GpuUnusable{GpuUnusable::Why::unsupported, what, "use --scattering single or --device cpu"},
-                        "rendering on the CPU"));
-    return render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
-  }
   if (request != DeviceRequest::cpu) {
     std::optional<GpuUnusable> unusable;
 #ifdef ATMOSH_HAVE_GPU
     try {
-      SkyImage img = gpu::render_sky(sky, proj, width, height, altitude_m, sun, spectral);
-      used = "gpu";
-      add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (CPU; a few pixels)
-      return img;
+      const gpu::Context ctx;
+      // auto with orders on a software renderer: the CPU image (Mesa llvmpipe renders
+      // the image with orders ~18x slower than the CPU; docs/gpu.md, "The sky
+      // image with orders on the GPU"); single and approximate keep the GPU pass.
+      if (request == DeviceRequest::automatic && sky.method() == ScatteringMethod::Orders && ctx.info().software) {
+        if (notice)
+          notice("sky image with orders: rendered on the CPU (the software renderer " + ctx.info().renderer +
+                 " renders it ~18x slower than the CPU)");
+      } else {
+        SkyImage img = gpu::render_sky(ctx, sky, proj, width, height, altitude_m, sun, spectral);
+        used = "gpu";
+        add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (CPU; a few pixels)
+        return img;
+      }
     } catch (const gpu::Unavailable& e) {
       unusable = GpuUnusable{GpuUnusable::Why::no_device, e.what(), {}};
     } catch (const gpu::Unsupported& e) {
@@ -147,7 +150,7 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
 #else
     unusable = GpuUnusable{GpuUnusable::Why::not_built, {}, {}};
 #endif
-    tell(resolve_device(request, unusable, "rendering on the CPU"));
+    if (unusable) tell(resolve_device(request, unusable, "rendering on the CPU"));
   }
   SkyImage img = render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
   add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (SkyOptions::sun_model)
@@ -158,33 +161,35 @@ std::string use_orders_tables_device(scene::Scene& s, const std::string& device,
   const DeviceRequest request = parse_device_request(device);
   if (request == DeviceRequest::cpu || s.scattering.method != atmo::ScatteringMethod::Orders || s.scattering.orders < 2)
     return "cpu";
-  // gpu asks for the image on the GPU, which has no orders term: refused here, before the
-  // tables are built (render_sky_on would refuse it after).
-  if (request == DeviceRequest::gpu)
-    resolve_device(request, GpuUnusable{GpuUnusable::Why::unsupported, "scattering method 'orders'",
-                                        "use --scattering single or approximate, or --device cpu or auto"},
-                   "rendering on the CPU");
+  // gpu: the tables and the image on the GPU, whatever its renderer, or an error before
+  // any table is built; auto: on a hardware GPU the same, else the CPU with a notice.
+  constexpr const char* kFallback = "building the orders tables on the CPU";
   auto tell = [&](const std::string& why) {
     if (notice) notice("orders tables: built on the CPU (" + why + ")");
   };
 #ifdef ATMOSH_HAVE_GPU
   if (atmo::spectrum_wavelengths(s.atmosphere.spectrum).size() > ATMOSH_ORDERS_MAX_WAVELENGTHS) {
-    tell("more than " + std::to_string(ATMOSH_ORDERS_MAX_WAVELENGTHS) + " wavelengths");
+    const std::string why = "more than " + std::to_string(ATMOSH_ORDERS_MAX_WAVELENGTHS) + " wavelengths";
+    resolve_device(request, GpuUnusable{GpuUnusable::Why::unsupported, "orders tables with " + why, "use --device cpu"},
+                   kFallback);  // gpu: throws
+    tell(why);
     return "cpu";
   }
   try {
     auto ctx = std::make_shared<const gpu::Context>();
-    if (ctx->info().software) {
-      tell("the GPU is the software renderer " + ctx->info().renderer);
+    if (request == DeviceRequest::automatic && ctx->info().software) {
+      tell("the GPU is the software renderer " + ctx->info().renderer + ", which builds them ~11x slower");
       return "cpu";
     }
     s.scattering.orders_passes = gpu::make_orders_passes(std::move(ctx));
     if (notice) notice("orders tables: built on the GPU");
     return "gpu";
   } catch (const gpu::Unavailable& e) {
+    resolve_device(request, GpuUnusable{GpuUnusable::Why::no_device, e.what(), {}}, kFallback);  // gpu: throws
     tell(std::string("no GPU: ") + e.what());
   }
 #else
+  resolve_device(request, GpuUnusable{GpuUnusable::Why::not_built, {}, {}}, kFallback);  // gpu: throws
   tell("atmosh was built without ATMOSH_WITH_GPU");
 #endif
   return "cpu";
@@ -240,6 +245,14 @@ std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const atmo::SkyO
   return m;
 }
 
+std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const SkySettings& k, double sun_distance_au) {
+  scene::Scene sc = k.scene_for(s);
+  const std::string where = use_orders_tables_device(sc, k.device, k.notice);
+  auto m = make_sky_model(sc, k.sky(s), sun_distance_au);
+  m->orders_tables_device = where;
+  return m;
+}
+
 io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun) {
   io::Provenance p = io::Provenance::current();
   p.add("scene", m.scene.source);
@@ -247,6 +260,7 @@ io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun) {
   const auto& a = m.scene.atmosphere;
   p.add("constituents", std::string(a.rayleigh ? "rayleigh " : "") + (a.mie ? "mie " : "") + (a.ozone ? "ozone" : ""));
   p.add("wavelengths", static_cast<double>(m.atmosphere->wavelengths_nm().size()));
+  if (m.scene.scattering.method == atmo::ScatteringMethod::Orders) p.add("orders_tables_device", m.orders_tables_device);
   // NaN marks what a study varies: it is a column of the file, not one value.
   auto add_or_varied = [&p](const std::string& key, double v) {
     if (std::isnan(v))

@@ -119,7 +119,7 @@ ElevationStudy sun_elevation_study(const scene::Scene& s, const ElevationStudyOp
     if (!(v >= -90 && v <= 90)) throw InputError("sun-elevation study: elevation " + io::format_double(v) + " is outside [-90, 90]");
   if (!(o.step_deg > 0)) throw InputError("sun-elevation study: step " + io::format_double(o.step_deg) + " must be > 0");
   if (o.to_deg < o.from_deg) throw InputError("sun-elevation study: to " + io::format_double(o.to_deg) + " is below from");
-  const auto model = make_sky_model(o.sky.scene_for(s), o.sky.sky(s), 1.0);
+  const auto model = make_sky_model(s, o.sky, 1.0);
   const double h = s.observer ? std::max(s.observer->height_m, 0.0) : 0.0;
   ElevationStudy st;
   st.azimuth_deg = o.azimuth_deg;
@@ -193,7 +193,7 @@ DayStudy day_study(const scene::Scene& s, const DayStudyOptions& o, const std::f
   // overwrite this day's sky_0000Z.exr).
   const double margin_d = std::min(0.5 * o.step_s, 0.5) / 86400.0;
   const auto series = sun_series(base, jd0, jd0 + 1.0 - margin_d, o.step_s, 100000);
-  const auto model = make_sky_model(o.sky.scene_for(s), o.sky.sky(s), 1.0);
+  const auto model = make_sky_model(s, o.sky, 1.0);
   const double h = std::max(o.height_m, 0.0);
   DayStudy st;
   st.date = o.date;
@@ -292,7 +292,7 @@ std::vector<fs::path> write_day_study(const DayStudy& st, const fs::path& dir, b
 // ------------------------------------------------------------------ sweep
 scene::SweepOutputs sweep_point(const scene::Scene& s, const SkySettings& q) {
   const SunPlacement sun = sun_of_scene(s);
-  const auto m = make_sky_model(q.scene_for(s), q.sky(s), sun.distance_au);
+  const auto m = make_sky_model(s, q, sun.distance_au);
   const SkySummary sm = summarize_sky(*m->sky, std::max(sun.observer_height_m, 0.0), sun.direction());
   scene::SweepOutputs out = {{"sun_elevation_deg", sun.elevation_deg}, {"sun_azimuth_deg", sun.azimuth_deg}};
   const auto v = sky_summary_values(sm);

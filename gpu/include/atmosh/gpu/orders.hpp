@@ -13,8 +13,10 @@
 // Each shader is assembled from shared/geometry.glsl.hpp (float and double) and
 // shared/orders.glsl.hpp (double: the tables' parametrisations, lookup coordinates,
 // blend, ray nodes), the same functions the CPU build calls, and
-// gpu/shaders/orders_lib.glsl (buffers, the per-wavelength corner loop); S_1 from the
-// sky pass's parts (gpu::sky_parts) and the same orders block. Positions and table
+// gpu/shaders/orders_lib.glsl (buffers) and gpu/shaders/orders_lookup.glsl (the
+// per-wavelength corner loop, which the sky pass's orders term uses too); S_1 from the
+// sky pass's parts (gpu::sky_parts) and the same orders block. The sums of the orders
+// that these passes build are the tables the sky pass looks up (gpu/sky.hpp). Positions and table
 // coordinates in double, table values and sums in float (as the CPU's float tables;
 // the CPU sums in double); S_1's sun lookups take float altitudes and cosines.
 // Agreement with the CPU tables: docs/gpu.md ("Successive orders on the GPU"), test

@@ -13,7 +13,13 @@
 // atmo::sky_pixel_direction. With ScatteringMethod::Approximate it adds, at every node,
 // the all-orders multiple-scattering term of atmo::MultipleScatteringLut's table (the
 // integrator's, uploaded as float, or built by gpu/shaders/ms_build.comp), looked up
-// through shared/ms_approx.glsl.hpp as on the CPU; ScatteringMethod::Orders is CPU-only.
+// through shared/ms_approx.glsl.hpp as on the CPU. With ScatteringMethod::Orders (orders
+// >= 2) it adds per pixel the successive-orders term of the integrator's tables
+// (atmo::ScatteringOrders: the sum of orders 2..N along the view ray and the sky's light
+// reflected by the ground at its end, SkyIntegrator::shade's), uploaded as they are
+// (float logs; built on the CPU or by the GPU's passes, gpu/orders.hpp) and looked up
+// through shared/orders.glsl.hpp and gpu/shaders/orders_lookup.glsl (the table passes'
+// lookup); with orders = 1 single scattering, as on the CPU.
 //
 // Precision: float, except positions along the view ray and its cuts, and the sun
 // lookups' ray geometry and table interpolation (double; float radii would put ~0.5 m
@@ -85,6 +91,11 @@ std::vector<float> ms_table_from_cpu(const atmo::MultipleScatteringLut& lut);
 // cuts (double), sky_lib.glsl, then
 // `main_shader` (a path under gpu/shaders/).
 std::vector<ShaderPart> sky_parts(const std::string& main_shader);
+// The sky pass's parts (gpu/shaders/sky.comp): sky_parts with shared/orders.glsl.hpp
+// (double) after the view-ray block, and the orders tables' buffers
+// (gpu/shaders/sky_orders.glsl) and lookup (gpu/shaders/orders_lookup.glsl) before
+// sky.comp.
+std::vector<ShaderPart> sky_pass_parts();
 
 // Empty when the GPU sky supports the integrator's atmosphere, else the reason.
 std::string sky_unsupported_reason(const atmo::SkyIntegrator& sky);
@@ -92,7 +103,11 @@ std::string sky_unsupported_reason(const atmo::SkyIntegrator& sky);
 // Renders with ctx (made current on this thread): single scattering, or with
 // ScatteringMethod::Approximate single scattering plus the all-orders term of the
 // multiple-scattering table at every node of the view ray (the CPU's add_ms_node,
-// through shared/ms_approx.glsl.hpp); Unsupported for ScatteringMethod::Orders.
+// through shared/ms_approx.glsl.hpp), or with ScatteringMethod::Orders plus the orders
+// term of sky.orders_tables() per pixel (uploaded; gpu_tables does not rebuild them:
+// a sky whose options name gpu::make_orders_passes built them on the GPU already).
+// Agreement with the CPU image with orders: 3.1e-5 relative on llvmpipe (bound 1e-4,
+// GpuOrders.SkyMatchesTheCpuImage).
 // gpu_tables: rebuild the integrator's optical-depth tables (build_lut_tables) and its
 // multiple-scattering table (build_ms_table) on the GPU instead of uploading its
 // CPU-built ones.

@@ -155,6 +155,9 @@ class ScatteringOrders {
   const std::vector<float>& ground_table() const;
   // nr, nmu, ns, na.
   std::vector<int> table_size() const;
+  // m = -sin(lowest tabulated sun elevation) of the sun coordinate (shared
+  // orders_mus_of_u): with table_size, what a lookup elsewhere (the GPU sky) needs.
+  double sun_m() const;
 
   struct Impl;
 

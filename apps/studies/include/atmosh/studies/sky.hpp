@@ -57,6 +57,9 @@ struct SunRequest {
 };
 SunPlacement place_sun(const scene::Scene& s, const SunRequest& r);
 
+// One-line notices of a fallback (the CLI prints them on stderr after "atmosh: ").
+using Notice = std::function<void(const std::string&)>;
+
 // The settings of the sky integrator that change results (the CLI's quality options,
 // parsed). Unset optionals take the scene's value.
 struct SkySettings {
@@ -66,6 +69,11 @@ struct SkySettings {
   std::optional<atmo::ScatteringMethod> scattering;      // else the scene's [scattering] method
   std::optional<int> orders;                             // else the scene's orders
   int threads = 0;                                       // worker threads (0 = every CPU this process may use)
+  // Where the orders tables are built (use_orders_tables_device: cpu | gpu | auto) and
+  // its notices; results the same within the GPU tables' float tolerance (not part of
+  // sweep_settings).
+  std::string device = "cpu";
+  Notice notice;
   // Checked, the messages naming the options as typed (--shells 4..4096, --segments
   // 1..min(shells - 1, the cut spheres), --samples 1..8, --max-piece-tau > 0, --orders
   // 1..64, --threads 0..1024): InputError otherwise. The copy returned has its thread
@@ -86,34 +94,42 @@ struct SkyModel {
   std::unique_ptr<atmo::Atmosphere> atmosphere;  // outlives `sky`, which refers to it
   std::unique_ptr<atmo::SkyIntegrator> sky;
   double build_time_s = 0;  // wall clock of the table build
+  std::string orders_tables_device = "cpu";  // where the orders tables were built (use_orders_tables_device)
 };
 std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const atmo::SkyOptions& options, double sun_distance_au);
+// The sky of scene s with settings k (k.scene_for(s), k.sky(s)), its orders tables built
+// where use_orders_tables_device(k.device) says: the studies' and sweeps' skies.
+std::unique_ptr<SkyModel> make_sky_model(const scene::Scene& s, const SkySettings& k, double sun_distance_au);
 
 // Provenance of a sky: scene parameters and the sun (NaN fields are recorded as varied).
 io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun);
 
-// One-line notices of a fallback (the CLI prints them on stderr after "atmosh: ").
-using Notice = std::function<void(const std::string&)>;
 
 // "cpu", "gpu" or "auto"; InputError "--device <name>: must be cpu, gpu or auto" otherwise.
 void check_device_name(const std::string& device);
 
 // The sky image on a device: "cpu"; "gpu" (the GPU pass, or std::runtime_error when
-// there is no EGL device or the method is unsupported there); "auto" (the GPU pass,
-// else the CPU after a one-line notice). `used` receives "cpu" or "gpu".
+// there is no EGL device or the input is unsupported there); "auto" (the GPU pass,
+// else the CPU after a one-line notice; with ScatteringMethod::Orders on a software
+// renderer the CPU, with a notice: use_orders_tables_device). `used` receives "cpu" or
+// "gpu".
 // threads: CPU worker threads (0 = all cores).
 atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrator& sky, atmo::SkyProjection projection,
                              int width, int height, double altitude_m, const glm::dvec3& sun, bool spectral, int threads,
                              std::string& used, const Notice& notice = {});
 
 // Where a sky image on `device` builds the orders tables of scene `s` (the orders method,
-// orders >= 2; "cpu" for anything else): "auto" on a hardware GPU sets
-// s.scattering.orders_passes to the GPU's passes (gpu/orders.hpp) and returns "gpu";
-// otherwise "cpu", with a one-line notice why (no EGL device, more wavelengths than the GPU
-// passes hold, or a software renderer: Mesa llvmpipe builds the tables ~11x slower than
-// the CPU, docs/gpu.md). "gpu" asks for the image on the GPU, whose sky pass has no orders
-// term: std::runtime_error as render_sky_on's, before any table is built. The image with
-// orders is rendered on the CPU (render_sky_on, with its notice).
+// orders >= 2; "cpu" for anything else), the one policy for `atmosh sky` and the scene
+// runner's sky images (`atmosh run`): "gpu" sets s.scattering.orders_passes to the GPU's
+// passes (gpu/orders.hpp) and returns "gpu" whatever the renderer, or throws
+// std::runtime_error as render_sky_on's (no EGL device, more wavelengths than the GPU
+// passes hold) before any table is built; "auto" does the same on a hardware GPU and
+// otherwise returns "cpu" with a one-line notice why (no EGL device, too many
+// wavelengths, or a software renderer: Mesa llvmpipe builds the tables ~11x slower than
+// the CPU, docs/gpu.md). The image follows render_sky_on: on the GPU for "gpu" and for
+// "auto" on a hardware GPU (the sky pass adds the orders term, the tables uploaded); on
+// a software renderer "auto" renders the image with orders on the CPU (llvmpipe is
+// slower there too: docs/gpu.md, "The sky image with orders on the GPU").
 std::string use_orders_tables_device(scene::Scene& s, const std::string& device, const Notice& notice = {});
 
 // Writes the EXR (R,G,B,X,Y,Z [+ L_<nm>nm]) and, if png is non-empty, a tone-mapped

@@ -300,6 +300,17 @@ struct GpuOrdersParams {
   int off_sun_ground;  // into ATMOSH_ORDERS_BIND_GROUND_T
   int pad;
 };
+
+// ---- The sky's orders term (SkyIntegrator with method orders; gpu/shaders/sky.comp) ----
+// The ground table's value at fraction fs between samples a, b (logarithms): the
+// corrected blend's exp, 0 below the floor (ScatteringOrders::Impl::interp_ground).
+ATMOSH_FN float orders_ground_value(float a, float b, float fs) {
+  return orders_log_visible(orders_ground_log(a, b, fs)) ? glm::exp(orders_ground_log_corrected(a, b, fs)) : 0.0f;
+}
+// The sky pass's binding points of the orders tables (gpu/src/sky.cpp binds them).
+#define ATMOSH_SKY_BIND_ORDERS 15         // float: log of sum S_2..S_N [texel][wavelength]
+#define ATMOSH_SKY_BIND_ORDERS_GROUND 16  // float: log of sum E_1..E_{N-1} [sun sample][wavelength]
+#define ATMOSH_SKY_BIND_ORDERS_PARAMS 17  // GpuOrdersParams of those tables (nr = 0: no orders term)
 // ATMOSH_GLSL_END
 
 }  // namespace atmosh::atmo::shared
