@@ -136,18 +136,8 @@ void cube_face_frame(int face, std::array<double, 3>& u, std::array<double, 3>& 
 
 CubeRasterResult render_cube_maps(const Context& ctx, const CubeRasterMesh& mesh,
                                   const std::vector<std::array<double, 3>>& centres, const CubeRasterOptions& opt) {
+  check_cube_input(mesh, centres, opt);
   const int N = opt.size;
-  if (N < 1 || N > 2048) throw std::invalid_argument("render_cube_maps: size must be in 1..2048, got " + std::to_string(N));
-  if (!(opt.near > 0) || !(opt.far > opt.near) || !std::isfinite(opt.far))
-    throw std::invalid_argument("render_cube_maps: need 0 < near < far (finite)");
-  if (mesh.vertices.size() % kCubeRasterVertexFloats != 0 || mesh.indices.size() % 3 != 0)
-    throw std::invalid_argument("render_cube_maps: vertex or index array of the wrong length");
-  const std::size_t nv = mesh.vertices.size() / kCubeRasterVertexFloats;
-  for (std::uint32_t i : mesh.indices)
-    if (i >= nv) throw std::invalid_argument("render_cube_maps: triangle index out of range");
-  for (const auto& c : centres)
-    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
-      throw std::invalid_argument("render_cube_maps: non-finite centre");
   ctx.make_current();
   const Program prog({embedded_source("gpu/shaders/gi_probe_cube.vert")}, {embedded_source("gpu/shaders/gi_probe_cube.frag")});
   const auto t0 = Clock::now();
@@ -182,18 +172,8 @@ CubeRasterResult render_cube_maps(const Context& ctx, const CubeRasterMesh& mesh
   const int batch = static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(nc, std::min(max_size, 4096) / N)));
   const int W = 6 * N, H = batch * N;
   Tex colour, depth;
-  glBindTexture(GL_TEXTURE_2D, colour.id);
-  glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, W, H);
-  glBindTexture(GL_TEXTURE_2D, depth.id);
-  glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, W, H);
   Fbo fbo;
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.id, 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth.id, 0);
-  const GLenum draw = GL_COLOR_ATTACHMENT0;
-  glDrawBuffers(1, &draw);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw std::runtime_error("OpenGL framebuffer incomplete in the probe cube maps");
+  detail::colour_depth_target(fbo.id, colour.id, depth.id, W, H, "the probe cube maps");
   check_gl("cube raster targets");
 
   prog.use();
@@ -286,17 +266,7 @@ MeshRaster::MeshRaster(const Context& ctx, const std::vector<float>& vertices, c
     offset += attribute_sizes[a];
   }
   glBindVertexArray(0);
-  glBindTexture(GL_TEXTURE_2D, m.colour.id);
-  glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width, height);
-  glBindTexture(GL_TEXTURE_2D, m.depth.id);
-  glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, width, height);
-  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.id);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m.colour.id, 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, m.depth.id, 0);
-  const GLenum draw = GL_COLOR_ATTACHMENT0;
-  glDrawBuffers(1, &draw);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw std::runtime_error("OpenGL framebuffer incomplete in render_mesh_rgba");
+  detail::colour_depth_target(m.fbo.id, m.colour.id, m.depth.id, width, height, "render_mesh_rgba");
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   check_gl("render_mesh_rgba setup");
 }
@@ -457,19 +427,7 @@ ProbeProjector::ProbeProjector(const Context& ctx, const CubeRasterMesh& mesh,
   glBindVertexArray(0);
   m.batch = cube_batch(NS, centres.size());
   const int W = 6 * NS, H = m.batch * NS;
-  glBindTexture(GL_TEXTURE_2D, m.colour.id);
-  glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, W, H);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glBindTexture(GL_TEXTURE_2D, m.depth.id);
-  glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, W, H);
-  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.id);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m.colour.id, 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, m.depth.id, 0);
-  const GLenum draw = GL_COLOR_ATTACHMENT0;
-  glDrawBuffers(1, &draw);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw std::runtime_error("OpenGL framebuffer incomplete in the probe projector");
+  detail::colour_depth_target(m.fbo.id, m.colour.id, m.depth.id, W, H, "the probe projector");
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   m.env = std::make_unique<Buffer>(env.size() * sizeof(float), env.data());
   const std::vector<float> zero(centres.size() * 3 * static_cast<std::size_t>(stride), 0.0f);

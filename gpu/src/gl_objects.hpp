@@ -95,6 +95,20 @@ inline void check_framebuffer(const char* what) {
     throw std::runtime_error(std::string("OpenGL framebuffer incomplete (") + std::to_string(st) + ") in " + what);
 }
 
+// A w x h render target: float RGBA colour and 32-bit float depth (storage_2d), both
+// attached to `fbo`, which is left bound and draws to the colour; std::runtime_error
+// naming `what` unless it is complete.
+inline void colour_depth_target(GLuint fbo, GLuint colour, GLuint depth, int w, int h, const char* what) {
+  storage_2d(colour, GL_RGBA32F, w, h);
+  storage_2d(depth, GL_DEPTH_COMPONENT32F, w, h);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour, 0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
+  const GLenum draw = GL_COLOR_ATTACHMENT0;
+  glDrawBuffers(1, &draw);
+  check_framebuffer(what);
+}
+
 // The embedded shader source at `path` as a program's only part.
 inline std::vector<ShaderPart> parts(const char* path) { return {embedded_source(path)}; }
 
