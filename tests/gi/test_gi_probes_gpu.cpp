@@ -31,6 +31,7 @@
 
 #ifdef ATMOSH_GI_HAVE_GPU
 #include "atmosh/gpu/context.hpp"
+#include "gi_gpu_skip.hpp"
 #endif
 
 namespace {
@@ -68,27 +69,6 @@ glm::dvec3 face_dir(int f, double u, double v) {
 }
 
 std::vector<glm::dvec3> inside_points() { return {{0, 0, 0}, {0.1, -0.2, 0.05}, {-0.3, 0.25, -0.1}}; }
-
-#ifdef ATMOSH_GI_HAVE_GPU
-// A GPU context exists, or the test is skipped (failed where CI requires one).
-bool gpu_or_skip(std::string& why) {
-  try {
-    const gpu::Context ctx;
-    return true;
-  } catch (const gpu::Unavailable& e) {
-    why = e.what();
-    return false;
-  }
-}
-#define ATMOSH_NEED_GPU()                                                                 \
-  do {                                                                                    \
-    std::string why;                                                                      \
-    if (!gpu_or_skip(why)) {                                                              \
-      if (std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT")) FAIL() << "no EGL context: " << why; \
-      GTEST_SKIP() << why;                                                                \
-    }                                                                                     \
-  } while (0)
-#endif
 
 TEST(GiProbesSurface, EmissionOnlyFieldIsTheEmissionAndEnclosedProbesSeeIt) {
   const double le = 1.7;

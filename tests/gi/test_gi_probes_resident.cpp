@@ -40,6 +40,7 @@
 
 #ifdef ATMOSH_GI_HAVE_GPU
 #include "atmosh/gpu/context.hpp"
+#include "gi_gpu_skip.hpp"
 #endif
 
 namespace {
@@ -145,23 +146,6 @@ TEST(GiProbesResident, BadOptionsThrowInputErrorBeforeAnyGpuWork) {
 }
 
 #ifdef ATMOSH_GI_HAVE_GPU
-bool gpu_or_skip(std::string& why) {
-  try {
-    const gpu::Context ctx;
-    return true;
-  } catch (const gpu::Unavailable& e) {
-    why = e.what();
-    return false;
-  }
-}
-#define ATMOSH_NEED_GPU()                                                                 \
-  do {                                                                                    \
-    std::string why;                                                                      \
-    if (!gpu_or_skip(why)) {                                                              \
-      if (std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT")) FAIL() << "no EGL context: " << why; \
-      GTEST_SKIP() << why;                                                                \
-    }                                                                                     \
-  } while (0)
 
 gi::Scene sphere_on_plane_sun_sky() {
   gi::Scene s = gi::builtin_scene("sphere-on-plane", 12);
