@@ -120,18 +120,7 @@ RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvG
 #ifdef ATMOSH_GI_HAVE_GPU
   Impl& I = *impl_;
   const auto t0 = Clock::now();
-  const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(glm::cross(cam.forward, cam.up)),
-                   up = glm::cross(right, f);
-  const double th = std::tan(0.5 * cam.vertical_fov_deg * std::numbers::pi / 180),
-               aspect = static_cast<double>(width) / height;
-  gpu::PrtCamera pc;
-  pc.eye = cam.eye;
-  pc.right = right;
-  pc.up = up;
-  pc.back = -f;
-  pc.tan_half_fov = th;
-  pc.width = width;
-  pc.height = height;
+  const gpu::PrtCamera pc = detail::pass_camera(cam, width, height);
   const bool sun = sun_lit(I.scene);
   gpu::GiSun gs;
   if (sun) gs.direction = glm::normalize(I.scene.sun->direction);
@@ -162,8 +151,7 @@ RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvG
     if (r.radiance[4 * i + 3] == 0.0f) {
       if (I.sky) {
         const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
-        const double x = (2.0 * (col + 0.5) / width - 1.0) * th * aspect, y = (1.0 - 2.0 * (row + 0.5) / height) * th;
-        const glm::dvec3 L = environment_radiance(I.scene, glm::normalize(f + x * right + y * up));
+        const glm::dvec3 L = environment_radiance(I.scene, detail::pixel_ray(pc, col, row));
         for (int c = 0; c < 3; ++c) img.mean[c][i] = static_cast<float>(L[c]);
       }
       continue;

@@ -49,6 +49,25 @@ gpu::GiMeshView MeshAttrs::view() const {
   return v;
 }
 
+gpu::PrtCamera pass_camera(const Camera& cam, int width, int height) {
+  const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(glm::cross(cam.forward, cam.up));
+  gpu::PrtCamera pc;
+  pc.eye = cam.eye;
+  pc.right = right;
+  pc.up = glm::cross(right, f);
+  pc.back = -f;
+  pc.tan_half_fov = std::tan(0.5 * cam.vertical_fov_deg * std::numbers::pi / 180);
+  pc.width = width;
+  pc.height = height;
+  return pc;
+}
+
+glm::dvec3 pixel_ray(const gpu::PrtCamera& pc, int col, int row) {
+  const double th = pc.tan_half_fov, aspect = static_cast<double>(pc.width) / pc.height;
+  const double x = (2.0 * (col + 0.5) / pc.width - 1.0) * th * aspect, y = (1.0 - 2.0 * (row + 0.5) / pc.height) * th;
+  return glm::normalize(-pc.back + x * pc.right + y * pc.up);
+}
+
 gpu::GiSkyOptions sky_quadrature(const Scene& scene, int n, int resolution) {
   gpu::GiSkyOptions gsky;  // spherical Fibonacci directions, weight 4 pi / N each
   const double golden = std::numbers::pi * (1 + std::sqrt(5.0));
@@ -119,21 +138,10 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
   if (so.emitter_resolution < 16 || so.emitter_resolution > 4096)
     throw InputError("gi: emitter distance-map resolution must be in 16..4096, got " +
                      std::to_string(so.emitter_resolution));
-  const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
 #ifdef ATMOSH_GI_HAVE_GPU
-  const glm::dvec3 f = glm::normalize(cam.forward), right = glm::normalize(rx), up = glm::cross(right, f);
-  const double th = std::tan(0.5 * cam.vertical_fov_deg * std::numbers::pi / 180),
-               aspect = static_cast<double>(width) / height;
   const gpu::Context ctx;
   const detail::MeshAttrs attrs(scene);
-  gpu::PrtCamera pc;
-  pc.eye = cam.eye;
-  pc.right = right;
-  pc.up = up;
-  pc.back = -f;
-  pc.tan_half_fov = th;
-  pc.width = width;
-  pc.height = height;
+  const gpu::PrtCamera pc = detail::pass_camera(cam, width, height);
   const bool sun = sun_lit(scene);
   gpu::GiSun gs;
   if (sun) gs.direction = glm::normalize(scene.sun->direction);
@@ -192,8 +200,7 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
       if (!gb.hit[i]) {
         if (has_env) {
           const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
-          const double x = (2.0 * (col + 0.5) / width - 1.0) * th * aspect, y = (1.0 - 2.0 * (row + 0.5) / height) * th;
-          g.background[i] = environment_radiance(scene, glm::normalize(f + x * right + y * up));
+          g.background[i] = environment_radiance(scene, detail::pixel_ray(pc, col, row));
         }
         continue;
       }

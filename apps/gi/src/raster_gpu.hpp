@@ -12,6 +12,7 @@
 #include "atmosh/gi/lpv.hpp"
 #include "atmosh/gi/scene.hpp"
 #include "atmosh/gpu/gi_raster.hpp"
+#include "atmosh/gpu/prt.hpp"
 
 namespace atmosh::gi::detail {
 
@@ -22,6 +23,12 @@ struct MeshAttrs {
   explicit MeshAttrs(const Scene& scene);
   gpu::GiMeshView view() const;
 };
+
+/// `cam` as the G-buffer passes take it: unit right, up and back (-forward), the tangent of
+/// half the vertical field of view, a width x height image.
+gpu::PrtCamera pass_camera(const Camera& cam, int width, int height);
+/// Unit direction through the centre of pixel (col, row) of `pc` (row 0 at the top).
+glm::dvec3 pixel_ray(const gpu::PrtCamera& pc, int col, int row);
 
 /// The environment's directions for gpu::GiSkyOptions: n spherical-Fibonacci directions, each
 /// with environment_radiance x 4 pi / n; depth maps of resolution^2 texels.
