@@ -149,7 +149,9 @@ std::vector<fs::path> run_day_study(const DayCmd& o, const ProgressCallback& pro
 void register_sky_commands(CLI::App& app) {
   {
     static SkyCmd c;
-    auto* s = app.add_subcommand("sky", "Render the single-scattering sky (EXR, tone-mapped PNG, JSON summary)");
+    auto* s = app.add_subcommand("sky",
+                                 "Render the sky: single scattering, successive orders or the all-orders "
+                                 "approximation (EXR, tone-mapped PNG, JSON summary)");
     add_scene_option(s, c.scene_file);
     s->add_option("--lat", c.sun.lat_deg, "Observer latitude [deg]");
     s->add_option("--lon", c.sun.lon_deg, "Observer longitude [deg, east positive]");
