@@ -32,7 +32,12 @@ float tau_at(int i, vec3 x) {
 void sky_visit(SkyViewNode nd) {
   double mus = sky_node_sun_cosine(g_ray, nd), top = params.top_radius_d - params.ground_radius_d;
   vec4 to_sun = sun_lookup(float(sky_altitude(nd.r, params.ground_radius_d)), float(mus));
+#ifdef ATMOSH_SKY_MS
   bool lit = to_sun.w < 0.5, ms = params.ms_altitudes > 0;
+#else
+  const bool ms = false;  // no table: the term's code is left out of the program
+  bool lit = to_sun.w < 0.5;
+#endif
   if (!lit && !ms) return;
   SkyNodeTerms t = sky_node_terms(nd, dvec3(to_sun.xyz), double(g_p_ray), double(g_p_mie));
   int na = max(params.ms_altitudes, 2), ns = max(params.ms_suns, 2), nw = params.nw;  // nw <= kMaxWavelengths
@@ -92,7 +97,9 @@ void main() {
                             params.ext_max[2]), double(params.max_piece_optical_depth), params.gauss_x, params.gauss_w,
                             params.n_gauss, params.part_w);
     for (int i = 0; i < nwc; ++i) g_acc[i] *= spec[sky_spectral(6, nw, i)] * params.irradiance_scale;
+#ifdef ATMOSH_SKY_ORDERS
     if (op.nr > 0) sky_add_orders(column);
+#endif
     float mus_g = float(sky_ground_sun_cosine(g_ray));
     vec4 to_sun = sun_lookup(0.0, mus_g);
     if (sky_ground_lit(g_ray, double(params.albedo), double(mus_g)) && to_sun.w < 0.5)  // ground reflection

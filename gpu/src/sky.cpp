@@ -468,7 +468,12 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
   const int nw = static_cast<int>(atm.wavelengths_nm().size());
 
   static const std::vector<ShaderPart> parts = sky_pass_parts();
-  Program prog(parts, "#define ATMOSH_SKY_TRACE 1\n");  // the shared walk along the ray with sky.comp's hooks
+  // The shared walk along the ray with sky.comp's hooks; the approximation's and the orders'
+  // terms compiled in only for a sky that has their tables (less code for llvmpipe to
+  // compile for the others).
+  const bool ms_term = sky.method() == atmo::ScatteringMethod::Approximate;
+  Program prog(parts, std::string("#define ATMOSH_SKY_TRACE 1\n") + (ms_term ? "#define ATMOSH_SKY_MS 1\n" : "") +
+                          (sky.orders_tables() != nullptr ? "#define ATMOSH_SKY_ORDERS 1\n" : ""));
   SkyInputs inputs(ctx, sky, gpu_tables);
   // Orders: the integrator's tables (built on the CPU, or by the GPU's passes when its
   // options named them: MultipleScatteringOptions::orders_passes), uploaded.

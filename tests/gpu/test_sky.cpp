@@ -156,7 +156,9 @@ TEST(GpuSky, UnsupportedInputIsReportedNotRendered) {
 TEST(GpuSky, ParameterBlockLayoutMatches) {
   ATMOSH_GPU_CONTEXT_OR_SKIP(ctx);
   namespace sg = atmosh::atmo::shared;
-  gpu::Program prog(gpu::sky_pass_parts(), "#define ATMOSH_SKY_TRACE 1\n");
+  // every term compiled in, as for a sky with both tables (the blocks all in use)
+  gpu::Program prog(gpu::sky_pass_parts(),
+                    "#define ATMOSH_SKY_TRACE 1\n#define ATMOSH_SKY_MS 1\n#define ATMOSH_SKY_ORDERS 1\n");
   const std::vector<std::pair<const char*, std::size_t>> members = {
       {"params.ground_radius_d", offsetof(sg::GpuSkyParams, ground_radius_d)},
       {"params.top_radius_d", offsetof(sg::GpuSkyParams, top_radius_d)},
