@@ -1,5 +1,5 @@
-// The sum of the orders (sum_lin, linear) replaced by its logarithm, the table the sky
-// pass looks up, when the table stays on the GPU (gpu::OrdersTables::Resident): the
+// The logarithm of the sum of the orders (sum_lin, linear) into tab_out, the table the
+// sky pass looks up, when the table stays on the GPU (gpu::OrdersTables): the
 // CPU's to_log (scattering_orders.cpp: log of max(v, kOrdersFloor), in float) on the
 // GPU. GLSL's float log is exact to 3 ulp only (and llvmpipe's exp too coarse for a
 // Newton step), and GLSL has no double log: the log here is computed in double,
@@ -19,5 +19,5 @@ void main() {
   }
   double t = (m - 1.0LF) / (m + 1.0LF), t2 = t * t, s = 1.0LF / 23.0LF;
   for (int k = 21; k >= 1; k -= 2) s = 1.0LF / double(k) + t2 * s;
-  sum_lin[e] = float(double(ex) * 0.69314718055994530942LF + 2.0LF * t * s);
+  tab_out[e] = float(double(ex) * 0.69314718055994530942LF + 2.0LF * t * s);
 }

@@ -82,7 +82,7 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
     density_ = std::make_unique<Program>(orders_parts("gpu/shaders/orders_density.comp"));
     ground_ = std::make_unique<Program>(orders_parts("gpu/shaders/orders_ground.comp"));
     radiance_ = std::make_unique<Program>(orders_parts("gpu/shaders/orders_radiance.comp"));
-    if (where_ == OrdersTables::Resident && !log_)
+    if (where_ != OrdersTables::ReadBack && !log_)
       log_ = std::make_unique<Program>(orders_parts("gpu/shaders/orders_log.comp"));
     if (times_) times_->compile_s += since(t0);
     t0 = Clock::now();
@@ -190,15 +190,18 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
     b_sum_->download(sum_lin.data(), n_tab_ * sizeof(float));
   }
 
-  // Resident: the sum's logarithm in place (orders_log.comp), handed over with its buffer.
+  // Kept on the GPU: the sum's logarithm (orders_log.comp) into the table of the next
+  // order (free once the build is done), handed over with that buffer; the linear sum
+  // stays for sum().
   std::shared_ptr<const atmo::OrdersDeviceTable> keep_sum() override {
-    if (where_ != OrdersTables::Resident) return nullptr;
+    if (where_ == OrdersTables::ReadBack) return nullptr;
     const auto t0 = Clock::now();
     run(*log_, n_tab_, *b_prev_, *b_next_);
     finish();
     if (times_) times_->passes_s += since(t0);
-    return std::make_shared<OrdersResidentTable>(ctx_, own_, std::move(b_sum_));
+    return std::make_shared<OrdersResidentTable>(ctx_, own_, std::move(b_next_));
   }
+  bool read_back_sum() const override { return where_ != OrdersTables::Resident; }
 
  private:
   // One pass over n items, reading `in` and writing `out`.

@@ -605,7 +605,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     std::swap(prev, next);
   }
   if (passes) device_ = passes->keep_sum();
-  if (!device_) {
+  if (!device_ || passes->read_back_sum()) {
     if (passes) passes->sum(sum_lin);
     m.sum.resize(N);
     for (std::size_t q = 0; q < N; ++q) m.sum[q] = to_log(sum_lin[q]);
@@ -617,7 +617,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
 
 void ScatteringOrders::radiance(double r, double mu, bool ground, double mu_s, double nu, double* out) const {
   const Impl& m = *impl_;
-  if (device_) throw InputError("orders radiance: the table is kept on the device that built it");
+  if (m.sum.empty()) throw InputError("orders radiance: the table is kept on the device that built it only");
   float v[256];
   m.interp(m.sum.data(), m.ray_coord(std::clamp(r, m.R, m.T), mu, ground), mu, mu_s, nu, v);
   for (std::size_t q = 0; q < m.nw; ++q) out[q] = v[q];

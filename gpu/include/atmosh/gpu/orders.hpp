@@ -35,12 +35,13 @@ namespace atmosh::gpu {
 
 // Where the sum of the orders goes at the end of a GPU build. ReadBack: read back into
 // the ScatteringOrders (radiance_table(); what any CPU lookup needs: SkyIntegrator's
-// radiance, the studies' rows). Resident: its logarithm taken on the GPU
-// (orders_log.comp) and kept there in an OrdersResidentTable
+// radiance, summarize_sky, sky_irradiance, the studies' rows). Resident: its logarithm
+// taken on the GPU (orders_log.comp) and kept there in an OrdersResidentTable
 // (ScatteringOrders::device_table()); nothing is read back, radiance_table() stays
 // empty and the CPU's radiance lookup throws; gpu::render_sky in the same context binds
-// it (no upload). The ground table (small) is on the CPU either way.
-enum class OrdersTables { ReadBack, Resident };
+// it (no upload). ResidentAndReadBack: both (the sky pass binds the kept table, the CPU
+// lookups have theirs). The ground table (small) is on the CPU in every case.
+enum class OrdersTables { ReadBack, Resident, ResidentAndReadBack };
 
 // The log table of the sum of orders 2..N ([r][mu][mu_s][phi][wavelength], floats, as
 // ScatteringOrders::radiance_table()) in a storage buffer of the context that built it.
