@@ -241,6 +241,14 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
 
 }  // namespace
 
+OrdersResidentTable::~OrdersResidentTable() {
+  try {
+    ctx_->make_current();
+  } catch (...) {  // the context is current on another thread: the buffer is left to it
+    (void)table_.release();
+  }
+}
+
 std::unique_ptr<atmo::ScatteringOrders> build_scattering_orders(const Context& ctx, const atmo::Atmosphere& atmosphere,
                                                                 const atmo::MultipleScatteringOptions& o,
                                                                 OrdersGpuTimes* times, OrdersTables where) {

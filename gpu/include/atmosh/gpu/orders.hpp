@@ -45,11 +45,17 @@ enum class OrdersTables { ReadBack, Resident, ResidentAndReadBack };
 
 // The log table of the sum of orders 2..N ([r][mu][mu_s][phi][wavelength], floats, as
 // ScatteringOrders::radiance_table()) in a storage buffer of the context that built it.
-// Destroy it where that context is current (as every GPU object).
+// Built by make_orders_passes' device, it holds that context; by
+// build_scattering_orders, the caller's context must outlive it. Its destructor makes
+// that context current on the thread (the buffer is deleted there, not in whichever
+// context is current).
 class OrdersResidentTable final : public atmo::OrdersDeviceTable {
  public:
   OrdersResidentTable(const Context& ctx, std::shared_ptr<const Context> owner, std::unique_ptr<Buffer> table)
       : owner_(std::move(owner)), ctx_(&ctx), table_(std::move(table)) {}
+  ~OrdersResidentTable() override;
+  OrdersResidentTable(const OrdersResidentTable&) = delete;
+  OrdersResidentTable& operator=(const OrdersResidentTable&) = delete;
   const Context& context() const { return *ctx_; }
   const Buffer& buffer() const { return *table_; }
 
