@@ -10,7 +10,9 @@
 // (device 0), or the orders tables and the image on the GPU (device 1: the tables by
 // gpu::make_orders_passes, the image by gpu::render_sky with them uploaded), or the
 // tables on the CPU and the image on the GPU (device 2: `--device auto` on a software
-// renderer). Counters: tables_s (the integrator's build), image_s.
+// renderer), or the tables and the image on the GPU with the tables kept there
+// (device 3: gpu::OrdersTables::Resident; nothing read back or uploaded; the sky pass
+// binds the kept table). Counters: tables_s (the integrator's build), image_s.
 // Run: build/bin/bench_orders  (--benchmark_filter=default:0 for the quick size)
 #include <benchmark/benchmark.h>
 
@@ -111,6 +113,9 @@ void BM_OrdersSky(benchmark::State& state) {
       return;
     }
     if (device == 1) so.scattering.orders_passes = atmosh::gpu::make_orders_passes(ctx);
+    if (device == 3)
+      so.scattering.orders_passes =
+          atmosh::gpu::make_orders_passes(ctx, nullptr, atmosh::gpu::OrdersTables::Resident);
   }
 #else
   if (device != 0) {
@@ -137,7 +142,10 @@ void BM_OrdersSky(benchmark::State& state) {
   }
   state.counters["tables_s"] = tables_s / runs;
   state.counters["image_s"] = image_s / runs;
-  state.SetLabel(device == 0 ? "all CPU" : device == 1 ? "tables and image on the GPU" : "CPU tables, GPU image");
+  state.SetLabel(device == 0   ? "all CPU"
+                 : device == 1 ? "tables and image on the GPU"
+                 : device == 2 ? "CPU tables, GPU image"
+                               : "tables and image on the GPU, tables kept there");
 }
 }  // namespace
 
@@ -146,6 +154,7 @@ BENCHMARK(BM_OrdersCpu)->ArgName("default")->Arg(0)->Arg(1)->Unit(benchmark::kMi
 #ifdef ATMOSH_BENCH_GPU
 BENCHMARK(BM_OrdersGpu)->ArgName("default")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3);
 #endif
-// Args {device 0 CPU | 1 GPU | 2 CPU tables + GPU image, default size 0|1}.
-BENCHMARK(BM_OrdersSky)->ArgNames({"device", "default"})->Args({0, 0})->Args({2, 0})->Args({1, 0})->Args({0, 1})
-    ->Args({2, 1})->Args({1, 1})->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3);
+// Args {device 0 CPU | 1 GPU | 2 CPU tables + GPU image | 3 GPU, tables kept there,
+// default size 0|1}.
+BENCHMARK(BM_OrdersSky)->ArgNames({"device", "default"})->Args({0, 0})->Args({2, 0})->Args({1, 0})->Args({3, 0})
+    ->Args({0, 1})->Args({2, 1})->Args({1, 1})->Args({3, 1})->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3);

@@ -67,9 +67,10 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
  public:
   bool single_on_device() const override { return true; }
 
-  OrdersGpuPasses(const Context& ctx, OrdersGpuTimes* times) : ctx_(ctx), times_(times) {}
-  OrdersGpuPasses(std::shared_ptr<const Context> ctx, OrdersGpuTimes* times)
-      : own_(std::move(ctx)), ctx_(*own_), times_(times) {}
+  OrdersGpuPasses(const Context& ctx, OrdersGpuTimes* times, OrdersTables where)
+      : ctx_(ctx), times_(times), where_(where) {}
+  OrdersGpuPasses(std::shared_ptr<const Context> ctx, OrdersGpuTimes* times, OrdersTables where)
+      : own_(std::move(ctx)), ctx_(*own_), times_(times), where_(where) {}
 
   void begin(const atmo::OrdersSetup& s) override {
     if (s.nw > ATMOSH_ORDERS_MAX_WAVELENGTHS)
@@ -81,6 +82,8 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
     density_ = std::make_unique<Program>(orders_parts("gpu/shaders/orders_density.comp"));
     ground_ = std::make_unique<Program>(orders_parts("gpu/shaders/orders_ground.comp"));
     radiance_ = std::make_unique<Program>(orders_parts("gpu/shaders/orders_radiance.comp"));
+    if (where_ != OrdersTables::ReadBack && !log_)
+      log_ = std::make_unique<Program>(orders_parts("gpu/shaders/orders_log.comp"));
     if (times_) times_->compile_s += since(t0);
     t0 = Clock::now();
     sg::GpuOrdersParams& p = p_;
@@ -187,6 +190,19 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
     b_sum_->download(sum_lin.data(), n_tab_ * sizeof(float));
   }
 
+  // Kept on the GPU: the sum's logarithm (orders_log.comp) into the table of the next
+  // order (free once the build is done), handed over with that buffer; the linear sum
+  // stays for sum().
+  std::shared_ptr<const atmo::OrdersDeviceTable> keep_sum() override {
+    if (where_ == OrdersTables::ReadBack) return nullptr;
+    const auto t0 = Clock::now();
+    run(*log_, n_tab_, *b_prev_, *b_next_);
+    finish();
+    if (times_) times_->passes_s += since(t0);
+    return std::make_shared<OrdersResidentTable>(ctx_, own_, std::move(b_next_));
+  }
+  bool read_back_sum() const override { return where_ != OrdersTables::Resident; }
+
  private:
   // One pass over n items, reading `in` and writing `out`.
   void run(const Program& prog, std::size_t n, const Buffer& in, const Buffer& out) {
@@ -215,29 +231,39 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
   std::shared_ptr<const Context> own_;
   const Context& ctx_;
   OrdersGpuTimes* times_;
+  OrdersTables where_;
   sg::GpuOrdersParams p_{};
   std::size_t n_tab_ = 0, n_incoming_ = 0;
-  std::unique_ptr<Program> incoming_, density_, ground_, radiance_;
+  std::unique_ptr<Program> incoming_, density_, ground_, radiance_, log_;
   std::unique_ptr<Buffer> b_geom_, b_nodes_, b_coords_, b_ray_t_, b_pr_, b_pm_, b_gt_, b_prev_, b_next_, b_dens_,
       b_sum_, b_incoming_, b_e_, b_ground_;
 };
 
 }  // namespace
 
+OrdersResidentTable::~OrdersResidentTable() {
+  try {
+    ctx_->make_current();
+  } catch (...) {  // the context is current on another thread: the buffer is left to it
+    (void)table_.release();
+  }
+}
+
 std::unique_ptr<atmo::ScatteringOrders> build_scattering_orders(const Context& ctx, const atmo::Atmosphere& atmosphere,
                                                                 const atmo::MultipleScatteringOptions& o,
-                                                                OrdersGpuTimes* times) {
+                                                                OrdersGpuTimes* times, OrdersTables where) {
   const std::size_t nw = atmosphere.wavelengths_nm().size();
   if (nw > ATMOSH_ORDERS_MAX_WAVELENGTHS)
     throw Unsupported("GPU orders: " + std::to_string(nw) + " wavelengths (at most " +
                       std::to_string(ATMOSH_ORDERS_MAX_WAVELENGTHS) + ")");
-  OrdersGpuPasses passes(ctx, times);
+  OrdersGpuPasses passes(ctx, times, where);
   return std::make_unique<atmo::ScatteringOrders>(atmosphere, o, &passes);
 }
 
-std::shared_ptr<atmo::OrdersPasses> make_orders_passes(std::shared_ptr<const Context> ctx, OrdersGpuTimes* times) {
+std::shared_ptr<atmo::OrdersPasses> make_orders_passes(std::shared_ptr<const Context> ctx, OrdersGpuTimes* times,
+                                                       OrdersTables where) {
   if (!ctx) throw InputError("GPU orders passes: no context");
-  return std::make_shared<OrdersGpuPasses>(std::move(ctx), times);
+  return std::make_shared<OrdersGpuPasses>(std::move(ctx), times, where);
 }
 
 }  // namespace atmosh::gpu

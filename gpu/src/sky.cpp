@@ -17,6 +17,7 @@
 #include "atmosh/atmo/shared/sky_params.glsl.hpp"
 #include "atmosh/atmo/shared/view_ray.glsl.hpp"
 #include "atmosh/error.hpp"
+#include "atmosh/gpu/orders.hpp"
 #include "atmosh/gpu/program.hpp"
 #include "sun_inputs.hpp"
 #include "atmosh/parallel.hpp"
@@ -250,15 +251,17 @@ class SkyInputs {
     b_shell_->bind(ATMOSH_BIND_NODES);
     b_spec_->bind(ATMOSH_BIND_SPECTRAL);
     if (b_ms_) b_ms_->bind(ATMOSH_BIND_MS_TABLE);
-    if (b_orders_) {
-      b_orders_->bind(ATMOSH_SKY_BIND_ORDERS);
+    if (b_orders_params_) {
+      orders_table_->bind(ATMOSH_SKY_BIND_ORDERS);
       b_orders_ground_->bind(ATMOSH_SKY_BIND_ORDERS_GROUND);
       b_orders_params_->bind(ATMOSH_SKY_BIND_ORDERS_PARAMS);
     }
   }
   // The successive-orders tables the sky pass looks up (sky_orders.glsl): those of
-  // `orders` (its CPU copy, uploaded), or none (op.nr = 0: no orders term).
-  void set_orders_tables(const atmo::ScatteringOrders* orders, const atmo::Atmosphere& atm) {
+  // `orders` — its radiance table bound where it is, if the GPU passes of this context
+  // kept it (gpu::OrdersTables::Resident), else its CPU copy uploaded; the ground table
+  // uploaded — or none (op.nr = 0: no orders term).
+  void set_orders_tables(const Context& ctx, const atmo::ScatteringOrders* orders, const atmo::Atmosphere& atm) {
     sg::GpuOrdersParams op{};
     const float zero = 0.0f;
     if (orders) {
@@ -270,12 +273,21 @@ class SkyInputs {
       op.albedo = atm.spec().planet.ground_albedo;
       op.nr = n[0], op.nmu = n[1], op.nh = n[1] / 2, op.ns = n[2], op.na = n[3];
       op.nw = static_cast<int>(orders->wavelengths());
-      const auto& t = orders->radiance_table();
       const auto& g = orders->ground_table();
-      b_orders_ = std::make_unique<Buffer>(t.size() * sizeof(float), t.data());
+      const auto* kept = dynamic_cast<const OrdersResidentTable*>(orders->device_table());
+      if (kept && &kept->context() == &ctx) {
+        orders_table_ = &kept->buffer();
+      } else if (orders->device_table()) {
+        throw Unsupported("GPU sky: the orders table is kept on another GPU context");
+      } else {
+        const auto& t = orders->radiance_table();
+        b_orders_ = std::make_unique<Buffer>(t.size() * sizeof(float), t.data());
+        orders_table_ = b_orders_.get();
+      }
       b_orders_ground_ = std::make_unique<Buffer>(g.size() * sizeof(float), g.data());
     } else {
       b_orders_ = std::make_unique<Buffer>(sizeof(float), &zero);
+      orders_table_ = b_orders_.get();
       b_orders_ground_ = std::make_unique<Buffer>(sizeof(float), &zero);
     }
     b_orders_params_ = std::make_unique<Buffer>(sizeof(op), &op);
@@ -293,6 +305,7 @@ class SkyInputs {
  private:
   Params p_{};
   std::unique_ptr<Buffer> b_tab_, b_shell_, b_spec_, b_shell_d_, b_ms_, b_orders_, b_orders_ground_, b_orders_params_;
+  const Buffer* orders_table_ = nullptr;  // b_orders_ or a resident table's buffer
 };
 
 // The constituents' fields of the parameter block common to the sky and table passes.
@@ -460,8 +473,19 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
     throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) + " is out of range");
   const std::string why = sky_unsupported_reason(sky);
   if (!why.empty()) throw Unsupported("GPU sky: " + why);
-  // Same input validation as the CPU path (throws InputError).
-  (void)sky.radiance(altitude_m, glm::dvec3(0, 0, 1), sun);
+  // Same input validation as the CPU path (throws InputError): the observer's altitude
+  // and the sun's direction. An orders table kept on the GPU (OrdersTables::Resident)
+  // has no CPU lookup: there the check is make_ray's alone (sun_transmittance, after
+  // the sun's direction as make_ray checks it, so that the message names the sun).
+  if (sky.orders_tables() && sky.orders_tables()->device_table()) {
+    const double n = glm::length(sun);
+    if (!std::isfinite(n) || std::fabs(n - 1.0) > 1e-6)
+      throw InputError("sun direction (" + std::to_string(sun.x) + ", " + std::to_string(sun.y) + ", " +
+                       std::to_string(sun.z) + ") is not a finite unit vector");
+    (void)sky.sun_transmittance(altitude_m, sun);
+  } else {
+    (void)sky.radiance(altitude_m, glm::dvec3(0, 0, 1), sun);
+  }
   ctx.make_current();
   const auto t0 = std::chrono::steady_clock::now();
   const auto& atm = sky.atmosphere();
@@ -476,8 +500,9 @@ atmo::SkyImage render_sky(const Context& ctx, const atmo::SkyIntegrator& sky, at
                           (sky.orders_tables() != nullptr ? "#define ATMOSH_SKY_ORDERS 1\n" : ""));
   SkyInputs inputs(ctx, sky, gpu_tables);
   // Orders: the integrator's tables (built on the CPU, or by the GPU's passes when its
-  // options named them: MultipleScatteringOptions::orders_passes), uploaded.
-  inputs.set_orders_tables(sky.orders_tables(), atm);
+  // options named them: MultipleScatteringOptions::orders_passes), uploaded, or bound
+  // where they are when those passes kept them on this context's GPU.
+  inputs.set_orders_tables(ctx, sky.orders_tables(), atm);
   if (sky.method() == atmo::ScatteringMethod::Approximate) {
     // The integrator's table (it builds one anyway), or the same table built on the GPU.
     const auto& mo = sky.options().scattering;

@@ -229,7 +229,7 @@ ScatteringOrders::~ScatteringOrders() = default;
 
 std::size_t ScatteringOrders::texels() const { return impl_->texels(); }
 std::size_t ScatteringOrders::bytes() const {
-  return (impl_->sum.size() + impl_->esum.size()) * sizeof(float);
+  return (impl_->texels() * impl_->nw + impl_->esum.size()) * sizeof(float);  // on the device or here
 }
 
 ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteringOptions& o)
@@ -604,9 +604,12 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     pass_s_.push_back(since(t0));
     std::swap(prev, next);
   }
-  if (passes) passes->sum(sum_lin);
-  m.sum.resize(N);
-  for (std::size_t q = 0; q < N; ++q) m.sum[q] = to_log(sum_lin[q]);
+  if (passes) device_ = passes->keep_sum();
+  if (!device_ || passes->read_back_sum()) {
+    if (passes) passes->sum(sum_lin);
+    m.sum.resize(N);
+    for (std::size_t q = 0; q < N; ++q) m.sum[q] = to_log(sum_lin[q]);
+  }
   m.esum.resize(e_sum.size());
   for (std::size_t q = 0; q < e_sum.size(); ++q) m.esum[q] = to_log(e_sum[q]);
   build_s_ = since(t_start);
@@ -614,6 +617,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
 
 void ScatteringOrders::radiance(double r, double mu, bool ground, double mu_s, double nu, double* out) const {
   const Impl& m = *impl_;
+  if (m.sum.empty()) throw InputError("orders radiance: the table is kept on the device that built it only");
   float v[256];
   m.interp(m.sum.data(), m.ray_coord(std::clamp(r, m.R, m.T), mu, ground), mu, mu_s, nu, v);
   for (std::size_t q = 0; q < m.nw; ++q) out[q] = v[q];

@@ -15,6 +15,7 @@
 #include "atmosh/atmo/scattering_orders.hpp"
 #include "atmosh/atmo/sky.hpp"
 #include "atmosh/atmo/sky_image.hpp"
+#include "atmosh/error.hpp"
 #include "atmosh/gpu/orders.hpp"
 #include "atmosh/gpu/sky.hpp"
 #include "gpu_fixture.hpp"
@@ -114,9 +115,25 @@ TEST(GpuOrders, StiffCasesAreFiniteAndMatch) {
   ATMOSH_GPU_CONTEXT_OR_SKIP(ctx);
   const Atmosphere atm(earth_100km(3));
   const ScatteringOrders cpu(atm, small(3));
-  const auto g = gpu::build_scattering_orders(*ctx, atm, small(3));
+  // Built with the table kept on the GPU as well (OrdersTables::ResidentAndReadBack):
+  // the CPU copy is there for the lookups below, and the kept table (the GPU's log of the
+  // same sums, orders_log.comp) equals it to 1 ulp of the logs (< 4e-6 at |log| < 32).
+  const auto g = gpu::build_scattering_orders(*ctx, atm, small(3), nullptr, gpu::OrdersTables::ResidentAndReadBack);
   for (float v : g->radiance_table()) ASSERT_TRUE(std::isfinite(v));
   for (float v : g->ground_table()) ASSERT_TRUE(std::isfinite(v));
+  {
+    const auto* kept = dynamic_cast<const gpu::OrdersResidentTable*>(g->device_table());
+    ASSERT_NE(kept, nullptr);
+    std::vector<float> t(g->radiance_table().size());
+    ASSERT_EQ(kept->buffer().bytes(), t.size() * sizeof(float));
+    kept->buffer().download(t.data(), kept->buffer().bytes());
+    long same = 0;
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      same += t[i] == g->radiance_table()[i];
+      ASSERT_LE(std::fabs(double(t[i]) - g->radiance_table()[i]), 4e-6) << i;
+    }
+    std::printf("kept and read-back log tables: %ld of %zu entries bitwise equal\n", same, t.size());
+  }
   const double R = atm.ground_radius(), T = atm.top_radius();
   double worst = 0;
   int compared = 0;
@@ -273,6 +290,14 @@ TEST(GpuOrders, SkyMatchesTheCpuImage) {
 // (TablesMatchTheCpuPerOrder: 1e-4) plus the image's (1e-4). Stiff inputs on the same
 // tables: sun -36 deg (the tables' edge) and -90, observers 1 um above the ground, at
 // the top and at 1000 km: finite and >= 0.
+// The same GPU build kept on the GPU (gpu::OrdersTables::Resident: the sum's log taken
+// on the GPU, nothing read back, the sky pass binding the buffer): nothing on the CPU
+// (radiance_table() empty, the CPU lookup throws), and its image equals the image of the
+// tables read back, logged on the CPU and uploaded — the reference is the upload path,
+// same passes, same sums: they differ only where the GPU's log (orders_log.comp, float
+// log + a Newton step in double) rounds differently from the CPU's std::log in float.
+// Bound 1e-6 relative (measured on llvmpipe: see docs/gpu.md, "The orders table kept on
+// the GPU").
 TEST(GpuOrders, SkyWithGpuBuiltTablesMatchesAndStiffCasesAreFinite) {
   ATMOSH_GPU_CONTEXT_OR_SKIP(ctx);
   const AtmosphereSpec spec = earth_100km(4);
@@ -283,17 +308,54 @@ TEST(GpuOrders, SkyWithGpuBuiltTablesMatchesAndStiffCasesAreFinite) {
   std::shared_ptr<const gpu::Context> shared_ctx(std::move(ctx));
   o.scattering.orders_passes = gpu::make_orders_passes(shared_ctx);
   const SkyIntegrator sky(atm, solar_spectrum_for_bins(spec.spectrum), o);
+  o.scattering.orders_passes = gpu::make_orders_passes(shared_ctx, nullptr, gpu::OrdersTables::Resident);
+  const SkyIntegrator resident(atm, solar_spectrum_for_bins(spec.spectrum), o);
+  ASSERT_NE(resident.orders_tables(), nullptr);
+  EXPECT_TRUE(resident.orders_tables()->radiance_table().empty());
+  EXPECT_NE(dynamic_cast<const gpu::OrdersResidentTable*>(resident.orders_tables()->device_table()), nullptr);
+  EXPECT_EQ(sky.orders_tables()->device_table(), nullptr);
+  EXPECT_EQ(resident.orders_tables()->ground_table(), sky.orders_tables()->ground_table());
+  EXPECT_EQ(resident.orders_tables()->bytes(), sky.orders_tables()->bytes());
+  {  // the table itself: the GPU's log against the CPU's log of the same sums
+    const auto& up = sky.orders_tables()->radiance_table();
+    std::vector<float> kept(up.size());
+    shared_ctx->make_current();
+    dynamic_cast<const gpu::OrdersResidentTable&>(*resident.orders_tables()->device_table())
+        .buffer()
+        .download(kept.data(), kept.size() * sizeof(float));
+    long same = 0;
+    double worst_log = 0;
+    for (std::size_t i = 0; i < up.size(); ++i) {
+      same += kept[i] == up[i];
+      worst_log = std::max(worst_log, std::fabs(double(kept[i]) - up[i]));
+    }
+    std::printf("  resident log table: %ld of %zu entries bitwise equal to the CPU's log, max |diff| %.3g\n", same,
+                up.size(), worst_log);
+    EXPECT_LE(worst_log, 4e-6);  // 1 ulp at |log| in [16, 32), where the tables' logs lie
+  }
+  std::vector<double> v(4);
+  EXPECT_THROW(resident.orders_tables()->radiance(atm.ground_radius(), 0.5, false, 0.5, 0.5, v.data()), atmosh::InputError);
   for (double sun_el : {10.0, -12.0}) {
     const glm::dvec3 sun = enu_direction_from_zenith(90.0 - sun_el, 0.0);
     const SkyImage c = render_sky(cpu, SkyProjection::Equirect, 16, 9, 0.0, sun, true, 2);
     const SkyImage g = gpu::render_sky(*shared_ctx, sky, SkyProjection::Equirect, 16, 9, 0.0, sun, true);
     const ImageCmp d = compare_images(g, c);
-    std::printf("  GPU-built tables, sun %+5.1f deg: max rel diff %.3g over %ld samples\n", sun_el, d.max_rel,
-                d.compared);
+    const SkyImage r = gpu::render_sky(*shared_ctx, resident, SkyProjection::Equirect, 16, 9, 0.0, sun, true);
+    const ImageCmp dr = compare_images(r, g);
+    long bitwise = 0;
+    for (std::size_t i = 0; i < g.spectral.size(); ++i) bitwise += r.spectral[i] == g.spectral[i];
+    std::printf("  GPU-built tables, sun %+5.1f deg: max rel diff %.3g over %ld samples; kept on the GPU against "
+                "uploaded: %.3g (%ld of %zu values bitwise equal)\n",
+                sun_el, d.max_rel, d.compared, dr.max_rel, bitwise, g.spectral.size());
     EXPECT_TRUE(d.finite);
     EXPECT_GT(d.compared, 0);
     EXPECT_LT(d.max_rel, 2e-4) << "sun " << sun_el;
+    EXPECT_TRUE(dr.finite);
+    EXPECT_EQ(r.valid, g.valid);
+    EXPECT_LE(dr.max_rel, 1e-6) << "sun " << sun_el;
   }
+  EXPECT_THROW(gpu::render_sky(*shared_ctx, resident, SkyProjection::Equirect, 4, 3, 0.0, glm::dvec3(0, 0, 2), true),
+               atmosh::InputError);
   for (double sun_el : {-36.0, -90.0})
     for (double alt : {1e-6, 100e3, 1000e3}) {
       const SkyImage g = gpu::render_sky(*shared_ctx, sky, SkyProjection::Equirect, 8, 5, alt,

@@ -29,8 +29,41 @@
 #include "atmosh/atmo/scattering_orders.hpp"
 #include "atmosh/atmo/shared/orders.glsl.hpp"  // ATMOSH_ORDERS_MAX_WAVELENGTHS
 #include "atmosh/gpu/context.hpp"
+#include "atmosh/gpu/program.hpp"
 
 namespace atmosh::gpu {
+
+// Where the sum of the orders goes at the end of a GPU build. ReadBack: read back into
+// the ScatteringOrders (radiance_table(); what any CPU lookup needs: SkyIntegrator's
+// radiance, summarize_sky, sky_irradiance, the studies' rows). Resident: its logarithm
+// taken on the GPU (orders_log.comp) and kept there in an OrdersResidentTable
+// (ScatteringOrders::device_table()); nothing is read back, radiance_table() stays
+// empty and the CPU's radiance lookup throws; gpu::render_sky in the same context binds
+// it (no upload). ResidentAndReadBack: both (the sky pass binds the kept table, the CPU
+// lookups have theirs). The ground table (small) is on the CPU in every case.
+enum class OrdersTables { ReadBack, Resident, ResidentAndReadBack };
+
+// The log table of the sum of orders 2..N ([r][mu][mu_s][phi][wavelength], floats, as
+// ScatteringOrders::radiance_table()) in a storage buffer of the context that built it.
+// Built by make_orders_passes' device, it holds that context; by
+// build_scattering_orders, the caller's context must outlive it. Its destructor makes
+// that context current on the thread (the buffer is deleted there, not in whichever
+// context is current).
+class OrdersResidentTable final : public atmo::OrdersDeviceTable {
+ public:
+  OrdersResidentTable(const Context& ctx, std::shared_ptr<const Context> owner, std::unique_ptr<Buffer> table)
+      : owner_(std::move(owner)), ctx_(&ctx), table_(std::move(table)) {}
+  ~OrdersResidentTable() override;
+  OrdersResidentTable(const OrdersResidentTable&) = delete;
+  OrdersResidentTable& operator=(const OrdersResidentTable&) = delete;
+  const Context& context() const { return *ctx_; }
+  const Buffer& buffer() const { return *table_; }
+
+ private:
+  std::shared_ptr<const Context> owner_;  // keeps the context of a make_orders_passes device
+  const Context* ctx_;
+  std::unique_ptr<Buffer> table_;
+};
 
 // Seconds of the GPU passes: compile (the programs; llvmpipe JITs at the first dispatch),
 // upload (with S_1), passes of orders >= 2 with their read-backs.
@@ -43,12 +76,15 @@ struct OrdersGpuTimes {
 // Unsupported (gpu/sky.hpp) for more than 64 wavelengths.
 std::unique_ptr<atmo::ScatteringOrders> build_scattering_orders(const Context& ctx, const atmo::Atmosphere& atmosphere,
                                                                 const atmo::MultipleScatteringOptions& o,
-                                                                OrdersGpuTimes* times = nullptr);
+                                                                OrdersGpuTimes* times = nullptr,
+                                                                OrdersTables where = OrdersTables::ReadBack);
 
 // The GPU passes as a device for atmo::MultipleScatteringOptions::orders_passes (any
 // sky built with those options builds its orders tables on this GPU): they own `ctx`
-// and make it current on the thread that builds.
+// and make it current on the thread that builds. With OrdersTables::Resident every sky
+// built with them keeps its sum table on this GPU (OrdersTables).
 std::shared_ptr<atmo::OrdersPasses> make_orders_passes(std::shared_ptr<const Context> ctx,
-                                                       OrdersGpuTimes* times = nullptr);
+                                                       OrdersGpuTimes* times = nullptr,
+                                                       OrdersTables where = OrdersTables::ReadBack);
 
 }  // namespace atmosh::gpu

@@ -101,6 +101,13 @@ struct OrdersSetup {
                                                // when the device computes it (single_on_device)
 };
 
+// A table kept on the device that built it (OrdersPasses::keep_sum); the device's code
+// knows its type (gpu::OrdersResidentTable).
+class OrdersDeviceTable {
+ public:
+  virtual ~OrdersDeviceTable() = default;
+};
+
 // The passes of orders >= 2 on another device. The tables stay there between passes.
 class OrdersPasses {
  public:
@@ -119,6 +126,14 @@ class OrdersPasses {
   virtual void radiance() = 0;
   // The sum of S_2..S_N (linear), [texel][wavelength].
   virtual void sum(std::vector<float>& sum_lin) = 0;
+  // Called at the end of the build, before sum(): a device that keeps the sum's log
+  // table (the table radiance_table() holds) returns it (ScatteringOrders::device_table());
+  // nullptr (the default): it keeps none.
+  virtual std::shared_ptr<const OrdersDeviceTable> keep_sum() { return nullptr; }
+  // Whether the build reads the sum back (sum()) into radiance_table(), what any CPU
+  // lookup needs: true by default; false only for a device that kept it (then
+  // radiance_table() stays empty and radiance() throws).
+  virtual bool read_back_sum() const { return true; }
 };
 
 class ScatteringOrders {
@@ -135,6 +150,8 @@ class ScatteringOrders {
   // Radiance of orders 2..N [1/sr per unit solar irradiance] along the ray from
   // radius r [m] (R <= r <= T) with view zenith cosine mu (hitting the ground iff
   // `ground`), sun zenith cosine mu_s and cos(view, sun) nu, into out[0..n).
+  // InputError if the table was kept on the device only (device_table(), radiance_table()
+  // empty).
   void radiance(double r, double mu, bool ground, double mu_s, double nu, double* out) const;
   // Irradiance of the sky on the ground, orders 1..N-1 [per unit solar irradiance],
   // at sun zenith cosine mu_s there, into out[0..n).
@@ -153,6 +170,10 @@ class ScatteringOrders {
   // table_size) and log of sum_{k=1..N-1} E_k [k][wavelength].
   const std::vector<float>& radiance_table() const;
   const std::vector<float>& ground_table() const;
+  // The radiance table kept on the device that built it (OrdersPasses::keep_sum), or
+  // nullptr. radiance_table() is empty iff the build did not read it back as well
+  // (OrdersPasses::read_back_sum). The ground table is always on the CPU.
+  const OrdersDeviceTable* device_table() const { return device_.get(); }
   // nr, nmu, ns, na.
   std::vector<int> table_size() const;
   // m = -sin(lowest tabulated sun elevation) of the sun coordinate (shared
@@ -163,6 +184,7 @@ class ScatteringOrders {
 
  private:
   std::unique_ptr<Impl> impl_;
+  std::shared_ptr<const OrdersDeviceTable> device_;
   int orders_ = 0;
   std::size_t nw_ = 0;
   double build_s_ = 0;
