@@ -45,14 +45,16 @@ SHADERS = {
 # The successive-orders passes (gpu::build_scattering_orders's orders_parts in gpu/src/orders.cpp).
 ORDERS_PARTS = [SHARED + "geometry.glsl.hpp", SHARED + "orders.glsl.hpp", "gpu/shaders/orders_lib.glsl",
                 "gpu/shaders/orders_lookup.glsl"]
-for _s in ("orders_incoming.comp", "orders_density.comp", "orders_ground.comp", "orders_radiance.comp"):
+for _s in ("orders_incoming.comp", "orders_density.comp", "orders_ground.comp", "orders_radiance.comp",
+           "orders_log.comp"):
     SHADERS[_s] = ORDERS_PARTS + ["gpu/shaders/" + _s]
 # S_1: the sky parts (sun_lookup, phase_value) and the orders block (orders.cpp's single_parts).
 SHADERS["orders_single.comp"] = SKY_PARTS[:4] + [SHARED + "orders.glsl.hpp"] + SKY_PARTS[4:] + ["gpu/shaders/orders_single.comp"]
 
 
-# Macros a shader is assembled with (gpu::render_sky's Program).
-DEFINES = {"sky.comp": {"ATMOSH_SKY_TRACE"}}
+# Macros a shader is assembled with (gpu::render_sky's Program; sky.comp in its full
+# form, with the multiple-scattering and orders terms the scene may ask for).
+DEFINES = {"sky.comp": {"ATMOSH_SKY_TRACE", "ATMOSH_SKY_MS", "ATMOSH_SKY_ORDERS"}}
 
 
 def condition(d, defined):
