@@ -48,18 +48,57 @@ void sampler_points(const ProjectOptions& opt, std::vector<glm::dvec3>& dirs, st
   w.assign(dirs.size(), 4.0 * kPi / static_cast<double>(dirs.size()));
 }
 
-void check_image(const ImageView& img, const char* where) {
-  if (img.width < 1 || img.height < 1 || img.channels < 1 || img.data == nullptr)
-    throw InputError(std::string(where) + ": empty image (" + std::to_string(img.width) + " x " +
-                     std::to_string(img.height) + " x " + std::to_string(img.channels) + ")");
-}
-
 // Basis at a unit direction into y (fast path for low bands).
 inline void basis_unit(int bands, const glm::dvec3& d, double* y) {
   if (bands <= kFastMaxBands)
     evaluate_fast(bands, d.x, d.y, d.z, y);
   else
     evaluate(bands, d, y);
+}
+
+// The SH projection of a function of C channels, sample(direction, values), by a Monte
+// Carlo sampler (jittered or uniform): sum of value x weight x Y over its points.
+template <class Sample>
+Channels project_sampled_points(const ProjectOptions& opt, int bands, int C, Sample&& sample) {
+  Channels out(C, std::vector<double>(sh_count(bands), 0.0));
+  std::vector<double> val(C), y(sh_count(bands));
+  std::vector<glm::dvec3> dirs;
+  std::vector<double> w;
+  sampler_points(opt, dirs, w);
+  for (std::size_t k = 0; k < dirs.size(); ++k) {
+    sample(dirs[k], val.data());
+    basis_unit(bands, dirs[k], y.data());
+    for (int c = 0; c < C; ++c) {
+      const double s = val[c] * w[k];
+      double* o = out[c].data();
+      for (int i = 0; i < sh_count(bands); ++i) o[i] += s * y[i];
+    }
+  }
+  return out;
+}
+
+// The same by the exact Gauss quadrature: the function sampled on the Gauss grid of
+// `bands` (opt.samples > bands rings if asked), then analysed.
+template <class Sample>
+Channels project_on_gauss_grid(const ProjectOptions& opt, int bands, int C, Sample&& sample) {
+  const GaussGrid g = gauss_grid(bands, opt.samples > bands ? opt.samples : 0);
+  std::vector<std::vector<double>> v(C, std::vector<double>(static_cast<std::size_t>(g.nlat) * g.nphi));
+  std::vector<double> val(C);
+  for (int i = 0; i < g.nlat; ++i)
+    for (int j = 0; j < g.nphi; ++j) {
+      const double p = g.phi(j);
+      sample(glm::dvec3(g.sin_t[i] * std::cos(p), g.sin_t[i] * std::sin(p), g.cos_t[i]), val.data());
+      for (int c = 0; c < C; ++c) v[c][static_cast<std::size_t>(i) * g.nphi + j] = val[c];
+    }
+  Channels out(C);
+  for (int c = 0; c < C; ++c) out[c] = analyse(g, v[c].data(), opt.threads);
+  return out;
+}
+
+void check_image(const ImageView& img, const char* where) {
+  if (img.width < 1 || img.height < 1 || img.channels < 1 || img.data == nullptr)
+    throw InputError(std::string(where) + ": empty image (" + std::to_string(img.width) + " x " +
+                     std::to_string(img.height) + " x " + std::to_string(img.channels) + ")");
 }
 
 }  // namespace
@@ -110,31 +149,12 @@ std::vector<double> project_function(const std::function<double(const glm::dvec3
   if (opt.samples < 0) throw InputError("project_function: samples must be >= 0, got " + std::to_string(opt.samples));
   if (opt.method == Method::solid_angle || opt.method == Method::pixel_integrated)
     throw InputError("project_function: solid-angle and pixel-integrated apply to images only");
-  if (opt.method == Method::quadrature) {
-    const GaussGrid g = gauss_grid(bands, opt.samples > bands ? opt.samples : 0);
-    std::vector<double> v(static_cast<std::size_t>(g.nlat) * g.nphi);
-    for (int i = 0; i < g.nlat; ++i)
-      for (int j = 0; j < g.nphi; ++j) {
-        const double p = g.phi(j);
-        const glm::dvec3 d(g.sin_t[i] * std::cos(p), g.sin_t[i] * std::sin(p), g.cos_t[i]);
-        const double val = f(d);
-        if (!std::isfinite(val)) throw InputError("project_function: function returned a non-finite value");
-        v[static_cast<std::size_t>(i) * g.nphi + j] = val;
-      }
-    return analyse(g, v.data(), opt.threads);
-  }
-  std::vector<glm::dvec3> dirs;
-  std::vector<double> w;
-  sampler_points(opt, dirs, w);
-  std::vector<double> c(sh_count(bands), 0.0), y(sh_count(bands));
-  for (std::size_t k = 0; k < dirs.size(); ++k) {
-    const double val = f(dirs[k]);
-    if (!std::isfinite(val)) throw InputError("project_function: function returned a non-finite value");
-    basis_unit(bands, dirs[k], y.data());
-    const double s = val * w[k];
-    for (int i = 0; i < sh_count(bands); ++i) c[i] += s * y[i];
-  }
-  return c;
+  auto sample = [&](const glm::dvec3& d, double* val) {
+    val[0] = f(d);
+    if (!std::isfinite(val[0])) throw InputError("project_function: function returned a non-finite value");
+  };
+  if (opt.method == Method::quadrature) return project_on_gauss_grid(opt, bands, 1, sample)[0];
+  return project_sampled_points(opt, bands, 1, sample)[0];
 }
 
 double equirect_pixel_solid_angle(int width, int height, int row) {
@@ -275,34 +295,9 @@ Channels project_equirect_sampled(const ImageView& img, int bands, const Project
   if (opt.method == Method::solid_angle) return project_equirect(img, bands, opt.threads, PixelRule::solid_angle);
   if (opt.method == Method::pixel_integrated)
     return project_equirect(img, bands, opt.threads, PixelRule::pixel_integrated);
-  const int C = img.channels;
-  Channels out(C, std::vector<double>(sh_count(bands), 0.0));
-  std::vector<double> val(C), y(sh_count(bands));
-  if (opt.method == Method::quadrature) {
-    const GaussGrid g = gauss_grid(bands, opt.samples > bands ? opt.samples : 0);
-    std::vector<std::vector<double>> v(C, std::vector<double>(static_cast<std::size_t>(g.nlat) * g.nphi));
-    for (int i = 0; i < g.nlat; ++i)
-      for (int j = 0; j < g.nphi; ++j) {
-        const double p = g.phi(j);
-        sample_equirect(img, {g.sin_t[i] * std::cos(p), g.sin_t[i] * std::sin(p), g.cos_t[i]}, val.data());
-        for (int c = 0; c < C; ++c) v[c][static_cast<std::size_t>(i) * g.nphi + j] = val[c];
-      }
-    for (int c = 0; c < C; ++c) out[c] = analyse(g, v[c].data(), opt.threads);
-    return out;
-  }
-  std::vector<glm::dvec3> dirs;
-  std::vector<double> w;
-  sampler_points(opt, dirs, w);
-  for (std::size_t k = 0; k < dirs.size(); ++k) {
-    sample_equirect(img, dirs[k], val.data());
-    basis_unit(bands, dirs[k], y.data());
-    for (int c = 0; c < C; ++c) {
-      const double s = val[c] * w[k];
-      double* o = out[c].data();
-      for (int i = 0; i < sh_count(bands); ++i) o[i] += s * y[i];
-    }
-  }
-  return out;
+  auto sample = [&](const glm::dvec3& d, double* val) { sample_equirect(img, d, val); };
+  if (opt.method == Method::quadrature) return project_on_gauss_grid(opt, bands, img.channels, sample);
+  return project_sampled_points(opt, bands, img.channels, sample);
 }
 
 // The cube geometry is the shared C++/GLSL block (atmosh/sh/shared/cube.glsl.hpp), so that
@@ -415,22 +410,8 @@ Channels project_cube_sampled(const CubeMap& cube, int bands, const ProjectOptio
     return project_cube(cube, bands, opt.threads);
   if (opt.method == Method::pixel_integrated)
     throw InputError("project_cube: pixel-integrated is available for equirect images only");
-  const int C = cube.channels;
-  Channels out(C, std::vector<double>(sh_count(bands), 0.0));
-  std::vector<double> val(C), y(sh_count(bands));
-  std::vector<glm::dvec3> dirs;
-  std::vector<double> w;
-  sampler_points(opt, dirs, w);
-  for (std::size_t k = 0; k < dirs.size(); ++k) {
-    sample_cube(cube, dirs[k], val.data());
-    basis_unit(bands, dirs[k], y.data());
-    for (int c = 0; c < C; ++c) {
-      const double s = val[c] * w[k];
-      double* o = out[c].data();
-      for (int i = 0; i < sh_count(bands); ++i) o[i] += s * y[i];
-    }
-  }
-  return out;
+  return project_sampled_points(opt, bands, cube.channels,
+                                [&](const glm::dvec3& d, double* val) { sample_cube(cube, d, val); });
 }
 
 std::vector<float> render_equirect(const std::vector<double>& coeffs, int bands, int width, int height) {
