@@ -20,6 +20,7 @@
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/sky.hpp"
 #include "atmosh/atmo/sky_image.hpp"
+#include "bench_spectra.hpp"
 #if __has_include("atmosh/gpu/sky.hpp")  // built with ATMOSH_WITH_GPU
 #define ATMOSH_BENCH_GPU 1
 #include "atmosh/gpu/context.hpp"
@@ -29,14 +30,7 @@
 using namespace atmosh::atmo;
 
 namespace {
-AtmosphereSpec spec16() {
-  AtmosphereSpec s = preset("earth-physical");
-  s.spectrum.wavelengths_nm.clear();
-  s.spectrum.from_nm = 380;
-  s.spectrum.to_nm = 780;
-  s.spectrum.count = 16;
-  return s;
-}
+using atmosh::bench::spec16;
 
 struct Scene {
   AtmosphereSpec spec = spec16();

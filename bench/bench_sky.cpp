@@ -8,18 +8,12 @@
 #include "atmosh/atmo/presets.hpp"
 #include "atmosh/atmo/sky.hpp"
 #include "atmosh/atmo/sky_image.hpp"
+#include "bench_spectra.hpp"
 
 using namespace atmosh::atmo;
 
 namespace {
-AtmosphereSpec spec_with(int wavelengths) {
-  AtmosphereSpec s = preset("earth-physical");
-  s.spectrum.wavelengths_nm.clear();
-  s.spectrum.from_nm = 380;
-  s.spectrum.to_nm = 780;
-  s.spectrum.count = wavelengths;
-  return s;
-}
+using atmosh::bench::spec_with;
 }  // namespace
 
 // One view ray, directions cycling over the upper hemisphere, sun at 20 deg.
@@ -103,13 +97,9 @@ namespace {
 // The default scene's atmosphere shape (earth-graphics constituents, 100 km top,
 // ground albedo 0.1) on 16 wavelengths.
 AtmosphereSpec ms_spec() {
-  AtmosphereSpec s = preset("earth-graphics");
+  AtmosphereSpec s = spec_with(16, "earth-graphics");
   s.planet.atmosphere_top_m = 100e3;
   s.planet.ground_albedo = 0.1;
-  s.spectrum.wavelengths_nm.clear();
-  s.spectrum.from_nm = 380;
-  s.spectrum.to_nm = 780;
-  s.spectrum.count = 16;
   return s;
 }
 SkyOptions method(ScatteringMethod m) {

@@ -19,18 +19,13 @@
 #include "atmosh/atmo/sky_image.hpp"
 #include "atmosh/sh/projection.hpp"
 
+#include "bench_spectra.hpp"
+
 using namespace atmosh::atmo;
 
 namespace {
 
-AtmosphereSpec spec_with(int wavelengths) {
-  AtmosphereSpec s = preset("earth-physical");
-  s.spectrum.wavelengths_nm.clear();
-  s.spectrum.from_nm = 380;
-  s.spectrum.to_nm = 780;
-  s.spectrum.count = wavelengths;
-  return s;
-}
+using atmosh::bench::spec_with;
 
 // Integrators are built once per setting (the orders tables take seconds).
 struct Sky {
