@@ -226,7 +226,7 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
     EXPECT_EQ(gpu_rows, 0);
   }
 
-  // probes-resident-gpu: one row per grid and band count <= 3 (bands 1 and 3 at grid 2) with a GPU
+  // probes-resident-gpu: one row per grid and band count (bands 1 and 3 at grid 2) with a GPU
   EXPECT_EQ(resident_rows, gpu_rows > 0 ? 2 : 0);
 }
 
