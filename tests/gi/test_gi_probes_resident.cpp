@@ -117,6 +117,8 @@ TEST(GiProbesResident, SharedCubeBlockAgreesWithLibshAndQuadrature) {
       worst_irr = std::max(worst_irr, std::abs(e - sh::irradiance_at(c, bands, d)) / norm);
     }
   }
+  std::printf("[ measured ] sh_basis_all vs sh::evaluate (bands <= 16): %.3g; its irradiance vs sh::irradiance_at: %.3g "
+              "of sum |c|\n", worst_all, worst_irr);
   EXPECT_LT(worst_all, 1e-12);
   EXPECT_LT(worst_irr, 1e-13);
   // Texel solid angles: 24 x 24 Gauss–Legendre of (1 + u^2 + v^2)^(-3/2) over the texel (the
@@ -262,10 +264,11 @@ TEST(GiProbesResident, GpuProjectionAgreesWithTheCpuProjection) {
 
 TEST(GiProbesResident, FiveBandFrameAgreesWithTheCpuProjectionAndShading) {
   ATMOSH_NEED_GPU();
-  // Cornell box (no sun), 2^3 probes, 5 bands, N = 4 rendered at 8 (supersample 2), 40 x 32:
+  // Cornell box (no sun), 2^3 probes, 5 bands, Hanning window, N = 4 rendered at 8
+  // (supersample 2), 40 x 32:
   //  * projection: the resident frame's coefficients (compute pass, float, read back) against
-  //    the CPU's projection in double (sh::project_cube after the texel means) of the same
-  //    rasterised cube maps (ProbeRaster::gpu);
+  //    the CPU's projection in double (sh::project_cube after the texel means, then the window
+  //    of sh::window_weights at every band) of the same rasterised cube maps (ProbeRaster::gpu);
   //  * shading: the resident frame against its CPU twin (render_probes_frame, gpu = false: Embree
   //    rays at the pixel centres, interpolate() and libsh's sh::irradiance_at in double) on those
   //    coefficients — equal to float rounding except at pixels whose centre grazes an edge;
@@ -279,6 +282,7 @@ TEST(GiProbesResident, FiveBandFrameAgreesWithTheCpuProjectionAndShading) {
   fo.grid = 2;
   fo.probes.bands = 5;
   fo.probes.cube_size = 4;
+  fo.probes.window = sh::Window::hanning;
   fo.supersample = 2;
   const int W = 40, H = 32;
   const gi::ProbeFrameResident frame(s, s.camera, W, H, f, fo);
