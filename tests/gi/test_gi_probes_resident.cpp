@@ -332,7 +332,7 @@ TEST(GiProbesResident, FiveBandFrameAgreesWithTheCpuProjectionAndShading) {
       if (!e) worst_inside = std::max(worst_inside, d);
     }
   // chained passes
-  const gi::RadianceImage chained = gi::ProbeFrameGpu(s, s.camera, W, H, 5).render(gg, false);
+  const gi::RadianceImage chained = gi::ProbeFrameGpu(s, s.camera, W, H).render(gg, false);
   double worst_chain = 0;
   for (int c = 0; c < 3; ++c)
     for (std::size_t i = 0; i < chained.mean[c].size(); ++i)

@@ -289,7 +289,7 @@ RadianceImage render_probes_frame(const Scene& scene, const Camera& cam, int wid
     img.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return img;
   }
-  const ProbeFrameGpu frame(scene, cam, width, height, grid.bands);
+  const ProbeFrameGpu frame(scene, cam, width, height);
   return frame.render(grid, grid_includes_sun);
 }
 
@@ -297,39 +297,42 @@ RadianceImage render_probes_frame(const Scene& scene, const Camera& cam, int wid
 struct ProbeFrameGpu::Impl {
   Scene scene;
   Frame fr;
-  int width = 0, height = 0, max_bands = 1;
+  int width = 0, height = 0;
   glm::dvec3 centre{0.0};
+  float view_proj[16] = {};
+  glm::vec3 eye{0.0f};
   gpu::Context ctx;
-  std::unique_ptr<gpu::Program> prog;
+  std::unique_ptr<gpu::Program> prog;  // for prog_bands bands (made by the first render at that count)
+  int prog_bands = 0;
   std::unique_ptr<gpu::MeshRaster> raster;
 };
 #else
 struct ProbeFrameGpu::Impl {};
 #endif
 
-ProbeFrameGpu::ProbeFrameGpu(const Scene& scene, const Camera& cam, int width, int height, int max_bands) {
+ProbeFrameGpu::ProbeFrameGpu(const Scene& scene, const Camera& cam, int width, int height) {
   validate(scene);
   check_view(cam, width, height);
-  check_frame_bands(max_bands, kMaxFrameBands);
 #ifdef ATMOSH_GI_HAVE_GPU
   impl_ = std::make_unique<Impl>();
   Impl& m = *impl_;
   m.scene = scene;
   m.width = width;
   m.height = height;
-  m.max_bands = max_bands;
   std::vector<float> vert;
   std::vector<std::uint32_t> idx;
   float vp[16];
   double radius = 0;
   glm::dvec3 eye;
   frame_geometry(scene, cam, width, height, m.fr, m.centre, vert, idx, vp, radius, eye);
-  m.prog = shade_program(max_bands);
-  m.prog->set_mat4("view_proj", vp);
-  m.prog->set("eye", static_cast<float>(eye.x), static_cast<float>(eye.y), static_cast<float>(eye.z));
+  std::copy(vp, vp + 16, m.view_proj);
+  m.eye = glm::vec3(eye);
+  m.prog = shade_program(3);  // the default band count; render() remakes it for another
+  m.prog_bands = 3;
+  m.prog->set_mat4("view_proj", m.view_proj);
+  m.prog->set("eye", m.eye.x, m.eye.y, m.eye.z);
   m.raster = std::make_unique<gpu::MeshRaster>(m.ctx, vert, std::vector<int>{3, 3, 3, 3, 3}, idx, width, height);
 #else
-  (void)max_bands;
   throw InputError("gi probes: this build has no GPU library (atmosh::gpu)");
 #endif
 }
@@ -338,8 +341,8 @@ ProbeFrameGpu::~ProbeFrameGpu() = default;
 
 RadianceImage ProbeFrameGpu::render(const ProbeGrid& grid, bool grid_includes_sun) const {
 #ifdef ATMOSH_GI_HAVE_GPU
-  const Impl& m = *impl_;
-  check_frame_grid(m.scene, grid, grid_includes_sun, m.max_bands);
+  Impl& m = *impl_;
+  check_frame_grid(m.scene, grid, grid_includes_sun, kMaxFrameBands);
   const std::size_t np_grid = static_cast<std::size_t>(grid.n) * grid.n * grid.n;
   const std::size_t nc = static_cast<std::size_t>(grid.bands) * grid.bands;
   const auto t0 = std::chrono::steady_clock::now();
@@ -348,6 +351,12 @@ RadianceImage ProbeFrameGpu::render(const ProbeGrid& grid, bool grid_includes_su
     for (int c = 0; c < 3; ++c)
       for (std::size_t i = 0; i < nc; ++i) sh[(q * 3 + c) * nc + i] = static_cast<float>(grid.probes[q][c][i]);
   m.ctx.make_current();
+  if (m.prog_bands != grid.bands) {  // the shading program's basis array is sized for its band count
+    m.prog = shade_program(grid.bands);
+    m.prog_bands = grid.bands;
+    m.prog->set_mat4("view_proj", m.view_proj);
+    m.prog->set("eye", m.eye.x, m.eye.y, m.eye.z);
+  }
   gpu::Buffer bsh(sh.size() * sizeof(float), sh.data());
   bsh.bind(0);
   m.prog->use();

@@ -229,12 +229,13 @@ RadianceImage render_probes_frame(const Scene& scene, const Camera& camera, int 
 /// The GPU form of render_probes_frame kept for repeated frames (dynamic probes): the EGL
 /// context, the program (compiled, and on llvmpipe JIT-compiled at its first draw), the scene's
 /// triangles and the render target are made once; render() uploads the grid's coefficients,
-/// draws, reads back and fills the misses with the environment. Throws as render_probes_frame
+/// draws, reads back and fills the misses with the environment (the program is made for 3 bands
+/// and remade by the first render() of a grid with another band count: its basis array is sized
+/// for the bands it shades). Throws as render_probes_frame
 /// (InputError; gpu::Unavailable, a runtime_error, without a context).
 class ProbeFrameGpu {
  public:
-  /// `max_bands` (1..16): the most bands render() shades (sizes the shader's basis array).
-  ProbeFrameGpu(const Scene& scene, const Camera& camera, int width, int height, int max_bands = 16);
+  ProbeFrameGpu(const Scene& scene, const Camera& camera, int width, int height);
   ~ProbeFrameGpu();
   ProbeFrameGpu(const ProbeFrameGpu&) = delete;
   ProbeFrameGpu& operator=(const ProbeFrameGpu&) = delete;
