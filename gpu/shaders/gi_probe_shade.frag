@@ -5,14 +5,15 @@
 // (trilinear weights, p clamped to the span of the probe centres; n the flat normal turned
 // towards the eye; A_l the clamped-cosine factors of libsh's sh::irradiance_factors, any band).
 // Follows the shared block of libsh/include/atmosh/sh/shared/cube.glsl.hpp (sh_basis_all,
-// sh_basis_scale; the program defines ATMOSH_SH_MAX_BANDS, the most bands it shades) and
-// gi_probe_sun.glsl (the sun's shadow-map factor; 0 when has_sun is 0).
+// sh_basis_scale) and gi_probe_sun.glsl (the sun's shadow-map factor; 0 when has_sun is 0).
+// The program is compiled for one band count: ATMOSH_SH_MAX_BANDS (defined in its preamble) is
+// the bands it shades, so that every loop below has a constant trip count (the compiler may
+// unroll them and keep the basis values in registers).
 layout(std430, binding = 0) readonly buffer Probes { float probe_sh[]; };  // [(probe * 3 + channel) * stride + i]
 uniform vec3 eye;       // relative to the same centre as the positions
 uniform vec3 grid_lo;
 uniform vec3 grid_hi;
 uniform int grid_n;
-uniform int bands;      // 1..ATMOSH_SH_MAX_BANDS
 uniform int stride;     // floats per probe and channel (>= bands^2)
 uniform float irradiance_factor[ATMOSH_SH_MAX_BANDS];  // A_l
 in vec3 v_position;
@@ -37,10 +38,11 @@ void main() {
     f[a] = x - float(i0[a]);
   }
   // A_l Y_i(n), once for the fragment; then E is a dot product with each probe's coefficients.
+  const int bands = ATMOSH_SH_MAX_BANDS;
+  const int nc = bands * bands;
   float y[ATMOSH_SH_MAX_BANDS * ATMOSH_SH_MAX_BANDS];
   sh_basis_all(bands, n, y);
   sh_basis_scale(bands, irradiance_factor, y);
-  int nc = bands * bands;
   vec3 E = vec3(0.0);
   for (int c = 0; c < 8; ++c) {
     ivec3 q = ivec3((c & 1) != 0 ? i1.x : i0.x, (c & 2) != 0 ? i1.y : i0.y, (c & 4) != 0 ? i1.z : i0.z);

@@ -183,10 +183,11 @@ void frame_geometry(const Scene& scene, const Camera& cam, int width, int height
   eye_out = eye;
 }
 
-// The frame's shading program for up to `max_bands` bands (gi_probe_shade.vert/.frag with the
-// shared SH basis of libsh/include/atmosh/sh/shared/cube.glsl.hpp, its array sized by
-// ATMOSH_SH_MAX_BANDS = max_bands, and the sun's shadow-map lookup), with libsh's clamped-cosine
-// factors A_l (sh::irradiance_factors) set; the program is current on return.
+// The frame's shading program for `max_bands` bands exactly (gi_probe_shade.vert/.frag with the
+// shared SH basis of libsh/include/atmosh/sh/shared/cube.glsl.hpp, ATMOSH_SH_MAX_BANDS =
+// max_bands: its array's size and the shader's band count, so its loops have constant trip
+// counts; and the sun's shadow-map lookup), with libsh's clamped-cosine factors A_l
+// (sh::irradiance_factors) set; the program is current on return.
 std::unique_ptr<gpu::Program> shade_program(int max_bands) {
   auto prog = std::make_unique<gpu::Program>(
       std::vector<gpu::ShaderPart>{gpu::embedded_source("gpu/shaders/gi_probe_shade.vert")},
@@ -364,7 +365,6 @@ RadianceImage ProbeFrameGpu::render(const ProbeGrid& grid, bool grid_includes_su
   m.prog->set("grid_lo", static_cast<float>(glo.x), static_cast<float>(glo.y), static_cast<float>(glo.z));
   m.prog->set("grid_hi", static_cast<float>(ghi.x), static_cast<float>(ghi.y), static_cast<float>(ghi.z));
   m.prog->set("grid_n", grid.n);
-  m.prog->set("bands", grid.bands);
   m.prog->set("stride", static_cast<int>(nc));
   const std::vector<float> rgba = m.raster->draw(*m.prog);
   const std::size_t npx = static_cast<std::size_t>(m.width) * m.height;
@@ -547,7 +547,6 @@ RadianceImage ProbeFrameResident::render(double* pass_seconds) const {
   m.prog->set("grid_lo", static_cast<float>(m.grid_lo.x), static_cast<float>(m.grid_lo.y), static_cast<float>(m.grid_lo.z));
   m.prog->set("grid_hi", static_cast<float>(m.grid_hi.x), static_cast<float>(m.grid_hi.y), static_cast<float>(m.grid_hi.z));
   m.prog->set("grid_n", m.opt.grid);
-  m.prog->set("bands", m.opt.probes.bands);
   m.raster->draw_resident(*m.prog);
   // 5. the image: the frame's only read-back
   const std::vector<float> rgba = m.raster->read();
