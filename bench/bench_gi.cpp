@@ -481,3 +481,58 @@ BENCHMARK(BM_LpvResidentFrame512)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(3);
+
+// The GPU-resident probe frame at 512 x 512 by band count (docs/gi.md, "The resident probe
+// frame at more bands"): BM_ProbeResidentFrame512's frame (4^3 probes, N = 8 rendered at 32, the
+// baked field of divisions 16, shadow map 1024^2) with the probes projected to and shaded at
+// `bands` bands (the shading program's basis array sized for them). Arguments: scene (0 the
+// Cornell box and its light; 1 sphere-on-plane under the sun 135°, 40° and a uniform sky of
+// 0.3), bands. Context, programs and the first frame outside the timing; counters as
+// BM_ProbeResidentFrame512's (each pass of a separate serialised frame).
+void BM_ProbeResidentBands512(benchmark::State& state) {
+  gi::Scene s = gi::builtin_scene(state.range(0) == 0 ? "cornell-box" : "sphere-on-plane");
+  if (state.range(0) == 1) {
+    s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(1.0), 0.0};
+    s.env_bands = 1;
+    for (int c = 0; c < 3; ++c) s.env_sh[c] = {0.3 * 2 * 1.7724538509055160273};  // L / Y_00
+  }
+  gi::SurfaceRadianceOptions so;
+  so.samples = 4;
+  const gi::SurfaceRadiance f = gi::bake_surface_radiance(s, so);
+  gi::ProbeFrameOptions fo;
+  fo.grid = 4;
+  fo.probes.bands = static_cast<int>(state.range(1));
+  fo.probes.cube_size = 8;
+  fo.supersample = 4;
+  double passes[4] = {0, 0, 0, 0}, sums[4] = {0, 0, 0, 0};
+  try {
+    const gi::ProbeFrameResident frame(s, s.camera, 512, 512, f, fo);
+    benchmark::DoNotOptimize(frame.render().mean[0].data());
+    for (auto _ : state) {
+      const gi::RadianceImage img = frame.render();
+      benchmark::DoNotOptimize(img.mean[0].data());
+      state.SetIterationTime(img.stats.seconds);
+      state.PauseTiming();
+      benchmark::DoNotOptimize(frame.render(passes).mean[0].data());
+      for (int k = 0; k < 4; ++k) sums[k] += passes[k];
+      state.ResumeTiming();
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+  const double n = static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
+  state.counters["cubes_ms"] = 1e3 * sums[0] / n;
+  state.counters["project_ms"] = 1e3 * sums[1] / n;
+  state.counters["shadow_ms"] = 1e3 * sums[2] / n;
+  state.counters["shade_read_ms"] = 1e3 * sums[3] / n;
+}
+BENCHMARK(BM_ProbeResidentBands512)
+    ->Args({0, 3})
+    ->Args({0, 5})
+    ->Args({0, 8})
+    ->Args({1, 3})
+    ->Args({1, 5})
+    ->Args({1, 8})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->Iterations(3);

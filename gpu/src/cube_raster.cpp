@@ -227,7 +227,53 @@ struct MeshRaster::Impl {
   int width = 0, height = 0;
   GLsizei n_indices = 0;
   bool has_background = false;
+  // The draw of draw() and draw_resident(): the target bound with the fixed state (no blending,
+  // culling or scissor; depth test LESS), its colour started from the background (`from_background`
+  // and one is set) or 0, depth cleared to 1, the mesh drawn with `program`.
+  void draw_mesh(const Program& program, bool from_background, const char* what) const;
+  // The target's RGBA read back, row 0 at the top.
+  std::vector<float> read_back(const char* what) const;
 };
+
+void MeshRaster::Impl::draw_mesh(const Program& program, bool from_background, const char* what) const {
+  ctx->make_current();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id);
+  glViewport(0, 0, width, height);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  if (from_background && has_background) {
+    glCopyImageSubData(background.id, GL_TEXTURE_2D, 0, 0, 0, 0, colour.id, GL_TEXTURE_2D, 0, 0, 0, 0, width, height, 1);
+  } else {
+    const float zero[4] = {0, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, zero);
+  }
+  const float one = 1.0f;
+  glClearBufferfv(GL_DEPTH, 0, &one);
+  program.use();
+  glBindVertexArray(vao.id);
+  if (n_indices > 0) glDrawElements(GL_TRIANGLES, n_indices, GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+  check_gl(what);
+}
+
+std::vector<float> MeshRaster::Impl::read_back(const char* what) const {
+  ctx->make_current();
+  const std::size_t np = static_cast<std::size_t>(width) * height;
+  std::vector<float> gl(np * 4), out(np * 4);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, gl.data());
+  check_gl(what);
+  for (int r = 0; r < height; ++r)  // GL rows start at the bottom
+    std::copy(&gl[static_cast<std::size_t>(height - 1 - r) * width * 4],
+              &gl[static_cast<std::size_t>(height - r) * width * 4], &out[static_cast<std::size_t>(r) * width * 4]);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return out;
+}
 
 MeshRaster::MeshRaster(const Context& ctx, const std::vector<float>& vertices, const std::vector<int>& attribute_sizes,
                        const std::vector<std::uint32_t>& indices, int width, int height) {
@@ -274,36 +320,8 @@ MeshRaster::MeshRaster(const Context& ctx, const std::vector<float>& vertices, c
 MeshRaster::~MeshRaster() = default;
 
 std::vector<float> MeshRaster::draw(const Program& program) const {
-  const Impl& m = *impl_;
-  m.ctx->make_current();
-  const int width = m.width, height = m.height;
-  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.id);
-  glViewport(0, 0, width, height);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_SCISSOR_TEST);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  const float zero[4] = {0, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 0, zero);
-  const float one = 1.0f;
-  glClearBufferfv(GL_DEPTH, 0, &one);
-  program.use();
-  glBindVertexArray(m.vao.id);
-  if (m.n_indices > 0) glDrawElements(GL_TRIANGLES, m.n_indices, GL_UNSIGNED_INT, nullptr);
-  check_gl("render_mesh_rgba draw");
-  const std::size_t np = static_cast<std::size_t>(width) * height;
-  std::vector<float> gl(np * 4), out(np * 4);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, gl.data());
-  check_gl("render_mesh_rgba read-back");
-  for (int r = 0; r < height; ++r)  // GL rows start at the bottom
-    std::copy(&gl[static_cast<std::size_t>(height - 1 - r) * width * 4],
-              &gl[static_cast<std::size_t>(height - r) * width * 4], &out[static_cast<std::size_t>(r) * width * 4]);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glBindVertexArray(0);
-  return out;
+  impl_->draw_mesh(program, false, "render_mesh_rgba draw");
+  return impl_->read_back("render_mesh_rgba read-back");
 }
 
 std::vector<float> render_mesh_rgba(const Context& ctx, const Program& program, const std::vector<float>& vertices,
@@ -336,49 +354,9 @@ void MeshRaster::set_background(const std::vector<float>& rgba) {
   check_gl("MeshRaster background upload");
 }
 
-void MeshRaster::draw_resident(const Program& program) const {
-  const Impl& m = *impl_;
-  m.ctx->make_current();
-  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.id);
-  glViewport(0, 0, m.width, m.height);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_SCISSOR_TEST);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  if (m.has_background) {
-    glCopyImageSubData(m.background.id, GL_TEXTURE_2D, 0, 0, 0, 0, m.colour.id, GL_TEXTURE_2D, 0, 0, 0, 0, m.width,
-                       m.height, 1);
-  } else {
-    const float zero[4] = {0, 0, 0, 0};
-    glClearBufferfv(GL_COLOR, 0, zero);
-  }
-  const float one = 1.0f;
-  glClearBufferfv(GL_DEPTH, 0, &one);
-  program.use();
-  glBindVertexArray(m.vao.id);
-  if (m.n_indices > 0) glDrawElements(GL_TRIANGLES, m.n_indices, GL_UNSIGNED_INT, nullptr);
-  glBindVertexArray(0);
-  check_gl("MeshRaster resident draw");
-}
+void MeshRaster::draw_resident(const Program& program) const { impl_->draw_mesh(program, true, "MeshRaster resident draw"); }
 
-std::vector<float> MeshRaster::read() const {
-  const Impl& m = *impl_;
-  m.ctx->make_current();
-  const int width = m.width, height = m.height;
-  const std::size_t np = static_cast<std::size_t>(width) * height;
-  std::vector<float> gl(np * 4), out(np * 4);
-  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.id);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, gl.data());
-  check_gl("MeshRaster read-back");
-  for (int r = 0; r < height; ++r)
-    std::copy(&gl[static_cast<std::size_t>(height - 1 - r) * width * 4],
-              &gl[static_cast<std::size_t>(height - r) * width * 4], &out[static_cast<std::size_t>(r) * width * 4]);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  return out;
-}
+std::vector<float> MeshRaster::read() const { return impl_->read_back("MeshRaster read-back"); }
 
 // ---- ProbeProjector ----
 

@@ -30,6 +30,7 @@ TEST(GiCli, BadInputExitsTwoNamingTheValue) {
   expect_bad("gi render --scene-builtin cornell-box --method lpv --iterations -2" + out, "--iterations");
   expect_bad("gi render --scene-builtin cornell-box --method lpv --device tpu" + out, "tpu");
   expect_bad("gi render --scene-builtin cornell-box --method probes --bands 0" + out, "--bands");
+  expect_bad("gi render --scene-builtin cornell-box --method probes --device gpu --bands 17" + out, "17");  // above 16
   expect_bad("gi render --scene-builtin cornell-box --method probes --grid 65" + out, "--grid");
   expect_bad("gi render --scene-builtin cornell-box --method probes --cube-size 0" + out, "--cube-size");
   expect_bad("gi render --scene-builtin cornell-box --method probes --window boxcar" + out, "boxcar");
@@ -117,12 +118,16 @@ TEST(GiCli, RadiosityAndLpvRender) {
               "--pixel-samples 1 --size 12x8 -o '" + exr_r.string() + "'");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(exr_r));
-  // probes: cube maps of a baked surface radiance, rasterised (auto: ray cast where no context is made)
+  // probes: cube maps of a baked surface radiance, rasterised (auto: ray cast where no context is made);
+  // with a context the GPU-resident frame at 5 bands (pixel centres: stderr 0)
   const auto exr_p = dir / "probes_auto.exr";
-  r = run_cli("gi render --scene-builtin cornell-box --method probes --grid 2 --cube-size 4 --device auto "
+  r = run_cli("gi render --scene-builtin cornell-box --method probes --grid 2 --cube-size 4 --bands 5 --device auto "
               "--pixel-samples 1 --size 12x8 -o '" + exr_p.string() + "' --json");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\"device\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"bands\": 5"), std::string::npos) << r.out;
+  if (r.out.find("\"device\": \"gpu\"") != std::string::npos)
+    EXPECT_NE(r.out.find("\"stderr_max\": 0.0"), std::string::npos) << r.out;
   EXPECT_TRUE(std::filesystem::exists(exr_p));
   // the path tracer is CPU only: --device gpu is exit 1 naming it
   r = run_cli("gi render --scene-builtin cornell-box --method path --device gpu --size 12x8 -o '" +
@@ -226,7 +231,7 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
     EXPECT_EQ(gpu_rows, 0);
   }
 
-  // probes-resident-gpu: one row per grid and band count <= 3 (bands 1 and 3 at grid 2) with a GPU
+  // probes-resident-gpu: one row per grid and band count (bands 1 and 3 at grid 2) with a GPU
   EXPECT_EQ(resident_rows, gpu_rows > 0 ? 2 : 0);
 }
 

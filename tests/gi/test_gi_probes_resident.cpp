@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <numbers>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -32,6 +33,7 @@
 #include "atmosh/gi/path_tracer.hpp"
 #include "atmosh/gi/probes.hpp"
 #include "atmosh/gi/scene.hpp"
+#include "atmosh/prt/bake.hpp"
 #include "atmosh/prt/mesh.hpp"
 #include "atmosh/sh/convolution.hpp"
 #include "atmosh/sh/basis.hpp"
@@ -89,6 +91,36 @@ TEST(GiProbesResident, SharedCubeBlockAgreesWithLibshAndQuadrature) {
       }
   }
   EXPECT_LT(worst, 1e-12);
+  // Every value at once (sh_basis_all, the recurrence run per order m) against the same libsh
+  // basis, bands 1..16, and the irradiance of band-scaled values (sh_basis_scale with libsh's
+  // clamped-cosine factors, any band) against libsh's sh::irradiance_at.
+  double worst_all = 0, worst_irr = 0;
+  for (int k = 0; k < 50; ++k) {
+    glm::dvec3 d = glm::normalize(glm::dvec3(nd(g), nd(g), nd(g)));
+    if (k == 0) d = {0, 0, 1};
+    if (k == 1) d = {0, 0, -1};
+    const std::vector<double> y = sh::evaluate(L, d);
+    for (int bands : {1, 2, 3, 5, 8, 16}) {
+      double ya[ATMOSH_SH_MAX_BANDS * ATMOSH_SH_MAX_BANDS];
+      std::fill(ya, ya + ATMOSH_SH_MAX_BANDS * ATMOSH_SH_MAX_BANDS, std::nan(""));
+      sh::shared::sh_basis_all(bands, d, ya);
+      for (int i = 0; i < bands * bands; ++i) worst_all = std::max(worst_all, std::abs(ya[i] - y[static_cast<std::size_t>(i)]));
+      if (bands < ATMOSH_SH_MAX_BANDS) EXPECT_TRUE(std::isnan(ya[bands * bands])) << bands;  // bands^2 values written
+      std::vector<double> c(static_cast<std::size_t>(bands * bands));
+      for (auto& v : c) v = nd(g);
+      const std::vector<double> A = sh::irradiance_factors(bands);
+      double a[ATMOSH_SH_MAX_BANDS] = {};
+      std::copy(A.begin(), A.end(), a);
+      sh::shared::sh_basis_scale(bands, a, ya);
+      double e = 0, norm = 0;
+      for (int i = 0; i < bands * bands; ++i) e += c[static_cast<std::size_t>(i)] * ya[i], norm += std::abs(c[static_cast<std::size_t>(i)]);
+      worst_irr = std::max(worst_irr, std::abs(e - sh::irradiance_at(c, bands, d)) / norm);
+    }
+  }
+  std::printf("[ measured ] sh_basis_all vs sh::evaluate (bands <= 16): %.3g; its irradiance vs sh::irradiance_at: %.3g "
+              "of sum |c|\n", worst_all, worst_irr);
+  EXPECT_LT(worst_all, 1e-12);
+  EXPECT_LT(worst_irr, 1e-13);
   // Texel solid angles: 24 x 24 Gauss–Legendre of (1 + u^2 + v^2)^(-3/2) over the texel (the
   // integrand is smooth on it), and the faces' sum 4 pi.
   std::vector<double> x, w;
@@ -129,7 +161,7 @@ TEST(GiProbesResident, BadOptionsThrowInputErrorBeforeAnyGpuWork) {
     change(o);
     EXPECT_THROW(gi::ProbeFrameResident(s, s.camera, 16, 16, f, o), InputError);
   };
-  bad([](gi::ProbeFrameOptions& o) { o.probes.bands = 4; });
+  bad([](gi::ProbeFrameOptions& o) { o.probes.bands = 17; });  // above the CPU probe method's 16
   bad([](gi::ProbeFrameOptions& o) { o.probes.bands = 0; });
   bad([](gi::ProbeFrameOptions& o) { o.probes.include_sun = true; });
   bad([](gi::ProbeFrameOptions& o) { o.grid = 0; });
@@ -230,11 +262,17 @@ TEST(GiProbesResident, GpuProjectionAgreesWithTheCpuProjection) {
   EXPECT_LT(worst2, 1e-5);
 }
 
-TEST(GiProbesResident, ResidentFrameEqualsTheChainedPasses) {
+TEST(GiProbesResident, FiveBandFrameAgreesWithTheCpuProjectionAndShading) {
   ATMOSH_NEED_GPU();
-  // Cornell box (no sun): the resident frame against the same passes chained through the CPU —
-  // the probes projected on the GPU and read back (ProbeRaster::gpu_sh), then uploaded to the
-  // probe frame (ProbeFrameGpu). Same floats in, same shader: equal to float rounding.
+  // Cornell box (no sun), 2^3 probes, 5 bands, Hanning window, N = 4 rendered at 8
+  // (supersample 2), 40 x 32:
+  //  * projection: the resident frame's coefficients (compute pass, float, read back) against
+  //    the CPU's projection in double (sh::project_cube after the texel means, then the window
+  //    of sh::window_weights at every band) of the same rasterised cube maps (ProbeRaster::gpu);
+  //  * shading: the resident frame against its CPU twin (render_probes_frame, gpu = false: Embree
+  //    rays at the pixel centres, interpolate() and libsh's sh::irradiance_at in double) on those
+  //    coefficients — equal to float rounding except at pixels whose centre grazes an edge;
+  //  * the chained passes: the same coefficients uploaded to ProbeFrameGpu give the same image.
   const gi::Scene s = gi::builtin_scene("cornell-box");
   gi::SurfaceRadianceOptions so;
   so.divisions = 4;
@@ -242,23 +280,73 @@ TEST(GiProbesResident, ResidentFrameEqualsTheChainedPasses) {
   const gi::SurfaceRadiance f = gi::bake_surface_radiance(s, so);
   gi::ProbeFrameOptions fo;
   fo.grid = 2;
-  fo.probes.bands = 3;
+  fo.probes.bands = 5;
   fo.probes.cube_size = 4;
+  fo.probes.window = sh::Window::hanning;
   fo.supersample = 2;
-  const int w = 40, h = 32;
-  const gi::RadianceImage resident = gi::ProbeFrameResident(s, s.camera, w, h, f, fo).render();
-  const gi::ProbeGrid g = gi::build_probe_grid_surface(s, f, fo.grid, fo.probes, gi::ProbeRaster::gpu_sh, fo.supersample);
-  const gi::RadianceImage chained = gi::ProbeFrameGpu(s, s.camera, w, h).render(g, false);
+  const int W = 40, H = 32;
+  const gi::ProbeFrameResident frame(s, s.camera, W, H, f, fo);
+  const gi::RadianceImage img = frame.render();
+  const gi::ProbeGrid gg = frame.grid();
+  ASSERT_EQ(gg.bands, 5);
+  // projection
+  const gi::ProbeGrid cpu = gi::build_probe_grid_surface(s, f, fo.grid, fo.probes, gi::ProbeRaster::gpu, fo.supersample);
   double scale = 0, worst = 0;
-  for (int c = 0; c < 3; ++c)
-    for (std::size_t i = 0; i < chained.mean[c].size(); ++i) {
-      scale = std::max(scale, static_cast<double>(chained.mean[c][i]));
-      worst = std::max(worst, std::abs(static_cast<double>(resident.mean[c][i]) - chained.mean[c][i]));
-    }
+  for (const auto& p : cpu.probes)
+    for (const auto& c : p) scale = std::max(scale, std::abs(c[0]));
   ASSERT_GT(scale, 0);
-  std::printf("[ measured ] resident frame vs chained passes (Cornell box, 40 x 32): %.3g of the largest radiance\n",
-              worst / scale);
-  EXPECT_LE(worst / scale, 1e-6);
+  for (std::size_t q = 0; q < cpu.probes.size(); ++q)
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_EQ(gg.probes[q][c].size(), 25u);
+      for (std::size_t i = 0; i < 25; ++i) worst = std::max(worst, std::abs(gg.probes[q][c][i] - cpu.probes[q][c][i]));
+    }
+  // shading: the CPU twin on the frame's own coefficients
+  const gi::RadianceImage twin = gi::render_probes_frame(s, s.camera, W, H, gg, false, false);
+  const prt::RayScene rays(s.mesh);
+  const glm::dvec3 fw = glm::normalize(s.camera.forward), right = glm::normalize(glm::cross(fw, s.camera.up)),
+                   up = glm::cross(right, fw);
+  const double th = std::tan(0.5 * s.camera.vertical_fov_deg * kPi / 180), aspect = static_cast<double>(W) / H;
+  auto prim_at = [&](double row, double col) {  // the triangle a camera ray meets (-1: none)
+    const double x = (2.0 * col / W - 1.0) * th * aspect, y = (1.0 - 2.0 * row / H) * th;
+    std::uint32_t prim = 0;
+    float u = 0, v = 0;
+    double t = 0;
+    return rays.intersect(s.camera.eye, glm::normalize(fw + x * right + y * up), 0.0, prim, u, v, t) ? long(prim) : -1L;
+  };
+  double lmax = 0;
+  for (int c = 0; c < 3; ++c)
+    for (float v : twin.mean[c]) lmax = std::max(lmax, static_cast<double>(v));
+  ASSERT_GT(lmax, 0);
+  std::size_t edge = 0;
+  double worst_inside = 0;
+  for (int r = 0; r < H; ++r)
+    for (int col = 0; col < W; ++col) {
+      const std::size_t i = static_cast<std::size_t>(r) * W + col;
+      const long centre = prim_at(r + 0.5, col + 0.5);
+      bool e = false;  // a ray 1/50 pixel from the centre meets another triangle
+      for (const auto& [dr, dc] : {std::pair{0.02, 0.0}, {-0.02, 0.0}, {0.0, 0.02}, {0.0, -0.02}})
+        e = e || prim_at(r + 0.5 + dr, col + 0.5 + dc) != centre;
+      double d = 0;
+      for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(static_cast<double>(img.mean[c][i]) - twin.mean[c][i]));
+      edge += e;
+      if (!e) worst_inside = std::max(worst_inside, d);
+    }
+  // chained passes
+  const gi::RadianceImage chained = gi::ProbeFrameGpu(s, s.camera, W, H).render(gg, false);
+  double worst_chain = 0;
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t i = 0; i < chained.mean[c].size(); ++i)
+      worst_chain = std::max(worst_chain, std::abs(static_cast<double>(img.mean[c][i]) - chained.mean[c][i]));
+  std::printf("[ measured ] 5 bands: GPU vs CPU projection %.3g of the largest c00; frame vs CPU twin %.3g of the largest "
+              "radiance away from edges (%zu of %d pixels at an edge); vs chained passes %.3g\n",
+              worst / scale, worst_inside / lmax, edge, W * H, worst_chain / lmax);
+  // Measured on llvmpipe: see the printout and docs/gi.md. Bounds: projection 1e-4 (as at 6
+  // bands in GpuProjectionAgreesWithTheCpuProjection), shading 1e-5 away from edges, edges <= 10 %,
+  // chained 1e-6.
+  EXPECT_LT(worst / scale, 1e-4);
+  EXPECT_LT(worst_inside / lmax, 1e-5);
+  EXPECT_LE(edge, static_cast<std::size_t>(W * H / 10));
+  EXPECT_LE(worst_chain / lmax, 1e-6);
 }
 
 TEST(GiProbesResident, FrameUnderSunAndSkyMatchesTheCpuProbeMethod) {
@@ -324,8 +412,8 @@ TEST(GiProbesResident, FrameUnderSunAndSkyMatchesTheCpuProbeMethod) {
 
 TEST(GiProbesResident, ConvergeStudyHasResidentFrameRows) {
   ATMOSH_NEED_GPU();
-  // gi::converge_methods with a GPU: rows "probes-resident-gpu" per grid and band count <= 3
-  // (bands 4 has none), each with a finite error against the path-traced reference and a
+  // gi::converge_methods with a GPU: rows "probes-resident-gpu" per grid and band count (5
+  // bands included), each with a finite error against the path-traced reference and a
   // frame time; their error is that of the CPU probe rows (path-traced probes, shadow rays,
   // jittered camera rays; same grid and bands) within a bound measured here.
   const gi::Scene s = sphere_on_plane_sun_sky();
@@ -334,7 +422,7 @@ TEST(GiProbesResident, ConvergeStudyHasResidentFrameRows) {
   co.method.samples = 4;
   co.method.cube_size = 8;
   co.method.pixel_samples = 4;
-  co.bands = {1, 3, 4};
+  co.bands = {1, 5};
   co.grids = {3};
   co.path_samples = {};
   co.reference_samples = 32;
@@ -354,8 +442,7 @@ TEST(GiProbesResident, ConvergeStudyHasResidentFrameRows) {
   int resident = 0;
   for (const auto& r : st.rows) resident += r.method == "probes-resident-gpu";
   EXPECT_EQ(resident, 2);
-  EXPECT_EQ(find("probes-resident-gpu", "bands=4 grid=3"), nullptr);
-  for (const char* setting : {"bands=1 grid=3", "bands=3 grid=3"}) {
+  for (const char* setting : {"bands=1 grid=3", "bands=5 grid=3"}) {
     const io::StudyRow* r = find("probes-resident-gpu", setting);
     const io::StudyRow* c = find("probes", setting);
     const io::StudyRow* g = find("probes-gpu", setting);

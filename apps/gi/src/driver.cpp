@@ -367,11 +367,11 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
       }
       // probes-resident-gpu: the GPU-resident probe frame (ProbeFrameResident: cube maps, SH
       // projection, the sun's shadow map and the shading on the GPU, one read-back) per grid and
-      // band count <= 3, pixel centres. time_s and shade_s: one frame (the second: the first
-      // draws JIT-compile on llvmpipe); build_s: the bake and the frame's setup (programs, uploads).
+      // band count (every count of --bands-list, 1..16), pixel centres. time_s and shade_s: one
+      // frame (the second: the first draws JIT-compile on llvmpipe); build_s: the bake and the
+      // frame's setup (programs, uploads).
       for (int g : co.grids)
         for (int b : co.bands) {
-          if (b > 3) continue;  // the resident frame shades 1..3 bands
           ProbeFrameOptions fo;
           fo.grid = g;
           fo.probes.bands = b;

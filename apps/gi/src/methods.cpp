@@ -147,12 +147,12 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
       const SurfaceRadiance f = bake_surface_radiance(scene, so);
       // supersampling within the cube-size limit (the largest s with cube_size x s <= 512)
       const int supersample = std::clamp(std::min(o.surface_supersample, 512 / std::max(o.cube_size, 1)), 1, 16);
-      // Without visibility weighting and with bands <= 3 the whole frame is GPU-resident
-      // (ProbeFrameResident: cube maps, their projection, the sun's shadow map and the shading in
-      // one context, only the image read back); otherwise the cube maps are rasterised and
-      // projected on the GPU (only the coefficients read back) and the frame shaded by the CPU's
-      // camera rays.
-      const bool resident = !o.probe_visibility && p.bands <= 3;
+      // Without visibility weighting the whole frame is GPU-resident, at every band count of
+      // the probes (ProbeFrameResident: cube maps, their projection, the sun's shadow map and the
+      // shading in one context, only the image read back); with it the cube maps are rasterised
+      // and projected on the GPU (only the coefficients read back) and the frame shaded by the
+      // CPU's camera rays.
+      const bool resident = !o.probe_visibility;
       const std::optional<GpuUnusable> unusable = try_gpu([&] {
         if (resident) {
           ProbeFrameOptions fo;

@@ -183,24 +183,41 @@ void frame_geometry(const Scene& scene, const Camera& cam, int width, int height
   eye_out = eye;
 }
 
-// The frame's shading program (gi_probe_shade.vert/.frag with the shared SH irradiance and the
-// sun's shadow-map lookup).
-std::unique_ptr<gpu::Program> shade_program() {
-  return std::make_unique<gpu::Program>(
+// The frame's shading program for `max_bands` bands exactly (gi_probe_shade.vert/.frag with the
+// shared SH basis of libsh/include/atmosh/sh/shared/cube.glsl.hpp, ATMOSH_SH_MAX_BANDS =
+// max_bands: its array's size and the shader's band count, so its loops have constant trip
+// counts; and the sun's shadow-map lookup), with libsh's clamped-cosine factors A_l
+// (sh::irradiance_factors) set; the program is current on return.
+std::unique_ptr<gpu::Program> shade_program(int max_bands) {
+  auto prog = std::make_unique<gpu::Program>(
       std::vector<gpu::ShaderPart>{gpu::embedded_source("gpu/shaders/gi_probe_shade.vert")},
-      std::vector<gpu::ShaderPart>{gpu::embedded_source("gpu/shaders/gi_probe_shade_stubs.glsl"),
-                                   gpu::embedded_source("apps/gi/include/atmosh/gi/shared/radiosity.glsl.hpp"),
+      std::vector<gpu::ShaderPart>{gpu::embedded_source("libsh/include/atmosh/sh/shared/cube.glsl.hpp"),
                                    gpu::embedded_source("gpu/shaders/gi_probe_sun.glsl"),
-                                   gpu::embedded_source("gpu/shaders/gi_probe_shade.frag")});
+                                   gpu::embedded_source("gpu/shaders/gi_probe_shade.frag")},
+      "#define ATMOSH_SH_MAX_BANDS " + std::to_string(max_bands) + "\n");
+  prog->use();
+  const std::vector<double> A = sh::irradiance_factors(max_bands);
+  for (int l = 0; l < max_bands; ++l) {
+    const std::string name = "irradiance_factor[" + std::to_string(l) + "]";
+    prog->set(name.c_str(), static_cast<float>(A[static_cast<std::size_t>(l)]));
+  }
+  return prog;
 }
 #endif
 
-RadianceImage render_probes_frame(const Scene& scene, const Camera& cam, int width, int height, const ProbeGrid& grid,
-                                  bool grid_includes_sun, bool gpu) {
-  validate(scene);
-  check_view(cam, width, height);
-  if (grid.bands < 1 || grid.bands > 3)
-    throw InputError("gi probes: a probe frame needs 1..3 bands, got " + std::to_string(grid.bands));
+namespace {
+// The most bands a probe frame shades: those of the CPU probe method (ProbeOptions::bands,
+// 1..16) and of the GPU projection (gpu::ProbeProjector).
+constexpr int kMaxFrameBands = 16;
+
+void check_frame_bands(int bands, int max_bands) {
+  if (bands < 1 || bands > max_bands)
+    throw InputError("gi probes: a probe frame shades 1.." + std::to_string(max_bands) + " bands, got " +
+                     std::to_string(bands));
+}
+
+void check_frame_grid(const Scene& scene, const ProbeGrid& grid, bool grid_includes_sun, int max_bands) {
+  check_frame_bands(grid.bands, max_bands);
   if (scene.sun && !grid_includes_sun)
     throw InputError("gi probes: a probe frame adds no sun: the grid must hold it (include_sun)");
   const std::size_t np_grid = static_cast<std::size_t>(grid.n) * grid.n * grid.n;
@@ -209,6 +226,14 @@ RadianceImage render_probes_frame(const Scene& scene, const Camera& cam, int wid
     for (const auto& c : q)
       if (c.size() != static_cast<std::size_t>(grid.bands) * grid.bands)
         throw InputError("gi probes: a probe's coefficients do not match the grid's bands");
+}
+}  // namespace
+
+RadianceImage render_probes_frame(const Scene& scene, const Camera& cam, int width, int height, const ProbeGrid& grid,
+                                  bool grid_includes_sun, bool gpu) {
+  validate(scene);
+  check_view(cam, width, height);
+  check_frame_grid(scene, grid, grid_includes_sun, kMaxFrameBands);
   const glm::dvec3 rx = glm::cross(cam.forward, cam.up);
   Frame fr;
   fr.f = glm::normalize(cam.forward);
@@ -275,8 +300,11 @@ struct ProbeFrameGpu::Impl {
   Frame fr;
   int width = 0, height = 0;
   glm::dvec3 centre{0.0};
+  float view_proj[16] = {};
+  glm::vec3 eye{0.0f};
   gpu::Context ctx;
-  std::unique_ptr<gpu::Program> prog;
+  std::unique_ptr<gpu::Program> prog;  // for prog_bands bands (made by the first render at that count)
+  int prog_bands = 0;
   std::unique_ptr<gpu::MeshRaster> raster;
 };
 #else
@@ -298,10 +326,12 @@ ProbeFrameGpu::ProbeFrameGpu(const Scene& scene, const Camera& cam, int width, i
   double radius = 0;
   glm::dvec3 eye;
   frame_geometry(scene, cam, width, height, m.fr, m.centre, vert, idx, vp, radius, eye);
-  m.prog = shade_program();
-  m.prog->use();
-  m.prog->set_mat4("view_proj", vp);
-  m.prog->set("eye", static_cast<float>(eye.x), static_cast<float>(eye.y), static_cast<float>(eye.z));
+  std::copy(vp, vp + 16, m.view_proj);
+  m.eye = glm::vec3(eye);
+  m.prog = shade_program(3);  // the default band count; render() remakes it for another
+  m.prog_bands = 3;
+  m.prog->set_mat4("view_proj", m.view_proj);
+  m.prog->set("eye", m.eye.x, m.eye.y, m.eye.z);
   m.raster = std::make_unique<gpu::MeshRaster>(m.ctx, vert, std::vector<int>{3, 3, 3, 3, 3}, idx, width, height);
 #else
   throw InputError("gi probes: this build has no GPU library (atmosh::gpu)");
@@ -312,23 +342,22 @@ ProbeFrameGpu::~ProbeFrameGpu() = default;
 
 RadianceImage ProbeFrameGpu::render(const ProbeGrid& grid, bool grid_includes_sun) const {
 #ifdef ATMOSH_GI_HAVE_GPU
-  const Impl& m = *impl_;
-  if (grid.bands < 1 || grid.bands > 3)
-    throw InputError("gi probes: a probe frame needs 1..3 bands, got " + std::to_string(grid.bands));
-  if (m.scene.sun && !grid_includes_sun)
-    throw InputError("gi probes: a probe frame adds no sun: the grid must hold it (include_sun)");
+  Impl& m = *impl_;
+  check_frame_grid(m.scene, grid, grid_includes_sun, kMaxFrameBands);
   const std::size_t np_grid = static_cast<std::size_t>(grid.n) * grid.n * grid.n;
-  if (grid.n < 1 || grid.probes.size() != np_grid) throw InputError("gi probes: the grid's probe count does not match n^3");
-  for (const auto& q : grid.probes)
-    for (const auto& c : q)
-      if (c.size() != static_cast<std::size_t>(grid.bands) * grid.bands)
-        throw InputError("gi probes: a probe's coefficients do not match the grid's bands");
+  const std::size_t nc = static_cast<std::size_t>(grid.bands) * grid.bands;
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<float> sh(np_grid * 27, 0.0f);
+  std::vector<float> sh(np_grid * 3 * nc, 0.0f);
   for (std::size_t q = 0; q < np_grid; ++q)
     for (int c = 0; c < 3; ++c)
-      for (std::size_t i = 0; i < grid.probes[q][c].size(); ++i) sh[(q * 3 + c) * 9 + i] = static_cast<float>(grid.probes[q][c][i]);
+      for (std::size_t i = 0; i < nc; ++i) sh[(q * 3 + c) * nc + i] = static_cast<float>(grid.probes[q][c][i]);
   m.ctx.make_current();
+  if (m.prog_bands != grid.bands) {  // the shading program's basis array is sized for its band count
+    m.prog = shade_program(grid.bands);
+    m.prog_bands = grid.bands;
+    m.prog->set_mat4("view_proj", m.view_proj);
+    m.prog->set("eye", m.eye.x, m.eye.y, m.eye.z);
+  }
   gpu::Buffer bsh(sh.size() * sizeof(float), sh.data());
   bsh.bind(0);
   m.prog->use();
@@ -336,7 +365,7 @@ RadianceImage ProbeFrameGpu::render(const ProbeGrid& grid, bool grid_includes_su
   m.prog->set("grid_lo", static_cast<float>(glo.x), static_cast<float>(glo.y), static_cast<float>(glo.z));
   m.prog->set("grid_hi", static_cast<float>(ghi.x), static_cast<float>(ghi.y), static_cast<float>(ghi.z));
   m.prog->set("grid_n", grid.n);
-  m.prog->set("bands", grid.bands);
+  m.prog->set("stride", static_cast<int>(nc));
   const std::vector<float> rgba = m.raster->draw(*m.prog);
   const std::size_t npx = static_cast<std::size_t>(m.width) * m.height;
   RadianceImage img;
@@ -389,8 +418,7 @@ ProbeFrameResident::ProbeFrameResident(const Scene& scene, const Camera& cam, in
   validate(scene);
   check_view(cam, width, height);
   const ProbeOptions& po = opt.probes;
-  if (po.bands < 1 || po.bands > 3)
-    throw InputError("gi probes: a probe frame needs 1..3 bands, got " + std::to_string(po.bands));
+  check_frame_bands(po.bands, kMaxFrameBands);
   if (po.include_sun) throw InputError("gi probes: the resident probe frame adds the sun itself (include_sun must be off)");
   if (po.cube_size < 1 || po.cube_size > 512)
     throw InputError("gi probes: cube size must be in 1..512, got " + std::to_string(po.cube_size));
@@ -435,7 +463,8 @@ ProbeFrameResident::ProbeFrameResident(const Scene& scene, const Camera& cam, in
   co.near = near;
   co.far = far;
   m.projector = std::make_unique<gpu::ProbeProjector>(m.ctx, detail::field_mesh(field), detail::centres_of(pos), co,
-                                                      opt.supersample, detail::texel_environment(scene, NS), 3, 9);
+                                                      opt.supersample, detail::texel_environment(scene, NS), po.bands,
+                                                      po.bands * po.bands);
   // the camera's frame
   std::vector<float> vert;
   std::vector<std::uint32_t> idx;
@@ -444,10 +473,10 @@ ProbeFrameResident::ProbeFrameResident(const Scene& scene, const Camera& cam, in
   frame_geometry(scene, cam, width, height, m.fr, m.centre, vert, idx, vp, m.radius, eye);
   m.grid_lo = g.lo - m.centre;
   m.grid_hi = g.hi - m.centre;
-  m.prog = shade_program();
-  m.prog->use();
+  m.prog = shade_program(po.bands);
   m.prog->set_mat4("view_proj", vp);
   m.prog->set("eye", static_cast<float>(eye.x), static_cast<float>(eye.y), static_cast<float>(eye.z));
+  m.prog->set("stride", m.projector->stride());
   m.raster = std::make_unique<gpu::MeshRaster>(m.ctx, vert, std::vector<int>{3, 3, 3, 3, 3}, idx, width, height);
   // the background: the environment along every pixel centre (fixed for this camera)
   std::vector<float> bg(static_cast<std::size_t>(width) * height * 4);
@@ -518,7 +547,6 @@ RadianceImage ProbeFrameResident::render(double* pass_seconds) const {
   m.prog->set("grid_lo", static_cast<float>(m.grid_lo.x), static_cast<float>(m.grid_lo.y), static_cast<float>(m.grid_lo.z));
   m.prog->set("grid_hi", static_cast<float>(m.grid_hi.x), static_cast<float>(m.grid_hi.y), static_cast<float>(m.grid_hi.z));
   m.prog->set("grid_n", m.opt.grid);
-  m.prog->set("bands", m.opt.probes.bands);
   m.raster->draw_resident(*m.prog);
   // 5. the image: the frame's only read-back
   const std::vector<float> rgba = m.raster->read();
@@ -551,9 +579,10 @@ ProbeGrid ProbeFrameResident::grid() const {
   g.bands = m.opt.probes.bands;
   const std::vector<float> c = m.projector->read_sh();
   const std::size_t np = static_cast<std::size_t>(g.n) * g.n * g.n, nc = static_cast<std::size_t>(g.bands) * g.bands;
+  const std::size_t stride = static_cast<std::size_t>(m.projector->stride());
   g.probes.resize(np);
   for (std::size_t p = 0; p < np; ++p)
-    for (int ch = 0; ch < 3; ++ch) g.probes[p][ch].assign(&c[(p * 3 + ch) * 9], &c[(p * 3 + ch) * 9] + nc);
+    for (int ch = 0; ch < 3; ++ch) g.probes[p][ch].assign(&c[(p * 3 + ch) * stride], &c[(p * 3 + ch) * stride] + nc);
   return g;
 #else
   throw InputError("gi probes: this build has no GPU library (atmosh::gpu)");

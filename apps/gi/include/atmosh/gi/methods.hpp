@@ -34,7 +34,7 @@ struct MethodOptions {
   /// shading and the radiosity walk run on the GPU; probes are built from a baked surface
   /// radiance (bake_surface_radiance, surface_divisions / surface_samples) whose cube maps are
   /// rasterised (build_probe_grid_surface; where auto finds no GPU, the same cube maps by CPU
-  /// rays); with bands <= 3 and no probe visibility the whole frame is GPU-resident
+  /// rays); without probe visibility the whole frame is GPU-resident (any bands, 1..16)
   /// (ProbeFrameResident: cube maps, their SH projection, the sun's shadow map and the shading
   /// in one context; one sample per pixel centre, stderr 0); cpu
   /// path-traces the probes' cube maps (build_probe_grid). The path tracer is CPU only: gpu is

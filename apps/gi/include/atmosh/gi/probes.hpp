@@ -214,12 +214,14 @@ RadianceImage render_probes(const Scene& scene, const Camera& camera, int width,
 ///   L = emission of the side seen + a / pi max(0, E(p, n)),
 /// E the irradiance of the trilinear blend of the probes (no visibility weighting). The sun
 /// is not added: the scene must have none, or the grid must hold it (grid_includes_sun). On
-/// the GPU (gpu = true): the scene rasterised through EGL, the blend and
-/// gi_sh_irradiance (atmosh/gi/shared/radiosity.glsl.hpp) per fragment in float,
-/// gpu/shaders/gi_probe_shade.*; otherwise its CPU twin: Embree rays at the pixel centres, the
-/// same sum in double (interpolate(), probe_irradiance()) — they differ by float rounding
-/// except at pixels whose centre grazes an edge. bands 1..3 (InputError otherwise, and for a
-/// sun the grid does not hold); stderr_ 0; stats.seconds: the frame (GPU: upload, draw,
+/// the GPU (gpu = true): the scene rasterised through EGL, the blend and per fragment in float
+/// E = sum_i A_l c_i Y_i(n) with the Y_i of the shared block's sh_basis_all
+/// (atmosh/sh/shared/cube.glsl.hpp: the normalised associated-Legendre recurrence, any band)
+/// and libsh's clamped-cosine factors A_l (sh::irradiance_factors), gpu/shaders/gi_probe_shade.*;
+/// otherwise its CPU twin: Embree rays at the pixel centres, the same sum in double
+/// (interpolate(), probe_irradiance(), i.e. libsh's sh::irradiance_at) — they differ by float
+/// rounding except at pixels whose centre grazes an edge. bands 1..16, those of the CPU probe
+/// method (InputError otherwise, and for a sun the grid does not hold); stderr_ 0; stats.seconds: the frame (GPU: upload, draw,
 /// read-back and the misses' environment; program compilation excluded).
 RadianceImage render_probes_frame(const Scene& scene, const Camera& camera, int width, int height, const ProbeGrid& grid,
                                   bool grid_includes_sun, bool gpu);
@@ -227,7 +229,9 @@ RadianceImage render_probes_frame(const Scene& scene, const Camera& camera, int 
 /// The GPU form of render_probes_frame kept for repeated frames (dynamic probes): the EGL
 /// context, the program (compiled, and on llvmpipe JIT-compiled at its first draw), the scene's
 /// triangles and the render target are made once; render() uploads the grid's coefficients,
-/// draws, reads back and fills the misses with the environment. Throws as render_probes_frame
+/// draws, reads back and fills the misses with the environment (the program is made for 3 bands
+/// and remade by the first render() of a grid with another band count: its basis array is sized
+/// for the bands it shades). Throws as render_probes_frame
 /// (InputError; gpu::Unavailable, a runtime_error, without a context).
 class ProbeFrameGpu {
  public:
@@ -258,10 +262,12 @@ class ProbeFrameGpu {
 /// It is render_probes (the CPU method: probes without the sun, the sun's direct light with
 /// a shadow ray) with the baked field's rasterised probes, pixel centres instead of jittered
 /// camera rays, a shadow map instead of shadow rays, and a disc sun taken as a point at its
-/// centre. bands 1..3, no visibility weighting; stderr_ 0.
+/// centre. bands 1..16 (every band count of the CPU probe method; the window applied at every
+/// band in the projection, as build_probe_grid_surface does; the irradiance with libsh's A_l
+/// of every band), no visibility weighting; stderr_ 0.
 struct ProbeFrameOptions {
   int grid = 4;             ///< probes per axis, 1..64
-  ProbeOptions probes;      ///< bands (1..3), cube_size, window (include_sun must be false)
+  ProbeOptions probes;      ///< bands (1..16), cube_size, window (include_sun must be false)
   int supersample = 4;      ///< as build_probe_grid_surface
   int shadow_resolution = 1024;  ///< texels a side, 16..16384
   int shadow_pcf = 1;       ///< PCF radius in texels, 0..4
@@ -270,7 +276,7 @@ struct ProbeFrameOptions {
 
 class ProbeFrameResident {
  public:
-  /// Throws InputError (bad options, bands > 3, include_sun), gpu::Unavailable without a
+  /// Throws InputError (bad options, bands outside 1..16, include_sun), gpu::Unavailable without a
   /// context, InputError if atmosh was built without atmosh::gpu.
   ProbeFrameResident(const Scene& scene, const Camera& camera, int width, int height, const SurfaceRadiance& field,
                      const ProbeFrameOptions& opt);

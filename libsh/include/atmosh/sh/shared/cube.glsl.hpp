@@ -119,6 +119,72 @@ ATMOSH_FN int sh_index_band(int i) {
   return l;
 }
 
+// ---- Every real SH value of bands 0..bands-1 at once (appended) ----
+//
+// sh_basis_all(bands, d, y) writes Y_i(d), i = l (l + 1) + m < bands^2, into y: the same
+// values as sh_basis_lm (libsh's convention, see above) by the same normalised
+// associated-Legendre recurrence, run once per order m over l = m..bands-1 (the stable
+// three-term recurrence in l for fixed m; P~_mm from P~_{m-1,m-1} by the factor
+// -sqrt((2m + 1)/(2m)), (x + i y)^m from (x + i y)^{m-1}): O(bands^2) operations for all
+// bands^2 values, no trigonometry. ATMOSH_SH_MAX_BANDS (default 16; a shader may #define a
+// smaller one before the block, e.g. the band count of its probes) sizes y; bands must be
+// in 1..ATMOSH_SH_MAX_BANDS. In C++ y is the caller's array (at least bands^2 elements); in
+// GLSL an `out` parameter of ATMOSH_SH_MAX_BANDS^2 elements. Accuracy: a few ulp times l in
+// `real` (float on the GPU: P~_mm >= 1e-5 at bands <= 16, no underflow).
+// Irradiance (Ramamoorthi & Hanrahan 2001): E(n) = sum_i A_l c_i Y_i(n), A_l the clamped-cosine
+// factors of libsh (sh::irradiance_factors, any band); sh_basis_scale multiplies band l of
+// y by f[l] (A_l, or a window), so that E is one dot product with the coefficients.
+#ifndef ATMOSH_SH_MAX_BANDS
+#define ATMOSH_SH_MAX_BANDS 16
+#endif
+#ifdef ATMOSH_GLSL
+#define ATMOSH_SH_OUT out
+#define ATMOSH_SH_INOUT inout
+#else
+#define ATMOSH_SH_OUT
+#define ATMOSH_SH_INOUT
+#endif
+
+ATMOSH_FN void sh_basis_all(int bands, real3 d, ATMOSH_SH_OUT real y[ATMOSH_SH_MAX_BANDS * ATMOSH_SH_MAX_BANDS]) {
+  real cr = real(1);  // Re, Im (x + i y)^m = sin^m(theta) e^{i m phi}
+  real ci = real(0);
+  real pmm = real(0.28209479177387814);  // P~_00 = sqrt(1 / (4 pi))
+  for (int m = 0; m < bands; ++m) {
+    if (m > 0) {
+      real t = cr * d.x - ci * d.y;
+      ci = cr * d.y + ci * d.x;
+      cr = t;
+      pmm = -glm::sqrt(real(2 * m + 1) / real(2 * m)) * pmm;
+    }
+    real prev = real(0);
+    real p = pmm;
+    for (int l = m; l < bands; ++l) {
+      if (l > m) {
+        real a = glm::sqrt(real(4 * l * l - 1) / real(l * l - m * m));
+        real b = real(0);
+        if (l > m + 1) b = glm::sqrt(real((l - 1) * (l - 1) - m * m) / real(4 * (l - 1) * (l - 1) - 1));
+        real next = a * (d.z * p - b * prev);
+        prev = p;
+        p = next;
+      }
+      int c = l * (l + 1);
+      if (m == 0) {
+        y[c] = p;
+      } else {
+        y[c + m] = real(1.41421356237309505) * p * cr;
+        y[c - m] = real(1.41421356237309505) * p * ci;
+      }
+    }
+  }
+}
+
+// y_i *= f[l] for i < bands^2 (f per band: A_l for irradiance, a window's w_l).
+ATMOSH_FN void sh_basis_scale(int bands, const real f[ATMOSH_SH_MAX_BANDS],
+                              ATMOSH_SH_INOUT real y[ATMOSH_SH_MAX_BANDS * ATMOSH_SH_MAX_BANDS]) {
+  for (int l = 0; l < bands; ++l)
+    for (int i = l * l; i < (l + 1) * (l + 1); ++i) y[i] *= f[l];
+}
+
 // ATMOSH_GLSL_END
 
 }  // namespace atmosh::sh::shared
