@@ -16,12 +16,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "atmosh/error.hpp"
 #include "atmosh/gi/lpv.hpp"
 #include "atmosh/gi/radiosity.hpp"
 #include "atmosh/gi/scene.hpp"
+#include "atmosh/gi/shared/lpv.glsl.hpp"
 #include "atmosh/gpu/context.hpp"
 
 namespace {
@@ -124,6 +126,94 @@ TEST(GiLpvGpu, ResidentFrameAgreesWithTheCpuLpv) {
   }
 }
 
+// The 2-level nested cascade in the resident frame (LpvFrameGpu with cascades = 2: the RSM at
+// the fine level's density, the VPLs split by the fine box, three grids propagated and blended, on
+// the GPU with one read-back) against the CPU cascade in double on the same VPLs
+// (lpv_cascade_from_vpls: the RSM's VPLs of lpv_vpls_rsm at the fine cell edge and the frame's
+// emitter VPLs; its own geometry volumes and propagation; lpv_cascade_irradiance at the
+// rasterised G-buffer, applied as L = L_e + a / pi max(0, E_direct + E_lpv)). The same shared
+// functions on both sides (gi_lpv_in_box, gi_lpv_cascade_weight, gi_lpv_cascade_blend and the
+// one-level LPV's), so agreement within float rounding.
+TEST(GiLpvGpu, ResidentCascadeAgreesWithTheCpuCascade) {
+  std::string why;
+  if (no_gpu(why)) {
+    if (std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT")) FAIL() << why;
+    GTEST_SKIP() << why;
+  }
+  // the first test's scene, lights and map options (the same GL state: llvmpipe's shader cache
+  // then serves this frame's programs), a smaller grid
+  gi::Scene s = gi::builtin_scene("cornell-box");
+  s.sun = gi::Sun{gi::sun_direction(s, 200, 30), glm::dvec3(1.0, 0.8, 0.6)};
+  s.env_bands = 1;
+  for (int c = 0; c < 3; ++c) s.env_sh[c] = {0.3 * 2 * std::sqrt(3.14159265358979324)};
+  const int W = 48, H = 40;
+  gi::LpvOptions o;
+  o.grid = 6;
+  o.iterations = 8;
+  o.sun_rays = 2;
+  o.emitter_photons = 4096;
+  gi::ShadowMapOptions so;
+  so.sky_directions = 16;
+  so.sky_resolution = 128;
+  so.emitter_resolution = 128;
+  // the CPU side's rasterised inputs before the frame (see above: contexts that end)
+  const gi::LpvCascadeLayout layout = gi::lpv_cascade_layout(s, o);
+  std::vector<gi::Vpl> vpls = gi::lpv_vpls_rsm(s, o, layout.fine);
+  const std::size_t n_rsm = vpls.size();
+  const gi::RadiosityGBuffer gb = gi::radiosity_gbuffer_gpu(s, s.camera, W, H, 1, 1, 0, so);
+  gi::LpvFrameGpu frame(s, o, so, 2);
+  ASSERT_NE(frame.cascade(), nullptr);
+  gi::LpvGrid outer_gpu, inner_gpu, fine_gpu;
+  const gi::RadianceImage img = frame.render(s.camera, W, H, &outer_gpu, &inner_gpu, &fine_gpu);
+  vpls.insert(vpls.end(), frame.emitter_vpls().begin(), frame.emitter_vpls().end());
+  const gi::LpvCascade c = gi::lpv_cascade_from_vpls(s, o, layout, vpls);
+  // every level's accumulated grid, against the largest coefficient of the three
+  double scale = 0, worst = 0;
+  for (const auto& [cpu, gpu] : {std::pair{&c.outer.accumulated, &outer_gpu}, std::pair{&c.inner.accumulated, &inner_gpu},
+                                 std::pair{&c.fine.accumulated, &fine_gpu}}) {
+    ASSERT_EQ(cpu->cells.size(), gpu->cells.size());
+    for (std::size_t k = 0; k < cpu->cells.size(); ++k)
+      for (int q = 0; q < 12; ++q) scale = std::max(scale, std::abs(cpu->cells[k][q]));
+  }
+  ASSERT_GT(scale, 0);
+  const double f_outer = gi::lpv_flux(c.outer.injected).x, f_inner = gi::lpv_flux(c.inner.injected).x;
+  ASSERT_GT(f_outer, 0);  // VPLs on both sides of the fine box
+  ASSERT_GT(f_inner, 0);
+  for (const auto& [cpu, gpu] : {std::pair{&c.outer.accumulated, &outer_gpu}, std::pair{&c.inner.accumulated, &inner_gpu},
+                                 std::pair{&c.fine.accumulated, &fine_gpu}})
+    for (std::size_t k = 0; k < cpu->cells.size(); ++k)
+      for (int q = 0; q < 12; ++q) worst = std::max(worst, std::abs(cpu->cells[k][q] - gpu->cells[k][q]));
+  EXPECT_LT(worst, 1e-4 * scale) << "accumulated grids";
+  double lmax = 0, lworst = 0, ind = 0, wsum = 0;
+  const glm::dvec3 hi = c.outer.accumulated.lo + c.outer.accumulated.h * glm::dvec3(c.outer.accumulated.nx,
+                                                                                      c.outer.accumulated.ny,
+                                                                                      c.outer.accumulated.nz);
+  for (std::size_t r = 0; r < gb.receivers.size(); ++r) {
+    const glm::dvec3 x = gb.receivers.position[r], n = gb.receivers.normal[r];
+    const glm::dvec3 E = gi::lpv_cascade_irradiance(c, x, n);
+    const glm::dvec3 L = gb.receivers.emission[r] +
+                         gb.receivers.albedo[r] / 3.14159265358979324 * glm::max(gb.receivers.direct[r] + E, glm::dvec3(0.0));
+    wsum += gi::shared::gi_lpv_cascade_weight(x, c.fine_lo, c.fine_hi, c.outer.accumulated.lo, hi,
+                                              c.outer.accumulated.h);
+    const std::size_t px = gb.pixel[r];
+    for (int ch = 0; ch < 3; ++ch) {
+      ASSERT_TRUE(std::isfinite(img.mean[ch][px]));
+      lmax = std::max(lmax, L[ch]);
+      lworst = std::max(lworst, std::abs(img.mean[ch][px] - L[ch]));
+      ind = std::max(ind, gb.receivers.albedo[r][ch] / 3.14159265358979324 * E[ch]);
+    }
+  }
+  ASSERT_GT(ind, 0) << "the cascade adds light";
+  ASSERT_GT(wsum, 0) << "some receivers read the fine level";
+  EXPECT_LT(lworst, 1e-4 * lmax) << "image";
+  EXPECT_LT(lworst, 3e-4 * ind) << "image against the LPV's part";
+  std::printf("cascade: %zu RSM + %zu emitter VPLs (flux outer %.4g, inner %.4g); resident cascade vs CPU cascade: "
+              "grids %.3g of the largest coefficient, image %.3g of the largest radiance, %.3g of the largest LPV "
+              "part; mean fine weight %.3f; frame %.3f s\n",
+              n_rsm, frame.emitter_vpls().size(), f_outer, f_inner, worst / scale, lworst / lmax, lworst / ind,
+              wsum / static_cast<double>(gb.receivers.size()), img.stats.seconds);
+}
+
 TEST(GiLpvGpu, BadOptionsThrowInputError) {
   std::string why;
   if (no_gpu(why)) GTEST_SKIP() << why;
@@ -139,6 +229,9 @@ TEST(GiLpvGpu, BadOptionsThrowInputError) {
   gi::ShadowMapOptions so;
   so.emitter_points = 0;  // the area light would need the CPU's estimator
   EXPECT_THROW(gi::LpvFrameGpu(s, o, so), InputError);
+  EXPECT_THROW(gi::LpvFrameGpu(s, o, {}, 3), InputError);  // cascades 1 or 2
+  o.grid = 1;
+  EXPECT_THROW(gi::LpvFrameGpu(s, o, {}, 2), InputError);  // a cascade needs grid >= 2
 }
 
 }  // namespace
