@@ -58,6 +58,7 @@ struct RenderOptions {
   std::string window = "none";  // probes: none | hanning | lanczos | nonnegative
   bool probe_visibility = false;
   int iterations = -1;          // lpv: propagation steps (-1: 2 x grid)
+  int cascades = 1;             // lpv: 1 grid, or 2 (the 2-level nested cascade, grid >= 2)
   std::string device = "cpu";   // cpu | gpu | auto (radiosity shading and lpv run on the GPU)
 };
 // The method's options, checked (InputError naming the option).
