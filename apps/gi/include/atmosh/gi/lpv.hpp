@@ -199,7 +199,8 @@ RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int w
 /// geometry volume (opt.blocking; surfels outside the fine grid left out) and propagates
 /// opt.iterations steps (-1: 2 x grid). At a receiver x (normal n) with fine-box weight w(x)
 /// (0 outside the fine box; inside, min(1, distance to its nearest face / h) over the faces that
-/// lie inside the coarse grid — a face on the grid's boundary does not fade):
+/// lie inside the coarse grid — a face on the grid's boundary neither fades nor bounds, so a
+/// receiver rounded past it still reads the fine level; the shared gi_lpv_cascade_weight):
 ///   E_lpv = E_outer(x) + w E_fine(x) + (1 - w) E_inner(x),
 /// each E as the one-level LPV's (lpv_sample at x + h_level/2 n, read as I / h_level^2, clamped
 /// at 0): near the focus the light of the nearby VPLs comes from the fine level, the far
