@@ -283,30 +283,29 @@ TEST(GiLpvCascade, EveryVplGoesIntoOnePlace) {
   }
   o.grid = 1;
   EXPECT_THROW(gi::build_lpv_cascade(s, o), InputError);
-}
-
-// The cascade's fine-level weight (the shared gi_lpv_cascade_weight, as lpv.hpp states it): 1
-// deep inside the fine box, falling linearly to 0 over one coarse cell h at a face inside the
-// coarse grid, 0 outside; a face on the coarse grid's boundary neither fades nor bounds.
-TEST(GiLpvCascade, FineWeightFadesOverOneCoarseCell) {
-  using gi::shared::gi_lpv_cascade_weight;
-  const glm::dvec3 lo(0, 0, 0), hi(8, 8, 4), flo(2, 2, 0), fhi(6, 6, 2);  // h = 1; z faces: low on the boundary
-  const double h = 1;
-  EXPECT_EQ(gi_lpv_cascade_weight({4, 4, 0.5}, flo, fhi, lo, hi, h), 1.0);
-  EXPECT_DOUBLE_EQ(gi_lpv_cascade_weight({2.25, 4, 0.5}, flo, fhi, lo, hi, h), 0.25);
-  EXPECT_DOUBLE_EQ(gi_lpv_cascade_weight({4, 5.5, 0.5}, flo, fhi, lo, hi, h), 0.5);
-  EXPECT_DOUBLE_EQ(gi_lpv_cascade_weight({4, 4, 1.75}, flo, fhi, lo, hi, h), 0.25);  // the inner z face at 2
-  EXPECT_EQ(gi_lpv_cascade_weight({1.9, 4, 0.5}, flo, fhi, lo, hi, h), 0.0);
-  EXPECT_EQ(gi_lpv_cascade_weight({4, 4, 2.1}, flo, fhi, lo, hi, h), 0.0);
-  // the low z face lies on the grid's boundary: no fade there, and a receiver just below it (a
-  // rasterised position rounded past the plane) still reads the fine level
-  EXPECT_EQ(gi_lpv_cascade_weight({4, 4, 0.0}, flo, fhi, lo, hi, h), 1.0);
-  EXPECT_EQ(gi_lpv_cascade_weight({4, 4, -1e-6}, flo, fhi, lo, hi, h), 1.0);
-  EXPECT_EQ(gi_lpv_cascade_weight({4, std::nan(""), 0.5}, flo, fhi, lo, hi, h), 0.0);
-  // blend: E_outer + w E_fine + (1 - w) E_inner
-  const glm::dvec3 e = gi::shared::gi_lpv_cascade_blend({1, 2, 3}, {10, 20, 30}, {100, 200, 300}, 0.25);
-  EXPECT_DOUBLE_EQ(e.x, 1 + 2.5 + 75);
-  EXPECT_DOUBLE_EQ(e.z, 3 + 7.5 + 225);
+  // The cascade's fine-level weight (the shared gi_lpv_cascade_weight, as lpv.hpp states it): 1
+  // deep inside the fine box, falling linearly to 0 over one coarse cell h at a face inside the
+  // coarse grid, 0 outside; a face on the coarse grid's boundary neither fades nor bounds.
+  {
+    using gi::shared::gi_lpv_cascade_weight;
+    const glm::dvec3 lo(0, 0, 0), hi(8, 8, 4), flo(2, 2, 0), fhi(6, 6, 2);  // h = 1; z faces: low on the boundary
+    const double h = 1;
+    EXPECT_EQ(gi_lpv_cascade_weight({4, 4, 0.5}, flo, fhi, lo, hi, h), 1.0);
+    EXPECT_DOUBLE_EQ(gi_lpv_cascade_weight({2.25, 4, 0.5}, flo, fhi, lo, hi, h), 0.25);
+    EXPECT_DOUBLE_EQ(gi_lpv_cascade_weight({4, 5.5, 0.5}, flo, fhi, lo, hi, h), 0.5);
+    EXPECT_DOUBLE_EQ(gi_lpv_cascade_weight({4, 4, 1.75}, flo, fhi, lo, hi, h), 0.25);  // the inner z face at 2
+    EXPECT_EQ(gi_lpv_cascade_weight({1.9, 4, 0.5}, flo, fhi, lo, hi, h), 0.0);
+    EXPECT_EQ(gi_lpv_cascade_weight({4, 4, 2.1}, flo, fhi, lo, hi, h), 0.0);
+    // the low z face lies on the grid's boundary: no fade there, and a receiver just below it (a
+    // rasterised position rounded past the plane) still reads the fine level
+    EXPECT_EQ(gi_lpv_cascade_weight({4, 4, 0.0}, flo, fhi, lo, hi, h), 1.0);
+    EXPECT_EQ(gi_lpv_cascade_weight({4, 4, -1e-6}, flo, fhi, lo, hi, h), 1.0);
+    EXPECT_EQ(gi_lpv_cascade_weight({4, std::nan(""), 0.5}, flo, fhi, lo, hi, h), 0.0);
+    // blend: E_outer + w E_fine + (1 - w) E_inner
+    const glm::dvec3 e = gi::shared::gi_lpv_cascade_blend({1, 2, 3}, {10, 20, 30}, {100, 200, 300}, 0.25);
+    EXPECT_DOUBLE_EQ(e.x, 1 + 2.5 + 75);
+    EXPECT_DOUBLE_EQ(e.z, 3 + 7.5 + 225);
+  }
 }
 
 TEST(GiLpv, BadOptionsThrowInputError) {
