@@ -99,9 +99,10 @@ TEST(GiLpv, PropagationThroughEmptySpaceConservesFlux) {
       const glm::dvec3 f = gi::lpv_flux(g);
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], flux[c], 1e-12 * flux[c]) << "step " << k << (iso ? " iso" : " lobe");
     }
-    // At the edge, flux leaves the volume.
-    for (int k = 10; k <= 60; ++k) g = gi::lpv_step(g, nullptr);
-    EXPECT_LT(gi::lpv_flux(g).x, 0.95 * flux.x);
+    // At the edge, flux leaves the volume (1.5 % of it by step 30, 19 % by step 60: the
+    // conservation above holds to 1e-12, so 1 % tells an open edge from a reflecting one).
+    for (int k = 10; k <= 30; ++k) g = gi::lpv_step(g, nullptr);
+    EXPECT_LT(gi::lpv_flux(g).x, 0.99 * flux.x);
   }
 }
 
