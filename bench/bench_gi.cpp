@@ -536,3 +536,46 @@ BENCHMARK(BM_ProbeResidentBands512)
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->Iterations(3);
+
+// The 2-level nested LPV cascade in the GPU-resident frame (LpvFrameGpu with cascades = 2: the
+// RSM at the fine level's density, three grids injected and propagated, the blend at the
+// receivers, the image's read-back) against the one-level frame of the same coarse grid, in the
+// same benchmark so that runs interleave: one 512 x 512 frame (wall time). Made once before: the
+// context, the programs, the emitters' VPLs and the geometry volumes; one frame before timing.
+// Arguments: scene (1 the Cornell box, its light; 2 sphere-on-plane under the sun 135 deg, 40 deg
+// alone, as BM_LpvResidentFrame512), grid (coarse cells along the longest axis), cascades (1, 2).
+void BM_LpvCascadeFrame512(benchmark::State& state) {
+  gi::Scene s = gi::builtin_scene(state.range(0) == 1 ? "cornell-box" : "sphere-on-plane");
+  if (state.range(0) == 2) {
+    s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(3.0, 2.0, 1.0)};
+    s.env_bands = 0;
+    for (auto& c : s.env_sh) c.clear();
+  }
+  gi::LpvOptions o;
+  o.grid = static_cast<int>(state.range(1));
+  double passes = 0;
+  try {
+    gi::LpvFrameGpu frame(s, o, {}, static_cast<int>(state.range(2)));
+    benchmark::DoNotOptimize(frame.render(s.camera, 512, 512));
+    for (auto _ : state) {
+      const gi::RadianceImage img = frame.render(s.camera, 512, 512);
+      passes += img.stats.seconds;
+      benchmark::DoNotOptimize(img.mean[0].data());
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+  state.counters["frame_ms"] = 1e3 * passes / static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
+}
+BENCHMARK(BM_LpvCascadeFrame512)
+    ->Args({2, 8, 1})
+    ->Args({2, 8, 2})
+    ->Args({2, 16, 1})
+    ->Args({2, 16, 2})
+    ->Args({1, 8, 1})
+    ->Args({1, 8, 2})
+    ->Args({1, 16, 1})
+    ->Args({1, 16, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);

@@ -31,6 +31,7 @@ struct GiConvergeCmd {
   std::string bands = "1,2,3,4", grids = "2,3,4,6,8", path_samples = "4,16";
   std::string radiosity_grids = "4,8,16", radiosity_bands = "1,2", radiosity_bounces = "0,1,2,3", lpv_grids = "8,16,32";
   int reference_samples = 256;
+  int lpv_cascade_max_grid = 16;
   bool netcdf = false;
 };
 
@@ -78,6 +79,9 @@ void run_converge(const GiConvergeCmd& co) {
   c.study.radiosity_bands = int_list(co.radiosity_bands, "--radiosity-bands", 1, 3);
   c.study.radiosity_bounces = int_list(co.radiosity_bounces, "--radiosity-bounces", 0, 16);
   c.study.lpv_grids = int_list(co.lpv_grids, "--lpv-grids", 1, 256);
+  if (co.lpv_cascade_max_grid < 0 || co.lpv_cascade_max_grid > 256)
+    throw InputError("--lpv-cascade-max-grid: must be in 0..256, got " + std::to_string(co.lpv_cascade_max_grid));
+  c.study.lpv_cascade_max_grid = co.lpv_cascade_max_grid;
   c.reference_samples = co.reference_samples;
   if (co.reference_samples < 2 || co.reference_samples > 10000000)
     throw InputError("--reference-samples: must be in 2..10000000, got " + std::to_string(co.reference_samples));
@@ -135,6 +139,9 @@ void register_gi_commands(CLI::App& app) {
   CLI::App* c = gic->add_subcommand("render", "Radiance image of a scene (EXR): path tracing with standard errors, or radiance probes");
   add_scene_and_method_options(c, *o, "paths per pixel (path) or per probe cube-map texel (probes) (default 16)");
   c->add_option("--method", o->method.method, "path | probes | radiosity | lpv");
+  c->add_option("--cascades", o->method.cascades,
+                "lpv: 1 (one grid, default) or 2 (a 2-level nested cascade: cells of half the edge over the middle "
+                "half of the scene; grid >= 2; on the GPU with --device gpu|auto)");
   add_device_option(c, o->method.device, "radiosity, lpv and probes (rasterised cube maps of a baked surface radiance) on the GPU (path: CPU only)");
   c->add_option("--size", o->size, "image size WxH (default 256x256)");
   c->add_option("-o,--output", o->out, "radiance image (.exr: R, G, B, stderr.R, stderr.G, stderr.B)")->required();
@@ -156,6 +163,9 @@ void register_gi_commands(CLI::App& app) {
   v->add_option("--radiosity-bands", co->radiosity_bands, "radiosity distance SH bands to study (default 1,2; none)");
   v->add_option("--radiosity-bounces", co->radiosity_bounces, "radiosity bounces to study (default 0,1,2,3; none)");
   v->add_option("--lpv-grids", co->lpv_grids, "LPV cells along the longest axis to study (default 8,16,32; none)");
+  v->add_option("--lpv-cascade-max-grid", co->lpv_cascade_max_grid,
+                "the 2-level LPV cascade rows (lpv cascades=2; lpv-cascade-gpu with --device gpu|auto) for the LPV grids "
+                "2..N (default 16; 0: none; 32 adds the costly grid-32 cascade)");
   v->add_option("--reference-samples", co->reference_samples, "reference paths per pixel (default 256)");
   add_device_option(v, co->render.method.device, "also the GPU forms of probes, radiosity and lpv (rows <method>-gpu)");
   add_format_option(v, co->netcdf);

@@ -3,8 +3,13 @@
 // an atlas of cells (column i, row k ny + j) with additive blending; pasted after
 // gi_lpv_decl.glsl and the shared blocks of radiosity.glsl.hpp and lpv.glsl.hpp.
 //   mode 0: the reflective shadow map's texel gl_VertexID (position w = 1 where a surface is;
-//           normal towards the sun; flux): a VPL in cell gi_lpv_cell_of(p + h/2 n), Phi gi_lpv_lobe(n);
-//   mode 1: a given VPL (9 floats: position already moved h/2 along n, n, flux), the same;
+//           normal towards the sun; flux): a VPL at p + vpl_shift n (h/2; in a cascade half the
+//           fine cell edge), in cell gi_lpv_cell_of of it, Phi gi_lpv_lobe(n);
+//   mode 1: a given VPL (9 floats: position already moved vpl_shift along n, n, flux), the same;
+//   in modes 0 and 1 of a cascade's level (box_mode 1: only VPLs inside the fine box
+//           [box_lo, box_hi], by the shared gi_lpv_in_box; 2: only those outside it) the VPL is
+//           moved a further level_shift along n (the coarse level's half-cell shift) before its
+//           cell is found;
 //   mode 2: a geometry-volume surfel (4 floats: n, A_s / h^2; its corner index in `corner_index`) into the
 //           corner atlas (column i, row k (ny + 1) + j; lpv_nx.. are then the corners' counts),
 //           coefficients gi_lpv_surfel 0..8 in targets 0, 1, 2.x.
@@ -21,6 +26,11 @@ uniform float lpv_h;
 uniform int lpv_nx;
 uniform int lpv_ny;
 uniform int lpv_nz;
+uniform float vpl_shift;
+uniform int box_mode;
+uniform vec3 box_lo;
+uniform vec3 box_hi;
+uniform float level_shift;
 flat out vec4 v_c0;
 flat out vec4 v_c1;
 flat out vec4 v_c2;
@@ -58,12 +68,20 @@ void main() {
       }
       n = texelFetch(rsm_normal, tc, 0).xyz;
       phi = texelFetch(rsm_flux, tc, 0).rgb;
-      p = pw.xyz + 0.5 * lpv_h * n;
+      p = pw.xyz + vpl_shift * n;
     } else {
       int o = gl_VertexID * 9;
       p = vec3(item[o], item[o + 1], item[o + 2]);
       n = vec3(item[o + 3], item[o + 4], item[o + 5]);
       phi = vec3(item[o + 6], item[o + 7], item[o + 8]);
+    }
+    if (box_mode != 0) {
+      bool in_box = gi_lpv_in_box(p, box_lo, box_hi);
+      if (in_box != (box_mode == 1)) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        return;
+      }
+      p = p + level_shift * n;
     }
     c = gi_lpv_cell_of(p, lpv_lo, lpv_h, dims);
     vec4 y = gi_lpv_lobe(n);

@@ -523,6 +523,23 @@ void bind_textures(const GLuint* ids, int n) {
   }
   glActiveTexture(GL_TEXTURE0);
 }
+
+// One grid of the frame: its cells (ping-pong), the running sum, and the open-face table of its
+// geometry volume (shared by a cascade's coarse inner and outer grids). box_mode: 0 every VPL,
+// 1 those inside the cascade's fine box, 2 those outside it; shift: the further move along n.
+struct LpvLevel {
+  GiLpvGrid grid;
+  std::size_t n_cells = 0;
+  std::unique_ptr<Buffer> cells_a, cells_b, acc;
+  std::shared_ptr<Buffer> vis;
+  int box_mode = 0;
+  double shift = 0;
+};
+
+bool bad_grid(const GiLpvGrid& g) {
+  return g.nx < 1 || g.ny < 1 || g.nz < 1 || g.nx > 16383 || static_cast<long long>(g.ny + 1) * (g.nz + 1) > 16384 ||
+         !(g.h > 0) || !std::isfinite(g.h) || !std::isfinite(g.lo.x + g.lo.y + g.lo.z);
+}
 }  // namespace
 
 struct GiLpvFrame::Impl {
@@ -538,8 +555,12 @@ struct GiLpvFrame::Impl {
   Program open{lpv_parts("gpu/shaders/gi_lpv_open.comp")};
   Program apply{lpv_parts("gpu/shaders/gi_lpv_frame_apply.comp")};
   VertexArrays empty{1};
-  std::size_t n_cells = 0, n_vpls = 0;
-  std::unique_ptr<Buffer> cells_a, cells_b, acc, corners, vis, vpls;
+  std::size_t n_vpls = 0;
+  std::unique_ptr<Buffer> vpls;
+  std::vector<LpvLevel> levels;  // one level; or a cascade's outer, inner and fine grids
+  bool cascade = false;
+  glm::dvec3 fine_lo{0.0}, fine_hi{0.0};
+  double vpl_shift = 0;  // an RSM texel's move along n (half the finest cell edge)
   Impl(const Context& c, const GiMeshView& m, const GiLpvGrid& g) : ctx(c), mesh(m), grid(g) {}
   ~Impl() {  // the members' GL names are deleted in this context (where it is still alive)
     try {
@@ -547,37 +568,113 @@ struct GiLpvFrame::Impl {
     } catch (const std::exception&) {
     }
   }
-  void set_grid(const Program& p, const char* lo, const char* h, const char* nx, const char* ny, const char* nz) const {
-    const glm::dvec3 l = grid.lo - soup.centre;
+  void set_grid(const Program& p, const GiLpvGrid& g, const char* lo, const char* h, const char* nx, const char* ny,
+                const char* nz) const {
+    const glm::dvec3 l = g.lo - soup.centre;
     p.set(lo, static_cast<float>(l.x), static_cast<float>(l.y), static_cast<float>(l.z));
-    p.set(h, static_cast<float>(grid.h));
-    p.set(nx, grid.nx);
-    p.set(ny, grid.ny);
-    p.set(nz, grid.nz);
+    p.set(h, static_cast<float>(g.h));
+    p.set(nx, g.nx);
+    p.set(ny, g.ny);
+    p.set(nz, g.nz);
+  }
+  void set_vec(const Program& p, const char* name, const glm::dvec3& v) const {
+    p.set(name, static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z));
+  }
+  // The geometry volume of grid g: the surfels as points into the corner atlas, packed, then the
+  // open fraction of every face (static geometry: once).
+  std::shared_ptr<Buffer> open_faces(const GiLpvGrid& g, const std::vector<GiLpvSurfel>& surfels) {
+    const std::size_t n_corners = static_cast<std::size_t>(g.nx + 1) * (g.ny + 1) * (g.nz + 1);
+    const std::size_t n_cells = static_cast<std::size_t>(g.nx) * g.ny * g.nz;
+    const Buffer corners(n_corners * 9 * sizeof(float)), scratch(sizeof(float) * 12);
+    std::vector<float> items;
+    std::vector<std::uint32_t> corner_index;
+    for (const GiLpvSurfel& sf : surfels) {
+      corner_index.push_back(sf.corner);
+      for (int c = 0; c < 3; ++c) items.push_back(static_cast<float>(sf.normal[c]));
+      items.push_back(static_cast<float>(sf.weight));
+    }
+    if (items.empty()) items.assign(4, 0.0f), corner_index.assign(1, 0);
+    const Buffer bs(items.size() * sizeof(float), items.data()),
+        bc(corner_index.size() * sizeof(std::uint32_t), corner_index.data());
+    Textures tex(3);
+    Framebuffers fbo(1);
+    const int cw = g.nx + 1, ch = (g.ny + 1) * (g.nz + 1);
+    atlas_targets(fbo.ids[0], tex, cw, ch, "gi LPV geometry atlas");
+    points.use();
+    points.set("mode", 2);
+    points.set("lpv_nx", g.nx + 1);
+    points.set("lpv_ny", g.ny + 1);
+    points.set("lpv_nz", g.nz + 1);
+    bs.bind(0);
+    bc.bind(1);
+    glBindVertexArray(empty.ids[0]);
+    if (!surfels.empty()) glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(surfels.size()));
+    glDisable(GL_BLEND);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    check_gl("gi LPV geometry injection");
+    bind_textures(tex.ids.data(), 3);
+    pack.use();
+    pack.set("atlas0", 0);
+    pack.set("atlas1", 1);
+    pack.set("atlas2", 2);
+    pack.set("nx", g.nx + 1);
+    pack.set("ny", g.ny + 1);
+    pack.set("nz", g.nz + 1);
+    pack.set("stride", 9);
+    pack.set("write_acc", 0);
+    corners.bind(0);
+    scratch.bind(3);
+    pack.dispatch(static_cast<unsigned>((n_corners + 63) / 64));
+    check_gl("gi LPV geometry pack");
+    auto vis = std::make_shared<Buffer>(n_cells * 30 * sizeof(float));
+    open.use();
+    open.set("nx", g.nx);
+    open.set("ny", g.ny);
+    open.set("nz", g.nz);
+    corners.bind(1);
+    vis->bind(2);
+    open.dispatch(static_cast<unsigned>((n_cells + 63) / 64));
+    check_gl("gi LPV open faces");
+    glFinish();  // the corner buffers end here
+    return vis;
+  }
+  void add_level(const GiLpvGrid& g, std::shared_ptr<Buffer> vis, int box_mode, double shift) {
+    LpvLevel L;
+    L.grid = g;
+    L.n_cells = static_cast<std::size_t>(g.nx) * g.ny * g.nz;
+    const std::size_t cb = L.n_cells * 12 * sizeof(float);
+    L.cells_a = std::make_unique<Buffer>(cb);
+    L.cells_b = std::make_unique<Buffer>(cb);
+    L.acc = std::make_unique<Buffer>(cb);
+    L.vis = std::move(vis);
+    L.box_mode = box_mode;
+    L.shift = shift;
+    levels.push_back(std::move(L));
   }
 };
 
 GiLpvFrame::GiLpvFrame(const Context& ctx, const GiMeshView& mesh, const GiLpvGrid& g,
-                       const std::vector<GiLpvSurfel>& surfels, const std::vector<GiLpvVpl>& vpls) {
-  if (g.nx < 1 || g.ny < 1 || g.nz < 1 || g.nx > 16383 || static_cast<long long>(g.ny + 1) * (g.nz + 1) > 16384 ||
-      !(g.h > 0) || !std::isfinite(g.h) || !std::isfinite(g.lo.x + g.lo.y + g.lo.z))
-    throw std::invalid_argument("GiLpvFrame: bad grid (cells >= 1, (ny + 1)(nz + 1) <= 16384, h > 0)");
-  const std::size_t n_corners = static_cast<std::size_t>(g.nx + 1) * (g.ny + 1) * (g.nz + 1);
-  for (const GiLpvSurfel& s : surfels)
-    if (s.corner >= n_corners || !std::isfinite(s.weight + s.normal.x + s.normal.y + s.normal.z))
-      throw std::invalid_argument("GiLpvFrame: a surfel outside the grid or not finite");
-  if (vpls.size() > 0x7fffffffu / 9 || surfels.size() > 0x7fffffffu / 4)
-    throw std::invalid_argument("GiLpvFrame: too many VPLs or surfels");
+                       const std::vector<GiLpvSurfel>& surfels, const std::vector<GiLpvVpl>& vpls,
+                       const GiLpvCascade* cascade) {
+  if (bad_grid(g)) throw std::invalid_argument("GiLpvFrame: bad grid (cells >= 1, (ny + 1)(nz + 1) <= 16384, h > 0)");
+  if (cascade != nullptr && (bad_grid(cascade->fine) || !(cascade->fine_lo.x <= cascade->fine_hi.x &&
+                                                          cascade->fine_lo.y <= cascade->fine_hi.y &&
+                                                          cascade->fine_lo.z <= cascade->fine_hi.z)))
+    throw std::invalid_argument("GiLpvFrame: bad cascade (its fine grid as a grid, its box not empty)");
+  auto check_surfels = [](const GiLpvGrid& gr, const std::vector<GiLpvSurfel>& sv) {
+    const std::size_t n_corners = static_cast<std::size_t>(gr.nx + 1) * (gr.ny + 1) * (gr.nz + 1);
+    for (const GiLpvSurfel& s : sv)
+      if (s.corner >= n_corners || !std::isfinite(s.weight + s.normal.x + s.normal.y + s.normal.z))
+        throw std::invalid_argument("GiLpvFrame: a surfel outside the grid or not finite");
+    if (sv.size() > 0x7fffffffu / 4) throw std::invalid_argument("GiLpvFrame: too many VPLs or surfels");
+  };
+  check_surfels(g, surfels);
+  if (cascade != nullptr) check_surfels(cascade->fine, cascade->fine_surfels);
+  if (vpls.size() > 0x7fffffffu / 9) throw std::invalid_argument("GiLpvFrame: too many VPLs or surfels");
   ctx.make_current();
   impl_ = std::make_unique<Impl>(ctx, mesh, g);
   Impl& I = *impl_;
   upload(mesh, I.soup);
-  I.n_cells = static_cast<std::size_t>(g.nx) * g.ny * g.nz;
-  const std::size_t cb = I.n_cells * 12 * sizeof(float);
-  I.cells_a = std::make_unique<Buffer>(cb);
-  I.cells_b = std::make_unique<Buffer>(cb);
-  I.acc = std::make_unique<Buffer>(cb);
-  I.corners = std::make_unique<Buffer>(n_corners * 9 * sizeof(float));
   std::vector<float> items;
   for (const GiLpvVpl& v : vpls) {
     const glm::dvec3 p = v.p - I.soup.centre;
@@ -587,57 +684,20 @@ GiLpvFrame::GiLpvFrame(const Context& ctx, const GiMeshView& mesh, const GiLpvGr
   I.n_vpls = vpls.size();
   if (items.empty()) items.assign(9, 0.0f);
   I.vpls = std::make_unique<Buffer>(items.size() * sizeof(float), items.data());
-  // The geometry volume: the surfels as points into the corner atlas, packed into I.corners.
-  items.clear();
-  std::vector<std::uint32_t> corner_index;
-  for (const GiLpvSurfel& s : surfels) {
-    corner_index.push_back(s.corner);
-    for (int c = 0; c < 3; ++c) items.push_back(static_cast<float>(s.normal[c]));
-    items.push_back(static_cast<float>(s.weight));
+  std::shared_ptr<Buffer> vis = I.open_faces(g, surfels);
+  if (cascade == nullptr) {
+    I.vpl_shift = 0.5 * g.h;
+    I.add_level(g, vis, 0, 0.0);
+  } else {
+    I.cascade = true;
+    I.fine_lo = cascade->fine_lo;
+    I.fine_hi = cascade->fine_hi;
+    I.vpl_shift = 0.5 * cascade->fine.h;
+    const double shift = 0.5 * g.h - I.vpl_shift;  // to the coarse level's half-cell shift
+    I.add_level(g, vis, 2, shift);                 // outer
+    I.add_level(g, vis, 1, shift);                 // inner
+    I.add_level(cascade->fine, I.open_faces(cascade->fine, cascade->fine_surfels), 1, 0.0);
   }
-  if (items.empty()) items.assign(4, 0.0f), corner_index.assign(1, 0);
-  const Buffer bs(items.size() * sizeof(float), items.data()),
-      bc(corner_index.size() * sizeof(std::uint32_t), corner_index.data());
-  Textures tex(3);
-  Framebuffers fbo(1);
-  const int cw = g.nx + 1, ch = (g.ny + 1) * (g.nz + 1);
-  atlas_targets(fbo.ids[0], tex, cw, ch, "gi LPV geometry atlas");
-  I.points.use();
-  I.points.set("mode", 2);
-  I.points.set("lpv_nx", g.nx + 1);
-  I.points.set("lpv_ny", g.ny + 1);
-  I.points.set("lpv_nz", g.nz + 1);
-  bs.bind(0);
-  bc.bind(1);
-  glBindVertexArray(I.empty.ids[0]);
-  if (!surfels.empty()) glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(surfels.size()));
-  glDisable(GL_BLEND);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  check_gl("gi LPV geometry injection");
-  bind_textures(tex.ids.data(), 3);
-  I.pack.use();
-  I.pack.set("atlas0", 0);
-  I.pack.set("atlas1", 1);
-  I.pack.set("atlas2", 2);
-  I.pack.set("nx", g.nx + 1);
-  I.pack.set("ny", g.ny + 1);
-  I.pack.set("nz", g.nz + 1);
-  I.pack.set("stride", 9);
-  I.pack.set("write_acc", 0);
-  I.corners->bind(0);
-  I.acc->bind(3);
-  I.pack.dispatch(static_cast<unsigned>((n_corners + 63) / 64));
-  check_gl("gi LPV geometry pack");
-  // The open fraction of every face (static geometry: once).
-  I.vis = std::make_unique<Buffer>(I.n_cells * 30 * sizeof(float));
-  I.open.use();
-  I.open.set("nx", g.nx);
-  I.open.set("ny", g.ny);
-  I.open.set("nz", g.nz);
-  I.corners->bind(1);
-  I.vis->bind(2);
-  I.open.dispatch(static_cast<unsigned>((I.n_cells + 63) / 64));
-  check_gl("gi LPV open faces");
   glBindVertexArray(0);
 }
 
@@ -652,7 +712,6 @@ GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOption
     throw std::invalid_argument("GiLpvFrame: the sun's irradiance must be finite");
   I.ctx.make_current();
   const auto t0 = Clock::now();
-  const GiLpvGrid& g = I.grid;
   // 1. G-buffer (with its shadow map and the lights' maps).
   GBufferTargets T;
   draw_gbuffer(I.mesh, I.soup, I.gbuffer, T, cam, o.sun, o.shadow, o.emitters, o.sky);
@@ -660,59 +719,67 @@ GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOption
   Textures rtex(4);
   Framebuffers rfbo(1);
   if (o.rsm) draw_rsm(I.soup, I.rsm, rtex, rfbo, *o.rsm);
-  // 3. Injection: RSM texels and the given VPLs as points into the cell atlas.
-  Textures atex(3);
-  Framebuffers afbo(1);
-  atlas_targets(afbo.ids[0], atex, g.nx, g.ny * g.nz, "gi LPV injection atlas");
-  I.points.use();
-  I.set_grid(I.points, "lpv_lo", "lpv_h", "lpv_nx", "lpv_ny", "lpv_nz");
-  glBindVertexArray(I.empty.ids[0]);
-  if (o.rsm) {
-    bind_textures(rtex.ids.data(), 3);
-    I.points.set("mode", 0);
-    I.points.set("rsm_position", 0);
-    I.points.set("rsm_normal", 1);
-    I.points.set("rsm_flux", 2);
-    I.points.set("rsm_width", o.rsm->mt);
-    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(o.rsm->mt) * o.rsm->mb);
+  for (LpvLevel& L : I.levels) {
+    const GiLpvGrid& g = L.grid;
+    // 3. Injection: RSM texels and the given VPLs as points into the level's cell atlas.
+    Textures atex(3);
+    Framebuffers afbo(1);
+    atlas_targets(afbo.ids[0], atex, g.nx, g.ny * g.nz, "gi LPV injection atlas");
+    I.points.use();
+    I.set_grid(I.points, g, "lpv_lo", "lpv_h", "lpv_nx", "lpv_ny", "lpv_nz");
+    I.points.set("vpl_shift", static_cast<float>(I.vpl_shift));
+    I.points.set("box_mode", L.box_mode);
+    I.set_vec(I.points, "box_lo", I.fine_lo - I.soup.centre);
+    I.set_vec(I.points, "box_hi", I.fine_hi - I.soup.centre);
+    I.points.set("level_shift", static_cast<float>(L.shift));
+    glBindVertexArray(I.empty.ids[0]);
+    if (o.rsm) {
+      bind_textures(rtex.ids.data(), 3);
+      I.points.set("mode", 0);
+      I.points.set("rsm_position", 0);
+      I.points.set("rsm_normal", 1);
+      I.points.set("rsm_flux", 2);
+      I.points.set("rsm_width", o.rsm->mt);
+      glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(o.rsm->mt) * o.rsm->mb);
+    }
+    if (I.n_vpls > 0) {
+      I.points.set("mode", 1);
+      I.vpls->bind(0);
+      glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(I.n_vpls));
+    }
+    glDisable(GL_BLEND);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    check_gl("gi LPV injection");
+    // 4. Pack into the cells' buffer and the running sum.
+    bind_textures(atex.ids.data(), 3);
+    I.pack.use();
+    I.pack.set("atlas0", 0);
+    I.pack.set("atlas1", 1);
+    I.pack.set("atlas2", 2);
+    I.pack.set("nx", g.nx);
+    I.pack.set("ny", g.ny);
+    I.pack.set("nz", g.nz);
+    I.pack.set("stride", 12);
+    I.pack.set("write_acc", 1);
+    L.cells_a->bind(0);
+    L.acc->bind(3);
+    const unsigned groups = static_cast<unsigned>((L.n_cells + 63) / 64);
+    I.pack.dispatch(groups);
+    // 5. Propagation.
+    I.propagate.use();
+    I.propagate.set("nx", g.nx);
+    I.propagate.set("ny", g.ny);
+    I.propagate.set("nz", g.nz);
+    L.vis->bind(1);
+    L.acc->bind(3);
+    for (int it = 0; it < o.iterations; ++it) {
+      (it % 2 == 0 ? *L.cells_a : *L.cells_b).bind(0);
+      (it % 2 == 0 ? *L.cells_b : *L.cells_a).bind(2);
+      I.propagate.set("use_vis", o.blocking && it > 0 ? 1 : 0);
+      I.propagate.dispatch(groups);
+    }
+    check_gl("gi LPV propagation");
   }
-  if (I.n_vpls > 0) {
-    I.points.set("mode", 1);
-    I.vpls->bind(0);
-    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(I.n_vpls));
-  }
-  glDisable(GL_BLEND);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  check_gl("gi LPV injection");
-  // 4. Pack into the cells' buffer and the running sum.
-  bind_textures(atex.ids.data(), 3);
-  I.pack.use();
-  I.pack.set("atlas0", 0);
-  I.pack.set("atlas1", 1);
-  I.pack.set("atlas2", 2);
-  I.pack.set("nx", g.nx);
-  I.pack.set("ny", g.ny);
-  I.pack.set("nz", g.nz);
-  I.pack.set("stride", 12);
-  I.pack.set("write_acc", 1);
-  I.cells_a->bind(0);
-  I.acc->bind(3);
-  const unsigned groups = static_cast<unsigned>((I.n_cells + 63) / 64);
-  I.pack.dispatch(groups);
-  // 5. Propagation.
-  I.propagate.use();
-  I.propagate.set("nx", g.nx);
-  I.propagate.set("ny", g.ny);
-  I.propagate.set("nz", g.nz);
-  I.vis->bind(1);
-  I.acc->bind(3);
-  for (int it = 0; it < o.iterations; ++it) {
-    (it % 2 == 0 ? *I.cells_a : *I.cells_b).bind(0);
-    (it % 2 == 0 ? *I.cells_b : *I.cells_a).bind(2);
-    I.propagate.set("use_vis", o.blocking && it > 0 ? 1 : 0);
-    I.propagate.dispatch(groups);
-  }
-  check_gl("gi LPV propagation");
   // 6. Application to the G-buffer.
   const int W = cam.width, H = cam.height;
   const std::size_t np = static_cast<std::size_t>(W) * H;
@@ -725,9 +792,17 @@ GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOption
   I.apply.set("height", H);
   I.apply.set("sun_irradiance", static_cast<float>(o.sun ? o.sun_irradiance.x : 0.0),
               static_cast<float>(o.sun ? o.sun_irradiance.y : 0.0), static_cast<float>(o.sun ? o.sun_irradiance.z : 0.0));
-  I.set_grid(I.apply, "lpv_lo", "lpv_h", "lpv_nx", "lpv_ny", "lpv_nz");
+  I.set_grid(I.apply, I.grid, "lpv_lo", "lpv_h", "lpv_nx", "lpv_ny", "lpv_nz");
+  I.apply.set("cascade", I.cascade ? 1 : 0);
+  const LpvLevel& fine = I.levels.back();
+  I.set_grid(I.apply, fine.grid, "fine_grid_lo", "fine_h", "fine_nx", "fine_ny", "fine_nz");
+  I.set_vec(I.apply, "fine_lo", I.fine_lo - I.soup.centre);
+  I.set_vec(I.apply, "fine_hi", I.fine_hi - I.soup.centre);
+  I.set_vec(I.apply, "lpv_hi", I.grid.lo + I.grid.h * glm::dvec3(I.grid.nx, I.grid.ny, I.grid.nz) - I.soup.centre);
   out.bind(5);
-  I.acc->bind(6);
+  I.levels[0].acc->bind(6);
+  I.levels[I.cascade ? 1 : 0].acc->bind(7);
+  fine.acc->bind(8);
   I.apply.dispatch(static_cast<unsigned>((W + 7) / 8), static_cast<unsigned>((H + 7) / 8));
   check_gl("gi LPV application");
   // 7. The image back.
@@ -738,8 +813,15 @@ GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOption
   out.download(r.radiance.data(), r.radiance.size() * sizeof(float));
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   if (o.read_grid) {
-    r.grid.resize(I.n_cells * 12);
-    I.acc->download(r.grid.data(), r.grid.size() * sizeof(float));
+    auto read = [](const LpvLevel& L, std::vector<float>& v) {
+      v.resize(L.n_cells * 12);
+      L.acc->download(v.data(), v.size() * sizeof(float));
+    };
+    read(I.levels[0], r.grid);
+    if (I.cascade) {
+      read(I.levels[1], r.inner);
+      read(I.levels[2], r.fine);
+    }
   }
   glBindVertexArray(0);
   return r;

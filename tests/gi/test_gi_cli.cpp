@@ -29,6 +29,7 @@ TEST(GiCli, BadInputExitsTwoNamingTheValue) {
   expect_bad("gi render --scene-builtin cornell-box --method radiosity --bands 4" + out, "--bands");
   expect_bad("gi render --scene-builtin cornell-box --method lpv --iterations -2" + out, "--iterations");
   expect_bad("gi render --scene-builtin cornell-box --method lpv --device tpu" + out, "tpu");
+  expect_bad("gi render --scene-builtin cornell-box --method lpv --cascades 3" + out, "--cascades");
   expect_bad("gi render --scene-builtin cornell-box --method probes --bands 0" + out, "--bands");
   expect_bad("gi render --scene-builtin cornell-box --method probes --device gpu --bands 17" + out, "17");  // above 16
   expect_bad("gi render --scene-builtin cornell-box --method probes --grid 65" + out, "--grid");
@@ -42,6 +43,7 @@ TEST(GiCli, BadInputExitsTwoNamingTheValue) {
   expect_bad("gi converge --scene-builtin no-such-box" + od, "no-such-box");
   expect_bad("gi converge --scene-builtin sphere-on-plane --window boxcar" + od, "boxcar");
   expect_bad("gi converge --scene-builtin sphere-on-plane --radiosity-bands 1,4" + od, "1,4");
+  expect_bad("gi converge --scene-builtin sphere-on-plane --lpv-cascade-max-grid 300" + od, "--lpv-cascade-max-grid");
   expect_bad("gi render --scene-builtin cornell-box --method magic" + out, "magic");
   expect_bad("gi render --scene-builtin cornell-box --samples 1" + out, "--samples");
   expect_bad("gi render --scene-builtin cornell-box --bounces -5" + out, "-5");
@@ -190,7 +192,7 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream csv(dir / "conv" / "gi_converge.csv");
   std::string line;
-  int gpu_rows = 0, probe_rows = 0, resident_rows = 0;
+  int gpu_rows = 0, probe_rows = 0, resident_rows = 0, cascade_gpu_rows = 0;
   bool header = false;
   while (std::getline(csv, line)) {
     if (line.rfind("method,setting,error_max_rel,error_rms_rel,time_s,leak_rel,build_s,shade_s,mean_rel,ringing_rel,"
@@ -209,6 +211,7 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
       continue;
     }
     if (line.find("-gpu") != std::string::npos) ++gpu_rows;
+    if (line.rfind("lpv-cascade-gpu,grid=2 iterations=4 cascades=2,", 0) == 0) ++cascade_gpu_rows;
     if (line.rfind("probes", 0) == 0) {
       ++probe_rows;
       // ringing_rel and leak_ringfree_rel: finite and >= 0 for the probes' rows; band 1 holds only
@@ -223,9 +226,11 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
     }
   }
   EXPECT_TRUE(header);
-  // a GPU context: probes-gpu[-visibility] 2 bands each, radiosity-gpu 1, lpv[-noblock]-gpu 2; none: a notice
+  // a GPU context: probes-gpu[-visibility] 2 bands each, radiosity-gpu 1, lpv[-noblock]-gpu 2,
+  // lpv-cascade-gpu 1 (the 2-level cascade in the resident frame); none: a notice
   if (std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT") || r.err.find("CPU forms") == std::string::npos) {
-    EXPECT_EQ(gpu_rows, 7) << r.err;
+    EXPECT_EQ(gpu_rows, 8) << r.err;
+    EXPECT_EQ(cascade_gpu_rows, 1) << r.err;
     EXPECT_EQ(probe_rows, 8);
   } else {
     EXPECT_EQ(gpu_rows, 0);

@@ -16,12 +16,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "atmosh/error.hpp"
 #include "atmosh/gi/lpv.hpp"
 #include "atmosh/gi/radiosity.hpp"
 #include "atmosh/gi/scene.hpp"
+#include "atmosh/gi/shared/lpv.glsl.hpp"
 #include "atmosh/gpu/context.hpp"
 
 namespace {
@@ -41,6 +43,81 @@ struct Case {
   const char* name;
   gi::Scene scene;
 };
+
+// The 2-level nested cascade in the resident frame (LpvFrameGpu with cascades = 2: the RSM at
+// the fine level's density, the VPLs split by the fine box, three grids propagated and blended, on
+// the GPU with one read-back) against the CPU cascade in double on the same VPLs
+// (lpv_cascade_from_vpls: the RSM's VPLs of lpv_vpls_rsm at the fine cell edge and the frame's
+// emitter VPLs; its own geometry volumes and propagation; lpv_cascade_irradiance at the
+// rasterised G-buffer, applied as L = L_e + a / pi max(0, E_direct + E_lpv)). The same shared
+// functions on both sides (gi_lpv_in_box, gi_lpv_cascade_weight, gi_lpv_cascade_blend and the
+// one-level LPV's), so agreement within float rounding. Run inside the one-level test: the same
+// scene, lights, map options and G-buffer (the same GL state, so llvmpipe's shader cache serves
+// this frame's programs), a smaller grid.
+gi::LpvOptions cascade_options() {
+  gi::LpvOptions o;
+  o.grid = 6;
+  o.iterations = 8;
+  o.sun_rays = 2;
+  o.emitter_photons = 4096;
+  return o;
+}
+
+void expect_cascade_agrees(const gi::Scene& s, const gi::ShadowMapOptions& so, int W, int H,
+                           const gi::RadiosityGBuffer& gb, const gi::LpvCascadeLayout& layout,
+                           std::vector<gi::Vpl> vpls) {
+  const gi::LpvOptions o = cascade_options();
+  const std::size_t n_rsm = vpls.size();
+  gi::LpvFrameGpu frame(s, o, so, 2);
+  ASSERT_NE(frame.cascade(), nullptr);
+  gi::LpvGrid outer_gpu, inner_gpu, fine_gpu;
+  const gi::RadianceImage img = frame.render(s.camera, W, H, &outer_gpu, &inner_gpu, &fine_gpu);
+  vpls.insert(vpls.end(), frame.emitter_vpls().begin(), frame.emitter_vpls().end());
+  const gi::LpvCascade c = gi::lpv_cascade_from_vpls(s, o, layout, vpls);
+  // every level's accumulated grid, against the largest coefficient of the three
+  const std::pair<const gi::LpvGrid*, const gi::LpvGrid*> levels[3] = {
+      {&c.outer.accumulated, &outer_gpu}, {&c.inner.accumulated, &inner_gpu}, {&c.fine.accumulated, &fine_gpu}};
+  double scale = 0, worst = 0;
+  for (const auto& [cpu, gpu] : levels) {
+    ASSERT_EQ(cpu->cells.size(), gpu->cells.size());
+    for (std::size_t k = 0; k < cpu->cells.size(); ++k)
+      for (int q = 0; q < 12; ++q) scale = std::max(scale, std::abs(cpu->cells[k][q]));
+  }
+  ASSERT_GT(scale, 0);
+  const double f_outer = gi::lpv_flux(c.outer.injected).x, f_inner = gi::lpv_flux(c.inner.injected).x;
+  ASSERT_GT(f_outer, 0) << "cascade: VPLs outside the fine box";
+  ASSERT_GT(f_inner, 0) << "cascade: VPLs inside the fine box";
+  for (const auto& [cpu, gpu] : levels)
+    for (std::size_t k = 0; k < cpu->cells.size(); ++k)
+      for (int q = 0; q < 12; ++q) worst = std::max(worst, std::abs(cpu->cells[k][q] - gpu->cells[k][q]));
+  EXPECT_LT(worst, 1e-4 * scale) << "cascade: accumulated grids";
+  const gi::LpvGrid& g = c.outer.accumulated;
+  const glm::dvec3 hi = g.lo + g.h * glm::dvec3(g.nx, g.ny, g.nz);
+  double lmax = 0, lworst = 0, ind = 0, wsum = 0;
+  for (std::size_t r = 0; r < gb.receivers.size(); ++r) {
+    const glm::dvec3 x = gb.receivers.position[r], n = gb.receivers.normal[r];
+    const glm::dvec3 E = gi::lpv_cascade_irradiance(c, x, n);
+    const glm::dvec3 L = gb.receivers.emission[r] + gb.receivers.albedo[r] / 3.14159265358979324 *
+                                                        glm::max(gb.receivers.direct[r] + E, glm::dvec3(0.0));
+    wsum += gi::shared::gi_lpv_cascade_weight(x, c.fine_lo, c.fine_hi, g.lo, hi, g.h);
+    const std::size_t px = gb.pixel[r];
+    for (int ch = 0; ch < 3; ++ch) {
+      ASSERT_TRUE(std::isfinite(img.mean[ch][px])) << "cascade";
+      lmax = std::max(lmax, L[ch]);
+      lworst = std::max(lworst, std::abs(img.mean[ch][px] - L[ch]));
+      ind = std::max(ind, gb.receivers.albedo[r][ch] / 3.14159265358979324 * E[ch]);
+    }
+  }
+  ASSERT_GT(ind, 0) << "cascade: the cascade adds light";
+  ASSERT_GT(wsum, 0) << "cascade: some receivers read the fine level";
+  EXPECT_LT(lworst, 1e-4 * lmax) << "cascade: image";
+  EXPECT_LT(lworst, 3e-4 * ind) << "cascade: image against the LPV's part";
+  std::printf("cascade (grid 6): %zu RSM + %zu emitter VPLs (flux outer %.4g, inner %.4g); resident cascade vs CPU "
+              "cascade: grids %.3g of the largest coefficient, image %.3g of the largest radiance, %.3g of the largest "
+              "LPV part; mean fine weight %.3f; frame %.3f s\n",
+              n_rsm, frame.emitter_vpls().size(), f_outer, f_inner, worst / scale, lworst / lmax, lworst / ind,
+              wsum / static_cast<double>(gb.receivers.size()), img.stats.seconds);
+}
 
 TEST(GiLpvGpu, ResidentFrameAgreesWithTheCpuLpv) {
   std::string why;
@@ -77,50 +154,55 @@ TEST(GiLpvGpu, ResidentFrameAgreesWithTheCpuLpv) {
     std::vector<gi::Vpl> vpls = gi::lpv_vpls_rsm(s, o, inj);
     const std::size_t n_rsm = vpls.size();
     const gi::RadiosityGBuffer gb = gi::radiosity_gbuffer_gpu(s, s.camera, W, H, 1, 1, 0, so);
-    gi::LpvFrameGpu frame(s, o, so);
-    gi::LpvGrid acc_gpu;
-    const gi::RadianceImage img = frame.render(s.camera, W, H, &acc_gpu);
-    // the CPU LPV on the same VPLs
-    vpls.insert(vpls.end(), frame.emitter_vpls().begin(), frame.emitter_vpls().end());
-    ASSERT_GT(vpls.size(), 100u) << k.name;
-    for (const gi::Vpl& v : vpls) gi::lpv_add_vpl(inj, v.p, v.n, v.flux);
-    const gi::GeometryVolume gv = gi::lpv_geometry(s, inj);
-    const gi::LpvGrid acc = gi::lpv_propagate(inj, &gv, o.iterations);
-    double scale = 0, worst = 0;
-    for (std::size_t c = 0; c < acc.cells.size(); ++c)
-      for (int q = 0; q < 12; ++q) {
-        scale = std::max(scale, std::abs(acc.cells[c][q]));
-        worst = std::max(worst, std::abs(acc.cells[c][q] - acc_gpu.cells[c][q]));
+    const gi::LpvCascadeLayout layout = gi::lpv_cascade_layout(s, cascade_options());
+    const std::vector<gi::Vpl> vpls_fine = gi::lpv_vpls_rsm(s, cascade_options(), layout.fine);
+    {  // the one-level frame (ended before the cascade's)
+      gi::LpvFrameGpu frame(s, o, so);
+      gi::LpvGrid acc_gpu;
+      const gi::RadianceImage img = frame.render(s.camera, W, H, &acc_gpu);
+      // the CPU LPV on the same VPLs
+      vpls.insert(vpls.end(), frame.emitter_vpls().begin(), frame.emitter_vpls().end());
+      ASSERT_GT(vpls.size(), 100u) << k.name;
+      for (const gi::Vpl& v : vpls) gi::lpv_add_vpl(inj, v.p, v.n, v.flux);
+      const gi::GeometryVolume gv = gi::lpv_geometry(s, inj);
+      const gi::LpvGrid acc = gi::lpv_propagate(inj, &gv, o.iterations);
+      double scale = 0, worst = 0;
+      for (std::size_t c = 0; c < acc.cells.size(); ++c)
+        for (int q = 0; q < 12; ++q) {
+          scale = std::max(scale, std::abs(acc.cells[c][q]));
+          worst = std::max(worst, std::abs(acc.cells[c][q] - acc_gpu.cells[c][q]));
+        }
+      ASSERT_GT(scale, 0) << k.name;
+      EXPECT_LT(worst, 1e-4 * scale) << k.name << ": accumulated grid";
+      // the image: the CPU application on the rasterised G-buffer
+      const std::vector<glm::dvec3> L = gi::shade_lpv_receivers_cpu(acc, gb.receivers);
+      std::vector<char> hit(static_cast<std::size_t>(W) * H, 0);
+      double lmax = 0, lworst = 0, ind = 0;
+      for (std::size_t r = 0; r < L.size(); ++r) {
+        const std::size_t px = gb.pixel[r];
+        hit[px] = 1;
+        for (int c = 0; c < 3; ++c) {
+          lmax = std::max(lmax, L[r][c]);
+          ASSERT_TRUE(std::isfinite(img.mean[c][px])) << k.name;
+          lworst = std::max(lworst, std::abs(img.mean[c][px] - L[r][c]));
+          // the LPV's part of the CPU's radiance
+          ind = std::max(ind, L[r][c] - gb.receivers.emission[r][c] -
+                                  gb.receivers.albedo[r][c] / 3.14159265358979324 * gb.receivers.direct[r][c]);
+        }
       }
-    ASSERT_GT(scale, 0) << k.name;
-    EXPECT_LT(worst, 1e-4 * scale) << k.name << ": accumulated grid";
-    // the image: the CPU application on the rasterised G-buffer
-    const std::vector<glm::dvec3> L = gi::shade_lpv_receivers_cpu(acc, gb.receivers);
-    std::vector<char> hit(static_cast<std::size_t>(W) * H, 0);
-    double lmax = 0, lworst = 0, ind = 0;
-    for (std::size_t r = 0; r < L.size(); ++r) {
-      const std::size_t px = gb.pixel[r];
-      hit[px] = 1;
-      for (int c = 0; c < 3; ++c) {
-        lmax = std::max(lmax, L[r][c]);
-        ASSERT_TRUE(std::isfinite(img.mean[c][px])) << k.name;
-        lworst = std::max(lworst, std::abs(img.mean[c][px] - L[r][c]));
-        // the LPV's part of the CPU's radiance
-        ind = std::max(ind, L[r][c] - gb.receivers.emission[r][c] -
-                                gb.receivers.albedo[r][c] / 3.14159265358979324 * gb.receivers.direct[r][c]);
-      }
+      ASSERT_GT(ind, 0) << k.name << ": the LPV adds light";
+      EXPECT_LT(lworst, 1e-4 * lmax) << k.name << ": image";
+      EXPECT_LT(lworst, 3e-4 * ind) << k.name << ": image against the LPV's part";
+      // misses: the environment (box-occluder's sky), exactly as the CPU's background
+      for (std::size_t i = 0; i < hit.size(); ++i)
+        if (!hit[i])
+          for (int c = 0; c < 3; ++c) ASSERT_NEAR(img.mean[c][i], gb.background[i][c], 1e-6) << k.name;
+      std::printf("%s: %zu RSM + %zu emitter VPLs; resident frame vs CPU LPV: grid %.3g of the largest coefficient, "
+                  "image %.3g of the largest radiance, %.3g of the largest LPV part; frame %.3f s\n",
+                  k.name, n_rsm, frame.emitter_vpls().size(), worst / scale, lworst / lmax, lworst / ind,
+                  img.stats.seconds);
     }
-    ASSERT_GT(ind, 0) << k.name << ": the LPV adds light";
-    EXPECT_LT(lworst, 1e-4 * lmax) << k.name << ": image";
-    EXPECT_LT(lworst, 3e-4 * ind) << k.name << ": image against the LPV's part";
-    // misses: the environment (box-occluder's sky), exactly as the CPU's background
-    for (std::size_t i = 0; i < hit.size(); ++i)
-      if (!hit[i])
-        for (int c = 0; c < 3; ++c) ASSERT_NEAR(img.mean[c][i], gb.background[i][c], 1e-6) << k.name;
-    std::printf("%s: %zu RSM + %zu emitter VPLs; resident frame vs CPU LPV: grid %.3g of the largest coefficient, "
-                "image %.3g of the largest radiance, %.3g of the largest LPV part; frame %.3f s\n",
-                k.name, n_rsm, frame.emitter_vpls().size(), worst / scale, lworst / lmax, lworst / ind,
-                img.stats.seconds);
+    expect_cascade_agrees(s, so, W, H, gb, layout, vpls_fine);
   }
 }
 
@@ -139,6 +221,9 @@ TEST(GiLpvGpu, BadOptionsThrowInputError) {
   gi::ShadowMapOptions so;
   so.emitter_points = 0;  // the area light would need the CPU's estimator
   EXPECT_THROW(gi::LpvFrameGpu(s, o, so), InputError);
+  EXPECT_THROW(gi::LpvFrameGpu(s, o, {}, 3), InputError);  // cascades 1 or 2
+  o.grid = 1;
+  EXPECT_THROW(gi::LpvFrameGpu(s, o, {}, 2), InputError);  // a cascade needs grid >= 2
 }
 
 }  // namespace

@@ -78,6 +78,7 @@ MethodOptions method_options(const RenderOptions& o) {
   m.window = probe_window(o.window);
   m.probe_visibility = o.probe_visibility;
   m.iterations = o.iterations;
+  m.lpv_cascades = o.cascades;
   m.device = parse_device_request(o.device, "--device");
   return m;
 }
@@ -199,6 +200,7 @@ void write_method_image(const fs::path& exr, const fs::path& png, const Scene& s
     prov.add("grid", num(o.grid)).add("bands", num(o.bands)).add("cube_size", num(o.cube_size))
         .add("iterations", num(o.iterations)).add("pixel_samples", num(o.pixel_samples))
         .add("build_seconds", r.probe_seconds);
+  if (o.method == "lpv") prov.add("cascades", num(o.cascades));
   if (s.sun)
     prov.add("sun_direction", io::format_double(s.sun->direction.x) + "," + io::format_double(s.sun->direction.y) + "," +
                                   io::format_double(s.sun->direction.z));
@@ -233,6 +235,7 @@ nlohmann::json render_json(const Scene& s, const RenderOptions& o, const MethodI
     j["build_seconds"] = r.probe_seconds;
     j["shade_seconds"] = img.stats.seconds;
   }
+  if (o.method == "lpv") j["cascades"] = o.cascades;
   return j;
 }
 

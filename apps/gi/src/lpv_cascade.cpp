@@ -30,10 +30,6 @@ glm::dvec3 level_irradiance(const LpvGrid& g, const glm::dvec3& x, const glm::dv
   return shared::gi_lpv_receiver_irradiance(Cells{&g}, x, n, g.lo, g.h, glm::ivec3(g.nx, g.ny, g.nz));
 }
 
-bool inside(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
-  return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
-}
-
 Lpv propagate(const Scene& scene, const LpvOptions& opt, LpvGrid injected, int iterations) {
   Lpv l;
   l.injected = std::move(injected);
@@ -44,16 +40,14 @@ Lpv propagate(const Scene& scene, const LpvOptions& opt, LpvGrid injected, int i
 }
 }  // namespace
 
-LpvCascade build_lpv_cascade(const Scene& scene, const LpvOptions& opt, const glm::dvec3* focus) {
+LpvCascadeLayout lpv_cascade_layout(const Scene& scene, const LpvOptions& opt, const glm::dvec3* focus) {
   validate(scene);
   if (opt.grid < 2 || opt.grid > 256) throw InputError("gi lpv cascade: grid must be in 2..256, got " + std::to_string(opt.grid));
-  if (opt.iterations < -1 || opt.iterations > 1024)
-    throw InputError("gi lpv: iterations must be -1 (2 x grid) or 0..1024, got " + std::to_string(opt.iterations));
   if (focus != nullptr && !std::isfinite(focus->x + focus->y + focus->z))
     throw InputError("gi lpv cascade: the focus must be finite");
-  const auto t0 = Clock::now();
-  LpvCascade c;
-  const LpvGrid coarse = lpv_grid(scene, opt.grid);
+  LpvCascadeLayout L;
+  L.coarse = lpv_grid(scene, opt.grid);
+  const LpvGrid& coarse = L.coarse;
   const double h = coarse.h, hf = 0.5 * h;
   const glm::dvec3 coarse_hi = coarse.lo + h * glm::dvec3(coarse.nx, coarse.ny, coarse.nz);
   // The fine box: half the coarse grid's cells per axis (at least one), about the focus, inside
@@ -66,21 +60,28 @@ LpvCascade build_lpv_cascade(const Scene& scene, const LpvOptions& opt, const gl
     const double start = (f[a] - coarse.lo[a]) / h - 0.5 * n_half[a];
     lo_cell[a] = std::clamp(static_cast<int>(std::floor(start)), 0, nc[a] - n_half[a]);
   }
-  LpvGrid fine;
+  LpvGrid& fine = L.fine;
   fine.lo = coarse.lo + h * glm::dvec3(lo_cell);
   fine.h = hf;
   fine.nx = 2 * n_half.x, fine.ny = 2 * n_half.y, fine.nz = 2 * n_half.z;
   fine.cells.assign(static_cast<std::size_t>(fine.nx) * fine.ny * fine.nz, LpvCell{});
-  c.fine_lo = fine.lo;
-  c.fine_hi = fine.lo + h * glm::dvec3(n_half);
-  // The VPLs at the fine level's density, shifted hf/2 along n; each into one place.
-  LpvOptions vo = opt;
-  LpvGrid density = coarse;
-  density.h = hf;  // lpv_vpls: sun rays per (fine) cell edge, the half-cell shift of the fine level
-  const std::vector<Vpl> vpls = lpv_vpls(scene, vo, density, &c.rays);
-  LpvGrid inner = coarse, outer = coarse;
+  L.fine_lo = fine.lo;
+  L.fine_hi = fine.lo + h * glm::dvec3(n_half);
+  return L;
+}
+
+LpvCascade lpv_cascade_from_vpls(const Scene& scene, const LpvOptions& opt, const LpvCascadeLayout& layout,
+                                 const std::vector<Vpl>& vpls) {
+  if (opt.iterations < -1 || opt.iterations > 1024)
+    throw InputError("gi lpv: iterations must be -1 (2 x grid) or 0..1024, got " + std::to_string(opt.iterations));
+  const auto t0 = Clock::now();
+  LpvCascade c;
+  c.fine_lo = layout.fine_lo;
+  c.fine_hi = layout.fine_hi;
+  const double h = layout.coarse.h;
+  LpvGrid fine = layout.fine, inner = layout.coarse, outer = layout.coarse;
   for (const Vpl& v : vpls) {
-    if (inside(v.p, c.fine_lo, c.fine_hi)) {
+    if (shared::gi_lpv_in_box(v.p, c.fine_lo, c.fine_hi)) {
       lpv_add_vpl(fine, v.p, v.n, v.flux);
       lpv_add_vpl(inner, v.p + 0.25 * h * v.n, v.n, v.flux);  // the coarse level's half-cell shift h/2
     } else {
@@ -97,24 +98,29 @@ LpvCascade build_lpv_cascade(const Scene& scene, const LpvOptions& opt, const gl
   return c;
 }
 
+LpvCascade build_lpv_cascade(const Scene& scene, const LpvOptions& opt, const glm::dvec3* focus) {
+  if (opt.iterations < -1 || opt.iterations > 1024)
+    throw InputError("gi lpv: iterations must be -1 (2 x grid) or 0..1024, got " + std::to_string(opt.iterations));
+  const auto t0 = Clock::now();
+  const LpvCascadeLayout layout = lpv_cascade_layout(scene, opt, focus);
+  // The VPLs at the fine level's density, shifted hf/2 along n; each into one place.
+  std::uint64_t rays = 0;
+  const std::vector<Vpl> vpls = lpv_vpls(scene, opt, layout.fine, &rays);
+  const double vpl_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  LpvCascade c = lpv_cascade_from_vpls(scene, opt, layout, vpls);
+  c.rays = rays;
+  c.inject_seconds += vpl_seconds;
+  return c;
+}
+
 glm::dvec3 lpv_cascade_irradiance(const LpvCascade& c, const glm::dvec3& x, const glm::dvec3& n) {
   const LpvGrid& g = c.outer.accumulated;
-  const double h = g.h;
-  const glm::dvec3 hi = g.lo + h * glm::dvec3(g.nx, g.ny, g.nz);
-  // w: 1 inside the fine box shrunk by one coarse cell, linear to 0 at its faces — at the faces
-  // inside the coarse grid; a face on the coarse grid's boundary has no light beyond it
-  double w = 1;
-  for (int a = 0; a < 3; ++a) {
-    const double dlo = std::abs(c.fine_lo[a] - g.lo[a]) < 1e-6 * h ? 1e300 : x[a] - c.fine_lo[a];
-    const double dhi = std::abs(c.fine_hi[a] - hi[a]) < 1e-6 * h ? 1e300 : c.fine_hi[a] - x[a];
-    if (x[a] < c.fine_lo[a] || x[a] > c.fine_hi[a]) w = 0;
-    w = std::min(w, std::clamp(std::min(dlo, dhi) / h, 0.0, 1.0));
-  }
-  if (!std::isfinite(w)) w = 0;
-  glm::dvec3 E = level_irradiance(c.outer.accumulated, x, n);
-  if (w > 0) E += w * level_irradiance(c.fine.accumulated, x, n);
-  if (w < 1) E += (1 - w) * level_irradiance(c.inner.accumulated, x, n);
-  return E;
+  const glm::dvec3 hi = g.lo + g.h * glm::dvec3(g.nx, g.ny, g.nz);
+  const double w = shared::gi_lpv_cascade_weight(x, c.fine_lo, c.fine_hi, g.lo, hi, g.h);
+  const glm::dvec3 E_outer = level_irradiance(c.outer.accumulated, x, n);
+  const glm::dvec3 E_fine = w > 0 ? level_irradiance(c.fine.accumulated, x, n) : glm::dvec3(0.0);
+  const glm::dvec3 E_inner = w < 1 ? level_irradiance(c.inner.accumulated, x, n) : glm::dvec3(0.0);
+  return shared::gi_lpv_cascade_blend(E_outer, E_fine, E_inner, w);
 }
 
 RadianceImage render_lpv_cascade(const Scene& scene, const Camera& camera, int width, int height, const LpvCascade& c,

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -41,6 +42,7 @@ struct LpvFrameGpu::Impl {
   gpu::GiSkyOptions gsky;
   gpu::GiRsmView rsm;
   int iterations = 0;
+  std::optional<LpvCascadeLayout> cascade;
   Impl(const Scene& s, const LpvOptions& o, const ShadowMapOptions& so) : scene(s), opt(o), shadow(so), attrs(scene) {}
 };
 #else
@@ -48,18 +50,30 @@ struct LpvFrameGpu::Impl {
   LpvGrid grid;
   std::vector<Vpl> vpls;
   std::uint64_t rays = 0;
+  std::optional<LpvCascadeLayout> cascade;
 };
 #endif
 
-LpvFrameGpu::LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const ShadowMapOptions& so) {
+LpvFrameGpu::LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const ShadowMapOptions& so, int cascades) {
   validate(scene);
   LpvOptions o = opt;
+  if (cascades != 1 && cascades != 2)
+    throw InputError("gi lpv: cascades must be 1 or 2, got " + std::to_string(cascades));
   if (o.iterations < -1 || o.iterations > 1024)
     throw InputError("gi lpv: iterations must be -1 (2 x grid) or 0..1024, got " + std::to_string(o.iterations));
   const LpvGrid g = lpv_grid(scene, o.grid);
   if (static_cast<long long>(g.ny + 1) * (g.nz + 1) > 16384)
     throw InputError("gi lpv: the GPU frame's atlas needs (ny + 1)(nz + 1) <= 16384 cells, grid " +
                      std::to_string(o.grid));
+  std::optional<LpvCascadeLayout> layout;
+  if (cascades == 2) {
+    layout = lpv_cascade_layout(scene, o);
+    if (static_cast<long long>(layout->fine.ny + 1) * (layout->fine.nz + 1) > 16384)
+      throw InputError("gi lpv: the GPU cascade's fine atlas needs (ny + 1)(nz + 1) <= 16384 cells, grid " +
+                       std::to_string(o.grid));
+  }
+  // the VPLs' density and half-cell shift: the finest level's
+  const LpvGrid& vg = layout ? layout->fine : g;
   if (so.resolution < 16 || so.resolution > 16384 || so.pcf < 0 || so.pcf > 4 ||
       !(so.normal_offset >= 0 && so.normal_offset < 1e6) || !(so.bias >= 0 && so.bias < 1e6) ||
       so.emitter_points < 0 || so.emitter_points > 64 || so.emitter_resolution < 16 || so.emitter_resolution > 4096 ||
@@ -90,11 +104,11 @@ LpvFrameGpu::LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const Shadow
     if (o.emitter_photons > 0) {  // the emitters' VPLs: photon rays on the CPU, once
       Scene rest = scene;
       rest.sun.reset();
-      I.vpls = lpv_vpls(rest, o, g, &I.rays);
+      I.vpls = lpv_vpls(rest, o, vg, &I.rays);
     }
   }
   if (I.sky) I.gsky = detail::sky_quadrature(scene, so.sky_directions, so.sky_resolution);
-  if (sun_lit(scene)) I.rsm = detail::rsm_view(scene, o, g);
+  if (sun_lit(scene)) I.rsm = detail::rsm_view(scene, o, vg);
   gpu::GiLpvGrid gg;
   gg.lo = g.lo;
   gg.h = g.h;
@@ -103,8 +117,19 @@ LpvFrameGpu::LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const Shadow
   vp.reserve(I.vpls.size());
   for (const Vpl& v : I.vpls) vp.push_back({v.p, v.n, v.flux});
   const std::vector<gpu::GiLpvSurfel> surfels = o.blocking ? detail::lpv_surfels(scene, g) : std::vector<gpu::GiLpvSurfel>{};
-  I.frame = std::make_unique<gpu::GiLpvFrame>(I.ctx, I.attrs.view(), gg, surfels, vp);
+  gpu::GiLpvCascade gc;
+  if (layout) {
+    I.cascade = layout;
+    gc.fine.lo = layout->fine.lo;
+    gc.fine.h = layout->fine.h;
+    gc.fine.nx = layout->fine.nx, gc.fine.ny = layout->fine.ny, gc.fine.nz = layout->fine.nz;
+    gc.fine_lo = layout->fine_lo;
+    gc.fine_hi = layout->fine_hi;
+    if (o.blocking) gc.fine_surfels = detail::lpv_surfels(scene, layout->fine);
+  }
+  I.frame = std::make_unique<gpu::GiLpvFrame>(I.ctx, I.attrs.view(), gg, surfels, vp, layout ? &gc : nullptr);
 #else
+  (void)vg;
   throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
 #endif
 }
@@ -113,9 +138,11 @@ LpvFrameGpu::~LpvFrameGpu() = default;
 
 const LpvGrid& LpvFrameGpu::grid() const { return impl_->grid; }
 const std::vector<Vpl>& LpvFrameGpu::emitter_vpls() const { return impl_->vpls; }
+const LpvCascadeLayout* LpvFrameGpu::cascade() const { return impl_->cascade ? &*impl_->cascade : nullptr; }
 std::uint64_t LpvFrameGpu::rays() const { return impl_->rays; }
 
-RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvGrid* accumulated) {
+RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvGrid* accumulated, LpvGrid* inner,
+                                  LpvGrid* fine) {
   check_view(cam, width, height);
 #ifdef ATMOSH_GI_HAVE_GPU
   Impl& I = *impl_;
@@ -136,7 +163,7 @@ RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvG
   fo.emitters = I.emitters ? &I.geo : nullptr;
   fo.sky = I.sky ? &I.gsky : nullptr;
   fo.rsm = sun ? &I.rsm : nullptr;
-  fo.read_grid = accumulated != nullptr;
+  fo.read_grid = accumulated != nullptr || inner != nullptr || fine != nullptr;
   const gpu::GiLpvFrameResult r = I.frame->render(pc, fo);
   RadianceImage img;
   img.width = width;
@@ -158,15 +185,25 @@ RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvG
     }
     for (int c = 0; c < 3; ++c) img.mean[c][i] = r.radiance[4 * i + c];
   }
-  if (accumulated != nullptr) {
-    *accumulated = I.grid;
-    for (std::size_t c = 0; c < accumulated->cells.size(); ++c)
-      for (int q = 0; q < 12; ++q) accumulated->cells[c][q] = r.grid[c * 12 + q];
-  }
+  auto read = [](const LpvGrid& shape, const std::vector<float>& v, LpvGrid* dst) {
+    if (dst == nullptr) return;
+    *dst = shape;
+    if (v.size() != dst->cells.size() * 12) {  // not a level of this frame
+      dst->cells.clear();
+      return;
+    }
+    for (std::size_t c = 0; c < dst->cells.size(); ++c)
+      for (int q = 0; q < 12; ++q) dst->cells[c][q] = v[c * 12 + q];
+  };
+  read(I.grid, r.grid, accumulated);
+  read(I.grid, r.inner, inner);
+  read(I.cascade ? I.cascade->fine : I.grid, r.fine, fine);
   img.stats.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return img;
 #else
   (void)accumulated;
+  (void)inner;
+  (void)fine;
   throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
 #endif
 }

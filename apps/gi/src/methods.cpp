@@ -30,6 +30,15 @@ RadiosityOptions radiosity_options(const MethodOptions& o) {
   return r;
 }
 
+std::size_t emitting_triangles(const Scene& scene) {
+  std::size_t n = 0;
+  for (std::uint32_t m : scene.material) {
+    const glm::dvec3& L = scene.materials[m].emission;
+    n += L.x + L.y + L.z > 0 ? 1 : 0;
+  }
+  return n;
+}
+
 LpvOptions lpv_options(const MethodOptions& o) {
   LpvOptions l;
   l.grid = o.grid;
@@ -104,6 +113,9 @@ void check_method_options(const MethodOptions& o) {
     need(o.grid >= 1 && o.grid <= 256, "gi lpv: --grid must be in 1..256, got " + std::to_string(o.grid));
     need(o.iterations >= -1 && o.iterations <= 1024,
          "gi lpv: --iterations must be -1 (2 x grid) or 0..1024, got " + std::to_string(o.iterations));
+    need(o.lpv_cascades == 1 || o.lpv_cascades == 2,
+         "gi lpv: --cascades must be 1 or 2, got " + std::to_string(o.lpv_cascades));
+    need(o.lpv_cascades == 1 || o.grid >= 2, "gi lpv: --cascades 2 needs --grid >= 2, got " + std::to_string(o.grid));
   }
 }
 
@@ -209,6 +221,37 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
       r.shade_seconds = since(t0);
     }
     r.image.stats.rays += v.rays;
+  } else if (o.lpv_cascades == 2) {  // the 2-level nested cascade
+    const LpvOptions lo = lpv_options(o);
+    bool done = false;
+    if (o.device != DeviceRequest::cpu) {  // the GPU-resident frame with the cascade
+      const std::size_t n_emitting = emitting_triangles(scene);
+      std::optional<GpuUnusable> unusable;
+      if (n_emitting > 64)
+        unusable = GpuUnusable{GpuUnusable::Why::unsupported,
+                               "the LPV cascade on the GPU lights at most 64 emitting triangles, this scene has " +
+                                   std::to_string(n_emitting),
+                               ""};
+      else
+        unusable = try_gpu([&] {
+          const auto t0 = Clock::now();
+          LpvFrameGpu frame(scene, lo, {}, 2);
+          r.build_seconds = since(t0);  // set-up: context, programs, emitters' VPLs, geometry volumes
+          r.image = frame.render(camera, width, height);
+          r.shade_seconds = r.image.stats.seconds;  // the frame: every pass, the image's read-back
+          r.image.stats.rays += frame.rays();
+          done = true;
+        });
+      r.device = resolve_device(o.device, unusable, "building the LPV cascade on the CPU");
+    }
+    if (!done) {
+      const LpvCascade c = build_lpv_cascade(scene, lo);
+      r.build_seconds = c.inject_seconds + c.propagate_seconds;
+      const auto t0 = Clock::now();
+      r.image = render_lpv_cascade(scene, camera, width, height, c, lo);
+      r.shade_seconds = since(t0);
+      r.image.stats.rays += c.rays;
+    }
   } else {
     const LpvOptions lo = lpv_options(o);
     Lpv l;
@@ -270,6 +313,9 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
   for (int b : o.radiosity_bounces)
     need(b >= 0 && b <= 16, "gi converge: radiosity bounces must be in 0..16, got " + std::to_string(b));
   for (int g : o.lpv_grids) need(g >= 1 && g <= 256, "gi converge: lpv grids must be in 1..256, got " + std::to_string(g));
+  need(o.lpv_cascade_max_grid >= 0 && o.lpv_cascade_max_grid <= 256,
+       "gi converge: the largest LPV cascade grid must be in 0..256, got " + std::to_string(o.lpv_cascade_max_grid));
+  const std::size_t n_emitting = emitting_triangles(scene);
   for (int g : o.radiosity_grids) {
     if (o.radiosity_bands.empty()) break;
     RadiosityOptions ro;
@@ -344,7 +390,7 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
         rg.result = render_method(scene, scene.camera, width, height, m);
         row(rg);
       }
-      if (block && o.lpv_cascade && g >= 2) {  // the 2-level nested cascade (CPU)
+      if (block && g >= 2 && g <= o.lpv_cascade_max_grid) {  // the 2-level nested cascade (CPU)
         StudyRow rc;
         rc.method = "lpv";
         const LpvCascade c = build_lpv_cascade(scene, lo);
@@ -355,6 +401,21 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
         rc.result.build_seconds = c.inject_seconds + c.propagate_seconds;
         rc.result.image.stats.rays += c.rays;
         row(rc);
+        if (o.gpu && n_emitting <= 64) {  // the same in the GPU-resident frame
+          MethodOptions m;
+          m.method = "lpv";
+          m.grid = g;
+          m.lpv_cascades = 2;
+          m.pixel_samples = o.pixel_samples;
+          m.seed = o.seed;
+          m.threads = o.threads;
+          m.device = DeviceRequest::gpu;
+          StudyRow rg;
+          rg.method = "lpv-cascade-gpu";
+          rg.setting = rc.setting;
+          rg.result = render_method(scene, scene.camera, width, height, m);
+          row(rg);
+        }
       }
     }
 }

@@ -165,6 +165,21 @@ struct GiLpvSurfel {
 struct GiLpvVpl {
   glm::dvec3 p{0.0}, n{0, 0, 1}, flux{0.0};
 };
+/// A 2-level nested cascade in the frame (the CPU form: atmosh/gi/lpv.hpp, LpvCascade; the same
+/// shared functions). The frame's `grid` is the coarse level, held twice: the "inner" grid of the
+/// VPLs inside the fine box and the "outer" grid of those outside it (one geometry volume for
+/// both, from the frame's surfels); `fine` (edge grid.h / 2) holds the VPLs inside the fine box,
+/// with its own geometry volume (`fine_surfels`, corners of `fine`). Every VPL — RSM texels
+/// (moved `fine.h / 2` along n) and given VPLs (already moved so) — is classified by the shared
+/// gi_lpv_in_box, then goes into the fine level as it is and into the coarse inner or outer grid
+/// moved a further grid.h / 4 (the coarse half-cell shift). Every level propagates `iterations`
+/// steps; the application reads E = E_outer + w E_fine + (1 - w) E_inner (gi_lpv_cascade_weight,
+/// gi_lpv_cascade_blend). (fine.ny + 1)(fine.nz + 1) <= 16384.
+struct GiLpvCascade {
+  GiLpvGrid fine;
+  glm::dvec3 fine_lo{0.0}, fine_hi{0.0};  ///< the fine box [mesh units], faces on the coarse lattice
+  std::vector<GiLpvSurfel> fine_surfels;
+};
 struct GiLpvFrameOptions {
   int iterations = 16;             ///< 0..1024
   bool blocking = true;            ///< use the geometry volume
@@ -179,15 +194,18 @@ struct GiLpvFrameOptions {
 struct GiLpvFrameResult {
   int width = 0, height = 0;
   std::vector<float> radiance;  ///< RGBA per pixel, row 0 at the top
-  std::vector<float> grid;      ///< with read_grid: 12 floats a cell (channel * 4 + SH index)
+  std::vector<float> grid;      ///< with read_grid: 12 floats a cell (channel * 4 + SH index); a cascade's outer grid
+  std::vector<float> inner, fine;  ///< with read_grid and a cascade: its inner and fine grids
   double seconds = 0;           ///< the passes, up to the image's read-back (glFinish included)
 };
 class GiLpvFrame {
  public:
   /// Uploads the mesh, the VPLs and the surfels, compiles the programs and injects the geometry
   /// volume. std::invalid_argument for a bad grid, a surfel outside it or inconsistent input.
+  /// `cascade` (optional): a 2-level cascade over `grid` (GiLpvCascade); the VPLs are then at the
+  /// fine level's shift.
   GiLpvFrame(const Context& ctx, const GiMeshView& mesh, const GiLpvGrid& grid, const std::vector<GiLpvSurfel>& surfels,
-             const std::vector<GiLpvVpl>& vpls);
+             const std::vector<GiLpvVpl>& vpls, const GiLpvCascade* cascade = nullptr);
   ~GiLpvFrame();
   GiLpvFrame(const GiLpvFrame&) = delete;
   GiLpvFrame& operator=(const GiLpvFrame&) = delete;

@@ -199,7 +199,8 @@ RadianceImage render_lpv_gbuffer(const Scene& scene, const Camera& camera, int w
 /// geometry volume (opt.blocking; surfels outside the fine grid left out) and propagates
 /// opt.iterations steps (-1: 2 x grid). At a receiver x (normal n) with fine-box weight w(x)
 /// (0 outside the fine box; inside, min(1, distance to its nearest face / h) over the faces that
-/// lie inside the coarse grid — a face on the grid's boundary does not fade):
+/// lie inside the coarse grid — a face on the grid's boundary neither fades nor bounds, so a
+/// receiver rounded past it still reads the fine level; the shared gi_lpv_cascade_weight):
 ///   E_lpv = E_outer(x) + w E_fine(x) + (1 - w) E_inner(x),
 /// each E as the one-level LPV's (lpv_sample at x + h_level/2 n, read as I / h_level^2, clamped
 /// at 0): near the focus the light of the nearby VPLs comes from the fine level, the far
@@ -213,7 +214,22 @@ struct LpvCascade {
   int iterations = 0;
 };
 LpvCascade build_lpv_cascade(const Scene& scene, const LpvOptions& opt, const glm::dvec3* focus = nullptr);
-/// E_lpv of the cascade at x with unit normal n (see above).
+/// The cascade's grids before injection: the coarse grid (lpv_grid(scene, opt.grid)), the fine
+/// grid (edge h/2) and its box. InputError for a grid outside 2..256 or a focus not finite.
+struct LpvCascadeLayout {
+  LpvGrid coarse, fine;
+  glm::dvec3 fine_lo{0.0}, fine_hi{0.0};
+};
+LpvCascadeLayout lpv_cascade_layout(const Scene& scene, const LpvOptions& opt, const glm::dvec3* focus = nullptr);
+/// The cascade of given VPLs, at the fine level's half-cell shift (h/4 along n: lpv_vpls or
+/// lpv_vpls_rsm with layout.fine), each put into one place by the shared gi_lpv_in_box
+/// (atmosh/gi/shared/lpv.glsl.hpp), then the geometry volumes and propagation as
+/// build_lpv_cascade (which is lpv_cascade_layout, lpv_vpls at the fine density and this).
+/// `rays` is left 0.
+LpvCascade lpv_cascade_from_vpls(const Scene& scene, const LpvOptions& opt, const LpvCascadeLayout& layout,
+                                 const std::vector<Vpl>& vpls);
+/// E_lpv of the cascade at x with unit normal n (see above; the weight and the blend are the
+/// shared gi_lpv_cascade_weight and gi_lpv_cascade_blend, as the GPU frame's).
 glm::dvec3 lpv_cascade_irradiance(const LpvCascade& c, const glm::dvec3& x, const glm::dvec3& n);
 /// Image lit by the cascade, as render_lpv (opt.samples, seed, threads). stats.seconds: shading.
 RadianceImage render_lpv_cascade(const Scene& scene, const Camera& camera, int width, int height,
@@ -232,21 +248,30 @@ RadianceImage render_lpv_cascade(const Scene& scene, const Camera& camera, int w
 /// (-1: 2 grid; blocking from the second on), the application to the G-buffer
 /// (L = L_e + a / pi max(0, E_direct + E_lpv), the shared gi_lpv_receiver_irradiance) and the
 /// image's read-back; misses get environment_radiance on the CPU afterwards. The math is the
-/// shared block of atmosh/gi/shared/lpv.glsl.hpp, as the CPU LPV's. Throws InputError (bad
-/// options, no GPU library), gpu::Unavailable (a std::runtime_error) without an EGL context.
+/// shared block of atmosh/gi/shared/lpv.glsl.hpp, as the CPU LPV's. `cascades` 2: the 2-level
+/// nested cascade of build_lpv_cascade (lpv_cascade_layout with the default focus; the emitters'
+/// VPLs and the RSM at the fine level's density and half-cell shift; each VPL into one place by
+/// the shared gi_lpv_in_box; a geometry volume per lattice; every level propagated; the shared
+/// gi_lpv_cascade_weight / gi_lpv_cascade_blend at the receivers), all on the GPU, one read-back.
+/// Throws InputError (bad options, cascades not 1 or 2, no GPU library), gpu::Unavailable (a
+/// std::runtime_error) without an EGL context.
 class LpvFrameGpu {
  public:
-  LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const ShadowMapOptions& shadow = {});
+  LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const ShadowMapOptions& shadow = {}, int cascades = 1);
   ~LpvFrameGpu();
   LpvFrameGpu(const LpvFrameGpu&) = delete;
   LpvFrameGpu& operator=(const LpvFrameGpu&) = delete;
   /// One frame of `camera` at width x height (one sample per pixel centre, stderr 0);
   /// stats.seconds: the GPU passes up to the read-back plus the misses' environment.
-  /// `accumulated` (optional): the propagated grid read back as well (for tests).
-  RadianceImage render(const Camera& camera, int width, int height, LpvGrid* accumulated = nullptr);
+  /// `accumulated` (optional): the propagated grid read back as well (for tests); a cascade's
+  /// outer grid, and its `inner` and `fine` grids (optional; empty cells for a one-level frame).
+  RadianceImage render(const Camera& camera, int width, int height, LpvGrid* accumulated = nullptr,
+                       LpvGrid* inner = nullptr, LpvGrid* fine = nullptr);
   /// The grid and the emitters' VPLs it was made with.
   const LpvGrid& grid() const;
   const std::vector<Vpl>& emitter_vpls() const;
+  /// The cascade's layout (null for one level).
+  const LpvCascadeLayout* cascade() const;
   /// The photon rays cast on the CPU for the emitters' VPLs.
   std::uint64_t rays() const;
 

@@ -30,6 +30,10 @@ struct MethodOptions {
   bool probe_visibility = false;         ///< probes
   int iterations = -1;          ///< lpv: propagation steps (-1: 2 x grid)
   bool lpv_blocking = true;     ///< lpv: geometry volume
+  /// lpv: 1 (one grid) or 2 (the 2-level nested cascade, grid >= 2: build_lpv_cascade /
+  /// render_lpv_cascade on the CPU; on the GPU the resident frame with cascades = 2, scenes with
+  /// <= 64 emitting triangles; beyond that gpu is an error and auto a notice and the CPU cascade)
+  int lpv_cascades = 1;
   /// cpu | gpu | auto (atmosh/device.hpp). gpu/auto: LPV injection, geometry, propagation and
   /// shading and the radiosity walk run on the GPU; probes are built from a baked surface
   /// radiance (bake_surface_radiance, surface_divisions / surface_samples) whose cube maps are
@@ -79,9 +83,13 @@ struct StudyOptions {
   /// grid), "lpv-gpu" / "lpv-noblock-gpu" (render_method with device gpu). The caller decides
   /// (gpu_unusable()); a GPU failure then throws.
   bool gpu = false;
-  /// Also, for every LPV grid >= 2 (after its rows), the 2-level nested cascade
-  /// (build_lpv_cascade, CPU; method "lpv", setting "grid=N iterations=K cascades=2").
-  bool lpv_cascade = true;
+  /// Also, for every LPV grid in 2..lpv_cascade_max_grid (after its rows), the 2-level nested
+  /// cascade (build_lpv_cascade, CPU; method "lpv", setting "grid=N iterations=K cascades=2") and,
+  /// with `gpu` and <= 64 emitting triangles, the cascade in the GPU-resident frame (method
+  /// "lpv-cascade-gpu", the same setting; render_method with lpv_cascades = 2). 0: none. The
+  /// default leaves out grid 32 (its CPU cascade row costs ~28 s and did not lower the error on
+  /// the Cornell box; docs/gi.md).
+  int lpv_cascade_max_grid = 16;
 };
 struct StudyRow {
   std::string method, setting;  ///< e.g. "radiosity", "bands=2 grid=8 bounces=2"

@@ -243,6 +243,37 @@ ATMOSH_FN real gi_lpv_surfel(real3 n, real a, int q) {
   return real(0.5) * pi * y * a;
 }
 
+// The 2-level nested cascade (atmosh/gi/lpv.hpp, LpvCascade): is p inside the fine box
+// [lo, hi] (closed)? A VPL (at the fine level's half-cell shift) inside it goes into the fine
+// level and the coarse inner grid, one outside into the coarse outer grid.
+ATMOSH_FN bool gi_lpv_in_box(real3 p, real3 lo, real3 hi) {
+  return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
+}
+
+// The cascade's weight of the fine level at a receiver x: 0 outside the fine box
+// [fine_lo, fine_hi]; inside, min(1, distance to the nearest face / h) over the faces that lie
+// inside the coarse grid [lo, hi] (h its cell edge); a face on the coarse grid's boundary (within
+// h / 1000: faces lie on the coarse lattice) neither fades nor bounds (a receiver rounded past
+// the grid's boundary is read clamped into the grid). A NaN coordinate gives 0.
+ATMOSH_FN real gi_lpv_cascade_weight(real3 x, real3 fine_lo, real3 fine_hi, real3 lo, real3 hi, real h) {
+  real w = real(1);
+  for (int a = 0; a < 3; ++a) {
+    if (glm::isnan(x[a])) return real(0);
+    bool open_lo = glm::abs(fine_lo[a] - lo[a]) >= real(0.001) * h;
+    bool open_hi = glm::abs(fine_hi[a] - hi[a]) >= real(0.001) * h;
+    if ((open_lo && x[a] < fine_lo[a]) || (open_hi && x[a] > fine_hi[a])) return real(0);
+    if (open_lo) w = glm::min(w, (x[a] - fine_lo[a]) / h);
+    if (open_hi) w = glm::min(w, (fine_hi[a] - x[a]) / h);
+  }
+  return glm::clamp(w, real(0), real(1));
+}
+
+// The cascade's irradiance from its levels' (each gi_lpv_receiver_irradiance of its grid):
+// E = E_outer + w E_fine + (1 - w) E_inner.
+ATMOSH_FN real3 gi_lpv_cascade_blend(real3 e_outer, real3 e_fine, real3 e_inner, real w) {
+  return e_outer + w * e_fine + (real(1) - w) * e_inner;
+}
+
 // ATMOSH_GLSL_END
 
 }  // namespace atmosh::gi::shared
