@@ -70,9 +70,13 @@ void run_sky(const SkyCmd& c) {
                                                     c.spectral, q.threads, used, notice);
   // The summary (and with --json the irradiance) look up the orders tables at the
   // observer on the CPU: only that part of a table kept on the GPU comes back.
-  if (const auto rb = studies::read_back_orders_at(*model, h, sun.direction()); rb.bytes > 0)
-    notice("orders tables: " + studies::orders_tables_read_back(*model) + " read back in " +
-           io::format_double(rb.seconds) + " s for the summary" + (c.json ? " and the irradiance" : ""));
+  if (const auto rb = studies::read_back_orders_at(*model, h, sun.direction()); rb.bytes > 0) {
+    const auto* o = model->sky->orders_tables();
+    notice("orders tables: " + std::to_string(rb.bytes) + " of " +
+           std::to_string(o->texels() * o->wavelengths() * sizeof(float)) +
+           " bytes read back (what the lookups at the observer need; the rest kept on the GPU) in " +
+           io::format_double(rb.seconds) + " s, for the summary" + (c.json ? " and the irradiance" : ""));
+  }
   auto prov = studies::sky_provenance(*model, sun);
   prov.add("device", used);
   double exposure = std::numeric_limits<double>::quiet_NaN();  // JSON null: no tone mapping in netCDF
