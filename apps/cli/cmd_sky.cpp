@@ -59,13 +59,24 @@ void run_sky(const SkyCmd& c) {
                "--size " + c.size + (c.spectral ? " --spectral" : ""));
   if (c.device == "cpu")  // the estimate is of the CPU's loop
     check_time(studies::sky_rays_work(s, q, mul_units(size[0], size[1])), q.threads, "--size " + c.size);
-  const std::string orders_device = studies::use_orders_tables_device(s, c.device, notice);
+  // Orders tables built on the GPU stay there (the image binds them); the summary and
+  // the irradiance read back the part their lookups at the observer need, below.
+  const std::string orders_device = studies::use_orders_tables_device(s, c.device, notice, true);
   const auto model = studies::make_sky_model(s, q.sky(s), sun.distance_au);
   model->orders_tables_device = orders_device;  // in its provenance (sky_provenance)
   const double h = std::max(sun.observer_height_m, 0.0);
   std::string used;
   const atmo::SkyImage img = studies::render_sky_on(c.device, *model->sky, proj, size[0], size[1], h, sun.direction(),
                                                     c.spectral, q.threads, used, notice);
+  // The summary (and with --json the irradiance) look up the orders tables at the
+  // observer on the CPU: only that part of a table kept on the GPU comes back.
+  if (const auto rb = studies::read_back_orders_at(*model, h, sun.direction()); rb.bytes > 0) {
+    const auto* o = model->sky->orders_tables();
+    notice("orders tables: " + std::to_string(rb.bytes) + " of " +
+           std::to_string(o->texels() * o->wavelengths() * sizeof(float)) +
+           " bytes read back (what the lookups at the observer need; the rest kept on the GPU) in " +
+           io::format_double(rb.seconds) + " s, for the summary" + (c.json ? " and the irradiance" : ""));
+  }
   auto prov = studies::sky_provenance(*model, sun);
   prov.add("device", used);
   double exposure = std::numeric_limits<double>::quiet_NaN();  // JSON null: no tone mapping in netCDF

@@ -147,9 +147,16 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
       dispatch_items(single, n_tab_ / s.nw);
       check_gl("orders: S_1");
     }
-    b_next_ = std::make_unique<Buffer>(n_tab_ * sizeof(float));
+    // Three tables of this size on the device: S_{k-1} (then S_k, written over it: the
+    // radiance pass reads J_k only), J_k and the sum. The sum zeroed from a 1 MB block (no
+    // table-sized array on the CPU).
     b_dens_ = std::make_unique<Buffer>(n_tab_ * sizeof(float));
-    b_sum_ = buffer_of(std::vector<float>(n_tab_, 0.0f));
+    b_sum_ = std::make_unique<Buffer>(n_tab_ * sizeof(float));
+    {
+      const std::vector<float> zeros(std::min<std::size_t>(n_tab_, std::size_t(1) << 18), 0.0f);
+      for (std::size_t at = 0; at < n_tab_; at += zeros.size())
+        b_sum_->upload(zeros.data(), std::min(zeros.size(), n_tab_ - at) * sizeof(float), at * sizeof(float));
+    }
     b_incoming_ = std::make_unique<Buffer>(std::max<std::size_t>(n_incoming_ * s.nw, 1) * sizeof(float));
     b_e_ = std::make_unique<Buffer>(static_cast<std::size_t>(s.ns) * s.nw * sizeof(float));
     b_ground_ = std::make_unique<Buffer>(static_cast<std::size_t>(s.ns) * s.nw * sizeof(float));
@@ -179,8 +186,7 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
 
   void radiance() override {
     const auto t0 = Clock::now();
-    run(*radiance_, n_tab_ / p_.nw, *b_dens_, *b_next_);
-    std::swap(b_prev_, b_next_);
+    run(*radiance_, n_tab_ / p_.nw, *b_dens_, *b_prev_);  // S_k over S_{k-1}
     finish();
     if (times_) times_->passes_s += since(t0);
   }
@@ -190,18 +196,26 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
     b_sum_->download(sum_lin.data(), n_tab_ * sizeof(float));
   }
 
-  // Kept on the GPU: the sum's logarithm (orders_log.comp) into the table of the next
-  // order (free once the build is done), handed over with that buffer; the linear sum
-  // stays for sum().
+  // Kept on the GPU: the sum's logarithm (orders_log.comp) into the scattering
+  // density's table (free once the build is done), handed over with that buffer; the
+  // linear sum stays for sum().
   std::shared_ptr<const atmo::OrdersDeviceTable> keep_sum() override {
     if (where_ == OrdersTables::ReadBack) return nullptr;
     const auto t0 = Clock::now();
-    run(*log_, n_tab_, *b_prev_, *b_next_);
+    run(*log_, n_tab_, *b_prev_, *b_dens_);
     finish();
     if (times_) times_->passes_s += since(t0);
-    return std::make_shared<OrdersResidentTable>(ctx_, own_, std::move(b_next_));
+    return std::make_shared<OrdersResidentTable>(ctx_, own_, std::move(b_dens_));
   }
   bool read_back_sum() const override { return where_ != OrdersTables::Resident; }
+
+  // The working buffers freed (on llvmpipe they are process memory); the programs stay
+  // for the next build with these passes.
+  void end() override {
+    for (auto* b : {&b_geom_, &b_nodes_, &b_coords_, &b_ray_t_, &b_pr_, &b_pm_, &b_gt_, &b_prev_, &b_dens_, &b_sum_,
+                    &b_incoming_, &b_e_, &b_ground_})
+      b->reset();
+  }
 
  private:
   // One pass over n items, reading `in` and writing `out`.
@@ -235,11 +249,19 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
   sg::GpuOrdersParams p_{};
   std::size_t n_tab_ = 0, n_incoming_ = 0;
   std::unique_ptr<Program> incoming_, density_, ground_, radiance_, log_;
-  std::unique_ptr<Buffer> b_geom_, b_nodes_, b_coords_, b_ray_t_, b_pr_, b_pm_, b_gt_, b_prev_, b_next_, b_dens_,
-      b_sum_, b_incoming_, b_e_, b_ground_;
+  std::unique_ptr<Buffer> b_geom_, b_nodes_, b_coords_, b_ray_t_, b_pr_, b_pm_, b_gt_, b_prev_, b_dens_, b_sum_,
+      b_incoming_, b_e_, b_ground_;
 };
 
 }  // namespace
+
+void OrdersResidentTable::read(std::size_t first, std::size_t count, float* out) const {
+  if ((first + count) * sizeof(float) > table_->bytes())
+    throw InputError("orders table read-back: values " + std::to_string(first) + " + " + std::to_string(count) +
+                     " beyond the table");
+  ctx_->make_current();
+  table_->download(out, count * sizeof(float), first * sizeof(float));
+}
 
 OrdersResidentTable::~OrdersResidentTable() {
   try {

@@ -152,7 +152,11 @@ struct ScatteringOrders::Impl {
   int nr = 0, nmu = 0, ns = 0, na = 0, half = 0;
   std::size_t nw = 0;
   double R = 0, T = 0, H = 0;
-  std::vector<float> sum;   // log of sum_{k=2..N} S_k, [r][mu][mu_s][phi][wavelength]
+  std::vector<float> sum;   // log of sum_{k=2..N} S_k, [r][mu][mu_s][phi][wavelength]: the
+                            // radius rows [part_i, part_i + part_ni) and sun rows [part_k,
+                            // part_k + part_nk) of the table (all of it, or the part
+                            // read_back_at read from the device)
+  int part_i = 0, part_ni = 0, part_k = 0, part_nk = 0;
   std::vector<float> esum;  // log of sum_{k=1..N-1} E_k at the ground, [mu_s][wavelength]
 
   std::size_t texels() const { return static_cast<std::size_t>(nr) * nmu * ns * na; }
@@ -216,6 +220,16 @@ struct ScatteringOrders::Impl {
           p[n] = tab + index(c.i0 + di, c.j0 + dj, s.k0 + dk, s.a0);
         }
   }
+  // The sum's part: index of a texel (i, j, k, a) in `sum`, and whether the 16 corners of
+  // a lookup at (c, sc) are in it.
+  std::size_t part_index(int i, int j, int k, int a) const {
+    return ((((static_cast<std::size_t>(i - part_i) * nmu + j) * part_nk + (k - part_k)) * na + a) * nw);
+  }
+  bool in_part(const RayCoord& c, const SunCoord& sc) const {
+    return c.i0 >= part_i && c.i0 + 1 < part_i + part_ni && sc.k0 >= part_k && sc.k0 + 1 < part_k + part_nk;
+  }
+  void set_full_part() { part_i = 0, part_ni = nr, part_k = 0, part_nk = ns; }
+  bool sum_is_full() const { return !sum.empty() && part_ni == nr && part_nk == ns; }
   // Ground irradiance table (log, [mu_s sample][wavelength]) at mu_s.
   void interp_ground(const std::vector<float>& e, double mu_s, float* out) const {
     const sg::OrdersSunCoord c = sg::orders_ground_coord(mu_s, ns, sun_m());
@@ -328,14 +342,17 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
       for (std::size_t q = 0; q < nw; ++q) ray_t[(ij * nn + k) * nw + q] = static_cast<float>(tr(nd[k].col, q));
   });
 
+  // The full-size tables here only for what runs here: with the passes on a device, S_1
+  // (if the CPU computes it) until it is uploaded, and the sum if it is read back at the
+  // end; the CPU's passes need S_{k-1}, J_k, S_k and the sum (4 x the table).
   const std::size_t N = m.texels() * nw;
-  std::vector<float> prev(N), next(N), dens(N);
-  std::vector<float> sum_lin(N, 0.0f);
+  const bool single_on_device = passes && passes->single_on_device();
+  std::vector<float> prev(passes && single_on_device ? 0 : N), next(passes ? 0 : N), dens(passes ? 0 : N);
+  std::vector<float> sum_lin(passes ? 0 : N, 0.0f);
   auto to_log = [](double v) { return std::log(std::max(static_cast<float>(v), sg::kOrdersFloor)); };
 
   // ---- S_1: single scattering with the phase functions (on the device if it does it).
   auto t0 = Clock::now();
-  const bool single_on_device = passes && passes->single_on_device();
   if (!single_on_device)
     parallel_for(nrays, threads, [&](std::size_t ij) {
     const int i = static_cast<int>(ij / m.nmu), j = static_cast<int>(ij % m.nmu);
@@ -463,13 +480,15 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
       const glm::dvec3 rho = atm.density(std::max(m.r_of(i) - m.R, 0.0));
       st.rho_r.push_back(rho[kRayleigh]);
       st.rho_m.push_back(rho[kMie]);
-      const Sphere& S = sph[static_cast<std::size_t>(i)];
+      Sphere& S = sph[static_cast<std::size_t>(i)];
       st.sphere_mu.insert(st.sphere_mu.end(), S.mu.begin(), S.mu.end());
       st.sphere_w.insert(st.sphere_w.end(), S.w.begin(), S.w.end());
       st.d_ground.insert(st.d_ground.end(), S.d_ground.begin(), S.d_ground.end());
       st.t_ground.insert(st.t_ground.end(), S.t_ground.begin(), S.t_ground.end());
       st.Pr.insert(st.Pr.end(), S.Pr.begin(), S.Pr.end());
       st.Pm.insert(st.Pm.end(), S.Pm.begin(), S.Pm.end());
+      std::vector<float>().swap(S.Pr);  // the device's copy only (the CPU's J pass does not run)
+      std::vector<float>().swap(S.Pm);
       for (int k = 0; k < m.ns; ++k) {  // order 2's direct sun on the ground (as the J pass)
         const double r = m.r_of(i), mu_s = m.mus_of(k), ss = std::sqrt(std::max(0.0, 1 - mu_s * mu_s));
         for (int z = 0; z < S.n_ground; ++z) {
@@ -491,7 +510,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     }
     st.atmosphere = &atm;
     st.lut = &lut;
-    st.ray_t = ray_t;
+    st.ray_t = std::move(ray_t);  // the CPU's S pass does not run
     st.ray_mu = ray_mu;
     st.cphi = cphi;
     st.sphi = sphi;
@@ -503,6 +522,7 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     }
     st.single = single_on_device ? nullptr : &prev;
     passes->begin(st);
+    std::vector<float>().swap(prev);  // uploaded
   }
 
   for (int order = 2; order <= orders_; ++order) {
@@ -604,12 +624,17 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     pass_s_.push_back(since(t0));
     std::swap(prev, next);
   }
+  std::vector<float>().swap(prev);
+  std::vector<float>().swap(next);
+  std::vector<float>().swap(dens);
   if (passes) device_ = passes->keep_sum();
   if (!device_ || passes->read_back_sum()) {
     if (passes) passes->sum(sum_lin);
-    m.sum.resize(N);
-    for (std::size_t q = 0; q < N; ++q) m.sum[q] = to_log(sum_lin[q]);
+    for (float& v : sum_lin) v = to_log(v);  // in place: the table is its log
+    m.sum = std::move(sum_lin);
+    m.set_full_part();
   }
+  if (passes) passes->end();
   m.esum.resize(e_sum.size());
   for (std::size_t q = 0; q < e_sum.size(); ++q) m.esum[q] = to_log(e_sum[q]);
   build_s_ = since(t_start);
@@ -618,10 +643,57 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
 void ScatteringOrders::radiance(double r, double mu, bool ground, double mu_s, double nu, double* out) const {
   const Impl& m = *impl_;
   if (m.sum.empty()) throw InputError("orders radiance: the table is kept on the device that built it only");
-  float v[256];
-  m.interp(m.sum.data(), m.ray_coord(std::clamp(r, m.R, m.T), mu, ground), mu, mu_s, nu, v);
+  const Impl::RayCoord c = m.ray_coord(std::clamp(r, m.R, m.T), mu, ground);
+  const Impl::SunCoord sc = m.sun_coord(mu, mu_s, nu);
+  if (!m.in_part(c, sc))
+    throw InputError("orders radiance: the lookup at r = " + std::to_string(r) + " m, mu_s = " + std::to_string(mu_s) +
+                     " is outside the part of the table read back from the device");
+  const float* p[8];
+  float w[8], v[256];
+  int n = 0;
+  for (int di = 0; di < 2; ++di)
+    for (int dj = 0; dj < 2; ++dj)
+      for (int dk = 0; dk < 2; ++dk, ++n) {
+        w[n] = sg::orders_corner_weight(c.fr, c.fm, sc.fs, di, dj, dk);
+        p[n] = m.sum.data() + m.part_index(c.i0 + di, c.j0 + dj, sc.k0 + dk, sc.a0);
+      }
+  blend_log_corners(m.nw, p, w, sc.fa, v);
   for (std::size_t q = 0; q < m.nw; ++q) out[q] = v[q];
 }
+
+std::size_t ScatteringOrders::read_back_at(double r, double mu_s) const {
+  Impl& m = *impl_;
+  if (!device_ || m.sum_is_full()) return 0;
+  const Impl::RayCoord c = m.ray_coord(std::clamp(r, m.R, m.T), 1.0, false);
+  const int i_lo = std::max(c.i0 - 1, 0), i_hi = std::min(c.i0 + 2, m.nr - 1);
+  int k_lo = 0, k_hi = m.ns - 1;
+  if (r < m.T) {  // inside: every lookup at this radius has this sun cosine
+    const Impl::SunCoord sc = m.sun_coord(0.0, std::clamp(mu_s, -1.0, 1.0), 0.0);
+    k_lo = std::max(sc.k0 - 1, 0);
+    k_hi = std::min(sc.k0 + 2, m.ns - 1);
+  }
+  const int ni = i_hi - i_lo + 1, nk = k_hi - k_lo + 1;
+  const std::size_t run = static_cast<std::size_t>(nk) * m.na * m.nw;  // sun and azimuth rows of one (i, j)
+  std::vector<float> part(static_cast<std::size_t>(ni) * m.nmu * run);
+  for (int i = i_lo; i <= i_hi; ++i)
+    for (int j = 0; j < m.nmu; ++j)
+      device_->read(m.index(i, j, k_lo, 0), run, &part[(static_cast<std::size_t>(i - i_lo) * m.nmu + j) * run]);
+  m.sum = std::move(part);
+  m.part_i = i_lo, m.part_ni = ni, m.part_k = k_lo, m.part_nk = nk;
+  return m.sum.size() * sizeof(float);
+}
+
+std::size_t ScatteringOrders::read_back_all() const {
+  Impl& m = *impl_;
+  if (!device_ || m.sum_is_full()) return 0;
+  std::vector<float> all(m.texels() * m.nw);
+  device_->read(0, all.size(), all.data());
+  m.sum = std::move(all);
+  m.set_full_part();
+  return m.sum.size() * sizeof(float);
+}
+
+std::size_t ScatteringOrders::bytes_on_cpu() const { return impl_->sum.size() * sizeof(float); }
 
 void ScatteringOrders::ground_irradiance(double mu_s, double* out) const {
   const Impl& m = *impl_;

@@ -173,6 +173,11 @@ TEST(CliSkyDevice, OrdersTablesFollowTheDevicePolicy) {
   EXPECT_EQ(eg.string_attributes.at("atmosh:device"), "gpu");
   EXPECT_EQ(eg.string_attributes.at("atmosh:orders_tables_device"), "gpu");
   EXPECT_EQ(ec.string_attributes.at("atmosh:orders_tables_device"), "cpu");
+  // the tables kept on the GPU; the summary and the irradiance read back their part only
+  EXPECT_NE(g.err.find("orders tables: built on the GPU and kept there"), std::string::npos) << g.err;
+  EXPECT_EQ(eg.string_attributes.at("atmosh:orders_tables_read_back").rfind("part: ", 0), 0u)
+      << eg.string_attributes.at("atmosh:orders_tables_read_back");
+  EXPECT_EQ(ec.string_attributes.at("atmosh:orders_tables_read_back"), "all");
   EXPECT_LT(max_rel_y(eg, ec), 2e-4);
   // run: the scene's sky image on the GPU, its tables too
   const auto rg = run_cli("run '" + scene_file.string() + "' --quick --device gpu -o '" + (d / "run_gpu").string() + "'");
@@ -185,6 +190,7 @@ TEST(CliSkyDevice, OrdersTablesFollowTheDevicePolicy) {
     ++images;
     EXPECT_EQ(x.at("atmosh:device"), "gpu");
     EXPECT_EQ(x.at("atmosh:orders_tables_device"), "gpu");
+    EXPECT_EQ(x.at("atmosh:orders_tables_read_back"), "none (kept on the GPU)");  // an image only
   }
   EXPECT_EQ(images, 1);
 }

@@ -363,4 +363,50 @@ TEST(GpuOrders, SkyWithGpuBuiltTablesMatchesAndStiffCasesAreFinite) {
       for (float v : g.spectral) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << "sun " << sun_el << " alt " << alt;
       for (float v : g.Y) ASSERT_TRUE(std::isfinite(v)) << "sun " << sun_el << " alt " << alt;
     }
+
+  // The kept table read back in part for the CPU's lookups at one observer (read_back_at:
+  // what `atmosh sky --device gpu` reads for its summary and irradiance; 1500 m, sun 10
+  // deg): the summary (zenith, horizon toward and away from the sun) and the irradiance
+  // (8 x 16 views of the upper hemisphere) equal those of the same GPU build read back
+  // in full and logged on the CPU (`sky`) within the two logs' rounding (1e-6, as the
+  // images above), and those of the CPU-built tables within the GPU tables' bound (2e-4,
+  // as above); a lookup outside the part (sun -30 deg) throws; read_back_all then reads
+  // the rest.
+  {
+    const ScatteringOrders& kept = *resident.orders_tables();
+    const double h = 1500.0;
+    const glm::dvec3 sun = enu_direction_from_zenith(80.0, 30.0);
+    const std::size_t all = kept.texels() * kept.wavelengths() * sizeof(float);
+    EXPECT_EQ(kept.bytes_on_cpu(), 0u);
+    const std::size_t part = kept.read_back_at(atm.ground_radius() + h, sun.z);
+    std::printf("  read back for the lookups at one observer: %zu of %zu bytes\n", part, all);
+    EXPECT_GT(part, 0u);
+    EXPECT_LT(part, all / 2);
+    EXPECT_EQ(kept.bytes_on_cpu(), part);
+    const SkySummary a = summarize_sky(resident, h, sun), b = summarize_sky(sky, h, sun), c = summarize_sky(cpu, h, sun);
+    const SkyIrradiance ia = sky_irradiance(resident, h, sun, 8, 16), ib = sky_irradiance(sky, h, sun, 8, 16),
+                        ic = sky_irradiance(cpu, h, sun, 8, 16);
+    double to_read_back = 0, to_cpu = 0;
+    auto cmp = [&](double x, double y, double z) {
+      ASSERT_TRUE(std::isfinite(x) && x > 0);
+      to_read_back = std::max(to_read_back, std::fabs(x / y - 1));
+      to_cpu = std::max(to_cpu, std::fabs(x / z - 1));
+    };
+    cmp(a.zenith.xyz.Y, b.zenith.xyz.Y, c.zenith.xyz.Y);
+    cmp(a.horizon_toward_sun.xyz.Y, b.horizon_toward_sun.xyz.Y, c.horizon_toward_sun.xyz.Y);
+    cmp(a.horizon_away.xyz.Y, b.horizon_away.xyz.Y, c.horizon_away.xyz.Y);
+    cmp(ia.diffuse_lux, ib.diffuse_lux, ic.diffuse_lux);
+    for (std::size_t q = 0; q < ia.diffuse.size(); ++q) cmp(ia.diffuse[q], ib.diffuse[q], ic.diffuse[q]);
+    EXPECT_EQ(ia.direct, ib.direct);
+    std::printf("  summary and irradiance from the part: max rel diff %.3g to the full read-back, %.3g to the CPU "
+                "tables\n", to_read_back, to_cpu);
+    EXPECT_LE(to_read_back, 1e-6);
+    EXPECT_LT(to_cpu, 2e-4);
+    const glm::dvec3 low = enu_direction_from_zenith(120.0, 30.0);
+    EXPECT_THROW(summarize_sky(resident, h, low), atmosh::InputError);
+    EXPECT_EQ(kept.read_back_all(), all);
+    EXPECT_EQ(kept.read_back_all(), 0u);  // already here
+    EXPECT_LE(std::fabs(summarize_sky(resident, h, low).zenith.xyz.Y / summarize_sky(sky, h, low).zenith.xyz.Y - 1),
+              1e-6);
+  }
 }

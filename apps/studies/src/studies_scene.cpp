@@ -29,9 +29,11 @@ const SkyModel& SceneRunContext::sky() {
   if (!model_) {
     const SunPlacement& s = sun();
     // Orders tables on the device of the scene's sky images (the one policy:
-    // use_orders_tables_device; the sky-image runner renders on options.device).
+    // use_orders_tables_device; the sky-image runner renders on options.device), kept
+    // there: the images bind them, and an output that looks them up on the CPU at the
+    // scene's observer (sh-coefficients) reads back that part only.
     scene::Scene sc = scene;
-    const std::string where = use_orders_tables_device(sc, options.device, options.notice);
+    const std::string where = use_orders_tables_device(sc, options.device, options.notice, true);
     model_ = make_sky_model(sc, SkySettings{}.sky(sc), s.distance_au);
     model_->orders_tables_device = where;
     ++skies_built;
@@ -68,6 +70,7 @@ const std::map<std::string_view, OutputRunner>& scene_output_runners() {
       {"sh-coefficients",
        [](SceneRunContext& ctx, const scene::Output& out, const fs::path& file, const fs::path&) {
          const SkyModel& m = ctx.sky();
+         read_back_orders_at(m, std::max(ctx.sun().observer_height_m, 0.0), ctx.sun().direction());
          const auto* k = scene::find_output_kind(out.kind);
          return write_sky_sh(project_sky_sh(m, ctx.sun(), out.bands > 0 ? out.bands : k->default_bands), file);
        }},

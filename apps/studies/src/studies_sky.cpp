@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -128,7 +129,11 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
     std::optional<GpuUnusable> unusable;
 #ifdef ATMOSH_HAVE_GPU
     try {
-      const gpu::Context ctx;
+      // An orders table kept on the GPU is bound where it is: the image in its context.
+      const atmo::ScatteringOrders* orders = sky.orders_tables();
+      const auto* kept = orders ? dynamic_cast<const gpu::OrdersResidentTable*>(orders->device_table()) : nullptr;
+      std::optional<gpu::Context> own;
+      const gpu::Context& ctx = kept ? kept->context() : own.emplace();
       // auto with orders on a software renderer: the CPU image (Mesa llvmpipe renders
       // the image with orders ~18x slower than the CPU; docs/gpu.md, "The sky
       // image with orders on the GPU"); single and approximate keep the GPU pass.
@@ -152,12 +157,17 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
 #endif
     if (unusable) tell(resolve_device(request, unusable, "rendering on the CPU"));
   }
+  // On the CPU every pixel looks up the orders table: a table kept on the GPU is read back
+  // in full first.
+  if (sky.orders_tables() && sky.orders_tables()->read_back_all() > 0 && notice)
+    notice("orders tables: read back in full for the CPU's image");
   SkyImage img = render_sky(sky, proj, width, height, altitude_m, sun, spectral, threads);
   add_sun_disc(img, sky, proj, altitude_m, sun);  // the visible disc (SkyOptions::sun_model)
   return img;
 }
 
-std::string use_orders_tables_device(scene::Scene& s, const std::string& device, const Notice& notice) {
+std::string use_orders_tables_device(scene::Scene& s, const std::string& device, const Notice& notice,
+                                     bool keep_on_gpu) {
   const DeviceRequest request = parse_device_request(device);
   if (request == DeviceRequest::cpu || s.scattering.method != atmo::ScatteringMethod::Orders || s.scattering.orders < 2)
     return "cpu";
@@ -181,8 +191,12 @@ std::string use_orders_tables_device(scene::Scene& s, const std::string& device,
       tell("the GPU is the software renderer " + ctx->info().renderer + ", which builds them ~11x slower");
       return "cpu";
     }
-    s.scattering.orders_passes = gpu::make_orders_passes(std::move(ctx));
-    if (notice) notice("orders tables: built on the GPU");
+    s.scattering.orders_passes = gpu::make_orders_passes(
+        std::move(ctx), nullptr, keep_on_gpu ? gpu::OrdersTables::Resident : gpu::OrdersTables::ReadBack);
+    if (notice)
+      notice(keep_on_gpu ? "orders tables: built on the GPU and kept there (nothing read back but what the CPU's "
+                           "lookups at the observer need)"
+                         : "orders tables: built on the GPU, read back for the CPU's lookups");
     return "gpu";
   } catch (const gpu::Unavailable& e) {
     resolve_device(request, GpuUnusable{GpuUnusable::Why::no_device, e.what(), {}}, kFallback);  // gpu: throws
@@ -193,6 +207,28 @@ std::string use_orders_tables_device(scene::Scene& s, const std::string& device,
   tell("atmosh was built without ATMOSH_WITH_GPU");
 #endif
   return "cpu";
+}
+
+OrdersReadBack read_back_orders_at(const SkyModel& m, double altitude_m, const glm::dvec3& sun) {
+  OrdersReadBack r;
+  const atmo::ScatteringOrders* o = m.sky->orders_tables();
+  if (!o || !o->device_table()) return r;
+  const auto t0 = std::chrono::steady_clock::now();
+  const double n = glm::length(sun);
+  const double mu_s = n > 0 && std::isfinite(n) ? sun.z / n : 0.0;  // make_ray checks the sun itself
+  r.bytes = o->read_back_at(m.atmosphere->ground_radius() + std::max(altitude_m, 0.0), mu_s);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+std::string orders_tables_read_back(const SkyModel& m) {
+  const atmo::ScatteringOrders* o = m.sky ? m.sky->orders_tables() : nullptr;
+  if (!o) return "";
+  const std::size_t all = o->texels() * o->wavelengths() * sizeof(float), here = o->bytes_on_cpu();
+  if (!o->device_table() || here == all) return "all";
+  if (here == 0) return "none (kept on the GPU)";
+  return "part: " + std::to_string(here) + " of " + std::to_string(all) +
+         " bytes (the lookups at the observer; the rest kept on the GPU)";
 }
 
 glm::dvec3 SunPlacement::direction() const { return atmo::enu_direction_from_zenith(90.0 - elevation_deg, azimuth_deg); }
@@ -260,7 +296,10 @@ io::Provenance sky_provenance(const SkyModel& m, const SunPlacement& sun) {
   const auto& a = m.scene.atmosphere;
   p.add("constituents", std::string(a.rayleigh ? "rayleigh " : "") + (a.mie ? "mie " : "") + (a.ozone ? "ozone" : ""));
   p.add("wavelengths", static_cast<double>(m.atmosphere->wavelengths_nm().size()));
-  if (m.scene.scattering.method == atmo::ScatteringMethod::Orders) p.add("orders_tables_device", m.orders_tables_device);
+  if (m.scene.scattering.method == atmo::ScatteringMethod::Orders) {
+    p.add("orders_tables_device", m.orders_tables_device);
+    if (const std::string rb = orders_tables_read_back(m); !rb.empty()) p.add("orders_tables_read_back", rb);
+  }
   // NaN marks what a study varies: it is a column of the file, not one value.
   auto add_or_varied = [&p](const std::string& key, double v) {
     if (std::isnan(v))

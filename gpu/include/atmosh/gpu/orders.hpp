@@ -40,7 +40,12 @@ namespace atmosh::gpu {
 // (ScatteringOrders::device_table()); nothing is read back, radiance_table() stays
 // empty and the CPU's radiance lookup throws; gpu::render_sky in the same context binds
 // it (no upload). ResidentAndReadBack: both (the sky pass binds the kept table, the CPU
-// lookups have theirs). The ground table (small) is on the CPU in every case.
+// lookups have theirs). The ground table (small) is on the CPU in every case. A kept
+// table can be read back later, in part (ScatteringOrders::read_back_at: the lookups at
+// one observer) or in full (read_back_all), through OrdersResidentTable::read.
+// The build holds three tables of this size on the GPU (S_{k-1}, overwritten by S_k;
+// J_k, which takes the kept log table at the end; the sum) and frees all but the kept
+// one when it ends; on the CPU only what the mode reads back.
 enum class OrdersTables { ReadBack, Resident, ResidentAndReadBack };
 
 // The log table of the sum of orders 2..N ([r][mu][mu_s][phi][wavelength], floats, as
@@ -58,6 +63,8 @@ class OrdersResidentTable final : public atmo::OrdersDeviceTable {
   OrdersResidentTable& operator=(const OrdersResidentTable&) = delete;
   const Context& context() const { return *ctx_; }
   const Buffer& buffer() const { return *table_; }
+  // Values [first, first + count) of the table (its context made current on this thread).
+  void read(std::size_t first, std::size_t count, float* out) const override;
 
  private:
   std::shared_ptr<const Context> owner_;  // keeps the context of a make_orders_passes device

@@ -106,6 +106,10 @@ struct OrdersSetup {
 class OrdersDeviceTable {
  public:
   virtual ~OrdersDeviceTable() = default;
+  // Copies values [first, first + count) of the kept log table (layout as
+  // ScatteringOrders::radiance_table()) into out (the device's context made current on
+  // the calling thread).
+  virtual void read(std::size_t first, std::size_t count, float* out) const = 0;
 };
 
 // The passes of orders >= 2 on another device. The tables stay there between passes.
@@ -134,6 +138,9 @@ class OrdersPasses {
   // lookup needs: true by default; false only for a device that kept it (then
   // radiance_table() stays empty and radiance() throws).
   virtual bool read_back_sum() const { return true; }
+  // Called last, after keep_sum() and sum(): the device may free its working tables (the
+  // kept table stays); begin() allocates them again for the next build.
+  virtual void end() {}
 };
 
 class ScatteringOrders {
@@ -151,7 +158,7 @@ class ScatteringOrders {
   // radius r [m] (R <= r <= T) with view zenith cosine mu (hitting the ground iff
   // `ground`), sun zenith cosine mu_s and cos(view, sun) nu, into out[0..n).
   // InputError if the table was kept on the device only (device_table(), radiance_table()
-  // empty).
+  // empty) and the lookup is outside what read_back_at read back.
   void radiance(double r, double mu, bool ground, double mu_s, double nu, double* out) const;
   // Irradiance of the sky on the ground, orders 1..N-1 [per unit solar irradiance],
   // at sun zenith cosine mu_s there, into out[0..n).
@@ -167,13 +174,33 @@ class ScatteringOrders {
   // scattering density and the radiance (2 (k - 1) - 1 and 2 (k - 1)).
   const std::vector<double>& pass_times_s() const { return pass_s_; }
   // The tables as stored: log of sum_{k=2..N} S_k [i][j][k][a][wavelength] (sizes:
-  // table_size) and log of sum_{k=1..N-1} E_k [k][wavelength].
+  // table_size; for a table kept on the device: empty, or what read_back_at /
+  // read_back_all read) and log of sum_{k=1..N-1} E_k [k][wavelength].
   const std::vector<float>& radiance_table() const;
   const std::vector<float>& ground_table() const;
   // The radiance table kept on the device that built it (OrdersPasses::keep_sum), or
   // nullptr. radiance_table() is empty iff the build did not read it back as well
-  // (OrdersPasses::read_back_sum). The ground table is always on the CPU.
+  // (OrdersPasses::read_back_sum) and no read_back_all() followed. The ground table is
+  // always on the CPU.
   const OrdersDeviceTable* device_table() const { return device_.get(); }
+
+  // Reading a kept table back (device_table() set, radiance_table() empty), for the CPU
+  // lookups an output needs. Not thread-safe against lookups running at the same time:
+  // call them before (they fill the CPU side of the tables, which radiance() reads).
+  // read_back_at: the part of the table that the lookups of an observer at radius r [m]
+  // with the sun at zenith cosine mu_s there need, for any view and azimuth: the
+  // radius and sun rows of their cells with one more row on each side (so that the
+  // same observer's lookups, their r and mu_s rounded differently, stay inside); an
+  // observer at or above the top (r >= T: the rays enter at the top with the sun at
+  // every cosine) gets every sun row. Afterwards radiance() answers lookups in that part
+  // and throws InputError outside it. Returns the bytes read. read_back_all: the whole
+  // table (radiance_table() then holds it). Both: nothing to do (0) if the table is
+  // already on the CPU in full.
+  std::size_t read_back_at(double r, double mu_s) const;
+  std::size_t read_back_all() const;
+  // The bytes of the radiance table that are on the CPU (radiance_table(), or the part
+  // read_back_at read).
+  std::size_t bytes_on_cpu() const;
   // nr, nmu, ns, na.
   std::vector<int> table_size() const;
   // m = -sin(lowest tabulated sun elevation) of the sun coordinate (shared

@@ -130,7 +130,28 @@ atmo::SkyImage render_sky_on(const std::string& device, const atmo::SkyIntegrato
 // "auto" on a hardware GPU (the sky pass adds the orders term, the tables uploaded); on
 // a software renderer "auto" renders the image with orders on the CPU (llvmpipe is
 // slower there too: docs/gpu.md, "The sky image with orders on the GPU").
-std::string use_orders_tables_device(scene::Scene& s, const std::string& device, const Notice& notice = {});
+// keep_on_gpu: the outputs render the image on the GPU and need CPU lookups at most at
+// one observer (`atmosh sky`, the scene runner's images): the tables are kept on the
+// GPU (gpu::OrdersTables::Resident, nothing read back by the build; the sky pass binds
+// them where they are) and read_back_orders_at reads back the part an output's CPU
+// lookups need. Otherwise (the studies and sweeps: CPU lookups at every sun) the build
+// reads the whole table back (gpu::OrdersTables::ReadBack). The notice says which.
+std::string use_orders_tables_device(scene::Scene& s, const std::string& device, const Notice& notice = {},
+                                     bool keep_on_gpu = false);
+
+// For a sky whose orders tables are kept on the GPU: reads back the part that the CPU
+// lookups of one observer (altitude [m], sun direction) need — summarize_sky,
+// sky_irradiance, sky_colour and project_sky_sh at that observer — and nothing else
+// (ScatteringOrders::read_back_at). No-op (0 bytes) for tables already on the CPU.
+struct OrdersReadBack {
+  std::size_t bytes = 0;  // read back now
+  double seconds = 0;
+};
+OrdersReadBack read_back_orders_at(const SkyModel& m, double altitude_m, const glm::dvec3& sun);
+// What of the orders tables is on the CPU, for the provenance (`orders_tables_read_back`)
+// and notices: "all" (built on the CPU, or read back by the build), "none (kept on the
+// GPU)", or "part: B of T bytes (...)"; "" without orders tables.
+std::string orders_tables_read_back(const SkyModel& m);
 
 // Writes the EXR (R,G,B,X,Y,Z [+ L_<nm>nm]) and, if png is non-empty, a tone-mapped
 // PNG with its operator and exposure in <png>.json. Returns the exposure used.
