@@ -1218,6 +1218,7 @@ struct FftPlans {
   fftw_plan r2c = nullptr, c2r = nullptr;      // size n, real
   fftw_plan r2c_rows[2] = {nullptr, nullptr};  // 4 / 8 consecutive rings at once (real mode, even n)
   fftw_plan fwd = nullptr, bwd = nullptr;      // size m, complex, in place
+  fftw_plan fwd_oop = nullptr, bwd_oop = nullptr;  // size m, complex, out of place (chirp analysis)
   std::vector<double> chirp;                   // w_t = e^{i pi t^2 / n}, t < n (re, im)
   std::vector<double> kf, kb;                  // FFT of the forward / inverse kernels, / M
 };
@@ -1233,7 +1234,7 @@ struct PlanCache {
   ~PlanCache() {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
     for (auto& [n, p] : plans)
-      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.r2c_rows[0], p.r2c_rows[1]})
+      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.fwd_oop, p.bwd_oop, p.r2c_rows[0], p.r2c_rows[1]})
         if (q) fftw_destroy_plan(q);
     plans.clear();
   }
@@ -1301,6 +1302,16 @@ const FftPlans* fft_plans(int n) {
     p.bwd = fftw_plan_dft_1d(m, z, z, FFTW_BACKWARD, FFTW_ESTIMATE);
     ok = ok && p.fwd && p.bwd;
     if (ok && p.mode == FftMode::chirp) {
+      // the forward chirp's two FFTs out of place: FFTW's in-place plans of these sizes
+      // buffer their columns (a third of the FFT time at M = 1024); the input array keeps
+      // its zero tail from call to call (an out-of-place c2c preserves its input)
+      fftw_complex* y = fftw_alloc_complex(static_cast<std::size_t>(m));
+      p.fwd_oop = fftw_plan_dft_1d(m, z, y, FFTW_FORWARD, FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+      p.bwd_oop = fftw_plan_dft_1d(m, y, z, FFTW_BACKWARD, FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+      fftw_free(y);
+      ok = p.fwd_oop && p.bwd_oop;
+    }
+    if (ok && p.mode == FftMode::chirp) {
       // Forward: X_k = conj(w_k) sum_j (x_j conj(w_j)) w_{k-j}, k in (-cf, cf) with
       // cf = n/2 + 1, so the kernel w_t is needed for t in [-(n + cf - 2), cf - 1].
       // Inverse: z_j = w_j sum_k (Z_k w_k) conj(w_{j-k}), |k| < ci = (n + 1) / 2, j < n:
@@ -1329,7 +1340,7 @@ const FftPlans* fft_plans(int n) {
     fftw_free(z);
   }
   if (!ok) {
-    for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd})
+    for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.fwd_oop, p.bwd_oop})
       if (q) fftw_destroy_plan(q);
     throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
   }
@@ -1345,6 +1356,47 @@ void complex_multiply(double* __restrict z, const double* __restrict k, int m) {
     z[2 * i + 1] = a * d + b * c;
   }
 }
+
+// u_j = (f1_j + i f2_j) conj(w_j), j < n (the chirp's input; the rest of u stays zero).
+// Rounded as the scalar expressions read (no fused multiply-add).
+ATMOSH_DISPATCH_NO_FMA
+void chirp_premultiply(const double* __restrict f1, const double* __restrict f2, const double* __restrict w, int n,
+                       double* __restrict u) {
+  for (int j = 0; j < n; ++j) {
+    const double a = f1[j], b = f2[j], c = w[2 * j], d = w[2 * j + 1];
+    u[2 * j] = a * c + b * d;
+    u[2 * j + 1] = b * c - a * d;
+  }
+}
+
+// From the chirp's cyclic convolution y (size m): X_k = conj(w_k) y_k, X_-k = conj(w_k) y_(m-k)
+// (w_-k = w_k), then the two rings' spectra F1_k = (X_k + conj X_-k) / 2,
+// F2_k = (X_k - conj X_-k) / (2 i), k < cm, re/im interleaved. The same operations, rounded the
+// same way, as the pass over all k in (-cm, cm) followed by the split (no fused multiply-add).
+ATMOSH_DISPATCH_NO_FMA
+void chirp_split(const double* __restrict y, const double* __restrict w, int m, int cm, double* __restrict s1,
+                 double* __restrict s2) {
+  if (cm < 1) return;
+  {
+    const double c = w[0], d = w[1], x = y[0], v = y[1];
+    const double p0 = x * c + v * d, p1 = v * c - x * d;
+    s1[0] = 0.5 * (p0 + p0);
+    s1[1] = 0.5 * (p1 - p1);
+    s2[0] = 0.5 * (p1 + p1);
+    s2[1] = -0.5 * (p0 - p0);
+  }
+  const double* ym = y + 2 * static_cast<std::size_t>(m);  // y_(m-k) at ym - 2k
+  for (int k = 1; k < cm; ++k) {
+    const double c = w[2 * k], d = w[2 * k + 1];
+    const double xa = y[2 * k], va = y[2 * k + 1], xb = ym[-2 * k], vb = ym[-2 * k + 1];
+    const double p0 = xa * c + va * d, p1 = va * c - xa * d;
+    const double q0 = xb * c + vb * d, q1 = vb * c - xb * d;
+    s1[2 * k] = 0.5 * (p0 + q0);
+    s1[2 * k + 1] = 0.5 * (p1 - q1);
+    s2[2 * k] = 0.5 * (p1 + q1);
+    s2[2 * k + 1] = -0.5 * (p0 - q0);
+  }
+}
 }  // namespace
 
 RealFft::RealFft(int n) : n_(n) {
@@ -1353,7 +1405,11 @@ RealFft::RealFft(int n) : n_(n) {
   const int m = static_cast<const FftPlans*>(plans_)->m;
   real_ = fftw_alloc_real(static_cast<std::size_t>(n));
   spec_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
-  work_ = m > 0 ? reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(m))) : nullptr;
+  // chirp: three arrays of m complex values (in-place work / out-of-place output, the
+  // forward input with its zero tail, the forward spectrum)
+  const bool chirp = static_cast<const FftPlans*>(plans_)->mode == FftMode::chirp;
+  work_ = m > 0 ? reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(m) * (chirp ? 3 : 1))) : nullptr;
+  if (chirp && work_) std::fill(work_ + 2 * static_cast<std::size_t>(m), work_ + 4 * static_cast<std::size_t>(m), 0.0);
   spec2_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
   if (!real_ || !spec_ || !spec2_ || (m > 0 && !work_)) {
     fftw_free(real_);
@@ -1446,9 +1502,28 @@ void RealFft::forward2_spectra(const double* f1, const double* f2, int count, do
     }
     return;
   }
+  if (p.mode == FftMode::chirp) {
+    chirp_spectra(f1, f2, cm, s1, s2);
+    return;
+  }
   forward2(f1, f2, count, nullptr, nullptr);  // leaves the spectra in spec_, spec2_
   std::memcpy(s1, spec_, sizeof(double) * 2 * cm);
   std::memcpy(s2, spec2_, sizeof(double) * 2 * cm);
+}
+
+void RealFft::chirp_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2) {
+  // Bluestein: X_k = conj(w_k) sum_j (z_j conj(w_j)) w_(k-j), the convolution cyclic of size
+  // m >= n + 2 cm - 2 through two out-of-place FFTs and the kernel's transform kf
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  const int m = p.m;
+  double* const y = work_;
+  double* const u = work_ + 2 * static_cast<std::size_t>(m);
+  double* const v = work_ + 4 * static_cast<std::size_t>(m);
+  chirp_premultiply(f1, f2, p.chirp.data(), n_, u);
+  fftw_execute_dft(p.fwd_oop, reinterpret_cast<fftw_complex*>(u), reinterpret_cast<fftw_complex*>(v));
+  complex_multiply(v, p.kf.data(), m);
+  fftw_execute_dft(p.bwd_oop, reinterpret_cast<fftw_complex*>(v), reinterpret_cast<fftw_complex*>(y));
+  chirp_split(y, p.chirp.data(), m, cm, s1, s2);
 }
 
 void RealFft::forward2(const double* f1, const double* f2, int count, double* out1, double* out2) {
@@ -1459,6 +1534,13 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
     return;
   }
   const int n = n_, m = p.m, cm = std::min(count, n / 2 + 1);
+  if (p.mode == FftMode::chirp) {
+    chirp_spectra(f1, f2, cm, spec_, spec2_);
+    if (!out1) return;
+    emit_orders(spec_, n, count, out1);
+    emit_orders(spec2_, n, count, out2);
+    return;
+  }
   double* z = work_;
   // z_j = f1_j + i f2_j; X_k = F1_k + i F2_k for |k| < cm at xk(k)
   if (p.mode == FftMode::pair) {

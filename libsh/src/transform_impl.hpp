@@ -54,12 +54,15 @@ class RealFft {
   void inverse2(const double* cs1, const double* cs2, int count, double* v1, double* v2);
 
  private:
+  // forward2_spectra of the chirp method (spectra for k < cm into s1, s2)
+  void chirp_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2);
+
   int n_;
   const void* plans_;  // the shared plans of size n
   double* real_;       // n values (FFTW-aligned)
   double* spec_;       // n/2 + 1 complex values
   double* spec2_;      // n/2 + 1 complex values (second ring)
-  double* work_;       // complex work array of the paired methods (null: real FFTs only)
+  double* work_;       // complex work arrays of the paired methods (null: real FFTs only)
 };
 }  // namespace detail
 
