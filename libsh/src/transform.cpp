@@ -975,8 +975,10 @@ void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeff
   // columns into the coefficient vector in tiles of 8 degrees x 8 orders (a tile reads 8
   // column runs and writes 16 row runs of 8 values; degree rows one after the other, with
   // one line per column in flight, were latency bound: a tenth of an analysis at L = 256)
+  // (rows of tiles split between the threads: each writes its own degree rows)
   constexpr int T = 8;
-  for (int l0 = 0; l0 < bands; l0 += T) {
+  parallel_for_m((bands + T - 1) / T, bands >= 512 ? threads : 1, [] { return NoScratch{}; }, [&](NoScratch&, int lt) {
+    const int l0 = lt * T;
     const int l1 = std::min(bands, l0 + T);
     for (int m0 = 0; m0 < l1; m0 += T) {
       const int m1 = std::min(l1, m0 + T);
@@ -994,7 +996,7 @@ void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeff
         }
       }
     }
-  }
+  });
 }
 }  // namespace
 
@@ -1024,9 +1026,11 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
   constexpr int QB = kSynQB;  // ring pairs per block of the sums
   const int nqb = (padded + QB - 1) / QB;
   double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
-  // degree rows into columns in tiles of 8 degrees x 8 orders (as the analysis)
+  // degree rows into columns in tiles of 8 degrees x 8 orders (as the analysis; rows of
+  // tiles split between the threads)
   constexpr int T = 8;
-  for (int l0 = 0; l0 < bands; l0 += T) {
+  parallel_for_m((bands + T - 1) / T, bands >= 512 ? threads : 1, [] { return NoScratch{}; }, [&](NoScratch&, int lt) {
+    const int l0 = lt * T;
     const int l1 = std::min(bands, l0 + T);
     for (int m0 = 0; m0 < l1; m0 += T) {
       const int m1 = std::min(l1, m0 + T);
@@ -1039,7 +1043,7 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
         }
       }
     }
-  }
+  });
 
   struct Scratch {
     AnaCoef cf;
