@@ -10,6 +10,7 @@
 #include <memory>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <numbers>
 #include <string>
 #include <type_traits>
@@ -882,7 +883,10 @@ inline std::size_t ring_sum_index(int padded, int W, int m, int q, int f) {
 }
 
 void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeffs, int threads, bool assign);
-void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads);
+// rows_done(q0, q1), where given, is called by the worker that has just written the ring rows
+// of ring pairs q0..q1-1 (north and south), so that it can transform them while they are in cache.
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads,
+                         const std::function<void(int, int)>& rows_done = {});
 }  // namespace
 
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
@@ -1007,7 +1011,8 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
 }
 
 namespace {
-void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads) {
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads,
+                         const std::function<void(int, int)>& rows_done) {
   const int bands = rp.bands;
   const auto coefs = coef_table(bands);
   const Pairs& pr = rp.pr;
@@ -1126,6 +1131,7 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
         }
       }
     }
+    if (rows_done) rows_done(q0, q1);
   });
 }
 }  // namespace
@@ -1469,6 +1475,8 @@ RealFft::RealFft(int n) : n_(n) {
     throw std::bad_alloc();
   }
 }
+
+bool RealFft::pairs_rings(int n) { return n >= 1 && fft_mode(n) != FftMode::real; }
 
 RealFft::~RealFft() {
   fftw_free(real_);
@@ -2045,7 +2053,21 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
   const int L = g.bands, n = g.nphi;
   // every ring and order of the work array is written by legendre_synthesis
   double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
-  detail::synthesis_from_plan(detail::plan_for(g)->rings, coeffs, four, threads);
+  const auto plan = detail::plan_for(g);
+  if (!detail::RealFft::pairs_rings(n)) {
+    // one real FFT per ring: each block's rings are transformed by the worker that made
+    // their rows, while they are in cache (the same operations as the loop below)
+    const detail::Pairs& pr = plan->rings.pr;
+    detail::synthesis_from_plan(plan->rings, coeffs, four, threads, [&](int q0, int q1) {
+      thread_local std::unique_ptr<detail::RealFft> fft;
+      if (!fft || fft->size() != n) fft = std::make_unique<detail::RealFft>(n);
+      for (int q = q0; q < q1; ++q)
+        for (const int r : {pr.north[q], pr.south[q]})
+          if (r >= 0) fft->inverse(four + static_cast<std::size_t>(r) * L * 2, L, values + static_cast<std::size_t>(r) * n);
+    });
+    return;
+  }
+  detail::synthesis_from_plan(plan->rings, coeffs, four, threads);
   // Two rings at a time from the shared counter; each worker keeps its FFT plan.
   const int npairs = (g.nlat + 1) / 2;
   atmosh::parallel_for_ranges_local(

@@ -32,6 +32,9 @@ class RealFft {
   RealFft(const RealFft&) = delete;
   RealFft& operator=(const RealFft&) = delete;
   int size() const { return n_; }
+  /// Whether size n transforms two rings at once (forward2 / inverse2 then pair their rings;
+  /// otherwise they are two independent real FFTs).
+  static bool pairs_rings(int n);
   /// a_m = sum_j f_j cos(2 pi j m / n), b_m = sum_j f_j sin(2 pi j m / n) into out[2m],
   /// out[2m+1] for m < count (any count: orders above n/2 are the aliases).
   template <class T>
