@@ -1715,11 +1715,14 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
     put(k, c1 + s2, c2 - s1);
     put(-k, c1 - s2, c2 + s1);
   }
-  if (chirp) {
-    fftw_execute_dft(p.fwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
-    complex_multiply(z, p.kb.data(), m);
+  if (chirp) {  // out of place (FFTW's in-place plans of these sizes buffer their columns)
+    double* const v = work_ + 4 * static_cast<std::size_t>(m);
+    fftw_execute_dft(p.fwd_oop, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(v));
+    complex_multiply(v, p.kb.data(), m);
+    fftw_execute_dft(p.bwd_oop, reinterpret_cast<fftw_complex*>(v), reinterpret_cast<fftw_complex*>(z));
+  } else {
+    fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
   }
-  fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
   for (int j = 0; j < n; ++j) {
     double x = z[2 * j], y = z[2 * j + 1];
     if (chirp) {  // z_j = w_j (y * conj w)_j
@@ -2054,16 +2057,54 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
   // every ring and order of the work array is written by legendre_synthesis
   double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
   const auto plan = detail::plan_for(g);
-  if (!detail::RealFft::pairs_rings(n)) {
-    // one real FFT per ring: each block's rings are transformed by the worker that made
-    // their rows, while they are in cache (the same operations as the loop below)
-    const detail::Pairs& pr = plan->rings.pr;
+  // Each block of ring pairs is transformed in longitude by the worker that made its rows,
+  // while they are in cache, where the FFTs need no ring of another block: always for one
+  // real FFT per ring; for sizes that pair rings 2p and 2p + 1 (inverse2) when every block
+  // holds both rings of each such pair (nlat even). The same operations, and bits, as the
+  // loop below.
+  const detail::Pairs& pr = plan->rings.pr;
+  const int np = static_cast<int>(pr.north.size());
+  constexpr int QB = detail::kSynQB;
+  auto block_rings = [&](int q0, int q1, int* rings) {  // sorted, at most 2 QB
+    int k = 0;
+    for (int q = q0; q < q1; ++q) {
+      rings[k++] = pr.north[q];
+      if (pr.south[q] >= 0) rings[k++] = pr.south[q];
+    }
+    std::sort(rings, rings + k);
+    return k;
+  };
+  const bool paired = detail::RealFft::pairs_rings(n);
+  bool fuse = true;
+  if (paired) {  // every even ring r < nlat - 1 of a block with r + 1 in the same block
+    int rings[2 * QB];
+    for (int q0 = 0; q0 < np && fuse; q0 += QB) {
+      const int k = block_rings(q0, std::min(np, q0 + QB), rings);
+      for (int i = 0; i < k && fuse; ++i)
+        if (rings[i] % 2 == 0 ? rings[i] + 1 < g.nlat && (i + 1 == k || rings[i + 1] != rings[i] + 1)
+                              : i == 0 || rings[i - 1] != rings[i] - 1)
+          fuse = false;
+    }
+  }
+  if (fuse) {
     detail::synthesis_from_plan(plan->rings, coeffs, four, threads, [&](int q0, int q1) {
       thread_local std::unique_ptr<detail::RealFft> fft;
       if (!fft || fft->size() != n) fft = std::make_unique<detail::RealFft>(n);
-      for (int q = q0; q < q1; ++q)
-        for (const int r : {pr.north[q], pr.south[q]})
-          if (r >= 0) fft->inverse(four + static_cast<std::size_t>(r) * L * 2, L, values + static_cast<std::size_t>(r) * n);
+      int rings[2 * QB];
+      const int k = block_rings(q0, q1, rings);
+      auto row = [&](double* base, int r, std::size_t len) { return base + static_cast<std::size_t>(r) * len; };
+      for (int i = 0; i < k; ++i) {
+        const int r = rings[i];
+        if (!paired) {
+          fft->inverse(row(four, r, 2 * static_cast<std::size_t>(L)), L, row(values, r, n));
+        } else if (r % 2 == 0) {
+          if (r + 1 < g.nlat)
+            fft->inverse2(row(four, r, 2 * static_cast<std::size_t>(L)), row(four, r + 1, 2 * static_cast<std::size_t>(L)),
+                          L, row(values, r, n), row(values, r + 1, n));
+          else
+            fft->inverse(row(four, r, 2 * static_cast<std::size_t>(L)), L, row(values, r, n));
+        }
+      }
     });
     return;
   }
