@@ -1233,7 +1233,7 @@ struct FftPlans {
   // columns of n2 values, twiddles, n2 rows of n1 values), spectra in transposed order
   int n1 = 0;
   fftw_plan col_f = nullptr, row_f = nullptr, row_b = nullptr, col_b = nullptr;
-  std::vector<double> tw, twb, kfp;  // w_m^(j1 k2), its conjugate, kf transposed
+  std::vector<double> tw, twb, kfp, kbp;  // w_m^(j1 k2), its conjugate, kf and kb transposed
   std::vector<double> chirp;                   // w_t = e^{i pi t^2 / n}, t < n (re, im)
   std::vector<double> kf, kb;                  // FFT of the forward / inverse kernels, / M
 };
@@ -1377,6 +1377,7 @@ const FftPlans* fft_plans(int n) {
       p.tw.resize(2 * mm);
       p.twb.resize(2 * mm);
       p.kfp.resize(2 * mm);
+      p.kbp.resize(2 * mm);
       for (int k2 = 0; k2 < n2; ++k2)
         for (int j1 = 0; j1 < n1; ++j1) {
           const std::size_t i = static_cast<std::size_t>(j1) + static_cast<std::size_t>(n1) * k2;
@@ -1391,6 +1392,8 @@ const FftPlans* fft_plans(int n) {
           const std::size_t k = static_cast<std::size_t>(k2) + static_cast<std::size_t>(n2) * k1;
           p.kfp[2 * i] = p.kf[2 * k];
           p.kfp[2 * i + 1] = p.kf[2 * k + 1];
+          p.kbp[2 * i] = p.kb[2 * k];
+          p.kbp[2 * i + 1] = p.kb[2 * k + 1];
         }
     }
     fftw_free(z);
@@ -1451,6 +1454,42 @@ void chirp_split(const double* __restrict y, const double* __restrict w, int m, 
     s1[2 * k + 1] = 0.5 * (p1 - q1);
     s2[2 * k] = 0.5 * (p1 + q1);
     s2[2 * k + 1] = -0.5 * (p0 - q0);
+  }
+}
+
+// The chirp inverse's input (z cleared by the caller): y_k = Z_k w_k at k and m - k for
+// |k| < count, Z_k = V1_k + i V2_k from the two rings' (C, S) coefficients. The same
+// operations as a loop over k in (-count, count), rounded the same way (no fused multiply-add).
+ATMOSH_DISPATCH_NO_FMA
+void chirp_inverse_fill(const double* __restrict cs1, const double* __restrict cs2, int count,
+                        const double* __restrict w, int m, double* __restrict z) {
+  if (count < 1) return;
+  {
+    const double re = cs1[0], im = cs2[0], c = w[0], d = w[1];
+    z[0] = re * c - im * d;
+    z[1] = re * d + im * c;
+  }
+  double* const zm = z + 2 * static_cast<std::size_t>(m);  // y_(m-k) at zm - 2k
+  for (int k = 1; k < count; ++k) {
+    const double c1 = 0.5 * cs1[2 * k], s1 = 0.5 * cs1[2 * k + 1], c2 = 0.5 * cs2[2 * k], s2 = 0.5 * cs2[2 * k + 1];
+    // V1_k = c1 - i s1, V2_k = c2 - i s2: Z_k = (c1 + s2) + i (c2 - s1); Z_-k = (c1 - s2) + i (c2 + s1)
+    const double c = w[2 * k], d = w[2 * k + 1];
+    const double pr = c1 + s2, pi = c2 - s1, qr = c1 - s2, qi = c2 + s1;
+    z[2 * k] = pr * c - pi * d;
+    z[2 * k + 1] = pr * d + pi * c;
+    zm[-2 * k] = qr * c - qi * d;
+    zm[-2 * k + 1] = qr * d + qi * c;
+  }
+}
+
+// v1_j + i v2_j = w_j z_j, j < n (the chirp inverse's last step; no fused multiply-add).
+ATMOSH_DISPATCH_NO_FMA
+void chirp_inverse_out(const double* __restrict z, const double* __restrict w, int n, double* __restrict v1,
+                       double* __restrict v2) {
+  for (int j = 0; j < n; ++j) {
+    const double x = z[2 * j], y = z[2 * j + 1], c = w[2 * j], d = w[2 * j + 1];
+    v1[j] = x * c - y * d;
+    v2[j] = x * d + y * c;
   }
 }
 }  // namespace
@@ -1694,6 +1733,27 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
   std::fill(z, z + 2 * m, 0.0);
   const double* w = p.chirp.data();
   const bool chirp = p.mode == FftMode::chirp;
+  if (chirp) {
+    chirp_inverse_fill(cs1, cs2, count, w, m, z);
+    double* const v = work_ + 4 * static_cast<std::size_t>(m);
+    auto* const zc = reinterpret_cast<fftw_complex*>(z);
+    auto* const vc = reinterpret_cast<fftw_complex*>(v);
+    if (p.n1 > 0) {  // four steps, the spectrum in transposed order (as chirp_spectra)
+      fftw_execute_dft(p.col_f, zc, vc);
+      complex_multiply(v, p.tw.data(), m);
+      fftw_execute_dft(p.row_f, vc, vc);
+      complex_multiply(v, p.kbp.data(), m);
+      fftw_execute_dft(p.row_b, vc, vc);
+      complex_multiply(v, p.twb.data(), m);
+      fftw_execute_dft(p.col_b, vc, zc);
+    } else {  // out of place (FFTW's in-place plans of these sizes buffer their columns)
+      fftw_execute_dft(p.fwd_oop, zc, vc);
+      complex_multiply(v, p.kb.data(), m);
+      fftw_execute_dft(p.bwd_oop, vc, zc);
+    }
+    chirp_inverse_out(z, w, n, v1, v2);
+    return;
+  }
   // Z_k = V1_k + i V2_k, V_0 = C_0, V_k = (C_k - i S_k) / 2, V_-k = conj(V_k); for the
   // chirp, y_k = Z_k w_k
   auto put = [&](int k, double re, double im) {
@@ -1715,14 +1775,7 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
     put(k, c1 + s2, c2 - s1);
     put(-k, c1 - s2, c2 + s1);
   }
-  if (chirp) {  // out of place (FFTW's in-place plans of these sizes buffer their columns)
-    double* const v = work_ + 4 * static_cast<std::size_t>(m);
-    fftw_execute_dft(p.fwd_oop, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(v));
-    complex_multiply(v, p.kb.data(), m);
-    fftw_execute_dft(p.bwd_oop, reinterpret_cast<fftw_complex*>(v), reinterpret_cast<fftw_complex*>(z));
-  } else {
-    fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
-  }
+  fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
   for (int j = 0; j < n; ++j) {
     double x = z[2 * j], y = z[2 * j + 1];
     if (chirp) {  // z_j = w_j (y * conj w)_j
