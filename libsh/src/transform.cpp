@@ -10,6 +10,7 @@
 #include <memory>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <numbers>
 #include <string>
 #include <type_traits>
@@ -882,7 +883,10 @@ inline std::size_t ring_sum_index(int padded, int W, int m, int q, int f) {
 }
 
 void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeffs, int threads, bool assign);
-void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads);
+// rows_done(q0, q1), where given, is called by the worker that has just written the ring rows
+// of ring pairs q0..q1-1 (north and south), so that it can transform them while they are in cache.
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads,
+                         const std::function<void(int, int)>& rows_done = {});
 }  // namespace
 
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
@@ -975,8 +979,10 @@ void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeff
   // columns into the coefficient vector in tiles of 8 degrees x 8 orders (a tile reads 8
   // column runs and writes 16 row runs of 8 values; degree rows one after the other, with
   // one line per column in flight, were latency bound: a tenth of an analysis at L = 256)
+  // (rows of tiles split between the threads: each writes its own degree rows)
   constexpr int T = 8;
-  for (int l0 = 0; l0 < bands; l0 += T) {
+  parallel_for_m((bands + T - 1) / T, bands >= 512 ? threads : 1, [] { return NoScratch{}; }, [&](NoScratch&, int lt) {
+    const int l0 = lt * T;
     const int l1 = std::min(bands, l0 + T);
     for (int m0 = 0; m0 < l1; m0 += T) {
       const int m1 = std::min(l1, m0 + T);
@@ -994,7 +1000,7 @@ void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeff
         }
       }
     }
-  }
+  });
 }
 }  // namespace
 
@@ -1005,7 +1011,8 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
 }
 
 namespace {
-void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads) {
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads,
+                         const std::function<void(int, int)>& rows_done) {
   const int bands = rp.bands;
   const auto coefs = coef_table(bands);
   const Pairs& pr = rp.pr;
@@ -1024,9 +1031,11 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
   constexpr int QB = kSynQB;  // ring pairs per block of the sums
   const int nqb = (padded + QB - 1) / QB;
   double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
-  // degree rows into columns in tiles of 8 degrees x 8 orders (as the analysis)
+  // degree rows into columns in tiles of 8 degrees x 8 orders (as the analysis; rows of
+  // tiles split between the threads)
   constexpr int T = 8;
-  for (int l0 = 0; l0 < bands; l0 += T) {
+  parallel_for_m((bands + T - 1) / T, bands >= 512 ? threads : 1, [] { return NoScratch{}; }, [&](NoScratch&, int lt) {
+    const int l0 = lt * T;
     const int l1 = std::min(bands, l0 + T);
     for (int m0 = 0; m0 < l1; m0 += T) {
       const int m1 = std::min(l1, m0 + T);
@@ -1039,7 +1048,7 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
         }
       }
     }
-  }
+  });
 
   struct Scratch {
     AnaCoef cf;
@@ -1122,6 +1131,7 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
         }
       }
     }
+    if (rows_done) rows_done(q0, q1);
   });
 }
 }  // namespace
@@ -1218,6 +1228,12 @@ struct FftPlans {
   fftw_plan r2c = nullptr, c2r = nullptr;      // size n, real
   fftw_plan r2c_rows[2] = {nullptr, nullptr};  // 4 / 8 consecutive rings at once (real mode, even n)
   fftw_plan fwd = nullptr, bwd = nullptr;      // size m, complex, in place
+  fftw_plan fwd_oop = nullptr, bwd_oop = nullptr;  // size m, complex, out of place (chirp analysis)
+  // chirp analysis with m >= 4096: the convolution's FFTs as m = n1 x n2 (four steps: n1
+  // columns of n2 values, twiddles, n2 rows of n1 values), spectra in transposed order
+  int n1 = 0;
+  fftw_plan col_f = nullptr, row_f = nullptr, row_b = nullptr, col_b = nullptr;
+  std::vector<double> tw, twb, kfp, kbp;  // w_m^(j1 k2), its conjugate, kf and kb transposed
   std::vector<double> chirp;                   // w_t = e^{i pi t^2 / n}, t < n (re, im)
   std::vector<double> kf, kb;                  // FFT of the forward / inverse kernels, / M
 };
@@ -1233,7 +1249,8 @@ struct PlanCache {
   ~PlanCache() {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
     for (auto& [n, p] : plans)
-      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.r2c_rows[0], p.r2c_rows[1]})
+      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.fwd_oop, p.bwd_oop, p.r2c_rows[0], p.r2c_rows[1], p.col_f,
+                          p.row_f, p.row_b, p.col_b})
         if (q) fftw_destroy_plan(q);
     plans.clear();
   }
@@ -1301,6 +1318,16 @@ const FftPlans* fft_plans(int n) {
     p.bwd = fftw_plan_dft_1d(m, z, z, FFTW_BACKWARD, FFTW_ESTIMATE);
     ok = ok && p.fwd && p.bwd;
     if (ok && p.mode == FftMode::chirp) {
+      // the forward chirp's two FFTs out of place: FFTW's in-place plans of these sizes
+      // buffer their columns (a third of the FFT time at M = 1024); the input array keeps
+      // its zero tail from call to call (an out-of-place c2c preserves its input)
+      fftw_complex* y = fftw_alloc_complex(static_cast<std::size_t>(m));
+      p.fwd_oop = fftw_plan_dft_1d(m, z, y, FFTW_FORWARD, FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+      p.bwd_oop = fftw_plan_dft_1d(m, y, z, FFTW_BACKWARD, FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+      fftw_free(y);
+      ok = p.fwd_oop && p.bwd_oop;
+    }
+    if (ok && p.mode == FftMode::chirp) {
       // Forward: X_k = conj(w_k) sum_j (x_j conj(w_j)) w_{k-j}, k in (-cf, cf) with
       // cf = n/2 + 1, so the kernel w_t is needed for t in [-(n + cf - 2), cf - 1].
       // Inverse: z_j = w_j sum_k (Z_k w_k) conj(w_{j-k}), |k| < ci = (n + 1) / 2, j < n:
@@ -1326,10 +1353,53 @@ const FftPlans* fft_plans(int n) {
       kernel(-(n + cf - 2), cf - 1, 1.0, p.kf);
       kernel(-(ci - 1), n + ci - 2, -1.0, p.kb);
     }
+    if (ok && p.mode == FftMode::chirp && m >= 4096) {
+      // FFTW_ESTIMATE's plans for these sizes are ~1.4x slower than what FFTW_MEASURE finds;
+      // four steps over square-ish factors are deterministic and faster (docs/sh.md).
+      // j = j1 + n1 j2, k = k2 + n2 k1: columns j1 (stride n1) transform j2 -> k2, the
+      // twiddle w_m^(j1 k2), rows k2 (contiguous) transform j1 -> k1, so the spectrum U_k
+      // lands at k1 + n1 k2; the kernel's transform is stored in that order, and the
+      // inverse runs the steps backwards into natural order.
+      int n1 = 1;
+      while (n1 * n1 < m) n1 <<= 1;
+      const int n2 = m / n1;
+      p.n1 = n1;
+      fftw_complex* y = fftw_alloc_complex(static_cast<std::size_t>(m));
+      p.col_f = fftw_plan_many_dft(1, &n2, n1, z, nullptr, n1, 1, y, nullptr, n1, 1, FFTW_FORWARD,
+                                   FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+      p.row_f = fftw_plan_many_dft(1, &n1, n2, y, nullptr, 1, n1, y, nullptr, 1, n1, FFTW_FORWARD, FFTW_ESTIMATE);
+      p.row_b = fftw_plan_many_dft(1, &n1, n2, y, nullptr, 1, n1, y, nullptr, 1, n1, FFTW_BACKWARD, FFTW_ESTIMATE);
+      p.col_b = fftw_plan_many_dft(1, &n2, n1, y, nullptr, n1, 1, z, nullptr, n1, 1, FFTW_BACKWARD,
+                                   FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+      fftw_free(y);
+      ok = p.col_f && p.row_f && p.row_b && p.col_b;
+      const std::size_t mm = static_cast<std::size_t>(m);
+      p.tw.resize(2 * mm);
+      p.twb.resize(2 * mm);
+      p.kfp.resize(2 * mm);
+      p.kbp.resize(2 * mm);
+      for (int k2 = 0; k2 < n2; ++k2)
+        for (int j1 = 0; j1 < n1; ++j1) {
+          const std::size_t i = static_cast<std::size_t>(j1) + static_cast<std::size_t>(n1) * k2;
+          const double a = -2.0 * std::numbers::pi * static_cast<double>(static_cast<long long>(j1) * k2 % m) / m;
+          p.tw[2 * i] = p.twb[2 * i] = std::cos(a);
+          p.tw[2 * i + 1] = std::sin(a);
+          p.twb[2 * i + 1] = -p.tw[2 * i + 1];
+        }
+      for (int k1 = 0; k1 < n1; ++k1)
+        for (int k2 = 0; k2 < n2; ++k2) {
+          const std::size_t i = static_cast<std::size_t>(k1) + static_cast<std::size_t>(n1) * k2;
+          const std::size_t k = static_cast<std::size_t>(k2) + static_cast<std::size_t>(n2) * k1;
+          p.kfp[2 * i] = p.kf[2 * k];
+          p.kfp[2 * i + 1] = p.kf[2 * k + 1];
+          p.kbp[2 * i] = p.kb[2 * k];
+          p.kbp[2 * i + 1] = p.kb[2 * k + 1];
+        }
+    }
     fftw_free(z);
   }
   if (!ok) {
-    for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd})
+    for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.fwd_oop, p.bwd_oop, p.col_f, p.row_f, p.row_b, p.col_b})
       if (q) fftw_destroy_plan(q);
     throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
   }
@@ -1345,6 +1415,83 @@ void complex_multiply(double* __restrict z, const double* __restrict k, int m) {
     z[2 * i + 1] = a * d + b * c;
   }
 }
+
+// u_j = (f1_j + i f2_j) conj(w_j), j < n (the chirp's input; the rest of u stays zero).
+// Rounded as the scalar expressions read (no fused multiply-add).
+ATMOSH_DISPATCH_NO_FMA
+void chirp_premultiply(const double* __restrict f1, const double* __restrict f2, const double* __restrict w, int n,
+                       double* __restrict u) {
+  for (int j = 0; j < n; ++j) {
+    const double a = f1[j], b = f2[j], c = w[2 * j], d = w[2 * j + 1];
+    u[2 * j] = a * c + b * d;
+    u[2 * j + 1] = b * c - a * d;
+  }
+}
+
+// From the chirp's cyclic convolution y (size m): X_k = conj(w_k) y_k, X_-k = conj(w_k) y_(m-k)
+// (w_-k = w_k), then the two rings' spectra F1_k = (X_k + conj X_-k) / 2,
+// F2_k = (X_k - conj X_-k) / (2 i), k < cm, re/im interleaved. The same operations, rounded the
+// same way, as the pass over all k in (-cm, cm) followed by the split (no fused multiply-add).
+ATMOSH_DISPATCH_NO_FMA
+void chirp_split(const double* __restrict y, const double* __restrict w, int m, int cm, double* __restrict s1,
+                 double* __restrict s2) {
+  if (cm < 1) return;
+  {
+    const double c = w[0], d = w[1], x = y[0], v = y[1];
+    const double p0 = x * c + v * d, p1 = v * c - x * d;
+    s1[0] = 0.5 * (p0 + p0);
+    s1[1] = 0.5 * (p1 - p1);
+    s2[0] = 0.5 * (p1 + p1);
+    s2[1] = -0.5 * (p0 - p0);
+  }
+  const double* ym = y + 2 * static_cast<std::size_t>(m);  // y_(m-k) at ym - 2k
+  for (int k = 1; k < cm; ++k) {
+    const double c = w[2 * k], d = w[2 * k + 1];
+    const double xa = y[2 * k], va = y[2 * k + 1], xb = ym[-2 * k], vb = ym[-2 * k + 1];
+    const double p0 = xa * c + va * d, p1 = va * c - xa * d;
+    const double q0 = xb * c + vb * d, q1 = vb * c - xb * d;
+    s1[2 * k] = 0.5 * (p0 + q0);
+    s1[2 * k + 1] = 0.5 * (p1 - q1);
+    s2[2 * k] = 0.5 * (p1 + q1);
+    s2[2 * k + 1] = -0.5 * (p0 - q0);
+  }
+}
+
+// The chirp inverse's input (z cleared by the caller): y_k = Z_k w_k at k and m - k for
+// |k| < count, Z_k = V1_k + i V2_k from the two rings' (C, S) coefficients. The same
+// operations as a loop over k in (-count, count), rounded the same way (no fused multiply-add).
+ATMOSH_DISPATCH_NO_FMA
+void chirp_inverse_fill(const double* __restrict cs1, const double* __restrict cs2, int count,
+                        const double* __restrict w, int m, double* __restrict z) {
+  if (count < 1) return;
+  {
+    const double re = cs1[0], im = cs2[0], c = w[0], d = w[1];
+    z[0] = re * c - im * d;
+    z[1] = re * d + im * c;
+  }
+  double* const zm = z + 2 * static_cast<std::size_t>(m);  // y_(m-k) at zm - 2k
+  for (int k = 1; k < count; ++k) {
+    const double c1 = 0.5 * cs1[2 * k], s1 = 0.5 * cs1[2 * k + 1], c2 = 0.5 * cs2[2 * k], s2 = 0.5 * cs2[2 * k + 1];
+    // V1_k = c1 - i s1, V2_k = c2 - i s2: Z_k = (c1 + s2) + i (c2 - s1); Z_-k = (c1 - s2) + i (c2 + s1)
+    const double c = w[2 * k], d = w[2 * k + 1];
+    const double pr = c1 + s2, pi = c2 - s1, qr = c1 - s2, qi = c2 + s1;
+    z[2 * k] = pr * c - pi * d;
+    z[2 * k + 1] = pr * d + pi * c;
+    zm[-2 * k] = qr * c - qi * d;
+    zm[-2 * k + 1] = qr * d + qi * c;
+  }
+}
+
+// v1_j + i v2_j = w_j z_j, j < n (the chirp inverse's last step; no fused multiply-add).
+ATMOSH_DISPATCH_NO_FMA
+void chirp_inverse_out(const double* __restrict z, const double* __restrict w, int n, double* __restrict v1,
+                       double* __restrict v2) {
+  for (int j = 0; j < n; ++j) {
+    const double x = z[2 * j], y = z[2 * j + 1], c = w[2 * j], d = w[2 * j + 1];
+    v1[j] = x * c - y * d;
+    v2[j] = x * d + y * c;
+  }
+}
 }  // namespace
 
 RealFft::RealFft(int n) : n_(n) {
@@ -1353,7 +1500,11 @@ RealFft::RealFft(int n) : n_(n) {
   const int m = static_cast<const FftPlans*>(plans_)->m;
   real_ = fftw_alloc_real(static_cast<std::size_t>(n));
   spec_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
-  work_ = m > 0 ? reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(m))) : nullptr;
+  // chirp: three arrays of m complex values (in-place work / out-of-place output, the
+  // forward input with its zero tail, the forward spectrum)
+  const bool chirp = static_cast<const FftPlans*>(plans_)->mode == FftMode::chirp;
+  work_ = m > 0 ? reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(m) * (chirp ? 3 : 1))) : nullptr;
+  if (chirp && work_) std::fill(work_ + 2 * static_cast<std::size_t>(m), work_ + 4 * static_cast<std::size_t>(m), 0.0);
   spec2_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
   if (!real_ || !spec_ || !spec2_ || (m > 0 && !work_)) {
     fftw_free(real_);
@@ -1363,6 +1514,8 @@ RealFft::RealFft(int n) : n_(n) {
     throw std::bad_alloc();
   }
 }
+
+bool RealFft::pairs_rings(int n) { return n >= 1 && fft_mode(n) != FftMode::real; }
 
 RealFft::~RealFft() {
   fftw_free(real_);
@@ -1446,9 +1599,41 @@ void RealFft::forward2_spectra(const double* f1, const double* f2, int count, do
     }
     return;
   }
+  if (p.mode == FftMode::chirp) {
+    chirp_spectra(f1, f2, cm, s1, s2);
+    return;
+  }
   forward2(f1, f2, count, nullptr, nullptr);  // leaves the spectra in spec_, spec2_
   std::memcpy(s1, spec_, sizeof(double) * 2 * cm);
   std::memcpy(s2, spec2_, sizeof(double) * 2 * cm);
+}
+
+void RealFft::chirp_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2) {
+  // Bluestein: X_k = conj(w_k) sum_j (z_j conj(w_j)) w_(k-j), the convolution cyclic of size
+  // m >= n + 2 cm - 2 through two out-of-place FFTs and the kernel's transform kf
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  const int m = p.m;
+  double* const y = work_;
+  double* const u = work_ + 2 * static_cast<std::size_t>(m);
+  double* const v = work_ + 4 * static_cast<std::size_t>(m);
+  chirp_premultiply(f1, f2, p.chirp.data(), n_, u);
+  auto* const uc = reinterpret_cast<fftw_complex*>(u);
+  auto* const vc = reinterpret_cast<fftw_complex*>(v);
+  auto* const yc = reinterpret_cast<fftw_complex*>(y);
+  if (p.n1 > 0) {  // four steps, the spectrum in transposed order
+    fftw_execute_dft(p.col_f, uc, vc);
+    complex_multiply(v, p.tw.data(), m);
+    fftw_execute_dft(p.row_f, vc, vc);
+    complex_multiply(v, p.kfp.data(), m);
+    fftw_execute_dft(p.row_b, vc, vc);
+    complex_multiply(v, p.twb.data(), m);
+    fftw_execute_dft(p.col_b, vc, yc);
+  } else {
+    fftw_execute_dft(p.fwd_oop, uc, vc);
+    complex_multiply(v, p.kf.data(), m);
+    fftw_execute_dft(p.bwd_oop, vc, yc);
+  }
+  chirp_split(y, p.chirp.data(), m, cm, s1, s2);
 }
 
 void RealFft::forward2(const double* f1, const double* f2, int count, double* out1, double* out2) {
@@ -1459,6 +1644,13 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
     return;
   }
   const int n = n_, m = p.m, cm = std::min(count, n / 2 + 1);
+  if (p.mode == FftMode::chirp) {
+    chirp_spectra(f1, f2, cm, spec_, spec2_);
+    if (!out1) return;
+    emit_orders(spec_, n, count, out1);
+    emit_orders(spec2_, n, count, out2);
+    return;
+  }
   double* z = work_;
   // z_j = f1_j + i f2_j; X_k = F1_k + i F2_k for |k| < cm at xk(k)
   if (p.mode == FftMode::pair) {
@@ -1541,6 +1733,27 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
   std::fill(z, z + 2 * m, 0.0);
   const double* w = p.chirp.data();
   const bool chirp = p.mode == FftMode::chirp;
+  if (chirp) {
+    chirp_inverse_fill(cs1, cs2, count, w, m, z);
+    double* const v = work_ + 4 * static_cast<std::size_t>(m);
+    auto* const zc = reinterpret_cast<fftw_complex*>(z);
+    auto* const vc = reinterpret_cast<fftw_complex*>(v);
+    if (p.n1 > 0) {  // four steps, the spectrum in transposed order (as chirp_spectra)
+      fftw_execute_dft(p.col_f, zc, vc);
+      complex_multiply(v, p.tw.data(), m);
+      fftw_execute_dft(p.row_f, vc, vc);
+      complex_multiply(v, p.kbp.data(), m);
+      fftw_execute_dft(p.row_b, vc, vc);
+      complex_multiply(v, p.twb.data(), m);
+      fftw_execute_dft(p.col_b, vc, zc);
+    } else {  // out of place (FFTW's in-place plans of these sizes buffer their columns)
+      fftw_execute_dft(p.fwd_oop, zc, vc);
+      complex_multiply(v, p.kb.data(), m);
+      fftw_execute_dft(p.bwd_oop, vc, zc);
+    }
+    chirp_inverse_out(z, w, n, v1, v2);
+    return;
+  }
   // Z_k = V1_k + i V2_k, V_0 = C_0, V_k = (C_k - i S_k) / 2, V_-k = conj(V_k); for the
   // chirp, y_k = Z_k w_k
   auto put = [&](int k, double re, double im) {
@@ -1561,10 +1774,6 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
     // V1_k = c1 - i s1, V2_k = c2 - i s2: Z_k = (c1 + s2) + i (c2 - s1); Z_-k = (c1 - s2) + i (c2 + s1)
     put(k, c1 + s2, c2 - s1);
     put(-k, c1 - s2, c2 + s1);
-  }
-  if (chirp) {
-    fftw_execute_dft(p.fwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
-    complex_multiply(z, p.kb.data(), m);
   }
   fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
   for (int j = 0; j < n; ++j) {
@@ -1900,7 +2109,59 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
   const int L = g.bands, n = g.nphi;
   // every ring and order of the work array is written by legendre_synthesis
   double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
-  detail::synthesis_from_plan(detail::plan_for(g)->rings, coeffs, four, threads);
+  const auto plan = detail::plan_for(g);
+  // Each block of ring pairs is transformed in longitude by the worker that made its rows,
+  // while they are in cache, where the FFTs need no ring of another block: always for one
+  // real FFT per ring; for sizes that pair rings 2p and 2p + 1 (inverse2) when every block
+  // holds both rings of each such pair (nlat even). The same operations, and bits, as the
+  // loop below.
+  const detail::Pairs& pr = plan->rings.pr;
+  const int np = static_cast<int>(pr.north.size());
+  constexpr int QB = detail::kSynQB;
+  auto block_rings = [&](int q0, int q1, int* rings) {  // sorted, at most 2 QB
+    int k = 0;
+    for (int q = q0; q < q1; ++q) {
+      rings[k++] = pr.north[q];
+      if (pr.south[q] >= 0) rings[k++] = pr.south[q];
+    }
+    std::sort(rings, rings + k);
+    return k;
+  };
+  const bool paired = detail::RealFft::pairs_rings(n);
+  bool fuse = true;
+  if (paired) {  // every even ring r < nlat - 1 of a block with r + 1 in the same block
+    int rings[2 * QB];
+    for (int q0 = 0; q0 < np && fuse; q0 += QB) {
+      const int k = block_rings(q0, std::min(np, q0 + QB), rings);
+      for (int i = 0; i < k && fuse; ++i)
+        if (rings[i] % 2 == 0 ? rings[i] + 1 < g.nlat && (i + 1 == k || rings[i + 1] != rings[i] + 1)
+                              : i == 0 || rings[i - 1] != rings[i] - 1)
+          fuse = false;
+    }
+  }
+  if (fuse) {
+    detail::synthesis_from_plan(plan->rings, coeffs, four, threads, [&](int q0, int q1) {
+      thread_local std::unique_ptr<detail::RealFft> fft;
+      if (!fft || fft->size() != n) fft = std::make_unique<detail::RealFft>(n);
+      int rings[2 * QB];
+      const int k = block_rings(q0, q1, rings);
+      auto row = [&](double* base, int r, std::size_t len) { return base + static_cast<std::size_t>(r) * len; };
+      for (int i = 0; i < k; ++i) {
+        const int r = rings[i];
+        if (!paired) {
+          fft->inverse(row(four, r, 2 * static_cast<std::size_t>(L)), L, row(values, r, n));
+        } else if (r % 2 == 0) {
+          if (r + 1 < g.nlat)
+            fft->inverse2(row(four, r, 2 * static_cast<std::size_t>(L)), row(four, r + 1, 2 * static_cast<std::size_t>(L)),
+                          L, row(values, r, n), row(values, r + 1, n));
+          else
+            fft->inverse(row(four, r, 2 * static_cast<std::size_t>(L)), L, row(values, r, n));
+        }
+      }
+    });
+    return;
+  }
+  detail::synthesis_from_plan(plan->rings, coeffs, four, threads);
   // Two rings at a time from the shared counter; each worker keeps its FFT plan.
   const int npairs = (g.nlat + 1) / 2;
   atmosh::parallel_for_ranges_local(

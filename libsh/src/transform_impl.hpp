@@ -32,6 +32,9 @@ class RealFft {
   RealFft(const RealFft&) = delete;
   RealFft& operator=(const RealFft&) = delete;
   int size() const { return n_; }
+  /// Whether size n transforms two rings at once (forward2 / inverse2 then pair their rings;
+  /// otherwise they are two independent real FFTs).
+  static bool pairs_rings(int n);
   /// a_m = sum_j f_j cos(2 pi j m / n), b_m = sum_j f_j sin(2 pi j m / n) into out[2m],
   /// out[2m+1] for m < count (any count: orders above n/2 are the aliases).
   template <class T>
@@ -54,12 +57,15 @@ class RealFft {
   void inverse2(const double* cs1, const double* cs2, int count, double* v1, double* v2);
 
  private:
+  // forward2_spectra of the chirp method (spectra for k < cm into s1, s2)
+  void chirp_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2);
+
   int n_;
   const void* plans_;  // the shared plans of size n
   double* real_;       // n values (FFTW-aligned)
   double* spec_;       // n/2 + 1 complex values
   double* spec2_;      // n/2 + 1 complex values (second ring)
-  double* work_;       // complex work array of the paired methods (null: real FFTs only)
+  double* work_;       // complex work arrays of the paired methods (null: real FFTs only)
 };
 }  // namespace detail
 

@@ -81,6 +81,58 @@ TEST(Transform, PairedRealFftsMatchDirectSums) {
   }
 }
 
+TEST(Transform, ChirpOfFourStepsMatchesDirectSums) {
+  // Bluestein sizes whose convolution size M = 2^k is 4096 or more run their FFTs in four
+  // steps (n1 x n2, twiddles, spectrum in transposed order): 2047 = 23 x 89 (M = 4096, the
+  // transforms at L = 1024) and 2053 (prime, M = 8192, n1 != n2), against long-double
+  // direct sums at every 23rd order (and the largest) of a count with aliased orders
+  // (count > n/2); the inverse at every 23rd point.
+  std::mt19937_64 rng(61);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int n : {2047, 2053}) {
+    detail::RealFft fft(n);
+    std::vector<double> f1(n), f2(n);
+    for (auto& v : f1) v = U(rng);
+    for (auto& v : f2) v = U(rng);
+    {
+      const int count = n + 5;  // orders below n/2 (the analysis's) and their aliases above
+      std::vector<double> o1(2 * count), o2(2 * count);
+      fft.forward2(f1.data(), f2.data(), count, o1.data(), o2.data());
+      for (int m = 0; m < count; m = m + 23 < count || m == count - 1 ? m + 23 : count - 1) {
+        long double a1 = 0, b1 = 0, a2 = 0, b2 = 0;
+        for (int j = 0; j < n; ++j) {
+          const long double p = angle(m, j, n), c = std::cos(p), s = std::sin(p);
+          a1 += f1[j] * c;
+          b1 += f1[j] * s;
+          a2 += f2[j] * c;
+          b2 += f2[j] * s;
+        }
+        const double tol = 1e-14 * n;
+        ASSERT_NEAR(o1[2 * m], static_cast<double>(a1), tol) << n << " " << count << " " << m;
+        ASSERT_NEAR(o1[2 * m + 1], static_cast<double>(b1), tol) << n << " " << count << " " << m;
+        ASSERT_NEAR(o2[2 * m], static_cast<double>(a2), tol) << n << " " << count << " " << m;
+        ASSERT_NEAR(o2[2 * m + 1], static_cast<double>(b2), tol) << n << " " << count << " " << m;
+      }
+    }
+    // inverse (synthesis) at the largest count, every 13th point
+    const int count = (n + 1) / 2;
+    std::vector<double> c1(2 * count), c2(2 * count), v1(n), v2(n);
+    for (auto& x : c1) x = U(rng);
+    for (auto& x : c2) x = U(rng);
+    fft.inverse2(c1.data(), c2.data(), count, v1.data(), v2.data());
+    for (int j = 0; j < n; j += 23) {
+      long double s1 = 0, s2 = 0;
+      for (int m = 0; m < count; ++m) {
+        const long double p = angle(m, j, n), c = std::cos(p), s = m > 0 ? std::sin(p) : 0.0L;
+        s1 += c1[2 * m] * c + c1[2 * m + 1] * s;
+        s2 += c2[2 * m] * c + c2[2 * m + 1] * s;
+      }
+      ASSERT_NEAR(v1[j], static_cast<double>(s1), 1e-14 * n) << n << " " << j;
+      ASSERT_NEAR(v2[j], static_cast<double>(s2), 1e-14 * n) << n << " " << j;
+    }
+  }
+}
+
 TEST(Transform, RealFftRowsReadAndWrittenInPlaceOrCopied) {
   // forward() reads a row in place when it has the alignment of the plan's array and copies
   // it otherwise; inverse() writes straight into such a row and through a copy otherwise.

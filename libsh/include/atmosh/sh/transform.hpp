@@ -10,7 +10,8 @@
 //
 // Method: per ring a real FFT in p (FFTW3, any nphi, plans made once per size; sizes with
 // a prime factor above 5 take two rings per complex FFT, and above 13 Bluestein's chirp
-// convolution through power-of-two FFTs: 1.0-1.9x the power-of-two time, docs/sh.md), then the
+// convolution through power-of-two FFTs: analysis at nphi = 511, 768, 2047 in 1.1-1.3x the
+// power-of-two time, docs/sh.md), then the
 // Legendre sums, m outer, vectorised over
 // blocks of ring pairs and using the equatorial symmetry Pbar_lm(-x) = (-1)^(l+m)
 // Pbar_lm(x). Analysis recurs only the degrees of the parity of m, in x^2 (two FMAs per
