@@ -138,6 +138,90 @@ TEST(GiLpv, SingleVplFallsOffAsTheDerivationSays) {
   EXPECT_LT(on_axis[8], 0.05 * on_axis[0]);
 }
 
+// Why this LPV does not converge as its grid is refined (docs/gi.md, "Why the LPV's error grows
+// with its grid"): one propagation step keeps the flux but only a fixed share of its direction.
+// Summed over an empty grid, band 0 is conserved and band 1 (the net flux vector) is scaled by
+// mu1 = (2/3) (3/(4 pi)) sum_f dOmega_f (w_f . z)(n_f . z) = (2 Omega_F + 8 Omega_S / sqrt(5)) / (2 pi):
+// the far faces of the +-z neighbours give 2 Omega_F; of the 16 side faces of the four lateral
+// neighbours, the 8 with normal +-z give w_f . n_f = 1/sqrt(5); the reprojection onto the face's
+// Lambertian lobe keeps (2/3) of it. The flux-weighted centroid moves along z by
+// 2 k C1z (Omega_F + 8 Omega_S / sqrt(5)) per step (k = sqrt(3 / (4 pi)), C1z the summed c_10; the
+// far face and the 4 side faces of the +z neighbour, w_z = 1 and 2/sqrt(5), minus the -z
+// neighbour's), so a Lambertian VPL's light (C1z = (2/3) k of its flux) moves
+// v0 (1 - mu1^K) / (1 - mu1) cells in K steps, v0 = (F + 8 S / sqrt 5) / pi: under one cell
+// (0.9658) however many steps, whatever the cell size — in free space it would leave for good.
+// Built from the numerically integrated solid angles, not the code's constants.
+TEST(GiLpv, PropagationKeepsAFixedShareOfDirectionPerStep) {
+  const int n = 17, c = 8;  // 8 steps to the edge: no flux leaves in the 8 steps below
+  gi::LpvGrid g = empty_grid(n);
+  gi::lpv_add_vpl(g, glm::dvec3(0.0), glm::dvec3(0, 0, 1), glm::dvec3(1.0));  // Lambertian, 1 W, normal +z
+  const double F = rect_solid_angle(1.5, -0.5, 0.5, -0.5, 0.5), S = rect_solid_angle(0.5, -0.5, 0.5, 0.5, 1.5);
+  const double k = std::sqrt(3 / (4 * kPi)), r5 = std::sqrt(5.0);
+  const double mu1 = (2 * F + 8 * S / r5) / (2 * kPi), v0 = (F + 8 * S / r5) / kPi;
+  EXPECT_NEAR(mu1, 0.368643, 1e-6);
+  EXPECT_NEAR(v0 / (1 - mu1), 0.965776, 1e-6);  // the centroid's limit, in cells
+  auto moments = [&](double& flux, double& c1z, double& cz) {
+    flux = c1z = cz = 0;
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          const gi::LpvCell& q = g.cells[g.index(x, y, z)];
+          flux += std::sqrt(4 * kPi) * q[0];
+          c1z += q[2];
+          cz += std::sqrt(4 * kPi) * q[0] * (z - c);
+        }
+    cz /= flux;
+  };
+  double flux, c1z, cz;
+  moments(flux, c1z, cz);
+  EXPECT_NEAR(c1z, 2.0 / 3 * k, 1e-15);
+  double c1 = 2.0 / 3 * k, z = 0;
+  for (int s = 1; s <= 8; ++s) {
+    g = gi::lpv_step(g, nullptr);
+    z += 2 * k * c1 * (F + 8 * S / r5);  // the step moves the centroid by the band 1 it starts with
+    c1 *= mu1;
+    moments(flux, c1z, cz);
+    EXPECT_NEAR(flux, 1.0, 1e-12) << s;
+    EXPECT_NEAR(c1z, c1, 1e-12 * k) << s;
+    EXPECT_NEAR(cz, z, 1e-12) << s;
+    EXPECT_NEAR(cz, v0 * (1 - std::pow(mu1, s)) / (1 - mu1), 1e-12) << s;
+  }
+  EXPECT_LT(cz, 0.966);  // 8 steps along the VPL's normal
+}
+
+// The injection's normalisation does not depend on the cell size: a uniform layer of Lambertian
+// VPLs of exitance M (flux M h^2 a cell, normal +z, in the cells above the plane z = 0) read at
+// the layer as radiance I / h^2 gives, by the SH-4 irradiance of the lobe I = M h^2 / pi
+// max(0, cos) (c_00 = Y00 M h^2, c_1m = (2/3) Y1m(z) M h^2): E(n) = M (1/4 - (1/3) n . z) — M/4
+// at a sideways receiver, 7 M / 12 at one facing down, for every h (a flux-per-volume slip would
+// scale these by 1/h). The one facing up reads M (1/4 - 1/3) < 0, clamped to 0.
+TEST(GiLpv, InjectedLayerReadsTheSameIrradianceAtEveryCellSize) {
+  const double M = 0.7;
+  for (int cells : {4, 8, 16}) {
+    gi::LpvGrid g = empty_grid(cells);
+    g.h = 2.0 / cells;  // a 2 x 2 x 2 box whatever the grid
+    g.lo = glm::dvec3(-1, -1, 0);
+    for (int y = 0; y < cells; ++y)
+      for (int x = 0; x < cells; ++x)
+        gi::lpv_add_vpl(g, g.lo + g.h * glm::dvec3(x + 0.5, y + 0.5, 0.5), glm::dvec3(0, 0, 1),
+                        glm::dvec3(M * g.h * g.h));
+    gi::RadiosityReceivers r;
+    const glm::dvec3 ns[3] = {{1, 0, 0}, {0, 0, -1}, {0, 0, 1}};
+    for (const glm::dvec3& nn : ns) {
+      // x + h/2 n at the layer's mid-height, inside the grid (trilinear over equal cells)
+      r.position.push_back(glm::dvec3(0.1, -0.2, 0.5 * g.h) - 0.5 * g.h * nn);
+      r.normal.push_back(nn);
+      r.albedo.push_back(glm::dvec3(kPi));  // L = E
+      r.emission.push_back(glm::dvec3(0.0));
+      r.direct.push_back(glm::dvec3(0.0));
+    }
+    const std::vector<glm::dvec3> L = gi::shade_lpv_receivers_cpu(g, r);
+    EXPECT_NEAR(L[0].x, M / 4, 1e-12) << cells;
+    EXPECT_NEAR(L[1].x, 7 * M / 12, 1e-12) << cells;
+    EXPECT_EQ(L[2].x, 0.0) << cells;
+  }
+}
+
 TEST(GiLpv, SunInjectionCarriesThePlanesShareOfTheSunsFlux) {
   prt::Mesh m;
   m.name = "plane";
