@@ -20,5 +20,6 @@ vec4 gi_lpv_sh4(vec3 d);
 vec4 gi_lpv_lobe(vec3 n);
 vec3 gi_lpv_face_normal(int d, int f);
 vec3 gi_lpv_face_direction(int d, int f);
+vec4 gi_lpv_reemit_sh(int d, int f);
 vec4 gi_lpv_face_y(int d, int f) { return gi_lpv_sh4(gi_lpv_face_direction(d, f)); }
-vec4 gi_lpv_face_reemit(int d, int f) { return gi_lpv_lobe(gi_lpv_face_normal(d, f)); }
+vec4 gi_lpv_face_reemit(int d, int f) { return gi_lpv_reemit_sh(d, f); }

@@ -2,6 +2,9 @@
 //  * the exact face solid angles (derived in docs/gi.md) against a numerical integration of
 //    integral (n . r) / |r|^3 dA over each face (Gauss–Legendre), and the partition of the
 //    sphere: front + 4 side = 4 pi / 6;
+//  * propagation through empty space keeps the light's direction: the summed band 1 (net flux
+//    vector) is conserved and a Lambertian VPL's centroid moves a fixed distance a step
+//    (closed form); the injection reads the same irradiance at every cell size;
 //  * propagation through empty space conserves the injected flux (sum sqrt(4 pi) c_00):
 //    exactly up to rounding by the derivation (the 30 faces partition the sphere, band 1
 //    integrates to 0 over it); asserted to 1e-12 relative over 9 steps;
@@ -99,7 +102,8 @@ TEST(GiLpv, PropagationThroughEmptySpaceConservesFlux) {
       const glm::dvec3 f = gi::lpv_flux(g);
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], flux[c], 1e-12 * flux[c]) << "step " << k << (iso ? " iso" : " lobe");
     }
-    // At the edge, flux leaves the volume (1.5 % of it by step 30, 19 % by step 60: the
+    // At the edge, flux leaves the volume: by step 30 the light's front has left and what stays
+    // is the negative wake of the band-limited re-emission (measured -0.49 of the flux; the
     // conservation above holds to 1e-12, so 1 % tells an open edge from a reflecting one).
     for (int k = 10; k <= 30; ++k) g = gi::lpv_step(g, nullptr);
     EXPECT_LT(gi::lpv_flux(g).x, 0.99 * flux.x);
@@ -112,9 +116,9 @@ TEST(GiLpv, SingleVplFallsOffAsTheDerivationSays) {
   gi::lpv_add_vpl(g, glm::dvec3(0.0), glm::dvec3(0, 0, 1), glm::dvec3(1.0), true);  // isotropic, 1 W
   // The derivation's on-axis recurrence (unit cells): with I(w) = c00 Y00 + c10 k w_z,
   // k = sqrt(3 / (4 pi)), the cell ahead receives through its far face Omega_F I(+z) and
-  // through each side face Omega_S I(w_s), w_s = (2 z + a) / sqrt(5); each re-emitted as a
-  // Lambertian lobe about the face normal: c00' = Y00 (Omega_F I(z) + 4 Omega_S I(w_s)),
-  // c10' = (2/3) k Omega_F I(z) (the side lobes cancel in band 1).
+  // through each side face Omega_S I(w_s), w_s = (2 z + a) / sqrt(5); each re-emitted along
+  // its direction (Y_lm(w) per unit flux): c00' = Y00 (Omega_F I(z) + 4 Omega_S I(w_s)),
+  // c10' = k (Omega_F I(z) + 4 Omega_S I(w_s) 2 / sqrt(5)) (the side faces' x, y parts cancel).
   const double F = rect_solid_angle(1.5, -0.5, 0.5, -0.5, 0.5), S = rect_solid_angle(0.5, -0.5, 0.5, 0.5, 1.5);
   const double Y00 = 0.5 / std::sqrt(kPi), k = std::sqrt(3 / (4 * kPi));
   double c00 = 1 / std::sqrt(4 * kPi), c10 = 0;
@@ -123,7 +127,7 @@ TEST(GiLpv, SingleVplFallsOffAsTheDerivationSays) {
     g = gi::lpv_step(g, nullptr);
     const double Iz = c00 * Y00 + c10 * k, Is = c00 * Y00 + c10 * k * 2 / std::sqrt(5.0);
     c00 = Y00 * (F * Iz + 4 * S * Is);
-    c10 = 2.0 / 3 * k * F * Iz;
+    c10 = k * (F * Iz + 4 * S * Is * 2 / std::sqrt(5.0));
     const gi::LpvCell& cell = g.cells[g.index(c, c, c + s)];
     EXPECT_NEAR(cell[0], c00, 1e-12 * c00) << s;
     EXPECT_NEAR(cell[2], c10, 1e-12 * c00) << s;
@@ -136,6 +140,86 @@ TEST(GiLpv, SingleVplFallsOffAsTheDerivationSays) {
   // distance; what the LPV carries forward in the axis cell is a shrinking share).
   EXPECT_LT(on_axis[8] / on_axis[7], on_axis[2] / on_axis[1] + 1e-12);
   EXPECT_LT(on_axis[8], 0.05 * on_axis[0]);
+}
+
+// A propagation step in empty space keeps the light's direction (docs/gi.md, "Why the LPV's error
+// grew with its grid"): summed over the grid, band 0 (the flux) and band 1 (the net flux vector)
+// are both conserved — the face's flux Phi_f re-emitted along w_f adds Phi_f Y_1m(w_f), and by
+// the faces' cubic symmetry sum_f dOmega_f Y_1m(w_f) Y_1m'(w_f) = (3 / (4 pi)) (4 pi / 3) = 1 for
+// m = m', 0 otherwise. So the flux-weighted centroid of a Lambertian VPL's light moves the same
+// distance every step, 2 k C1z (Omega_F + 8 Omega_S / sqrt 5) cells (k = sqrt(3 / (4 pi)), C1z
+// = (2/3) k its summed c_10: the far face and the 4 side faces of the +z neighbour, w_z = 1 and
+// 2 / sqrt 5, minus the -z neighbour's) = (Omega_F + 8 Omega_S / sqrt 5) / pi = 0.6097 cells:
+// the light travels on, as in free space (where the flux-weighted mean of w_z is 2/3). With
+// Kaplanyan & Dachsbacher's Lambertian lobe about the face normal, a step keeps only
+// mu1 = (2 Omega_F + 8 Omega_S / sqrt 5) / (2 pi) = 0.3686 of band 1 and the centroid stops
+// short of 0.6097 / (1 - mu1) = 0.966 cells, whatever the cell size: this test fails there.
+// Built from the numerically integrated solid angles, not the code's constants.
+TEST(GiLpv, PropagationKeepsTheLightsDirection) {
+  const int n = 17, c = 8;  // 8 steps to the edge: no flux leaves in the 8 steps below
+  gi::LpvGrid g = empty_grid(n);
+  gi::lpv_add_vpl(g, glm::dvec3(0.0), glm::dvec3(0, 0, 1), glm::dvec3(1.0));  // Lambertian, 1 W, normal +z
+  const double F = rect_solid_angle(1.5, -0.5, 0.5, -0.5, 0.5), S = rect_solid_angle(0.5, -0.5, 0.5, 0.5, 1.5);
+  const double k = std::sqrt(3 / (4 * kPi)), v = (F + 8 * S / std::sqrt(5.0)) / kPi;
+  EXPECT_NEAR(v, 0.609749, 1e-6);
+  EXPECT_NEAR((2 * F + 8 * S / std::sqrt(5.0)) / (2 * kPi), 0.368643, 1e-6);  // the lobe's mu1
+  auto moments = [&](double& flux, glm::dvec3& c1, double& cz) {
+    flux = cz = 0;
+    c1 = glm::dvec3(0.0);
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          const gi::LpvCell& q = g.cells[g.index(x, y, z)];
+          flux += std::sqrt(4 * kPi) * q[0];
+          c1 += glm::dvec3(q[1], q[2], q[3]);  // c_1-1, c_10, c_11
+          cz += std::sqrt(4 * kPi) * q[0] * (z - c);
+        }
+    cz /= flux;
+  };
+  double flux, cz;
+  glm::dvec3 c1;
+  for (int s = 1; s <= 8; ++s) {
+    g = gi::lpv_step(g, nullptr);
+    moments(flux, c1, cz);
+    EXPECT_NEAR(flux, 1.0, 1e-12) << s;
+    EXPECT_NEAR(c1.y, 2.0 / 3 * k, 1e-12) << s;  // the VPL's own c_10, kept
+    EXPECT_NEAR(c1.x, 0.0, 1e-14) << s;
+    EXPECT_NEAR(c1.z, 0.0, 1e-14) << s;
+    EXPECT_NEAR(cz, s * v, 1e-12) << s;
+  }
+}
+
+// The injection's normalisation does not depend on the cell size: a uniform layer of Lambertian
+// VPLs of exitance M (flux M h^2 a cell, normal +z, in the cells above the plane z = 0) read at
+// the layer as radiance I / h^2 gives, by the SH-4 irradiance of the lobe I = M h^2 / pi
+// max(0, cos) (c_00 = Y00 M h^2, c_1m = (2/3) Y1m(z) M h^2): E(n) = M (1/4 - (1/3) n . z) — M/4
+// at a sideways receiver, 7 M / 12 at one facing down, for every h (a flux-per-volume slip would
+// scale these by 1/h). The one facing up reads M (1/4 - 1/3) < 0, clamped to 0.
+TEST(GiLpv, InjectedLayerReadsTheSameIrradianceAtEveryCellSize) {
+  const double M = 0.7;
+  for (int cells : {4, 8, 16}) {
+    gi::LpvGrid g = empty_grid(cells);
+    g.h = 2.0 / cells;  // a 2 x 2 x 2 box whatever the grid
+    g.lo = glm::dvec3(-1, -1, 0);
+    for (int y = 0; y < cells; ++y)
+      for (int x = 0; x < cells; ++x)
+        gi::lpv_add_vpl(g, g.lo + g.h * glm::dvec3(x + 0.5, y + 0.5, 0.5), glm::dvec3(0, 0, 1),
+                        glm::dvec3(M * g.h * g.h));
+    gi::RadiosityReceivers r;
+    const glm::dvec3 ns[3] = {{1, 0, 0}, {0, 0, -1}, {0, 0, 1}};
+    for (const glm::dvec3& nn : ns) {
+      // x + h/2 n at the layer's mid-height, inside the grid (trilinear over equal cells)
+      r.position.push_back(glm::dvec3(0.1, -0.2, 0.5 * g.h) - 0.5 * g.h * nn);
+      r.normal.push_back(nn);
+      r.albedo.push_back(glm::dvec3(kPi));  // L = E
+      r.emission.push_back(glm::dvec3(0.0));
+      r.direct.push_back(glm::dvec3(0.0));
+    }
+    const std::vector<glm::dvec3> L = gi::shade_lpv_receivers_cpu(g, r);
+    EXPECT_NEAR(L[0].x, M / 4, 1e-12) << cells;
+    EXPECT_NEAR(L[1].x, 7 * M / 12, 1e-12) << cells;
+    EXPECT_EQ(L[2].x, 0.0) << cells;
+  }
 }
 
 TEST(GiLpv, SunInjectionCarriesThePlanesShareOfTheSunsFlux) {
@@ -201,7 +285,7 @@ TEST(GiLpv, AWallBlocksThePropagation) {
   }
   const double blocked = beyond(acc);
   EXPECT_GT(open, 0);
-  EXPECT_LT(blocked, 0.03 * open) << blocked / open;  // measured 0.0074
+  EXPECT_LT(blocked, 0.03 * open) << blocked / open;  // measured 0.021
 }
 
 TEST(GiLpv, CornellBoxAgainstOneIndirectBounceWithinMeasuredBounds) {
@@ -219,11 +303,12 @@ TEST(GiLpv, CornellBoxAgainstOneIndirectBounceWithinMeasuredBounds) {
   m.grid = 8;
   m.pixel_samples = 16;
   const gi::ImageError e = gi::image_error(gi::render_method(s, s.camera, 24, 24, m).image, ref, &mask);
-  EXPECT_NEAR(e.mean_rel, 1.05, 0.08) << e.mean_rel;  // measured 1.049
-  EXPECT_LT(e.rms_rel, 0.45) << e.rms_rel;
+  // measured 1.020, 0.200 (with the paper's face-normal re-emission: 1.049, 0.303)
+  EXPECT_NEAR(e.mean_rel, 1.02, 0.06) << e.mean_rel;
+  EXPECT_LT(e.rms_rel, 0.26) << e.rms_rel;
   m.lpv_blocking = false;  // without the geometry volume light leaks through the blocks
   const gi::ImageError n = gi::image_error(gi::render_method(s, s.camera, 24, 24, m).image, ref, &mask);
-  EXPECT_GT(n.leak_rel, 2 * e.leak_rel);  // measured 0.209 against 0.042
+  EXPECT_GT(n.leak_rel, 2 * e.leak_rel);  // measured 0.074 against 0.0135
   // the 2-level cascade (coarse grid 8, fine cells h/2 over the middle half of the box)
   gi::LpvOptions o;
   o.grid = 8;
@@ -232,8 +317,8 @@ TEST(GiLpv, CornellBoxAgainstOneIndirectBounceWithinMeasuredBounds) {
   const gi::ImageError ec = gi::image_error(gi::render_lpv_cascade(s, s.camera, 24, 24, c, o), ref, &mask);
   std::printf("Cornell box vs direct + one bounce, grid 8: one level mean %.4f rms %.4f; 2-level cascade mean %.4f "
               "rms %.4f\n", e.mean_rel, e.rms_rel, ec.mean_rel, ec.rms_rel);
-  EXPECT_NEAR(ec.mean_rel, 1.05, 0.08) << ec.mean_rel;
-  EXPECT_LT(ec.rms_rel, 0.45) << ec.rms_rel;
+  EXPECT_NEAR(ec.mean_rel, 1.02, 0.06) << ec.mean_rel;  // measured 1.036, 0.189
+  EXPECT_LT(ec.rms_rel, 0.26) << ec.rms_rel;
 }
 
 // The cascade's injection: every VPL goes into one place — the fine level and the coarse

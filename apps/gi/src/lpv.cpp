@@ -77,7 +77,7 @@ struct FaceTable {
     for (int d = 0; d < 6; ++d)
       for (int f = 0; f < 5; ++f) {
         y[d * 5 + f] = shared::gi_lpv_sh4(shared::gi_lpv_face_direction(d, f));
-        reemit[d * 5 + f] = shared::gi_lpv_lobe(shared::gi_lpv_face_normal(d, f));
+        reemit[d * 5 + f] = shared::gi_lpv_reemit_sh(d, f);
       }
   }
 };

@@ -28,12 +28,15 @@
 // from the source cell's centre to the face's centre, dOmega_f the face's exact solid angle
 // seen from the source's centre (lpv_face_solid_angles(); derived in docs/gi.md), B the
 // geometry volume's blocking at the shared face; it is re-emitted from the neighbour's
-// centre as a Lambertian lobe about the face normal, coefficients Phi_f / pi A_l Y_lm(n_f)
-// (total flux Phi_f). The 30 faces of the 6 neighbours partition the sphere of directions
+// centre along w_f, coefficients Phi_f Y_lm(w_f) (total flux Phi_f; the shared
+// gi_lpv_reemit_sh). The 30 faces of the 6 neighbours partition the sphere of directions
 // around the source's centre (their solid angles add up to 4 pi exactly), so without
 // blocking one iteration conserves the flux sqrt(4 pi) c_00 summed over the cells exactly
 // (band 1 integrates to 0 over the sphere and the face sum is symmetric), up to what leaves
-// the volume. The result of `iterations` steps is the sum of the injected field and every
+// the volume, and, by the faces' cubic symmetry, the summed band 1 (the net flux vector) too.
+// (Kaplanyan & Dachsbacher 2010 re-emit a Lambertian lobe about the face normal instead; that
+// keeps 0.369 of band 1 a step, whatever the cell size, and made this LPV's error grow with its
+// grid: docs/gi.md, "Why the LPV's error grew with its grid".) The result of `iterations` steps is the sum of the injected field and every
 // iteration's field.
 //
 // Geometry volume: cells centred at the LPV cells' corners; surfels sampled on every

@@ -19,7 +19,7 @@
 //                                               sends to its neighbour t = s + step(d) (along
 //                                               gi_lpv_face_direction(d, f));
 //   real4 gi_lpv_face_y(ctx, int d, int f)      gi_lpv_sh4(gi_lpv_face_direction(d, f)), and
-//   real4 gi_lpv_face_reemit(ctx, int d, int f) gi_lpv_lobe(gi_lpv_face_normal(d, f)): the
+//   real4 gi_lpv_face_reemit(ctx, int d, int f) gi_lpv_reemit_sh(d, f): the
 //                                               gather's per-face constants (a table on the CPU;
 //                                               in a shader gi_lpv_decl.glsl computes them);
 //   real  gi_lpv_fetch_corner(ctx, int c, int q)  the geometry volume's coefficient q (0..8) at
@@ -89,6 +89,19 @@ ATMOSH_FN real3 gi_lpv_face_direction(int d, int f) {
   return glm::normalize(e + real(0.5) * gi_lpv_face_normal(d, f));
 }
 
+// The SH-4 per unit flux with which the light crossing face f of the neighbour along d is
+// re-emitted from the neighbour's centre: the band-limited direction w_f of the face's centre,
+// Y_lm(w_f) (c_00 = Y00: flux 1; band 1 = Y_1m(w_f): net flux vector w_f). Summed over the 30
+// faces, sum_f dOmega_f Y_1m(w_f) Y_1m'(w_f) = delta_mm' (cubic symmetry: sum dOmega_f w_f w_f^T
+// = 4 pi / 3 I), so a step in empty space keeps both the flux and the net flux vector (band 1)
+// exactly. Kaplanyan & Dachsbacher 2010 re-emit a Lambertian lobe about the face normal
+// (gi_lpv_lobe(gi_lpv_face_normal(d, f))), which keeps only (2 Omega_F + 8 Omega_S / sqrt 5) /
+// (2 pi) = 0.369 of band 1 per step: a step forgets a fixed share of the light's direction
+// whatever the cell size, so the finer the grid, the more the light diffuses before it has
+// travelled a given distance, and surfaces light themselves (docs/gi.md, "Why the LPV's error
+// grew with its grid").
+ATMOSH_FN real4 gi_lpv_reemit_sh(int d, int f) { return gi_lpv_sh4(gi_lpv_face_direction(d, f)); }
+
 // The cell holding p (clamped into the grid; a non-finite coordinate gives cell 0).
 ATMOSH_FN glm::ivec3 gi_lpv_cell_of(real3 p, real3 lo, real h, glm::ivec3 dims) {
   glm::ivec3 c = glm::ivec3(0);
@@ -136,8 +149,8 @@ struct GiLpvRgb {
 
 // One propagation step into cell c (a gather): from each face neighbour s = c - e that holds
 // light, the flux through the 5 faces of c other than the shared one, dOmega_f I_s(w_f)
-// open_f, re-emitted from c's centre as a Lambertian lobe about the face's normal; the three
-// channels at once. `blocking` false: every face open (gi_lpv_open is not called).
+// open_f, re-emitted from c's centre along w_f (gi_lpv_reemit_sh, through the caller's
+// gi_lpv_face_reemit); the three channels at once. `blocking` false: every face open (gi_lpv_open is not called).
 ATMOSH_GI_TEMPLATE ATMOSH_FN GiLpvRgb gi_lpv_gather(ATMOSH_GI_CTX glm::ivec3 c, glm::ivec3 dims, bool blocking) {
   real front = gi_lpv_front_solid_angle();
   real side = gi_lpv_side_solid_angle();
