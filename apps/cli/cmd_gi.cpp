@@ -32,6 +32,7 @@ struct GiConvergeCmd {
   std::string radiosity_grids = "4,8,16", radiosity_bands = "1,2", radiosity_bounces = "0,1,2,3", lpv_grids = "8,16,32";
   int reference_samples = 256;
   int lpv_cascade_max_grid = 16;
+  int lpv_paper_max_grid = 16;
   bool netcdf = false;
 };
 
@@ -82,6 +83,9 @@ void run_converge(const GiConvergeCmd& co) {
   if (co.lpv_cascade_max_grid < 0 || co.lpv_cascade_max_grid > 256)
     throw InputError("--lpv-cascade-max-grid: must be in 0..256, got " + std::to_string(co.lpv_cascade_max_grid));
   c.study.lpv_cascade_max_grid = co.lpv_cascade_max_grid;
+  if (co.lpv_paper_max_grid < 0 || co.lpv_paper_max_grid > 256)
+    throw InputError("--lpv-paper-max-grid: must be in 0..256, got " + std::to_string(co.lpv_paper_max_grid));
+  c.study.lpv_paper_max_grid = co.lpv_paper_max_grid;
   c.reference_samples = co.reference_samples;
   if (co.reference_samples < 2 || co.reference_samples > 10000000)
     throw InputError("--reference-samples: must be in 2..10000000, got " + std::to_string(co.reference_samples));
@@ -142,6 +146,10 @@ void register_gi_commands(CLI::App& app) {
   c->add_option("--cascades", o->method.cascades,
                 "lpv: 1 (one grid, default) or 2 (a 2-level nested cascade: cells of half the edge over the middle "
                 "half of the scene; grid >= 2; on the GPU with --device gpu|auto)");
+  c->add_option("--lpv-reemission", o->method.lpv_reemission,
+                "lpv: how a propagation step re-emits a face's flux: direction (along the face's direction, keeps "
+                "the light's direction; default) or paper (Kaplanyan & Dachsbacher 2010: a Lambertian lobe about "
+                "the face normal)");
   add_device_option(c, o->method.device, "radiosity, lpv and probes (rasterised cube maps of a baked surface radiance) on the GPU (path: CPU only)");
   c->add_option("--size", o->size, "image size WxH (default 256x256)");
   c->add_option("-o,--output", o->out, "radiance image (.exr: R, G, B, stderr.R, stderr.G, stderr.B)")->required();
@@ -166,6 +174,9 @@ void register_gi_commands(CLI::App& app) {
   v->add_option("--lpv-cascade-max-grid", co->lpv_cascade_max_grid,
                 "the 2-level LPV cascade rows (lpv cascades=2; lpv-cascade-gpu with --device gpu|auto) for the LPV grids "
                 "2..N (default 16; 0: none; 32 adds the costly grid-32 cascade)");
+  v->add_option("--lpv-paper-max-grid", co->lpv_paper_max_grid,
+                "rows lpv-paper (the one-level LPV with Kaplanyan & Dachsbacher 2010's face-normal re-emission, CPU) "
+                "beside the lpv rows, for the LPV grids 1..N (default 16; 0: none)");
   v->add_option("--reference-samples", co->reference_samples, "reference paths per pixel (default 256)");
   add_device_option(v, co->render.method.device, "also the GPU forms of probes, radiosity and lpv (rows <method>-gpu)");
   add_format_option(v, co->netcdf);

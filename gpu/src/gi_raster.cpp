@@ -770,6 +770,7 @@ GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOption
     I.propagate.set("nx", g.nx);
     I.propagate.set("ny", g.ny);
     I.propagate.set("nz", g.nz);
+    I.propagate.set("lpv_reemission", o.reemission);
     L.vis->bind(1);
     L.acc->bind(3);
     for (int it = 0; it < o.iterations; ++it) {

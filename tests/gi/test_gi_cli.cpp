@@ -30,6 +30,7 @@ TEST(GiCli, BadInputExitsTwoNamingTheValue) {
   expect_bad("gi render --scene-builtin cornell-box --method lpv --iterations -2" + out, "--iterations");
   expect_bad("gi render --scene-builtin cornell-box --method lpv --device tpu" + out, "tpu");
   expect_bad("gi render --scene-builtin cornell-box --method lpv --cascades 3" + out, "--cascades");
+  expect_bad("gi render --scene-builtin cornell-box --method lpv --lpv-reemission lambert" + out, "lambert");
   expect_bad("gi render --scene-builtin cornell-box --method probes --bands 0" + out, "--bands");
   expect_bad("gi render --scene-builtin cornell-box --method probes --device gpu --bands 17" + out, "17");  // above 16
   expect_bad("gi render --scene-builtin cornell-box --method probes --grid 65" + out, "--grid");
@@ -44,6 +45,7 @@ TEST(GiCli, BadInputExitsTwoNamingTheValue) {
   expect_bad("gi converge --scene-builtin sphere-on-plane --window boxcar" + od, "boxcar");
   expect_bad("gi converge --scene-builtin sphere-on-plane --radiosity-bands 1,4" + od, "1,4");
   expect_bad("gi converge --scene-builtin sphere-on-plane --lpv-cascade-max-grid 300" + od, "--lpv-cascade-max-grid");
+  expect_bad("gi converge --scene-builtin sphere-on-plane --lpv-paper-max-grid -1" + od, "--lpv-paper-max-grid");
   expect_bad("gi render --scene-builtin cornell-box --method magic" + out, "magic");
   expect_bad("gi render --scene-builtin cornell-box --samples 1" + out, "--samples");
   expect_bad("gi render --scene-builtin cornell-box --bounces -5" + out, "-5");
@@ -77,19 +79,22 @@ TEST(GiCli, ProbesRenderAndConvergeWriteTheirFiles) {
   EXPECT_TRUE(std::filesystem::exists(dir / "conv" / "lpv_grid-2_iterations-4.exr"));
   std::ifstream csv(dir / "conv" / "gi_converge.csv");
   std::string line;
-  int rows = 0, rows_radiosity = 0, rows_lpv = 0;
+  int rows = 0, rows_radiosity = 0, rows_lpv = 0, rows_lpv_paper = 0;
   bool header = false;
   while (std::getline(csv, line)) {
     if (line.rfind("method,setting,error_max_rel,error_rms_rel,time_s,leak_rel,build_s,shade_s,mean_rel", 0) == 0)
       header = true;
     if (line.rfind("radiosity,", 0) == 0) ++rows_radiosity;
     if (line.rfind("lpv,", 0) == 0 || line.rfind("lpv-noblock,", 0) == 0) ++rows_lpv;
+    if (line.rfind("lpv-paper,grid=2 iterations=4,", 0) == 0) ++rows_lpv_paper;
     if (line.rfind("probes,", 0) == 0 || line.rfind("probes-visibility,", 0) == 0 || line.rfind("path,", 0) == 0) ++rows;
   }
   EXPECT_TRUE(header);
   EXPECT_EQ(rows, 9);  // path spp=2, probes 2 bands x 2 grids x plain / visibility
   EXPECT_EQ(rows_radiosity, 4);  // 2 bands x 2 bounce counts
   EXPECT_EQ(rows_lpv, 3);        // with and without the geometry volume, and the 2-level cascade
+  EXPECT_EQ(rows_lpv_paper, 1);  // the published re-emission beside them (grid 2 <= 16)
+  EXPECT_TRUE(std::filesystem::exists(dir / "conv" / "lpv-paper_grid-2_iterations-4.exr"));
 }
 
 TEST(GiCli, RadiosityAndLpvRender) {
@@ -110,10 +115,18 @@ TEST(GiCli, RadiosityAndLpvRender) {
   // --device auto: the LPV propagates on the GPU where an EGL context can be made, else on
   // the CPU with a one-line notice; either way an image. gpu for a CPU-only method (probes): exit 1.
   const auto exr = dir / "lpv_auto.exr";
+  // (with the published re-emission: named in the JSON and the EXR's provenance)
   auto r = run_cli("gi render --scene-builtin cornell-box --method lpv --grid 4 --device auto --pixel-samples 2 "
-                   "--size 12x8 -o '" + exr.string() + "'");
+                   "--lpv-reemission paper --size 12x8 -o '" + exr.string() + "' --json");
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(std::filesystem::exists(exr));
+  EXPECT_NE(r.out.find("\"lpv_reemission\": \"paper\""), std::string::npos) << r.out;
+  ASSERT_TRUE(std::filesystem::exists(exr));
+  {
+    const auto img = atmosh::io::read_exr(exr);
+    const auto it = img.string_attributes.find("atmosh:lpv_reemission");
+    ASSERT_NE(it, img.string_attributes.end());
+    EXPECT_EQ(it->second, "paper");
+  }
   // radiosity's walk runs as a GPU pass too (auto: on the CPU where no context is made)
   const auto exr_r = dir / "radiosity_auto.exr";
   r = run_cli("gi render --scene-builtin cornell-box --method radiosity --grid 4 --cube-size 4 --device auto "

@@ -175,10 +175,13 @@ TEST(GiGlsl, LpvPropagationOnTheGpuAgreesWithTheCpu) {
   o.emitter_photons = 4096;
   const gi::LpvGrid inj = gi::lpv_inject(s, o);
   const gi::GeometryVolume gv = gi::lpv_geometry(s, inj);
+  // without blocking the default re-emission; with blocking Kaplanyan & Dachsbacher 2010's
+  // face-normal lobe (LpvReemission::face_lobe: the shader's uniform; no further compilation)
   for (const gi::GeometryVolume* g : {static_cast<const gi::GeometryVolume*>(nullptr), &gv}) {
-    const gi::LpvGrid cpu = gi::lpv_propagate(inj, g, 16);
+    const gi::LpvReemission re = g != nullptr ? gi::LpvReemission::face_lobe : gi::LpvReemission::direction;
+    const gi::LpvGrid cpu = gi::lpv_propagate(inj, g, 16, re);
     double secs = -1;
-    const gi::LpvGrid gpu_grid = gi::lpv_propagate_gpu(inj, g, 16, &secs);
+    const gi::LpvGrid gpu_grid = gi::lpv_propagate_gpu(inj, g, 16, &secs, re);
     EXPECT_GE(secs, 0.0);
     double scale = 0;
     for (const auto& c : cpu.cells)

@@ -142,6 +142,71 @@ TEST(GiLpv, SingleVplFallsOffAsTheDerivationSays) {
   EXPECT_LT(on_axis[8], 0.05 * on_axis[0]);
 }
 
+// The published re-emission (Kaplanyan & Dachsbacher 2010: each face's flux re-emitted as a
+// Lambertian lobe about the face normal, LpvReemission::face_lobe), derived by hand for the same
+// single isotropic VPL. The cell k steps along +z is reached only from the cell before it; of the
+// +z neighbour's faces the far face (normal +z) re-emits Phi_F (Y00, (2/3) k z) and the 4 side
+// faces (normals +-x, +-y: no z part, their x and y parts cancel in pairs) Phi_S (Y00, 0). So
+//   c00' = Y00 (Omega_F I(z) + 4 Omega_S I(w_s)),   c10' = (2/3) k Omega_F I(z),
+// I(z) = Y00 c00 + k c10, I(w_s) = Y00 c00 + k c10 2 / sqrt 5: the linear map
+//   M = [[(Omega_F + 4 Omega_S) / (4 pi), (sqrt 3 / (4 pi)) (Omega_F + 8 Omega_S / sqrt 5)],
+//        [(2/3) (sqrt 3 / (4 pi)) Omega_F, Omega_F / (2 pi)]]
+// (Y00 k = sqrt 3 / (4 pi), k^2 = 3 / (4 pi), Omega_F + 4 Omega_S = 2 pi / 3 so M11 = 1/6), whose
+// eigenvalues are 0.2264 and 0.0040: the on-axis intensity falls as 0.2264^k (docs/gi.md; the
+// default re-emission's 0.5856^k); from an isotropic VPL (c10 = 0) I(z) / I0 = M11 + M21 k / Y00 =
+// 1/6 + Omega_F / (2 pi) = 0.2304 at step 1. Summed over the grid a step keeps the flux and mu1 = (2 Omega_F + 8 Omega_S /
+// sqrt 5) / (2 pi) = 0.3686 of band 1 (the net flux vector). Built from the numerically
+// integrated solid angles, not the code's constants.
+TEST(GiLpv, PaperReemissionFallsOffAsTheDerivationSays) {
+  const int n = 21, c = 10;
+  gi::LpvGrid g = empty_grid(n);
+  gi::lpv_add_vpl(g, glm::dvec3(0.0), glm::dvec3(0, 0, 1), glm::dvec3(1.0), true);  // isotropic, 1 W
+  const double F = rect_solid_angle(1.5, -0.5, 0.5, -0.5, 0.5), S = rect_solid_angle(0.5, -0.5, 0.5, 0.5, 1.5);
+  const double Y00 = 0.5 / std::sqrt(kPi), k = std::sqrt(3 / (4 * kPi)), r5 = std::sqrt(5.0);
+  const double m11 = Y00 * Y00 * (F + 4 * S), m12 = Y00 * k * (F + 8 * S / r5), m21 = 2.0 / 3 * k * Y00 * F,
+               m22 = 2.0 / 3 * k * k * F;
+  EXPECT_NEAR(m11, 1.0 / 6, 1e-12);  // F + 4 S = 2 pi / 3: the 30 faces partition the sphere
+  const double tr = m11 + m22, det = m11 * m22 - m12 * m21;
+  const double lam1 = 0.5 * (tr + std::sqrt(tr * tr - 4 * det)), lam2 = 0.5 * (tr - std::sqrt(tr * tr - 4 * det));
+  EXPECT_NEAR(lam1, 0.2264, 5e-5);  // the paper's on-axis falloff factor (docs/gi.md)
+  EXPECT_NEAR(lam2, 0.0040, 5e-5);
+  const double mu1 = (2 * F + 8 * S / r5) / (2 * kPi);
+  double c00 = 1 / std::sqrt(4 * kPi), c10 = 0;
+  const double I0 = c00 * Y00;
+  std::vector<double> on_axis;
+  for (int s = 1; s <= 9; ++s) {
+    g = gi::lpv_step(g, nullptr, gi::LpvReemission::face_lobe);
+    const double Iz = c00 * Y00 + c10 * k, Is = c00 * Y00 + c10 * k * 2 / r5;
+    c00 = Y00 * (F * Iz + 4 * S * Is);
+    c10 = 2.0 / 3 * k * F * Iz;
+    const gi::LpvCell& cell = g.cells[g.index(c, c, c + s)];
+    EXPECT_NEAR(cell[0], c00, 1e-12 * c00) << s;
+    EXPECT_NEAR(cell[2], c10, 1e-12 * c00) << s;
+    EXPECT_NEAR(cell[1], 0.0, 1e-15) << s;
+    EXPECT_NEAR(cell[3], 0.0, 1e-15) << s;
+    on_axis.push_back(c00 * Y00 + c10 * k);  // I(+z)
+    // summed over the grid (no light has left it yet): the flux kept, band 1 (the isotropic VPL's
+    // is 0) stays 0; the lobe's share mu1 of band 1 is checked below on a Lambertian VPL
+    double flux = 0;
+    for (const gi::LpvCell& q : g.cells) flux += std::sqrt(4 * kPi) * q[0];
+    EXPECT_NEAR(flux, 1.0, 1e-12) << s;
+  }
+  EXPECT_NEAR(on_axis[0] / I0, 0.2304, 5e-5);  // docs/gi.md: 0.2304, 0.0522, 0.0118, 0.0027
+  EXPECT_NEAR(on_axis[1] / I0, 0.0522, 5e-5);
+  // the ratio of successive steps tends to the larger eigenvalue ((lam2 / lam1)^8 ~ 1e-14)
+  EXPECT_NEAR(on_axis[8] / on_axis[7], lam1, 1e-9);
+  // a Lambertian VPL (normal +z, band 1 c10 = (2/3) k): the summed band 1 falls as mu1^s
+  gi::LpvGrid h = empty_grid(17);
+  gi::lpv_add_vpl(h, glm::dvec3(0.0), glm::dvec3(0, 0, 1), glm::dvec3(1.0));
+  EXPECT_NEAR(mu1, 0.368643, 1e-6);
+  for (int s = 1; s <= 8; ++s) {
+    h = gi::lpv_step(h, nullptr, gi::LpvReemission::face_lobe);
+    double c1z = 0;
+    for (const gi::LpvCell& q : h.cells) c1z += q[2];
+    EXPECT_NEAR(c1z, 2.0 / 3 * k * std::pow(mu1, s), 1e-12) << s;
+  }
+}
+
 // A propagation step in empty space keeps the light's direction (docs/gi.md, "Why the LPV's error
 // grew with its grid"): summed over the grid, band 0 (the flux) and band 1 (the net flux vector)
 // are both conserved — the face's flux Phi_f re-emitted along w_f adds Phi_f Y_1m(w_f), and by
@@ -405,6 +470,12 @@ TEST(GiLpv, BadOptionsThrowInputError) {
   o.iterations = 2;
   o.sun_rays = 0;
   EXPECT_THROW(gi::build_lpv(s, o), InputError);
+  o.sun_rays = 4;
+  o.reemission = static_cast<gi::LpvReemission>(2);
+  EXPECT_THROW(gi::build_lpv(s, o), InputError);
+  EXPECT_THROW(gi::lpv_reemission_from_name("lambert"), InputError);
+  EXPECT_EQ(gi::lpv_reemission_from_name("paper"), gi::LpvReemission::face_lobe);
+  EXPECT_EQ(gi::lpv_reemission_from_name("direction"), gi::LpvReemission::direction);
   gi::LpvGrid g = empty_grid(3);
   g.cells.pop_back();
   EXPECT_THROW(gi::lpv_step(g, nullptr), InputError);

@@ -53,9 +53,13 @@ struct Case {
 // functions on both sides (gi_lpv_in_box, gi_lpv_cascade_weight, gi_lpv_cascade_blend and the
 // one-level LPV's), so agreement within float rounding. Run inside the one-level test: the same
 // scene, lights, map options and G-buffer (the same GL state, so llvmpipe's shader cache serves
-// this frame's programs), a smaller grid.
+// this frame's programs), a smaller grid. The cascade runs with Kaplanyan & Dachsbacher 2010's
+// re-emission (LpvReemission::face_lobe, the propagation shader's uniform) on both sides, so the
+// published variant is checked in the resident frame without another frame or compilation; the
+// one-level frame above keeps the default.
 gi::LpvOptions cascade_options() {
   gi::LpvOptions o;
+  o.reemission = gi::LpvReemission::face_lobe;
   o.grid = 6;
   o.iterations = 8;
   o.sun_rays = 2;

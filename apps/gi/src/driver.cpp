@@ -79,6 +79,7 @@ MethodOptions method_options(const RenderOptions& o) {
   m.probe_visibility = o.probe_visibility;
   m.iterations = o.iterations;
   m.lpv_cascades = o.cascades;
+  m.lpv_reemission = lpv_reemission_from_name(o.lpv_reemission);
   m.device = parse_device_request(o.device, "--device");
   return m;
 }
@@ -200,7 +201,7 @@ void write_method_image(const fs::path& exr, const fs::path& png, const Scene& s
     prov.add("grid", num(o.grid)).add("bands", num(o.bands)).add("cube_size", num(o.cube_size))
         .add("iterations", num(o.iterations)).add("pixel_samples", num(o.pixel_samples))
         .add("build_seconds", r.probe_seconds);
-  if (o.method == "lpv") prov.add("cascades", num(o.cascades));
+  if (o.method == "lpv") prov.add("cascades", num(o.cascades)).add("lpv_reemission", o.lpv_reemission);
   if (s.sun)
     prov.add("sun_direction", io::format_double(s.sun->direction.x) + "," + io::format_double(s.sun->direction.y) + "," +
                                   io::format_double(s.sun->direction.z));
@@ -235,7 +236,10 @@ nlohmann::json render_json(const Scene& s, const RenderOptions& o, const MethodI
     j["build_seconds"] = r.probe_seconds;
     j["shade_seconds"] = img.stats.seconds;
   }
-  if (o.method == "lpv") j["cascades"] = o.cascades;
+  if (o.method == "lpv") {
+    j["cascades"] = o.cascades;
+    j["lpv_reemission"] = o.lpv_reemission;
+  }
   return j;
 }
 

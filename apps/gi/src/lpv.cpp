@@ -39,6 +39,8 @@ void check(const LpvOptions& o) {
     throw InputError("gi lpv: emitter photons must be in 0..1e8, got " + std::to_string(o.emitter_photons));
   if (o.samples < 1 || o.samples > 1000000)
     throw InputError("gi lpv: camera rays per pixel must be in 1..1000000, got " + std::to_string(o.samples));
+  if (o.reemission != LpvReemission::direction && o.reemission != LpvReemission::face_lobe)
+    throw InputError("gi lpv: unknown re-emission " + std::to_string(static_cast<int>(o.reemission)));
 }
 
 #ifdef ATMOSH_GI_HAVE_GPU
@@ -62,6 +64,7 @@ void check_grid(const LpvGrid& g) {
 struct CpuField {
   const LpvGrid* g;
   const std::vector<float>* vis;  // [(t * 6 + d) * 5 + f]; null: every face open
+  int reemission = 0;             // LpvReemission: the row of the face table's re-emission
 };
 [[maybe_unused]] glm::dvec4 gi_lpv_fetch(const CpuField& c, glm::ivec3 s, int ch) {
   const LpvCell& x = c.g->cells[c.g->index(s.x, s.y, s.z)];
@@ -72,12 +75,12 @@ struct CpuField {
 }
 // The gather's per-face constants, tabulated once from the shared functions.
 struct FaceTable {
-  glm::dvec4 y[30], reemit[30];
+  glm::dvec4 y[30], reemit[2][30];  // reemit[LpvReemission][d * 5 + f]
   FaceTable() {
     for (int d = 0; d < 6; ++d)
       for (int f = 0; f < 5; ++f) {
         y[d * 5 + f] = shared::gi_lpv_sh4(shared::gi_lpv_face_direction(d, f));
-        reemit[d * 5 + f] = shared::gi_lpv_reemit_sh(d, f);
+        for (int r = 0; r < 2; ++r) reemit[r][d * 5 + f] = shared::gi_lpv_reemit_choice(r, d, f);
       }
   }
 };
@@ -90,8 +93,8 @@ const FaceTable& face_table() {
   const glm::dvec4& v = face_table().y[d * 5 + f];
   return {v.x, v.y, v.z, v.w};
 }
-[[maybe_unused]] glm::dvec4 gi_lpv_face_reemit(const CpuField&, int d, int f) {
-  const glm::dvec4& v = face_table().reemit[d * 5 + f];
+[[maybe_unused]] glm::dvec4 gi_lpv_face_reemit(const CpuField& c, int d, int f) {
+  const glm::dvec4& v = face_table().reemit[c.reemission][d * 5 + f];
   return {v.x, v.y, v.z, v.w};
 }
 struct CpuGeometry {
@@ -102,6 +105,16 @@ struct CpuGeometry {
 }
 glm::ivec3 dims(const LpvGrid& g) { return {g.nx, g.ny, g.nz}; }
 }  // namespace
+
+const char* lpv_reemission_name(LpvReemission r) {
+  return r == LpvReemission::face_lobe ? "paper" : "direction";
+}
+
+LpvReemission lpv_reemission_from_name(const std::string& name) {
+  if (name == "direction") return LpvReemission::direction;
+  if (name == "paper") return LpvReemission::face_lobe;
+  throw InputError("--lpv-reemission: unknown re-emission '" + name + "' (direction, paper)");
+}
 
 LpvFaceAngles lpv_face_solid_angles() {
   // Unit cells, source centre at the origin, neighbour centre at (0, 0, 1).
@@ -333,9 +346,9 @@ std::vector<float> visibility_table(const LpvGrid& in, const GeometryVolume& gv)
 }
 
 // One propagation step: every cell gathers from its neighbours (the shared gi_lpv_gather).
-LpvGrid step(const LpvGrid& in, const std::vector<float>* vis) {
+LpvGrid step(const LpvGrid& in, const std::vector<float>* vis, LpvReemission reemission) {
   LpvGrid out = in;
-  const CpuField field{&in, vis};
+  const CpuField field{&in, vis, reemission == LpvReemission::face_lobe ? 1 : 0};
   const glm::ivec3 n = dims(in);
   parallel_for_ranges(in.cells.size(), 64, 0, [&](std::size_t b, std::size_t e) {
     for (std::size_t t = b; t < e; ++t) {
@@ -350,15 +363,15 @@ LpvGrid step(const LpvGrid& in, const std::vector<float>* vis) {
 }
 }  // namespace
 
-LpvGrid lpv_step(const LpvGrid& in, const GeometryVolume* gv) {
+LpvGrid lpv_step(const LpvGrid& in, const GeometryVolume* gv, LpvReemission reemission) {
   check_grid(in);
   check_gv(in, gv);
-  if (gv == nullptr) return step(in, nullptr);
+  if (gv == nullptr) return step(in, nullptr, reemission);
   const std::vector<float> vis = visibility_table(in, *gv);
-  return step(in, &vis);
+  return step(in, &vis, reemission);
 }
 
-LpvGrid lpv_propagate(const LpvGrid& injected, const GeometryVolume* gv, int iterations) {
+LpvGrid lpv_propagate(const LpvGrid& injected, const GeometryVolume* gv, int iterations, LpvReemission reemission) {
   if (iterations < 0 || iterations > 1024)
     throw InputError("gi lpv: iterations must be in 0..1024, got " + std::to_string(iterations));
   check_grid(injected);
@@ -367,14 +380,15 @@ LpvGrid lpv_propagate(const LpvGrid& injected, const GeometryVolume* gv, int ite
   if (gv != nullptr && iterations > 1) vis = visibility_table(injected, *gv);
   LpvGrid acc = injected, field = injected;
   for (int it = 0; it < iterations; ++it) {
-    field = step(field, it == 0 || gv == nullptr ? nullptr : &vis);
+    field = step(field, it == 0 || gv == nullptr ? nullptr : &vis, reemission);
     for (std::size_t c = 0; c < acc.cells.size(); ++c)
       for (int q = 0; q < 12; ++q) acc.cells[c][q] += field.cells[c][q];
   }
   return acc;
 }
 
-LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int iterations, double* gpu_seconds) {
+LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int iterations, double* gpu_seconds,
+                          LpvReemission reemission) {
   if (iterations < 0 || iterations > 1024)
     throw InputError("gi lpv: iterations must be in 0..1024, got " + std::to_string(iterations));
   check_grid(injected);
@@ -395,6 +409,7 @@ LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int
   prog.set("nx", injected.nx);
   prog.set("ny", injected.ny);
   prog.set("nz", injected.nz);
+  prog.set("lpv_reemission", reemission == LpvReemission::face_lobe ? 1 : 0);
   bv.bind(1);
   acc.bind(3);
   for (int it = 0; it < iterations; ++it) {
@@ -411,6 +426,7 @@ LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int
   return out;
 #else
   (void)gpu_seconds;
+  (void)reemission;
   throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
 #endif
 }
@@ -646,7 +662,7 @@ Lpv build_lpv(const Scene& scene, const LpvOptions& opt) {
   if (opt.blocking) l.geometry = lpv_geometry(scene, l.injected);
   const auto t1 = Clock::now();
   l.iterations = opt.iterations < 0 ? 2 * opt.grid : opt.iterations;
-  l.accumulated = lpv_propagate(l.injected, opt.blocking ? &l.geometry : nullptr, l.iterations);
+  l.accumulated = lpv_propagate(l.injected, opt.blocking ? &l.geometry : nullptr, l.iterations, opt.reemission);
   l.inject_seconds = std::chrono::duration<double>(t1 - t0).count();
   l.propagate_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
   return l;

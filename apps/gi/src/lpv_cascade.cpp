@@ -35,7 +35,7 @@ Lpv propagate(const Scene& scene, const LpvOptions& opt, LpvGrid injected, int i
   l.injected = std::move(injected);
   if (opt.blocking) l.geometry = lpv_geometry(scene, l.injected);
   l.iterations = iterations;
-  l.accumulated = lpv_propagate(l.injected, opt.blocking ? &l.geometry : nullptr, iterations);
+  l.accumulated = lpv_propagate(l.injected, opt.blocking ? &l.geometry : nullptr, iterations, opt.reemission);
   return l;
 }
 }  // namespace

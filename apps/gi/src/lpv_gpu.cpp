@@ -154,6 +154,7 @@ RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvG
   gpu::GiLpvFrameOptions fo;
   fo.iterations = I.iterations;
   fo.blocking = I.opt.blocking;
+  fo.reemission = I.opt.reemission == LpvReemission::face_lobe ? 1 : 0;
   fo.sun = sun ? &gs : nullptr;
   fo.sun_irradiance = sun ? I.scene.sun->irradiance : glm::dvec3(0.0);
   fo.shadow.resolution = I.shadow.resolution;

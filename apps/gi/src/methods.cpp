@@ -44,6 +44,7 @@ LpvOptions lpv_options(const MethodOptions& o) {
   l.grid = o.grid;
   l.iterations = o.iterations;
   l.blocking = o.lpv_blocking;
+  l.reemission = o.lpv_reemission;
   l.samples = o.pixel_samples;
   l.seed = o.seed;
   l.threads = o.threads;
@@ -281,7 +282,8 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
         if (lo.blocking) l.geometry = lpv_geometry_gpu(scene, l.injected);
         l.inject_seconds = since(t0);
         const auto t1 = Clock::now();
-        l.accumulated = lpv_propagate_gpu(l.injected, lo.blocking ? &l.geometry : nullptr, l.iterations);
+        l.accumulated =
+            lpv_propagate_gpu(l.injected, lo.blocking ? &l.geometry : nullptr, l.iterations, nullptr, lo.reemission);
         l.propagate_seconds = since(t1);
         const auto t2 = Clock::now();
         r.image = render_lpv_gbuffer(scene, camera, width, height, l, lo, true);
@@ -315,6 +317,9 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
   for (int g : o.lpv_grids) need(g >= 1 && g <= 256, "gi converge: lpv grids must be in 1..256, got " + std::to_string(g));
   need(o.lpv_cascade_max_grid >= 0 && o.lpv_cascade_max_grid <= 256,
        "gi converge: the largest LPV cascade grid must be in 0..256, got " + std::to_string(o.lpv_cascade_max_grid));
+  need(o.lpv_paper_max_grid >= 0 && o.lpv_paper_max_grid <= 256,
+       "gi converge: the largest LPV paper-re-emission grid must be in 0..256, got " +
+           std::to_string(o.lpv_paper_max_grid));
   const std::size_t n_emitting = emitting_triangles(scene);
   for (int g : o.radiosity_grids) {
     if (o.radiosity_bands.empty()) break;
@@ -389,6 +394,19 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
         rg.setting = r.setting;
         rg.result = render_method(scene, scene.camera, width, height, m);
         row(rg);
+      }
+      if (block && g <= o.lpv_paper_max_grid) {  // the published re-emission, side by side (CPU)
+        LpvOptions lp = lo;
+        lp.reemission = LpvReemission::face_lobe;
+        StudyRow rp;
+        rp.method = "lpv-paper";
+        const Lpv lpaper = build_lpv(scene, lp);
+        rp.setting = r.setting;
+        const auto t1 = Clock::now();
+        rp.result.image = render_lpv(scene, scene.camera, width, height, lpaper, lp);
+        rp.result.shade_seconds = since(t1);
+        rp.result.build_seconds = lpaper.inject_seconds + lpaper.propagate_seconds;
+        row(rp);
       }
       if (block && g >= 2 && g <= o.lpv_cascade_max_grid) {  // the 2-level nested cascade (CPU)
         StudyRow rc;

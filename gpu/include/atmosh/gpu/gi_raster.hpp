@@ -183,6 +183,7 @@ struct GiLpvCascade {
 struct GiLpvFrameOptions {
   int iterations = 16;             ///< 0..1024
   bool blocking = true;            ///< use the geometry volume
+  int reemission = 0;              ///< 0 along the face's direction, 1 the paper's face-normal lobe (gi::LpvReemission)
   const GiSun* sun = nullptr;      ///< the sun's direction (null: no sun)
   glm::dvec3 sun_irradiance{0.0};  ///< its irradiance at normal incidence, per channel
   GiShadowOptions shadow;

@@ -59,6 +59,7 @@ struct RenderOptions {
   bool probe_visibility = false;
   int iterations = -1;          // lpv: propagation steps (-1: 2 x grid)
   int cascades = 1;             // lpv: 1 grid, or 2 (the 2-level nested cascade, grid >= 2)
+  std::string lpv_reemission = "direction";  // lpv: direction | paper (gi::LpvReemission, lpv.hpp)
   std::string device = "cpu";   // cpu | gpu | auto (radiosity shading and lpv run on the GPU)
 };
 // The method's options, checked (InputError naming the option).
@@ -104,7 +105,8 @@ struct ConvergeStudy {
                                    // with --device gpu|auto also probes-gpu[-visibility] (projected on the GPU,
                                    // shaded on the CPU), probes-resident-gpu "bands=B grid=G" (B <= 3; the
                                    // GPU-resident frame, time_s = one frame), radiosity-gpu, lpv[-noblock]-gpu,
-                                   // lpv-cascade-gpu (the 2-level cascade in the GPU-resident LPV frame)
+                                   // lpv-cascade-gpu (the 2-level cascade in the GPU-resident LPV frame),
+                                   // lpv-paper (the published re-emission, StudyOptions::lpv_paper_max_grid)
   io::Provenance provenance;
   std::string notice;  // --device auto without a usable GPU: one line for the user
 };

@@ -58,6 +58,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -68,12 +69,25 @@
 
 namespace atmosh::gi {
 
+/// How a propagation step re-emits the flux that crosses a face of the neighbour cell (both from
+/// the shared atmosh/gi/shared/lpv.glsl.hpp, gi_lpv_reemit_choice, on the CPU and the GPU):
+///   direction: along the face's direction w_f, Phi_f Y_lm(w_f) (keeps the flux and the net flux
+///              vector; the default, docs/gi.md "Why the LPV's error grew with its grid");
+///   face_lobe: Kaplanyan & Dachsbacher 2010's Lambertian lobe about the face normal n_f,
+///              Phi_f / pi A_l Y_lm(n_f) (keeps the flux, 0.369 of the net flux vector a step).
+enum class LpvReemission { direction = 0, face_lobe = 1 };
+/// "direction" | "paper" (the command line's names); lpv_reemission_from_name throws InputError
+/// naming the value for any other.
+const char* lpv_reemission_name(LpvReemission r);
+LpvReemission lpv_reemission_from_name(const std::string& name);
+
 struct LpvOptions {
   int grid = 32;                 ///< cells along the box's longest axis, 1..256
   int iterations = -1;           ///< propagation steps, 0..1024 (-1: 2 x grid)
   int sun_rays = 16;             ///< sun injection rays per cell edge of the box's cross-section, 1..256
   int emitter_photons = 65536;   ///< injection rays from area emitters, 0..1e8
   bool blocking = true;          ///< use the geometry volume
+  LpvReemission reemission = LpvReemission::direction;  ///< the propagation's re-emission (above)
   int samples = 4;               ///< camera rays per pixel, 1..1e6
   std::uint64_t seed = 1;
   int threads = 0;               ///< 0 = atmosh::resolve_threads(0)
@@ -146,10 +160,12 @@ LpvGrid lpv_inject_vpls_gpu(const LpvGrid& g, const std::vector<Vpl>& vpls, doub
 LpvGrid lpv_inject_gpu(const Scene& scene, const LpvOptions& opt, std::uint64_t* rays = nullptr,
                        double* gpu_seconds = nullptr);
 GeometryVolume lpv_geometry_gpu(const Scene& scene, const LpvGrid& g, double* gpu_seconds = nullptr);
-/// One propagation step of `field` (gv null: no blocking).
-LpvGrid lpv_step(const LpvGrid& field, const GeometryVolume* gv);
+/// One propagation step of `field` (gv null: no blocking), re-emitting as `reemission` says.
+LpvGrid lpv_step(const LpvGrid& field, const GeometryVolume* gv,
+                 LpvReemission reemission = LpvReemission::direction);
 /// injected + sum of `iterations` steps (blocking from the second step on, when gv is given).
-LpvGrid lpv_propagate(const LpvGrid& injected, const GeometryVolume* gv, int iterations);
+LpvGrid lpv_propagate(const LpvGrid& injected, const GeometryVolume* gv, int iterations,
+                      LpvReemission reemission = LpvReemission::direction);
 /// lpv_propagate on the GPU: one compute dispatch per iteration of
 /// gpu/shaders/gi_lpv_propagate.comp (the same gather in float), the blocking table computed on
 /// the CPU as for lpv_propagate. Makes its own EGL context (atmosh::gpu). gpu_seconds
@@ -157,7 +173,7 @@ LpvGrid lpv_propagate(const LpvGrid& injected, const GeometryVolume* gv, int ite
 /// excluded). Throws std::runtime_error (atmosh::gpu::Unavailable) where no EGL context can be
 /// made, InputError where atmosh was built without atmosh::gpu.
 LpvGrid lpv_propagate_gpu(const LpvGrid& injected, const GeometryVolume* gv, int iterations,
-                          double* gpu_seconds = nullptr);
+                          double* gpu_seconds = nullptr, LpvReemission reemission = LpvReemission::direction);
 /// Total flux sum over cells and channels' mean of sqrt(4 pi) c_00 (per channel).
 glm::dvec3 lpv_flux(const LpvGrid& g);
 /// Trilinear (cell centres, clamped) interpolation of the intensity coefficients at p.

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "atmosh/device.hpp"
+#include "atmosh/gi/lpv.hpp"
 #include "atmosh/gi/path_tracer.hpp"
 #include "atmosh/gi/scene.hpp"
 #include "atmosh/sh/convolution.hpp"
@@ -30,6 +31,7 @@ struct MethodOptions {
   bool probe_visibility = false;         ///< probes
   int iterations = -1;          ///< lpv: propagation steps (-1: 2 x grid)
   bool lpv_blocking = true;     ///< lpv: geometry volume
+  LpvReemission lpv_reemission = LpvReemission::direction;  ///< lpv: the propagation's re-emission (lpv.hpp)
   /// lpv: 1 (one grid) or 2 (the 2-level nested cascade, grid >= 2: build_lpv_cascade /
   /// render_lpv_cascade on the CPU; on the GPU the resident frame with cascades = 2, scenes with
   /// <= 64 emitting triangles; beyond that gpu is an error and auto a notice and the CPU cascade)
@@ -90,6 +92,11 @@ struct StudyOptions {
   /// default leaves out grid 32 (its CPU cascade row costs ~28 s and did not lower the error on
   /// the Cornell box; docs/gi.md).
   int lpv_cascade_max_grid = 16;
+  /// Also, for every LPV grid in 1..lpv_paper_max_grid (after its rows), the one-level LPV with
+  /// Kaplanyan & Dachsbacher 2010's re-emission (LpvReemission::face_lobe; geometry volume on; CPU;
+  /// method "lpv-paper", the "lpv" row's setting), beside the default re-emission's "lpv" row.
+  /// 0: none. It costs what the "lpv" row of the same grid costs.
+  int lpv_paper_max_grid = 16;
 };
 struct StudyRow {
   std::string method, setting;  ///< e.g. "radiosity", "bands=2 grid=8 bounces=2"

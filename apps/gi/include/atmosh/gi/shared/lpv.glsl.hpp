@@ -19,7 +19,7 @@
 //                                               sends to its neighbour t = s + step(d) (along
 //                                               gi_lpv_face_direction(d, f));
 //   real4 gi_lpv_face_y(ctx, int d, int f)      gi_lpv_sh4(gi_lpv_face_direction(d, f)), and
-//   real4 gi_lpv_face_reemit(ctx, int d, int f) gi_lpv_reemit_sh(d, f): the
+//   real4 gi_lpv_face_reemit(ctx, int d, int f) gi_lpv_reemit_choice(reemission, d, f): the
 //                                               gather's per-face constants (a table on the CPU;
 //                                               in a shader gi_lpv_decl.glsl computes them);
 //   real  gi_lpv_fetch_corner(ctx, int c, int q)  the geometry volume's coefficient q (0..8) at
@@ -101,6 +101,14 @@ ATMOSH_FN real3 gi_lpv_face_direction(int d, int f) {
 // travelled a given distance, and surfaces light themselves (docs/gi.md, "Why the LPV's error
 // grew with its grid").
 ATMOSH_FN real4 gi_lpv_reemit_sh(int d, int f) { return gi_lpv_sh4(gi_lpv_face_direction(d, f)); }
+
+// The re-emission by choice (atmosh/gi/lpv.hpp, LpvReemission): 0 gi_lpv_reemit_sh (the default);
+// 1 Kaplanyan & Dachsbacher 2010's Lambertian lobe of unit flux about the face normal,
+// gi_lpv_lobe(gi_lpv_face_normal(d, f)), for comparison with the published method.
+ATMOSH_FN real4 gi_lpv_reemit_choice(int reemission, int d, int f) {
+  if (reemission == 1) return gi_lpv_lobe(gi_lpv_face_normal(d, f));
+  return gi_lpv_reemit_sh(d, f);
+}
 
 // The cell holding p (clamped into the grid; a non-finite coordinate gives cell 0).
 ATMOSH_FN glm::ivec3 gi_lpv_cell_of(real3 p, real3 lo, real h, glm::ivec3 dims) {
