@@ -36,7 +36,8 @@
 // the volume, and, by the faces' cubic symmetry, the summed band 1 (the net flux vector) too.
 // (Kaplanyan & Dachsbacher 2010 re-emit a Lambertian lobe about the face normal instead; that
 // keeps 0.369 of band 1 a step, whatever the cell size, and made this LPV's error grow with its
-// grid: docs/gi.md, "Why the LPV's error grew with its grid".) The result of `iterations` steps is the sum of the injected field and every
+// grid: docs/gi.md, "Why the LPV's error grew with its grid"; LpvOptions::reemission =
+// LpvReemission::face_lobe brings it back for comparison.) The result of `iterations` steps is the sum of the injected field and every
 // iteration's field.
 //
 // Geometry volume: cells centred at the LPV cells' corners; surfels sampled on every
