@@ -396,9 +396,11 @@ BENCHMARK(BM_GpuFrame512)
 // 135°, 40° and a uniform sky of 0.3). Context, programs and the first frame (llvmpipe
 // compiles shaders at their first use) outside the timing. Counters: each pass's share, from
 // a separate serialised frame per iteration (glFinish after each pass).
-void BM_ProbeResidentFrame512(benchmark::State& state) {
-  gi::Scene s = gi::builtin_scene(state.range(0) == 0 ? "cornell-box" : "sphere-on-plane");
-  if (state.range(0) == 1) {
+// One resident probe frame per iteration at `bands` bands: the body of BM_ProbeResidentFrame512
+// and BM_ProbeResidentBands512.
+void probe_resident_frame_512(benchmark::State& state, int scene, int bands) {
+  gi::Scene s = gi::builtin_scene(scene == 0 ? "cornell-box" : "sphere-on-plane");
+  if (scene == 1) {
     s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(1.0), 0.0};
     s.env_bands = 1;
     for (int c = 0; c < 3; ++c) s.env_sh[c] = {0.3 * 2 * 1.7724538509055160273};  // L / Y_00
@@ -408,7 +410,7 @@ void BM_ProbeResidentFrame512(benchmark::State& state) {
   const gi::SurfaceRadiance f = gi::bake_surface_radiance(s, so);
   gi::ProbeFrameOptions fo;
   fo.grid = 4;
-  fo.probes.bands = 3;
+  fo.probes.bands = bands;
   fo.probes.cube_size = 8;
   fo.supersample = 4;
   double passes[4] = {0, 0, 0, 0}, sums[4] = {0, 0, 0, 0};
@@ -432,6 +434,9 @@ void BM_ProbeResidentFrame512(benchmark::State& state) {
   state.counters["project_ms"] = 1e3 * sums[1] / n;
   state.counters["shadow_ms"] = 1e3 * sums[2] / n;
   state.counters["shade_read_ms"] = 1e3 * sums[3] / n;
+}
+void BM_ProbeResidentFrame512(benchmark::State& state) {
+  probe_resident_frame_512(state, static_cast<int>(state.range(0)), 3);
 }
 BENCHMARK(BM_ProbeResidentFrame512)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(5);
 
@@ -490,41 +495,7 @@ BENCHMARK(BM_LpvResidentFrame512)
 // 0.3), bands. Context, programs and the first frame outside the timing; counters as
 // BM_ProbeResidentFrame512's (each pass of a separate serialised frame).
 void BM_ProbeResidentBands512(benchmark::State& state) {
-  gi::Scene s = gi::builtin_scene(state.range(0) == 0 ? "cornell-box" : "sphere-on-plane");
-  if (state.range(0) == 1) {
-    s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(1.0), 0.0};
-    s.env_bands = 1;
-    for (int c = 0; c < 3; ++c) s.env_sh[c] = {0.3 * 2 * 1.7724538509055160273};  // L / Y_00
-  }
-  gi::SurfaceRadianceOptions so;
-  so.samples = 4;
-  const gi::SurfaceRadiance f = gi::bake_surface_radiance(s, so);
-  gi::ProbeFrameOptions fo;
-  fo.grid = 4;
-  fo.probes.bands = static_cast<int>(state.range(1));
-  fo.probes.cube_size = 8;
-  fo.supersample = 4;
-  double passes[4] = {0, 0, 0, 0}, sums[4] = {0, 0, 0, 0};
-  try {
-    const gi::ProbeFrameResident frame(s, s.camera, 512, 512, f, fo);
-    benchmark::DoNotOptimize(frame.render().mean[0].data());
-    for (auto _ : state) {
-      const gi::RadianceImage img = frame.render();
-      benchmark::DoNotOptimize(img.mean[0].data());
-      state.SetIterationTime(img.stats.seconds);
-      state.PauseTiming();
-      benchmark::DoNotOptimize(frame.render(passes).mean[0].data());
-      for (int k = 0; k < 4; ++k) sums[k] += passes[k];
-      state.ResumeTiming();
-    }
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-  }
-  const double n = static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
-  state.counters["cubes_ms"] = 1e3 * sums[0] / n;
-  state.counters["project_ms"] = 1e3 * sums[1] / n;
-  state.counters["shadow_ms"] = 1e3 * sums[2] / n;
-  state.counters["shade_read_ms"] = 1e3 * sums[3] / n;
+  probe_resident_frame_512(state, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
 }
 BENCHMARK(BM_ProbeResidentBands512)
     ->Args({0, 3})
