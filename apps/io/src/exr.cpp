@@ -81,7 +81,63 @@ namespace {
 // string attribute declaring 1.9 GB is allocated whole; the offset table follows the
 // data window's height): the header is walked here first. Single-part flat images
 // only; every attribute must lie inside the file; the data window and the tile count
-// are bounded.
+// are bounded. OpenEXR reads the value of a type it knows by the type's own layout, not
+// by the declared length (a channel list until its empty name, a box2i as 16 bytes): a
+// value whose layout does not fill its length exactly would make OpenEXR read the rest
+// of the header from another place than this walk (a string of 1.9 GB again, out of
+// memory under the fuzzer), so every known type's value must have its layout exactly.
+
+// The value sizes of OpenEXR 3.1's fixed-size attribute types (ImfStandardAttributes);
+// 0: the type has no fixed size.
+std::size_t exr_fixed_size(const std::string& type) {
+  static const std::pair<const char*, std::size_t> sizes[] = {
+      {"box2i", 16}, {"box2f", 16},  {"chromaticities", 32}, {"compression", 1}, {"double", 8},
+      {"envmap", 1}, {"float", 4},   {"int", 4},             {"keycode", 28},    {"lineOrder", 1},
+      {"m33f", 36},  {"m33d", 72},   {"m44f", 64},           {"m44d", 128},      {"rational", 8},
+      {"tiledesc", 9}, {"timecode", 8}, {"v2i", 8},          {"v2f", 8},         {"v2d", 16},
+      {"v3i", 12},   {"v3f", 12},    {"v3d", 24},            {"deepImageState", 1}};
+  for (const auto& [name, n] : sizes)
+    if (type == name) return n;
+  return 0;
+}
+
+// Why the value v (n bytes) of a variable-layout type does not fill n exactly; "" when
+// it does or when OpenEXR reads the type by its length.
+std::string exr_layout_fault(const std::string& type, const unsigned char* v, std::size_t n) {
+  auto i32 = [&](std::size_t at) {
+    return static_cast<std::int32_t>(std::uint32_t{v[at]} | std::uint32_t{v[at + 1]} << 8 |
+                                     std::uint32_t{v[at + 2]} << 16 | std::uint32_t{v[at + 3]} << 24);
+  };
+  if (type == "chlist") {  // {name NUL, 16 bytes}* NUL
+    std::size_t at = 0;
+    for (;;) {
+      std::size_t end = at;
+      while (end < n && v[end] != 0) ++end;
+      if (end >= n) return "a channel list without its end";
+      if (end - at > 255) return "a channel name longer than 255 bytes";
+      if (end == at) return end + 1 == n ? "" : "bytes after the channel list's end";
+      at = end + 1 + 16;
+      if (at > n) return "a channel record cut short";
+    }
+  }
+  if (type == "stringvector") {  // {int32 length, chars}*, read while inside n
+    for (std::size_t at = 0; at < n;) {
+      if (at + 4 > n) return "a string length cut short";
+      const std::int32_t len = i32(at);
+      if (len < 0 || at + 4 + static_cast<std::size_t>(len) > n) return "a string longer than the attribute";
+      at += 4 + static_cast<std::size_t>(len);
+    }
+    return "";
+  }
+  if (type == "preview") {  // uint32 width, height, 4 bytes per pixel
+    if (n < 8) return "a preview without its size";
+    const std::uint64_t w = static_cast<std::uint32_t>(i32(0)), h = static_cast<std::uint32_t>(i32(4));
+    return 8 + 4 * w * h == n ? "" : "a preview of another size than its bytes";
+  }
+  if (type == "floatvector") return n % 4 == 0 ? "" : "a float vector of a partial float";
+  return "";
+}
+
 void check_exr_header(const std::filesystem::path& file) {
   auto bad = [&](const std::string& why) { return InputError("cannot read EXR file '" + file.string() + "': " + why); };
   std::error_code ec;
@@ -117,10 +173,21 @@ void check_exr_header(const std::filesystem::path& file) {
     const std::uint64_t at = static_cast<std::uint64_t>(in.tellg());
     if (len < 0 || at + static_cast<std::uint64_t>(len) > size)
       throw bad("attribute '" + name + "' declares " + std::to_string(len) + " bytes, more than the file holds");
-    std::string value(static_cast<std::size_t>(std::min<std::int32_t>(len, 64)), '\0');
-    in.read(value.data(), static_cast<std::streamsize>(value.size()));
+    const std::size_t fixed = exr_fixed_size(type);
+    if (fixed != 0 && static_cast<std::size_t>(len) != fixed)
+      throw bad("attribute '" + name + "' of type " + type + " holds " + std::to_string(len) + " bytes, not " +
+                std::to_string(fixed));
+    const bool layout = type == "chlist" || type == "stringvector" || type == "preview" || type == "floatvector";
+    std::string value(layout ? static_cast<std::size_t>(len) : static_cast<std::size_t>(std::min<std::int32_t>(len, 64)),
+                      '\0');
+    if (!in.read(value.data(), static_cast<std::streamsize>(value.size())))
+      throw bad("header ends inside attribute '" + name + "'");
     in.seekg(static_cast<std::streamoff>(at) + len);
     const auto* v = reinterpret_cast<const unsigned char*>(value.data());
+    if (layout) {
+      const std::string fault = exr_layout_fault(type, v, value.size());
+      if (!fault.empty()) throw bad("attribute '" + name + "' of type " + type + " holds " + fault);
+    }
     if (name == "dataWindow" && type == "box2i" && len == 16) {
       w = std::int64_t{static_cast<std::int32_t>(u32(v + 8))} - static_cast<std::int32_t>(u32(v)) + 1;
       h = std::int64_t{static_cast<std::int32_t>(u32(v + 12))} - static_cast<std::int32_t>(u32(v + 4)) + 1;
