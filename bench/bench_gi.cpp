@@ -450,21 +450,23 @@ BENCHMARK(BM_ProbeResidentFrame512)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecon
 // before timing (llvmpipe compiles a shader's code at its first draw). Arguments: scene (0
 // sphere-on-plane under the sun 135 deg, 40 deg and a uniform sky of 0.3; 1 the Cornell box, its
 // light; 2 sphere-on-plane under the sun alone), grid (cells along the longest axis).
-void BM_LpvResidentFrame512(benchmark::State& state) {
-  gi::Scene s = gi::builtin_scene(state.range(0) == 1 ? "cornell-box" : "sphere-on-plane");
-  if (state.range(0) != 1) s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(3.0, 2.0, 1.0)};
-  if (state.range(0) == 0) {
+// One resident LPV frame per iteration with `cascades` levels: the body of
+// BM_LpvResidentFrame512 and BM_LpvCascadeFrame512.
+void lpv_resident_frame_512(benchmark::State& state, int scene, int grid, int cascades) {
+  gi::Scene s = gi::builtin_scene(scene == 1 ? "cornell-box" : "sphere-on-plane");
+  if (scene != 1) s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(3.0, 2.0, 1.0)};
+  if (scene == 0) {
     s.env_bands = 1;
     for (int c = 0; c < 3; ++c) s.env_sh[c] = {0.3 * 2 * std::sqrt(3.14159265358979324)};
-  } else if (state.range(0) == 2) {
+  } else if (scene == 2) {
     s.env_bands = 0;
     for (auto& c : s.env_sh) c.clear();
   }
   gi::LpvOptions o;
-  o.grid = static_cast<int>(state.range(1));
+  o.grid = grid;
   double passes = 0;
   try {
-    gi::LpvFrameGpu frame(s, o);
+    gi::LpvFrameGpu frame(s, o, {}, cascades);
     benchmark::DoNotOptimize(frame.render(s.camera, 512, 512));
     for (auto _ : state) {
       const gi::RadianceImage img = frame.render(s.camera, 512, 512);
@@ -475,6 +477,9 @@ void BM_LpvResidentFrame512(benchmark::State& state) {
     state.SkipWithError(e.what());
   }
   state.counters["frame_ms"] = 1e3 * passes / static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
+}
+void BM_LpvResidentFrame512(benchmark::State& state) {
+  lpv_resident_frame_512(state, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 1);
 }
 BENCHMARK(BM_LpvResidentFrame512)
     ->Args({0, 8})
@@ -516,27 +521,8 @@ BENCHMARK(BM_ProbeResidentBands512)
 // Arguments: scene (1 the Cornell box, its light; 2 sphere-on-plane under the sun 135 deg, 40 deg
 // alone, as BM_LpvResidentFrame512), grid (coarse cells along the longest axis), cascades (1, 2).
 void BM_LpvCascadeFrame512(benchmark::State& state) {
-  gi::Scene s = gi::builtin_scene(state.range(0) == 1 ? "cornell-box" : "sphere-on-plane");
-  if (state.range(0) == 2) {
-    s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(3.0, 2.0, 1.0)};
-    s.env_bands = 0;
-    for (auto& c : s.env_sh) c.clear();
-  }
-  gi::LpvOptions o;
-  o.grid = static_cast<int>(state.range(1));
-  double passes = 0;
-  try {
-    gi::LpvFrameGpu frame(s, o, {}, static_cast<int>(state.range(2)));
-    benchmark::DoNotOptimize(frame.render(s.camera, 512, 512));
-    for (auto _ : state) {
-      const gi::RadianceImage img = frame.render(s.camera, 512, 512);
-      passes += img.stats.seconds;
-      benchmark::DoNotOptimize(img.mean[0].data());
-    }
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-  }
-  state.counters["frame_ms"] = 1e3 * passes / static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
+  lpv_resident_frame_512(state, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
+                         static_cast<int>(state.range(2)));
 }
 BENCHMARK(BM_LpvCascadeFrame512)
     ->Args({2, 8, 1})
