@@ -223,9 +223,16 @@ class PlyCheck {
         ended = true;
         break;
       }
+      // One format line and no words past what a line holds: the mesh library reads the
+      // header by words and its first format, so a header this walk reads otherwise (a
+      // second format line, a binary file walked as text) would let it allocate by
+      // values this walk never checked (a list count of 5e8 from ASCII digits, 6.2 GB).
+      std::string extra;
       if (w == "format") {
         std::string f, ver;
         ls >> f >> ver;
+        if (have_format) fail("header has a second format line '" + line + "'");
+        if (ver != "1.0" || (ls >> extra)) fail("format line '" + line + "' is not 'format <type> 1.0'");
         if (f == "ascii") ascii_ = true;
         else if (f == "binary_little_endian") big_ = false;
         else if (f == "binary_big_endian") big_ = true;
@@ -239,6 +246,7 @@ class PlyCheck {
         const unsigned long long n = std::strtoull(count.c_str(), &end, 10);
         if (e.name.empty() || count.empty() || *end != '\0' || count[0] == '-' || n > kMaxElements)
           fail("element line '" + line + "' has no count in 0.." + std::to_string(kMaxElements));
+        if (ls >> extra) fail("element line '" + line + "' has words after its count");
         e.count = n;
         elements_.push_back(e);
       } else if (w == "property") {
@@ -258,6 +266,7 @@ class PlyCheck {
           if (!ply_type(t, p.size, p.is_float, p.is_signed)) fail("property type '" + t + "' is unknown");
         }
         if (p.name.empty()) fail("property line '" + line + "' has no name");
+        if (ls >> extra) fail("property line '" + line + "' has words after its name");
         elements_.back().props.push_back(p);
       } else {
         fail("header line '" + line + "' is not understood");
