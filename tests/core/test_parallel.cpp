@@ -39,10 +39,13 @@ TEST(ParallelFor, RethrowsTheFirstExceptionAndStops) {
                                         thrown = true;
                                         throw std::invalid_argument("bad index 10");
                                       }
-                                      // After the throw, the other worker is slowed down so that a
-                                      // descheduled thrower (a loaded machine) cannot let it finish
+                                      // Indices after 10 wait for the throw (at most 10 s), then run
+                                      // slowly, so that a thrower descheduled before or after its
+                                      // throw (a loaded machine) cannot let the other worker finish
                                       // every index before the stop is seen.
-                                      if (thrown) std::this_thread::sleep_for(std::chrono::microseconds(50));
+                                      for (int k = 0; i > 10 && !thrown && k < 200000; ++k)
+                                        std::this_thread::sleep_for(std::chrono::microseconds(50));
+                                      std::this_thread::sleep_for(std::chrono::microseconds(thrown ? 50 : 0));
                                     }),
                std::invalid_argument);
   EXPECT_LT(calls.load(), 100000);  // the others stop taking new indices
