@@ -1416,6 +1416,28 @@ void complex_multiply(double* __restrict z, const double* __restrict k, int m) {
   }
 }
 
+// The chirp's cyclic convolution of `in` (m complex values) with the forward (kf) or
+// inverse (kb) kernel into `out`, through the work array v: four steps with the kernel in
+// transposed order where the plans have them (m >= 4096), else two out-of-place FFTs
+// (FFTW's in-place plans of these sizes buffer their columns). `out` may be `in`.
+void chirp_convolve(const FftPlans& p, bool forward, fftw_complex* in, double* v, fftw_complex* out) {
+  const int m = p.m;
+  auto* const vc = reinterpret_cast<fftw_complex*>(v);
+  if (p.n1 > 0) {
+    fftw_execute_dft(p.col_f, in, vc);
+    complex_multiply(v, p.tw.data(), m);
+    fftw_execute_dft(p.row_f, vc, vc);
+    complex_multiply(v, (forward ? p.kfp : p.kbp).data(), m);
+    fftw_execute_dft(p.row_b, vc, vc);
+    complex_multiply(v, p.twb.data(), m);
+    fftw_execute_dft(p.col_b, vc, out);
+  } else {
+    fftw_execute_dft(p.fwd_oop, in, vc);
+    complex_multiply(v, (forward ? p.kf : p.kb).data(), m);
+    fftw_execute_dft(p.bwd_oop, vc, out);
+  }
+}
+
 // u_j = (f1_j + i f2_j) conj(w_j), j < n (the chirp's input; the rest of u stays zero).
 // Rounded as the scalar expressions read (no fused multiply-add).
 ATMOSH_DISPATCH_NO_FMA
@@ -1617,22 +1639,7 @@ void RealFft::chirp_spectra(const double* f1, const double* f2, int cm, double* 
   double* const u = work_ + 2 * static_cast<std::size_t>(m);
   double* const v = work_ + 4 * static_cast<std::size_t>(m);
   chirp_premultiply(f1, f2, p.chirp.data(), n_, u);
-  auto* const uc = reinterpret_cast<fftw_complex*>(u);
-  auto* const vc = reinterpret_cast<fftw_complex*>(v);
-  auto* const yc = reinterpret_cast<fftw_complex*>(y);
-  if (p.n1 > 0) {  // four steps, the spectrum in transposed order
-    fftw_execute_dft(p.col_f, uc, vc);
-    complex_multiply(v, p.tw.data(), m);
-    fftw_execute_dft(p.row_f, vc, vc);
-    complex_multiply(v, p.kfp.data(), m);
-    fftw_execute_dft(p.row_b, vc, vc);
-    complex_multiply(v, p.twb.data(), m);
-    fftw_execute_dft(p.col_b, vc, yc);
-  } else {
-    fftw_execute_dft(p.fwd_oop, uc, vc);
-    complex_multiply(v, p.kf.data(), m);
-    fftw_execute_dft(p.bwd_oop, vc, yc);
-  }
+  chirp_convolve(p, true, reinterpret_cast<fftw_complex*>(u), v, reinterpret_cast<fftw_complex*>(y));
   chirp_split(y, p.chirp.data(), m, cm, s1, s2);
 }
 
@@ -1737,20 +1744,7 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
     chirp_inverse_fill(cs1, cs2, count, w, m, z);
     double* const v = work_ + 4 * static_cast<std::size_t>(m);
     auto* const zc = reinterpret_cast<fftw_complex*>(z);
-    auto* const vc = reinterpret_cast<fftw_complex*>(v);
-    if (p.n1 > 0) {  // four steps, the spectrum in transposed order (as chirp_spectra)
-      fftw_execute_dft(p.col_f, zc, vc);
-      complex_multiply(v, p.tw.data(), m);
-      fftw_execute_dft(p.row_f, vc, vc);
-      complex_multiply(v, p.kbp.data(), m);
-      fftw_execute_dft(p.row_b, vc, vc);
-      complex_multiply(v, p.twb.data(), m);
-      fftw_execute_dft(p.col_b, vc, zc);
-    } else {  // out of place (FFTW's in-place plans of these sizes buffer their columns)
-      fftw_execute_dft(p.fwd_oop, zc, vc);
-      complex_multiply(v, p.kb.data(), m);
-      fftw_execute_dft(p.bwd_oop, vc, zc);
-    }
+    chirp_convolve(p, false, zc, v, zc);
     chirp_inverse_out(z, w, n, v1, v2);
     return;
   }
