@@ -47,8 +47,10 @@ echo "== [2/3] clang AddressSanitizer + UndefinedBehaviorSanitizer (and the fuzz
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+# Line tables are all the sanitizers' reports need (file:line of every frame); full debug
+# information made the build about 10 % slower to compile and link.
 CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DATMOSH_SANITIZE=address,undefined -DATMOSH_BUILD_BENCH=OFF -DATMOSH_WITH_PYTHON=OFF \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DATMOSH_SANITIZE=address,undefined -DATMOSH_BUILD_BENCH=OFF -DATMOSH_WITH_PYTHON=OFF \
   -DATMOSH_BUILD_FUZZ=ON
 cmake --build build-asan -j "$JOBS"
 # The docs' example runs spawn the command line ~20 times each (100 s under the
@@ -59,8 +61,26 @@ cmake --build build-asan -j "$JOBS"
 # pass it drives run here in MultipleScattering.* and GpuMultipleScattering.*.
 ASAN_SKIP='^(Docs\.(CliExamplesRun|SweepExampleRuns)|CliSkyDevice\.ApproximateScatteringRendersOnTheGpuLikeTheCpu)$'
 seed_costs build-asan tests/ci/ctest-costs-asan.txt
-ctest --test-dir build-asan -j "$JOBS" --output-on-failure --timeout 1800 -E "$ASAN_SKIP" | tee "$LOGS/asan.log"
-count_passed "$LOGS/asan.log"
+if ctest --test-dir build-asan -j "$JOBS" --output-on-failure --timeout 1800 -E "$ASAN_SKIP" | tee "$LOGS/asan.log"; then
+  count_passed "$LOGS/asan.log"
+else
+  # LeakSanitizer's own tracer now and then faults while it stops a process's threads at exit
+  # ("Tracer caught signal 11 ... LeakSanitizer has encountered a fatal error", intermittent,
+  # google/sanitizers#1353); seen once here after a test had passed, with Embree's and Mesa's
+  # threads ending. Only when every failure is that fault, and the log holds no finding of a
+  # sanitizer and no failed assertion, are the failed tests run once more; anything else fails.
+  failed=$(sed -n 's/^[0-9]*% tests passed, \([0-9]*\) tests failed out of [0-9]*$/\1/p' "$LOGS/asan.log" | tail -n 1)
+  tracer=$(grep -c "LeakSanitizer has encountered a fatal error" "$LOGS/asan.log" || true)
+  if [ -n "$failed" ] && [ "$failed" -gt 0 ] && [ "$tracer" = "$failed" ] &&
+     ! grep -qE "ERROR: (AddressSanitizer|LeakSanitizer: detected)|runtime error:|\[  FAILED  \]|\*\*\*(Failed|Timeout)" "$LOGS/asan.log"; then
+    echo "LeakSanitizer's tracer faulted in ${failed} test(s) that passed; running them once more"
+    ctest --test-dir build-asan --output-on-failure --timeout 1800 --rerun-failed | tee "$LOGS/asan-rerun.log"
+    total=$(sed -n 's/^[0-9]*% tests passed, [0-9]* tests failed out of \([0-9]*\)$/\1/p' "$LOGS/asan.log" | tail -n 1)
+    passed=$((passed + total))
+  else
+    exit 1
+  fi
+fi
 
 echo "== [3/3] libFuzzer: 6 readers of user files, ${FUZZ_SECONDS} s each, ${JOBS} at once"
 FUZZERS=(fuzz_scene fuzz_sweep fuzz_mesh_obj fuzz_mesh_ply fuzz_exr fuzz_sh_csv)

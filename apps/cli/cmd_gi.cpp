@@ -175,7 +175,8 @@ void register_gi_commands(CLI::App& app) {
                 "the 2-level LPV cascade rows (lpv cascades=2; lpv-cascade-gpu with --device gpu|auto) for the LPV grids "
                 "2..N (default 16; 0: none; 32 adds the costly grid-32 cascade)");
   v->add_option("--lpv-paper-max-grid", co->lpv_paper_max_grid,
-                "rows lpv-paper (the one-level LPV with Kaplanyan & Dachsbacher 2010's face-normal re-emission, CPU) "
+                "rows lpv-paper (the one-level LPV with Kaplanyan & Dachsbacher 2010's face-normal re-emission, CPU; "
+                "lpv-paper-gpu with --device gpu|auto) "
                 "beside the lpv rows, for the LPV grids 1..N (default 16; 0: none)");
   v->add_option("--reference-samples", co->reference_samples, "reference paths per pixel (default 256)");
   add_device_option(v, co->render.method.device, "also the GPU forms of probes, radiosity and lpv (rows <method>-gpu)");

@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "../apps/run_cli.hpp"
@@ -206,6 +208,7 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
   std::ifstream csv(dir / "conv" / "gi_converge.csv");
   std::string line;
   int gpu_rows = 0, probe_rows = 0, resident_rows = 0, cascade_gpu_rows = 0;
+  double paper_rms = -1, paper_gpu_rms = -1;
   bool header = false;
   while (std::getline(csv, line)) {
     if (line.rfind("method,setting,error_max_rel,error_rms_rel,time_s,leak_rel,build_s,shade_s,mean_rel,ringing_rel,"
@@ -221,9 +224,25 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
       }
       ASSERT_EQ(v.size(), 3u) << line;
       for (double x : v) EXPECT_TRUE(std::isfinite(x) && x > 0) << line;  // error_max_rel, error_rms_rel, time_s
+      // its ringing columns against the 8-band resident frame of the same grid, as for the
+      // probes' rows below: finite, >= 0, and band 1 (the mean only) differs from 8 bands
+      const auto c2 = line.rfind(','), c1 = line.rfind(',', c2 - 1);
+      const double ring = std::stod(line.substr(c1 + 1, c2 - c1 - 1)), leak = std::stod(line.substr(c2 + 1));
+      EXPECT_TRUE(ring >= 0 && std::isfinite(ring)) << line;
+      EXPECT_TRUE(leak >= 0 && std::isfinite(leak)) << line;
+      if (line.find("bands=1 ") != std::string::npos) {
+        EXPECT_GT(ring, 0) << line;
+      }
       continue;
     }
     if (line.find("-gpu") != std::string::npos) ++gpu_rows;
+    // the published re-emission on the CPU and on the GPU: error_rms_rel (column 4)
+    for (auto [prefix, out] : {std::pair{"lpv-paper,", &paper_rms}, std::pair{"lpv-paper-gpu,", &paper_gpu_rms}})
+      if (line.rfind(prefix, 0) == 0) {
+        std::size_t a = 0;
+        for (int k = 0; k < 3; ++k) a = line.find(',', a) + 1;
+        *out = std::stod(line.substr(a, line.find(',', a) - a));
+      }
     if (line.rfind("lpv-cascade-gpu,grid=2 iterations=4 cascades=2,", 0) == 0) ++cascade_gpu_rows;
     if (line.rfind("probes", 0) == 0) {
       ++probe_rows;
@@ -240,10 +259,16 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
   }
   EXPECT_TRUE(header);
   // a GPU context: probes-gpu[-visibility] 2 bands each, radiosity-gpu 1, lpv[-noblock]-gpu 2,
-  // lpv-cascade-gpu 1 (the 2-level cascade in the resident frame); none: a notice
+  // lpv-cascade-gpu 1 (the 2-level cascade in the resident frame), lpv-paper-gpu 1; none: a notice
   if (std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT") || r.err.find("CPU forms") == std::string::npos) {
-    EXPECT_EQ(gpu_rows, 8) << r.err;
+    EXPECT_EQ(gpu_rows, 9) << r.err;
     EXPECT_EQ(cascade_gpu_rows, 1) << r.err;
+    // lpv-paper-gpu: the same propagation as lpv-paper on the GPU (its grids match the CPU's
+    // to 2e-5, GiLpvGpu), so the same error against the reference up to the shading's
+    ASSERT_GT(paper_rms, 0);
+    ASSERT_GT(paper_gpu_rms, 0);
+    std::printf("[ measured ] lpv-paper rms %.4f, lpv-paper-gpu rms %.4f\n", paper_rms, paper_gpu_rms);
+    EXPECT_NEAR(paper_gpu_rms, paper_rms, 0.05);
     EXPECT_EQ(probe_rows, 8);
   } else {
     EXPECT_EQ(gpu_rows, 0);

@@ -422,7 +422,7 @@ TEST(GiProbesResident, ConvergeStudyHasResidentFrameRows) {
   co.method.samples = 4;
   co.method.cube_size = 8;
   co.method.pixel_samples = 4;
-  co.bands = {1, 5};
+  co.bands = {1, 5, 8};
   co.grids = {3};
   co.path_samples = {};
   co.reference_samples = 32;
@@ -441,7 +441,22 @@ TEST(GiProbesResident, ConvergeStudyHasResidentFrameRows) {
   };
   int resident = 0;
   for (const auto& r : st.rows) resident += r.method == "probes-resident-gpu";
-  EXPECT_EQ(resident, 2);
+  EXPECT_EQ(resident, 3);
+  // The ringing columns (extras 4, 5) are taken against the resident frame of the same grid at
+  // 8 bands unwindowed: the 8-band row is that frame again (the same program on the same
+  // inputs), so its ringing is exactly 0 and its ring-free leak its own leak; the 1-band row
+  // (the mean only) differs from it.
+  const io::StudyRow* r8 = find("probes-resident-gpu", "bands=8 grid=3");
+  const io::StudyRow* r1 = find("probes-resident-gpu", "bands=1 grid=3");
+  ASSERT_NE(r8, nullptr);
+  ASSERT_NE(r1, nullptr);
+  ASSERT_EQ(r8->extras.size(), 6u);
+  ASSERT_EQ(r1->extras.size(), 6u);
+  EXPECT_EQ(r8->extras[4], 0.0);
+  EXPECT_EQ(r8->extras[5], r8->extras[0]);
+  EXPECT_GT(r1->extras[4], 0.0);
+  EXPECT_TRUE(std::isfinite(r1->extras[4]) && std::isfinite(r1->extras[5]));
+  EXPECT_EQ(r1->extras[5], r8->extras[0]);  // the same ring-free image for every row of the grid
   for (const char* setting : {"bands=1 grid=3", "bands=5 grid=3"}) {
     const io::StudyRow* r = find("probes-resident-gpu", setting);
     const io::StudyRow* c = find("probes", setting);

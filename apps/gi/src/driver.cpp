@@ -34,6 +34,17 @@ bool has_emitters(const Scene& s) {
 
 std::string num(int v) { return std::to_string(v); }
 
+// ringing_rel of a probe image: sum |img - hi| / sum ref over the unmasked pixels and the three
+// channels, hi the image of the same probes at more bands, unwindowed.
+double ringing_rel(const RadianceImage& img, const RadianceImage& hi, const RadianceImage& ref,
+                   const std::vector<unsigned char>& mask) {
+  double ring = 0, sum_r = 0;
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t i = 0; i < ref.mean[c].size(); ++i)
+      if (mask[i] == 0) ring += std::abs(img.mean[c][i] - hi.mean[c][i]), sum_r += ref.mean[c][i];
+  return ring / sum_r;
+}
+
 // An image of the study with, for a row, its error channels (this minus the reference);
 // the PNG beside it (exposure: 1 / the 99th percentile of G).
 void write_study_image(const fs::path& exr, const RadianceImage& img, const RadianceImage* ref,
@@ -327,13 +338,9 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
         const RadianceImage img = render_probes(s, s.camera, w, h, gb, false, ro);
         const double shade = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const ImageError e = image_error(img, ref, &mask);
-        double ring = 0, sum_r = 0;
-        for (int c = 0; c < 3; ++c)
-          for (std::size_t i = 0; i < ref.mean[c].size(); ++i)
-            if (mask[i] == 0) ring += std::abs(img.mean[c][i] - hi.mean[c][i]), sum_r += ref.mean[c][i];
         const std::string method = base + (vis ? "-visibility" : "");
         st.rows.push_back({method, "bands=" + num(b) + " grid=" + num(g), e.max_rel, e.rms_rel, build_s + shade,
-                           {e.leak_rel, build_s, shade, e.mean_rel, ring / sum_r, ehi.leak_rel}});
+                           {e.leak_rel, build_s, shade, e.mean_rel, ringing_rel(img, hi, ref, mask), ehi.leak_rel}});
         auto pp = prov;
         pp.add("method", method).add("bands", num(b)).add("grid", num(g)).add("cube_size", num(o.cube_size))
             .add("texel_samples", num(o.samples)).add("window", o.window);
@@ -377,16 +384,24 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
       // band count (every count of --bands-list, 1..16), pixel centres. time_s and shade_s: one
       // frame (the second: the first draws JIT-compile on llvmpipe); build_s: the bake and the
       // frame's setup (programs, uploads).
-      for (int g : co.grids)
+      // ringing_rel and leak_ringfree_rel as for the probes' rows, against the resident frame of
+      // the same grid at kRingFree bands unwindowed (one more program per grid).
+      auto frame_options = [&](int g, int b, sh::Window window) {
+        ProbeFrameOptions fo;
+        fo.grid = g;
+        fo.probes.bands = b;
+        fo.probes.cube_size = o.cube_size;
+        fo.probes.window = window;
+        fo.supersample = supersample;
+        return fo;
+      };
+      for (int g : co.grids) {
+        const RadianceImage hi =
+            ProbeFrameResident(s, s.camera, w, h, f, frame_options(g, kRingFree, sh::Window::none)).render();
+        const ImageError ehi = image_error(hi, ref, &mask);
         for (int b : co.bands) {
-          ProbeFrameOptions fo;
-          fo.grid = g;
-          fo.probes.bands = b;
-          fo.probes.cube_size = o.cube_size;
-          fo.probes.window = probe_window(o.window);
-          fo.supersample = supersample;
           const auto t0 = std::chrono::steady_clock::now();
-          const ProbeFrameResident frame(s, s.camera, w, h, f, fo);
+          const ProbeFrameResident frame(s, s.camera, w, h, f, frame_options(g, b, probe_window(o.window)));
           (void)frame.render();
           const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
           const RadianceImage img = frame.render();
@@ -394,13 +409,15 @@ ConvergeStudy converge_methods(const Scene& s, int w, int h, const ConvergeOptio
           const ImageError e = image_error(img, ref, &mask);
           const std::string method = "probes-resident-gpu", setting = "bands=" + num(b) + " grid=" + num(g);
           st.rows.push_back({method, setting, e.max_rel, e.rms_rel, frame_s,
-                             {e.leak_rel, f.seconds + setup, frame_s, e.mean_rel}});
+                             {e.leak_rel, f.seconds + setup, frame_s, e.mean_rel, ringing_rel(img, hi, ref, mask),
+                              ehi.leak_rel}});
           auto pp = prov;
           pp.add("method", method).add("bands", num(b)).add("grid", num(g)).add("cube_size", num(o.cube_size))
               .add("supersample", num(supersample)).add("window", o.window).add("frame_seconds", frame_s);
           write_study_image(dir / (method + "_b" + num(b) + "_g" + num(g) + ".exr"), img, &ref,
                             "radiance (R, G, B), GPU-resident probe frame (pixel centres, sun by a shadow map)", pp);
         }
+      }
       prov.add("surface_divisions", num(so.divisions)).add("surface_samples", num(so.samples))
           .add("surface_supersample", num(supersample))
           .add("surface_bake_seconds", f.seconds)

@@ -407,6 +407,21 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
         rp.result.shade_seconds = since(t1);
         rp.result.build_seconds = lpaper.inject_seconds + lpaper.propagate_seconds;
         row(rp);
+        if (o.gpu) {  // the same on the GPU (the propagation's table row, no other program)
+          MethodOptions m;
+          m.method = "lpv";
+          m.grid = g;
+          m.lpv_reemission = LpvReemission::face_lobe;
+          m.pixel_samples = o.pixel_samples;
+          m.seed = o.seed;
+          m.threads = o.threads;
+          m.device = DeviceRequest::gpu;
+          StudyRow rg;
+          rg.method = "lpv-paper-gpu";
+          rg.setting = rp.setting;
+          rg.result = render_method(scene, scene.camera, width, height, m);
+          row(rg);
+        }
       }
       if (block && g >= 2 && g <= o.lpv_cascade_max_grid) {  // the 2-level nested cascade (CPU)
         StudyRow rc;

@@ -103,10 +103,10 @@ struct ConvergeStudy {
   io::StudySpec spec;
   std::vector<io::StudyRow> rows;  // path "spp=N", probes[-visibility] "bands=B grid=G", radiosity, lpv;
                                    // with --device gpu|auto also probes-gpu[-visibility] (projected on the GPU,
-                                   // shaded on the CPU), probes-resident-gpu "bands=B grid=G" (B <= 3; the
+                                   // shaded on the CPU), probes-resident-gpu "bands=B grid=G" (B <= 16; the
                                    // GPU-resident frame, time_s = one frame), radiosity-gpu, lpv[-noblock]-gpu,
                                    // lpv-cascade-gpu (the 2-level cascade in the GPU-resident LPV frame),
-                                   // lpv-paper (the published re-emission, StudyOptions::lpv_paper_max_grid)
+                                   // lpv-paper[-gpu] (the published re-emission, StudyOptions::lpv_paper_max_grid)
   io::Provenance provenance;
   std::string notice;  // --device auto without a usable GPU: one line for the user
 };

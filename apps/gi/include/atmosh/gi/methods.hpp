@@ -94,8 +94,9 @@ struct StudyOptions {
   int lpv_cascade_max_grid = 16;
   /// Also, for every LPV grid in 1..lpv_paper_max_grid (after its rows), the one-level LPV with
   /// Kaplanyan & Dachsbacher 2010's re-emission (LpvReemission::face_lobe; geometry volume on; CPU;
-  /// method "lpv-paper", the "lpv" row's setting), beside the default re-emission's "lpv" row.
-  /// 0: none. It costs what the "lpv" row of the same grid costs.
+  /// method "lpv-paper", the "lpv" row's setting), beside the default re-emission's "lpv" row;
+  /// with `gpu`, the same on the GPU after it (method "lpv-paper-gpu", render_method with
+  /// lpv_reemission = face_lobe). 0: none. It costs what the "lpv" rows of the same grid cost.
   int lpv_paper_max_grid = 16;
 };
 struct StudyRow {
