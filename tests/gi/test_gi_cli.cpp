@@ -210,6 +210,18 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
   int gpu_rows = 0, probe_rows = 0, resident_rows = 0, cascade_gpu_rows = 0;
   double paper_rms = -1, paper_gpu_rms = -1;
   bool header = false;
+  // ringing_rel and leak_ringfree_rel (the last two columns) of a probe row: finite and >= 0;
+  // band 1 holds only the mean, its ringing (what it differs from 8 bands) is not 0 under a
+  // sky over a plane
+  auto check_ringing = [](const std::string& line) {
+    const auto c2 = line.rfind(','), c1 = line.rfind(',', c2 - 1);
+    const double ring = std::stod(line.substr(c1 + 1, c2 - c1 - 1)), leak = std::stod(line.substr(c2 + 1));
+    EXPECT_TRUE(ring >= 0 && std::isfinite(ring)) << line;
+    EXPECT_TRUE(leak >= 0 && std::isfinite(leak)) << line;
+    if (line.find("bands=1 ") != std::string::npos) {
+      EXPECT_GT(ring, 0) << line;
+    }
+  };
   while (std::getline(csv, line)) {
     if (line.rfind("method,setting,error_max_rel,error_rms_rel,time_s,leak_rel,build_s,shade_s,mean_rel,ringing_rel,"
                    "leak_ringfree_rel", 0) == 0)
@@ -224,15 +236,7 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
       }
       ASSERT_EQ(v.size(), 3u) << line;
       for (double x : v) EXPECT_TRUE(std::isfinite(x) && x > 0) << line;  // error_max_rel, error_rms_rel, time_s
-      // its ringing columns against the 8-band resident frame of the same grid, as for the
-      // probes' rows below: finite, >= 0, and band 1 (the mean only) differs from 8 bands
-      const auto c2 = line.rfind(','), c1 = line.rfind(',', c2 - 1);
-      const double ring = std::stod(line.substr(c1 + 1, c2 - c1 - 1)), leak = std::stod(line.substr(c2 + 1));
-      EXPECT_TRUE(ring >= 0 && std::isfinite(ring)) << line;
-      EXPECT_TRUE(leak >= 0 && std::isfinite(leak)) << line;
-      if (line.find("bands=1 ") != std::string::npos) {
-        EXPECT_GT(ring, 0) << line;
-      }
+      check_ringing(line);  // against the 8-band resident frame of the same grid
       continue;
     }
     if (line.find("-gpu") != std::string::npos) ++gpu_rows;
@@ -246,15 +250,7 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
     if (line.rfind("lpv-cascade-gpu,grid=2 iterations=4 cascades=2,", 0) == 0) ++cascade_gpu_rows;
     if (line.rfind("probes", 0) == 0) {
       ++probe_rows;
-      // ringing_rel and leak_ringfree_rel: finite and >= 0 for the probes' rows; band 1 holds only
-      // the mean, its ringing (what it differs from 8 bands) is not 0 under a sky over a plane
-      const auto c2 = line.rfind(','), c1 = line.rfind(',', c2 - 1);
-      const double ring = std::stod(line.substr(c1 + 1, c2 - c1 - 1)), leak = std::stod(line.substr(c2 + 1));
-      EXPECT_TRUE(ring >= 0 && std::isfinite(ring)) << line;
-      EXPECT_TRUE(leak >= 0 && std::isfinite(leak)) << line;
-      if (line.find("bands=1 ") != std::string::npos) {
-        EXPECT_GT(ring, 0) << line;
-      }
+      check_ringing(line);
     }
   }
   EXPECT_TRUE(header);

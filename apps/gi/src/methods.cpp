@@ -380,21 +380,24 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
       r.result.shade_seconds = since(t0);
       r.result.build_seconds = l.inject_seconds + l.propagate_seconds;
       row(r);
-      if (o.gpu) {  // injection, geometry, propagation and shading on the GPU
+      // A GPU row of this grid: render_method's LPV on the GPU, `set` choosing its variant.
+      auto gpu_row = [&](const std::string& method, const std::string& setting, auto&& set) {
         MethodOptions m;
         m.method = "lpv";
         m.grid = g;
-        m.lpv_blocking = block;
         m.pixel_samples = o.pixel_samples;
         m.seed = o.seed;
         m.threads = o.threads;
         m.device = DeviceRequest::gpu;
+        set(m);
         StudyRow rg;
-        rg.method = r.method + "-gpu";
-        rg.setting = r.setting;
+        rg.method = method;
+        rg.setting = setting;
         rg.result = render_method(scene, scene.camera, width, height, m);
         row(rg);
-      }
+      };
+      if (o.gpu)  // injection, geometry, propagation and shading on the GPU
+        gpu_row(r.method + "-gpu", r.setting, [&](MethodOptions& m) { m.lpv_blocking = block; });
       if (block && g <= o.lpv_paper_max_grid) {  // the published re-emission, side by side (CPU)
         LpvOptions lp = lo;
         lp.reemission = LpvReemission::face_lobe;
@@ -407,21 +410,8 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
         rp.result.shade_seconds = since(t1);
         rp.result.build_seconds = lpaper.inject_seconds + lpaper.propagate_seconds;
         row(rp);
-        if (o.gpu) {  // the same on the GPU (the propagation's table row, no other program)
-          MethodOptions m;
-          m.method = "lpv";
-          m.grid = g;
-          m.lpv_reemission = LpvReemission::face_lobe;
-          m.pixel_samples = o.pixel_samples;
-          m.seed = o.seed;
-          m.threads = o.threads;
-          m.device = DeviceRequest::gpu;
-          StudyRow rg;
-          rg.method = "lpv-paper-gpu";
-          rg.setting = rp.setting;
-          rg.result = render_method(scene, scene.camera, width, height, m);
-          row(rg);
-        }
+        if (o.gpu)  // the same on the GPU (the propagation's table row, no other program)
+          gpu_row("lpv-paper-gpu", rp.setting, [](MethodOptions& m) { m.lpv_reemission = LpvReemission::face_lobe; });
       }
       if (block && g >= 2 && g <= o.lpv_cascade_max_grid) {  // the 2-level nested cascade (CPU)
         StudyRow rc;
@@ -434,21 +424,8 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
         rc.result.build_seconds = c.inject_seconds + c.propagate_seconds;
         rc.result.image.stats.rays += c.rays;
         row(rc);
-        if (o.gpu && n_emitting <= 64) {  // the same in the GPU-resident frame
-          MethodOptions m;
-          m.method = "lpv";
-          m.grid = g;
-          m.lpv_cascades = 2;
-          m.pixel_samples = o.pixel_samples;
-          m.seed = o.seed;
-          m.threads = o.threads;
-          m.device = DeviceRequest::gpu;
-          StudyRow rg;
-          rg.method = "lpv-cascade-gpu";
-          rg.setting = rc.setting;
-          rg.result = render_method(scene, scene.camera, width, height, m);
-          row(rg);
-        }
+        if (o.gpu && n_emitting <= 64)  // the same in the GPU-resident frame
+          gpu_row("lpv-cascade-gpu", rc.setting, [](MethodOptions& m) { m.lpv_cascades = 2; });
       }
     }
 }
