@@ -110,6 +110,16 @@ TEST(GiLpv, PropagationThroughEmptySpaceConservesFlux) {
   }
 }
 
+// The cell s steps along +z from the single VPL's cell (c, c, c): band 0 and the z part of
+// band 1 as derived (to 1e-12 of c00), no x or y part.
+void expect_on_axis_cell(const gi::LpvGrid& g, int c, int s, double c00, double c10) {
+  const gi::LpvCell& cell = g.cells[g.index(c, c, c + s)];
+  EXPECT_NEAR(cell[0], c00, 1e-12 * c00) << s;
+  EXPECT_NEAR(cell[2], c10, 1e-12 * c00) << s;
+  EXPECT_NEAR(cell[1], 0.0, 1e-15) << s;
+  EXPECT_NEAR(cell[3], 0.0, 1e-15) << s;
+}
+
 TEST(GiLpv, SingleVplFallsOffAsTheDerivationSays) {
   const int n = 21, c = 10;
   gi::LpvGrid g = empty_grid(n);
@@ -128,11 +138,7 @@ TEST(GiLpv, SingleVplFallsOffAsTheDerivationSays) {
     const double Iz = c00 * Y00 + c10 * k, Is = c00 * Y00 + c10 * k * 2 / std::sqrt(5.0);
     c00 = Y00 * (F * Iz + 4 * S * Is);
     c10 = k * (F * Iz + 4 * S * Is * 2 / std::sqrt(5.0));
-    const gi::LpvCell& cell = g.cells[g.index(c, c, c + s)];
-    EXPECT_NEAR(cell[0], c00, 1e-12 * c00) << s;
-    EXPECT_NEAR(cell[2], c10, 1e-12 * c00) << s;
-    EXPECT_NEAR(cell[1], 0.0, 1e-15) << s;
-    EXPECT_NEAR(cell[3], 0.0, 1e-15) << s;
+    expect_on_axis_cell(g, c, s, c00, c10);
     on_axis.push_back(c00 * Y00 + c10 * k);  // I(+z)
   }
   // The recurrence decays geometrically along the axis — faster than the free-space
@@ -179,11 +185,7 @@ TEST(GiLpv, PaperReemissionFallsOffAsTheDerivationSays) {
     const double Iz = c00 * Y00 + c10 * k, Is = c00 * Y00 + c10 * k * 2 / r5;
     c00 = Y00 * (F * Iz + 4 * S * Is);
     c10 = 2.0 / 3 * k * F * Iz;
-    const gi::LpvCell& cell = g.cells[g.index(c, c, c + s)];
-    EXPECT_NEAR(cell[0], c00, 1e-12 * c00) << s;
-    EXPECT_NEAR(cell[2], c10, 1e-12 * c00) << s;
-    EXPECT_NEAR(cell[1], 0.0, 1e-15) << s;
-    EXPECT_NEAR(cell[3], 0.0, 1e-15) << s;
+    expect_on_axis_cell(g, c, s, c00, c10);
     on_axis.push_back(c00 * Y00 + c10 * k);  // I(+z)
     // summed over the grid (no light has left it yet): the flux kept, band 1 (the isotropic VPL's
     // is 0) stays 0; the lobe's share mu1 of band 1 is checked below on a Lambertian VPL
