@@ -10,6 +10,7 @@ in vec3 v_position;
 flat in vec3 v_normal;
 flat in vec3 v_albedo;
 flat in vec4 v_emission;
+flat in vec3 v_anchor;
 uniform vec3 eye;             // relative to the bounding-box centre
 uniform int has_sun;
 uniform vec3 sun_dir;         // towards the sun, unit
@@ -95,14 +96,16 @@ float point_visible(int k, vec3 q, vec3 n) {
 void main() {
   float len = length(v_normal);
   vec3 n = len > 0.0 ? v_normal / len : vec3(0.0, 0.0, 1.0);
-  bool front = dot(n, eye - v_position) > 0.0;
+  // The point at the pixel centre (gi_pixel_point.glsl, pasted before this file).
+  vec3 pos = gi_pixel_point(eye, v_position, n, v_anchor);
+  bool front = dot(n, eye - pos) > 0.0;
   if (!front) n = -n;
   vec3 e = (v_emission.w > 0.5 && !front) ? vec3(0.0) : v_emission.rgb;
   float f = 0.0;
   if (has_sun != 0) {
     float c = dot(n, sun_dir);
     if (c > 0.0) {
-      vec3 q = v_position + n * (normal_offset * texel);
+      vec3 q = pos + n * (normal_offset * texel);
       vec4 lp = light_proj * vec4(q, 1.0);
       vec2 uv = lp.xy * 0.5 + 0.5;
       float d = lp.z * 0.5 + 0.5;
@@ -124,17 +127,17 @@ void main() {
   vec3 Eem = vec3(0.0);
   for (int t = 0; t < n_emitters; ++t) {
     vec3 v0 = em3(t, 0), v1 = em3(t, 3), v2 = em3(t, 6), L = em3(t, 9), en = em3(t, 12);
-    if (em[t * 16 + 15] > 0.5 && dot(en, v_position - v0) <= 0.0) continue;  // behind a one-sided emitter
-    float F = gi_polygon_irradiance(v_position + eval_offset * n, n, v0, v1, v2);
+    if (em[t * 16 + 15] > 0.5 && dot(en, pos - v0) <= 0.0) continue;  // behind a one-sided emitter
+    float F = gi_polygon_irradiance(pos + eval_offset * n, n, v0, v1, v2);
     if (!(F > 0.0)) continue;
-    vec3 q = v_position + shadow_offset * n;
+    vec3 q = pos + shadow_offset * n;
     float vis = 0.0;
     for (int k = 0; k < points_per_tri; ++k) vis += point_visible(t * points_per_tri + k, q, n);
     Eem += L * (F * vis / float(points_per_tri));
   }
   g_emitter = vec4(Eem, 1.0);
-  g_sky = vec4(n_sky > 0 ? sky_irradiance(v_position, n) : vec3(0.0), 1.0);
-  g_position = vec4(v_position, 1.0);
+  g_sky = vec4(n_sky > 0 ? sky_irradiance(pos, n) : vec3(0.0), 1.0);
+  g_position = vec4(pos, 1.0);
   g_normal = vec4(n, f);
   g_albedo = vec4(v_albedo, 1.0);
   g_emission = vec4(e, 1.0);

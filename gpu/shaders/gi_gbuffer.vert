@@ -10,10 +10,12 @@ out vec3 v_position;
 flat out vec3 v_normal;
 flat out vec3 v_albedo;
 flat out vec4 v_emission;
+flat out vec3 v_anchor;  // the provoking vertex: a point of the triangle's plane
 void main() {
   v_position = in_position;
   v_normal = in_normal;
   v_albedo = in_albedo;
   v_emission = in_emission;
+  v_anchor = in_position;
   gl_Position = view_proj * vec4(in_position, 1.0);
 }

@@ -5,7 +5,8 @@
 // (trilinear weights, p clamped to the span of the probe centres; n the flat normal turned
 // towards the eye; A_l the clamped-cosine factors of libsh's sh::irradiance_factors, any band).
 // Follows the shared block of libsh/include/atmosh/sh/shared/cube.glsl.hpp (sh_basis_all,
-// sh_basis_scale) and gi_probe_sun.glsl (the sun's shadow-map factor; 0 when has_sun is 0).
+// sh_basis_scale), gi_probe_sun.glsl (the sun's shadow-map factor; 0 when has_sun is 0) and
+// gi_pixel_point.glsl (the surface point at the pixel centre).
 // The program is compiled for one band count: ATMOSH_SH_MAX_BANDS (defined in its preamble) is
 // the bands it shades, so that every loop below has a constant trip count (the compiler may
 // unroll them and keep the basis values in registers).
@@ -21,17 +22,20 @@ in vec3 v_normal;
 in vec3 v_albedo;
 in vec3 v_emit_front;
 in vec3 v_emit_back;
+flat in vec3 v_anchor;
 layout(location = 0) out vec4 radiance;
 
 void main() {
-  vec3 to_eye = eye - v_position;
+  // The point at the pixel centre (gi_pixel_point.glsl, pasted before this file).
+  vec3 pos = gi_pixel_point(eye, v_position, v_normal, v_anchor);
+  vec3 to_eye = eye - pos;
   bool front = dot(v_normal, to_eye) > 0.0;
   vec3 n = normalize(front ? v_normal : -v_normal);
   ivec3 i0, i1;
   vec3 f;
   for (int a = 0; a < 3; ++a) {
     float ext = grid_hi[a] - grid_lo[a];
-    float x = ext > 0.0 ? (v_position[a] - grid_lo[a]) / ext * float(grid_n) - 0.5 : 0.0;
+    float x = ext > 0.0 ? (pos[a] - grid_lo[a]) / ext * float(grid_n) - 0.5 : 0.0;
     x = clamp(x, 0.0, float(grid_n - 1));
     i0[a] = min(int(floor(x)), grid_n - 1);
     i1[a] = min(i0[a] + 1, grid_n - 1);
@@ -56,6 +60,6 @@ void main() {
       E[ch] += w * s;
     }
   }
-  vec3 Es = sun_irradiance * probe_sun_factor(v_position, n);
+  vec3 Es = sun_irradiance * probe_sun_factor(pos, n);
   radiance = vec4((front ? v_emit_front : v_emit_back) + v_albedo / 3.14159265358979324 * (max(E, vec3(0.0)) + Es), 1.0);
 }

@@ -11,11 +11,13 @@ out vec3 v_normal;
 out vec3 v_albedo;
 out vec3 v_emit_front;
 out vec3 v_emit_back;
+flat out vec3 v_anchor;  // the provoking vertex: a point of the triangle's plane
 void main() {
   v_position = in_position;
   v_normal = in_normal;
   v_albedo = in_albedo;
   v_emit_front = in_emit_front;
   v_emit_back = in_emit_back;
+  v_anchor = in_position;
   gl_Position = view_proj * vec4(in_position, 1.0);
 }

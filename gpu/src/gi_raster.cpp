@@ -1,6 +1,7 @@
 // Rasterisation of gi meshes: G-buffer with the sun's shadow map, reflective shadow map
 // (see gi_raster.hpp).
 #include "atmosh/gpu/gi_raster.hpp"
+#include "atmosh/gpu/pixel_ray.hpp"
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
@@ -139,34 +140,91 @@ struct GBufferPrograms {
   Program depth{parts("gpu/shaders/prt_depth.vert"), parts("gpu/shaders/prt_depth.frag")};
   Program gbuf{parts("gpu/shaders/gi_gbuffer.vert"),
                {embedded_source("apps/gi/include/atmosh/gi/shared/polygon.glsl.hpp"),
-                embedded_source("gpu/shaders/gi_gbuffer.frag")}};
+                embedded_source("gpu/shaders/gi_pixel_point.glsl"), embedded_source("gpu/shaders/gi_gbuffer.frag")}};
   std::unique_ptr<Program> dist;  // the emitters' distance maps, made when first needed
 };
 
-// The G-buffer's targets (fresh per frame: immutable texture storage) and its light buffers.
+// The G-buffer's targets (fresh per frame: immutable texture storage).
 struct GBufferTargets {
-  Textures tex{11};  // 6 colour targets + depth, shadow map, emitter distance maps + their depth, sky maps
-  Framebuffers fbo{4};
-  std::unique_ptr<Buffer> b_tri, b_pts, b_sky;
+  Textures tex{7};  // 6 colour targets + depth
+  Framebuffers fbo{1};
 };
 
-// The shadow map, the emitters' distance maps, the sky's depth maps and the G-buffer (6 RGBA32F
-// targets in T.tex[0..5], framebuffer T.fbo[0]) of `cam`; the context current, `soup` uploaded.
-void draw_gbuffer(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, GBufferTargets& T,
-                  const PrtCamera& cam, const GiSun* sun, const GiShadowOptions& so, const GiEmitterOptions* eo,
-                  const GiSkyOptions* sky) {
+// The lights' maps — the sun's shadow map, the emitters' distance maps, the sky's depth maps —
+// with their buffers. They depend on the mesh and the lights alone, not on the camera: a caller
+// that draws many frames of one mesh (GiLpvFrame) keeps each part while its `key` (the inputs it
+// was made from) is unchanged, so that a moving sun re-renders its shadow map alone and a changed
+// sky radiance none; gi_gbuffer makes them once per call. The sky's direction buffer (with the
+// radiance) is rebuilt every frame.
+struct ShadowPart {
+  Textures tex{1};
+  Framebuffers fbo{1};
+  std::vector<double> key;
+};
+struct EmitterPart {
+  Textures tex{2};  // the distance maps, their depth buffer
+  Framebuffers fbo{1};
+  std::unique_ptr<Buffer> b_tri, b_pts;
+  std::vector<double> key;
+  int n_em = 0, K = 1, C = 1;
+};
+struct SkyPart {
+  Textures tex{1};
+  Framebuffers fbo{1};
+  std::vector<double> key;
+  int n_sky = 0, S = 1;
+};
+struct LightMaps {
+  std::unique_ptr<ShadowPart> shadow;
+  std::unique_ptr<EmitterPart> emitters;
+  std::unique_ptr<SkyPart> sky;
+  std::unique_ptr<Buffer> b_sky;
+};
+
+std::vector<double> shadow_key(const GiSun* sun, const GiShadowOptions& so) {
+  if (!sun) return {0.0};
+  return {1.0, sun->direction.x, sun->direction.y, sun->direction.z, static_cast<double>(so.resolution)};
+}
+std::vector<double> emitter_key(const GiEmitterOptions* eo) {
+  if (!eo) return {0.0};
+  return {1.0, static_cast<double>(eo->points_per_triangle), static_cast<double>(eo->resolution)};
+}
+std::vector<double> sky_key(const GiSkyOptions* sky) {
+  if (!sky) return {-1.0};
+  std::vector<double> k{static_cast<double>(sky->directions.size()), static_cast<double>(sky->resolution)};
+  for (const glm::dvec3& w : sky->directions) k.insert(k.end(), {w.x, w.y, w.z});
+  return k;
+}
+
+// The frame of sky direction w's orthographic depth map: ex, ey.
+void sky_axes(const glm::dvec3& w, glm::dvec3& ex, glm::dvec3& ey) {
+  ex = glm::normalize(std::abs(w.z) < 0.9 ? glm::cross(glm::dvec3(0, 0, 1), w) : glm::cross(glm::dvec3(1, 0, 0), w));
+  ey = glm::cross(w, ex);
+}
+
+// The cube-map face frames of the emitters' distance maps: forward, right, up (the same in the
+// rendering and the shader's lookup).
+void face_frames(glm::dvec3 (&ff)[6], glm::dvec3 (&fr)[6], glm::dvec3 (&fu)[6]) {
+  for (int f = 0; f < 6; ++f) {
+    glm::dvec3 F(0.0);
+    F[f / 2] = f % 2 == 0 ? 1.0 : -1.0;
+    const glm::dvec3 helper = f / 2 == 1 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+    ff[f] = F;
+    fr[f] = glm::normalize(glm::cross(F, helper));
+    fu[f] = glm::cross(fr[f], F);
+  }
+}
+
+// 1. The sun's depth map (a 1 x 1 cleared map without a sun).
+void draw_shadow_map(const Soup& soup, const Program& depth, ShadowPart& M, const GiSun* sun, const GiShadowOptions& so) {
   const double radius = soup.radius;
-  const int W = cam.width, H = cam.height, D = so.resolution;
-  const Program& depth = P.depth;
-  const Program& gbuf = P.gbuf;
-  Textures& tex = T.tex;
-  Framebuffers& fbo = T.fbo;
-  const GLuint t_shadow = tex.ids[7], t_emaps = tex.ids[8], t_edepth = tex.ids[9], t_sky = tex.ids[10];
+  const int D = so.resolution;
+  const GLuint t_shadow = M.tex.ids[0];
   const glm::dvec3 s = sun ? glm::normalize(sun->direction) : glm::dvec3(0, 0, 1);
   const Mat4 lp = light_matrix(s, radius);
   storage_2d(t_shadow, GL_DEPTH_COMPONENT32F, sun ? D : 1, sun ? D : 1);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo.ids[1]);
+  glBindFramebuffer(GL_FRAMEBUFFER, M.fbo.ids[0]);
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, t_shadow, 0);
   glDrawBuffer(GL_NONE);
   glReadBuffer(GL_NONE);
@@ -185,19 +243,17 @@ void draw_gbuffer(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, 
     glDrawArrays(GL_TRIANGLES, 0, soup.count);
     check_gl("gi shadow map pass");
   }
-  // 2. Area emitters: sample points and their distance cube maps.
+}
+
+// 2. Area emitters: sample points and their distance cube maps.
+void draw_emitter_maps(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, EmitterPart& M,
+                       const GiEmitterOptions* eo) {
+  const double radius = soup.radius;
+  const GLuint t_emaps = M.tex.ids[0], t_edepth = M.tex.ids[1];
   std::vector<float> etri, epts;
   int n_em = 0, K = 1, C = 1;
-  // Face frames: forward, right, up (the same in the rendering and the shader's lookup).
   glm::dvec3 ff[6], fr[6], fu[6];
-  for (int f = 0; f < 6; ++f) {
-    glm::dvec3 F(0.0);
-    F[f / 2] = f % 2 == 0 ? 1.0 : -1.0;
-    const glm::dvec3 helper = f / 2 == 1 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
-    ff[f] = F;
-    fr[f] = glm::normalize(glm::cross(F, helper));
-    fu[f] = glm::cross(fr[f], F);
-  }
+  face_frames(ff, fr, fu);
   if (eo) {
     K = eo->points_per_triangle;
     C = eo->resolution;
@@ -234,7 +290,7 @@ void draw_gbuffer(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, 
       P.dist = std::make_unique<Program>(parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_distance.frag"));
     const Program& dist = *P.dist;
     storage_2d(t_edepth, GL_DEPTH_COMPONENT32F, C, C);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.ids[2]);
+    glBindFramebuffer(GL_FRAMEBUFFER, M.fbo.ids[0]);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, t_edepth, 0);
     const GLenum d0 = GL_COLOR_ATTACHMENT0;
     glDrawBuffers(1, &d0);
@@ -277,14 +333,16 @@ void draw_gbuffer(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, 
   }
   if (etri.empty()) etri.assign(16, 0.0f);
   if (epts.empty()) epts.assign(4, 0.0f);
-  T.b_tri = std::make_unique<Buffer>(etri.size() * sizeof(float), etri.data());
-  T.b_pts = std::make_unique<Buffer>(epts.size() * sizeof(float), epts.data());
-  T.b_tri->bind(0);
-  T.b_pts->bind(1);
+  M.b_tri = std::make_unique<Buffer>(etri.size() * sizeof(float), etri.data());
+  M.b_pts = std::make_unique<Buffer>(epts.size() * sizeof(float), epts.data());
+  M.n_em = n_em, M.K = K, M.C = C;
+}
 
-  // 3. Sky directions: an orthographic depth map each (layers of a depth array).
+// 3. Sky directions: an orthographic depth map each (layers of a depth array).
+void draw_sky_maps(const Soup& soup, const Program& depth, SkyPart& M, const GiSkyOptions* sky) {
+  const double radius = soup.radius;
+  const GLuint t_sky = M.tex.ids[0];
   const int n_sky = sky ? static_cast<int>(sky->directions.size()) : 0, S = sky ? sky->resolution : 1;
-  std::vector<float> skyd;
   glBindTexture(GL_TEXTURE_2D_ARRAY, t_sky);
   glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_DEPTH_COMPONENT32F, n_sky ? S : 1, n_sky ? S : 1, std::max(n_sky, 1));
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -292,7 +350,7 @@ void draw_gbuffer(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, 
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_NONE);
   check_gl("gi sky maps");
   if (n_sky > 0) {
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.ids[3]);
+    glBindFramebuffer(GL_FRAMEBUFFER, M.fbo.ids[0]);
     glDrawBuffer(GL_NONE);
     glReadBuffer(GL_NONE);
     glViewport(0, 0, S, S);
@@ -305,11 +363,6 @@ void draw_gbuffer(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, 
     for (int k = 0; k < n_sky; ++k) {
       const glm::dvec3 w = sky->directions[static_cast<std::size_t>(k)];
       if (!(std::abs(glm::length(w) - 1) < 1e-6)) throw std::invalid_argument("gi_gbuffer: sky directions must be unit");
-      const glm::dvec3 ex = glm::normalize(std::abs(w.z) < 0.9 ? glm::cross(glm::dvec3(0, 0, 1), w)
-                                                               : glm::cross(glm::dvec3(1, 0, 0), w));
-      const glm::dvec3 ey = glm::cross(w, ex), L = sky->radiance[static_cast<std::size_t>(k)];
-      for (const glm::dvec3& v : {w, ex, ey, L})
-        for (int i = 0; i < 3; ++i) skyd.push_back(static_cast<float>(v[i]));
       glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, t_sky, 0, k);
       if (k == 0) check_framebuffer("gi sky maps");
       glClearDepth(1.0);
@@ -320,12 +373,66 @@ void draw_gbuffer(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, 
     }
     check_gl("gi sky maps");
   }
+  M.n_sky = n_sky, M.S = S;
+}
+
+// The lights' maps of `M` that its parts do not hold for these lights, made afresh (the context
+// current, `soup` uploaded): 1. the sun's shadow map, 2. the emitters' sample points and distance
+// cube maps, 3. the sky directions' depth maps; and the sky's direction buffer.
+void update_light_maps(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, LightMaps& M, const GiSun* sun,
+                       const GiShadowOptions& so, const GiEmitterOptions* eo, const GiSkyOptions* sky) {
+  const Program& depth = P.depth;
+  if (!M.shadow || M.shadow->key != shadow_key(sun, so)) {
+    M.shadow = std::make_unique<ShadowPart>();
+    draw_shadow_map(soup, depth, *M.shadow, sun, so);
+    M.shadow->key = shadow_key(sun, so);  // after a complete drawing (a throw leaves the part to be redrawn)
+  }
+  if (!M.emitters || M.emitters->key != emitter_key(eo)) {
+    M.emitters = std::make_unique<EmitterPart>();
+    draw_emitter_maps(mesh, soup, P, *M.emitters, eo);
+    M.emitters->key = emitter_key(eo);  // after a complete drawing (a throw leaves the part to be redrawn)
+  }
+  if (!M.sky || M.sky->key != sky_key(sky)) {
+    M.sky = std::make_unique<SkyPart>();
+    draw_sky_maps(soup, depth, *M.sky, sky);
+    M.sky->key = sky_key(sky);  // after a complete drawing (a throw leaves the part to be redrawn)
+  }
+  // The sky directions' buffer: 12 floats each (w, ex, ey, L x weight).
+  std::vector<float> skyd;
+  for (std::size_t k = 0; sky && k < sky->directions.size(); ++k) {
+    glm::dvec3 ex, ey;
+    sky_axes(sky->directions[k], ex, ey);
+    for (const glm::dvec3& v : {sky->directions[k], ex, ey, sky->radiance[k]})
+      for (int i = 0; i < 3; ++i) skyd.push_back(static_cast<float>(v[i]));
+  }
   if (skyd.empty()) skyd.assign(12, 0.0f);
-  T.b_sky = std::make_unique<Buffer>(skyd.size() * sizeof(float), skyd.data());
-  T.b_sky->bind(2);
+  M.b_sky = std::make_unique<Buffer>(skyd.size() * sizeof(float), skyd.data());
+}
+
+// The G-buffer (6 RGBA32F targets in T.tex[0..5], framebuffer T.fbo[0]) of `cam`, with the
+// lights' maps of `maps` (made or brought up to date first: update_light_maps); the context
+// current, `soup` uploaded.
+void draw_gbuffer(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, GBufferTargets& T,
+                  std::unique_ptr<LightMaps>& maps, const PrtCamera& cam, const GiSun* sun, const GiShadowOptions& so,
+                  const GiEmitterOptions* eo, const GiSkyOptions* sky) {
+  if (!maps) maps = std::make_unique<LightMaps>();
+  update_light_maps(mesh, soup, P, *maps, sun, so, eo, sky);
+  const LightMaps& M = *maps;
+  const double radius = soup.radius;
+  const int W = cam.width, H = cam.height, D = so.resolution;
+  const Program& gbuf = P.gbuf;
+  const GLuint t_shadow = M.shadow->tex.ids[0], t_emaps = M.emitters->tex.ids[0], t_sky = M.sky->tex.ids[0];
+  const int n_em = M.emitters->n_em, K = M.emitters->K, C = M.emitters->C, n_sky = M.sky->n_sky, S = M.sky->S;
+  const glm::dvec3 s = sun ? glm::normalize(sun->direction) : glm::dvec3(0, 0, 1);
+  const Mat4 lp = light_matrix(s, radius);
+  glm::dvec3 ff[6], fr[6], fu[6];
+  face_frames(ff, fr, fu);
+  M.emitters->b_tri->bind(0);
+  M.emitters->b_pts->bind(1);
+  M.b_sky->bind(2);
 
   // 4. G-buffer from the camera (prt.cpp's projection; near plane at least 1e-3 radius).
-  colour_targets(fbo.ids[0], tex, 6, W, H, "gi G-buffer");
+  colour_targets(T.fbo.ids[0], T.tex, 6, W, H, "gi G-buffer");
   const glm::dvec3 eye = cam.eye - soup.centre;
   const double dist = glm::length(eye);
   const double near_d = std::max(dist - radius, 1e-3 * radius), far_d = dist + radius;
@@ -334,6 +441,7 @@ void draw_gbuffer(const GiMeshView& mesh, const Soup& soup, GBufferPrograms& P, 
   gbuf.set_mat4("view_proj", vp.m);
   gbuf.set_mat4("light_proj", lp.m);
   gbuf.set("eye", static_cast<float>(eye.x), static_cast<float>(eye.y), static_cast<float>(eye.z));
+  set_pixel_ray(gbuf, cam.right, cam.up, cam.back, cam.tan_half_fov, W, H);
   gbuf.set("has_sun", sun ? 1 : 0);
   gbuf.set("sun_dir", static_cast<float>(s.x), static_cast<float>(s.y), static_cast<float>(s.z));
   gbuf.set("shadow_res", sun ? D : 1);
@@ -382,7 +490,8 @@ GiGBufferResult gi_gbuffer(const Context& ctx, const GiMeshView& mesh, const Prt
   const int W = cam.width, H = cam.height;
   GBufferPrograms P;
   GBufferTargets T;
-  draw_gbuffer(mesh, soup, P, T, cam, sun, so, eo, sky);
+  std::unique_ptr<LightMaps> maps;
+  draw_gbuffer(mesh, soup, P, T, maps, cam, sun, so, eo, sky);
   Framebuffers& fbo = T.fbo;
   const std::vector<float> pos = read_rgba(fbo.ids[0], 0, W, H), nrm = read_rgba(fbo.ids[0], 1, W, H),
                            alb = read_rgba(fbo.ids[0], 2, W, H), emi = read_rgba(fbo.ids[0], 3, W, H),
@@ -548,6 +657,7 @@ struct GiLpvFrame::Impl {
   GiLpvGrid grid;
   Soup soup;
   GBufferPrograms gbuffer;
+  std::unique_ptr<LightMaps> maps;  // the lights' maps of the last frame, kept while the lights are unchanged
   Program rsm{parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_rsm.frag")};
   Program points{lpv_parts("gpu/shaders/gi_lpv_points.vert"), parts("gpu/shaders/gi_lpv_points.frag")};
   Program pack{parts("gpu/shaders/gi_lpv_pack.comp")};
@@ -714,7 +824,7 @@ GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOption
   const auto t0 = Clock::now();
   // 1. G-buffer (with its shadow map and the lights' maps).
   GBufferTargets T;
-  draw_gbuffer(I.mesh, I.soup, I.gbuffer, T, cam, o.sun, o.shadow, o.emitters, o.sky);
+  draw_gbuffer(I.mesh, I.soup, I.gbuffer, T, I.maps, cam, o.sun, o.shadow, o.emitters, o.sky);
   // 2. The sun's reflective shadow map.
   Textures rtex(4);
   Framebuffers rfbo(1);

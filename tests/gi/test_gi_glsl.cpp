@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
+#include <numbers>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -37,6 +38,19 @@ inline double gi_fetch_distance(const Plates& c, const glm::dvec3& p, const glm:
 inline glm::dvec3 gi_fetch_normal(const Plates&, const glm::dvec3& q) { return {0, 0, q.z > 0.5 ? -1.0 : 1.0}; }
 inline glm::dvec3 gi_fetch_albedo(const Plates& c, const glm::dvec3&) { return glm::dvec3(c.rho); }
 inline glm::dvec3 gi_direct_irradiance(const Plates& c, const glm::dvec3&, const glm::dvec3&) { return glm::dvec3(c.E); }
+// The same plates with every fetched distance 1e-9 too long: each step lands just beyond the
+// plate it hits, as a float walk's rounding may put it (outside the box by a few ulps).
+struct OvershootPlates {
+  Plates p;
+};
+inline double gi_fetch_distance(const OvershootPlates& c, const glm::dvec3& p, const glm::dvec3& d) {
+  return gi_fetch_distance(c.p, p, d) * (1 + 1e-9);
+}
+inline glm::dvec3 gi_fetch_normal(const OvershootPlates& c, const glm::dvec3& q) { return gi_fetch_normal(c.p, q); }
+inline glm::dvec3 gi_fetch_albedo(const OvershootPlates& c, const glm::dvec3& q) { return gi_fetch_albedo(c.p, q); }
+inline glm::dvec3 gi_direct_irradiance(const OvershootPlates& c, const glm::dvec3& q, const glm::dvec3& n) {
+  return gi_direct_irradiance(c.p, q, n);
+}
 }  // namespace glsl_walk
 
 namespace {
@@ -158,6 +172,31 @@ TEST(GiGlsl, SharedRadiosityMathAgreesWithTheCppBuild) {
                                                            static_cast<int>(k.bounces), glm::dvec3(-10, -10, 0),
                                                            glm::dvec3(10, 10, 1));
     EXPECT_NEAR(o[6], L.x, 1e-5 * (1 + L.x)) << "case " << i;
+  }
+}
+
+// Between two parallel plates (z = 0 and z = H, the walk's box [-10, 10]^2 x [0, H]) with
+// uniform direct irradiance E and reflectivity rho, the walk from the lower plate meets a plate
+// at every bounce, so b bounces give the closed form L = E / pi (rho + rho^2 + ... + rho^b). A
+// step that lands a rounding error beyond the plate (here 1e-9 of the step) must still count as
+// inside the box: on an NVIDIA H200 the float walk of SharedRadiosityMathAgreesWithTheCppBuild
+// stopped after its first bounce this way until gi_inside_box allowed a slack.
+TEST(GiGlsl, WalkBetweenPlatesKeepsItsBouncesWhenAStepLandsJustOutside) {
+  const glsl_walk::Plates plates{1.0, 2.0, 0.6};
+  for (const glm::dvec3 n : {glm::dvec3(0, 0, 1), glm::normalize(glm::dvec3(0.3, -0.2, 1.0))}) {
+    double closed = 0, rb = 1;
+    for (int b = 1; b <= 6; ++b) {
+      rb *= plates.rho;
+      closed += plates.E / std::numbers::pi * rb;
+      for (const bool overshoot : {false, true}) {
+        const glm::dvec3 L =
+            overshoot ? gi::shared::gi_radiosity_incident(glsl_walk::OvershootPlates{plates}, glm::dvec3(0.1, 0.2, 0.0), n,
+                                                          b, glm::dvec3(-10, -10, 0), glm::dvec3(10, 10, 1))
+                      : gi::shared::gi_radiosity_incident(plates, glm::dvec3(0.1, 0.2, 0.0), n, b,
+                                                          glm::dvec3(-10, -10, 0), glm::dvec3(10, 10, 1));
+        EXPECT_NEAR(L.x, closed, 1e-12) << "bounces " << b << (overshoot ? ", steps 1e-9 long" : "");
+      }
+    }
   }
 }
 

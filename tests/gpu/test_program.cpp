@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -211,14 +212,16 @@ TEST(GpuProgram, ViewRayCutsAgreeWithTheCppBuild) {
   }
 }
 
-// The shared code keeps ray positions and cut radii in local double arrays (the cuts
-// of a view ray, the sphere radii). A driver must store them as doubles: values one
-// float ulp apart (6 371 390.625 + k mm; float spacing there is 0.5 m) must come back
-// bit for bit from a dynamically indexed local array, a struct member array and a
-// uvec2 array holding packed doubles. Mesa llvmpipe does. NVIDIA's driver 580.159
-// (H200) rounds the first two to float (6 371 390.5) and keeps the packed form
-// exact: the cause of this suite's two failures there (docs/gpu.md, "On an NVIDIA GPU").
-TEST(GpuProgram, LocalDoubleArraysKeepDoublePrecision) {
+// The shared code keeps ray positions and cut radii in dynamically indexed local arrays of
+// doubles (the cuts of a view ray, the sphere radii). It stores them packed, as uvec2
+// (`real_array`, shared/view_ray.glsl.hpp), because a driver may not keep plain double
+// arrays exact: NVIDIA's driver 580.159 (H200) rounds a dynamically indexed local double
+// array and a struct member array of doubles to float (6 371 390.625 comes back as
+// 6 371 390.5), while the packed form stays exact (docs/gpu.md, "On an NVIDIA GPU"). Values
+// one float ulp apart (6 371 390.625 + k mm; float spacing there is 0.5 m) must come back
+// bit for bit from the packed array on every driver; the two plain forms are reported, not
+// required (Mesa llvmpipe keeps them exact).
+TEST(GpuProgram, PackedLocalDoubleArraysKeepDoublePrecision) {
   ATMOSH_GPU_CONTEXT_OR_SKIP(ctx);
   const char* src = R"(
 layout(local_size_x = 1) in;
@@ -254,7 +257,11 @@ void main() {
   std::vector<double> out(3 * in.size());
   bo.download(out.data(), out.size() * sizeof(double));
   const char* what[3] = {"local double array", "struct member array", "packed uvec2 array"};
-  for (int k = 0; k < n; ++k)
-    for (int w = 0; w < 3; ++w)
-      EXPECT_EQ(out[3 * k + w], in[n - 1 - k]) << what[w] << ", element " << n - 1 - k << ", " << ctx->info().renderer;
+  int inexact[2] = {0, 0};
+  for (int k = 0; k < n; ++k) {
+    for (int w = 0; w < 2; ++w) inexact[w] += out[3 * k + w] != in[n - 1 - k] ? 1 : 0;
+    EXPECT_EQ(out[3 * k + 2], in[n - 1 - k]) << what[2] << ", element " << n - 1 - k << ", " << ctx->info().renderer;
+  }
+  std::printf("%s: %s %d of %d elements inexact, %s %d of %d (not relied on); %s exact\n", ctx->info().renderer.c_str(),
+              what[0], inexact[0], n, what[1], inexact[1], n, what[2]);
 }

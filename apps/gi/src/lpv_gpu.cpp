@@ -11,6 +11,7 @@
 #include "atmosh/error.hpp"
 #include "atmosh/gi/lpv.hpp"
 #include "atmosh/gi/radiosity.hpp"
+#include "atmosh/parallel.hpp"
 #include "raster_gpu.hpp"
 #include "receivers.hpp"
 
@@ -175,17 +176,21 @@ RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvG
     img.mean[c].assign(np, 0.0f);
     img.stderr_[c].assign(np, 0.0f);
   }
-  for (std::size_t i = 0; i < np; ++i) {
-    if (r.radiance[4 * i + 3] == 0.0f) {
-      if (I.sky) {
-        const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
-        const glm::dvec3 L = environment_radiance(I.scene, detail::pixel_ray(pc, col, row));
-        for (int c = 0; c < 3; ++c) img.mean[c][i] = static_cast<float>(L[c]);
+  // The misses' environment on the CPU, on all threads (a quarter of a 512^2 frame's sky would
+  // otherwise take milliseconds on one core).
+  parallel_for_ranges(np, 4096, 0, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      if (r.radiance[4 * i + 3] == 0.0f) {
+        if (I.sky) {
+          const int row = static_cast<int>(i / width), col = static_cast<int>(i % width);
+          const glm::dvec3 L = environment_radiance(I.scene, detail::pixel_ray(pc, col, row));
+          for (int c = 0; c < 3; ++c) img.mean[c][i] = static_cast<float>(L[c]);
+        }
+        continue;
       }
-      continue;
+      for (int c = 0; c < 3; ++c) img.mean[c][i] = r.radiance[4 * i + c];
     }
-    for (int c = 0; c < 3; ++c) img.mean[c][i] = r.radiance[4 * i + c];
-  }
+  });
   auto read = [](const LpvGrid& shape, const std::vector<float>& v, LpvGrid* dst) {
     if (dst == nullptr) return;
     *dst = shape;

@@ -21,6 +21,7 @@
 #ifdef ATMOSH_GI_HAVE_GPU
 #include "atmosh/gpu/context.hpp"
 #include "atmosh/gpu/cube_raster.hpp"
+#include "atmosh/gpu/pixel_ray.hpp"
 #include "atmosh/gpu/program.hpp"
 #endif
 
@@ -193,6 +194,7 @@ std::unique_ptr<gpu::Program> shade_program(int max_bands) {
       std::vector<gpu::ShaderPart>{gpu::embedded_source("gpu/shaders/gi_probe_shade.vert")},
       std::vector<gpu::ShaderPart>{gpu::embedded_source("libsh/include/atmosh/sh/shared/cube.glsl.hpp"),
                                    gpu::embedded_source("gpu/shaders/gi_probe_sun.glsl"),
+                                   gpu::embedded_source("gpu/shaders/gi_pixel_point.glsl"),
                                    gpu::embedded_source("gpu/shaders/gi_probe_shade.frag")},
       "#define ATMOSH_SH_MAX_BANDS " + std::to_string(max_bands) + "\n");
   prog->use();
@@ -202,6 +204,14 @@ std::unique_ptr<gpu::Program> shade_program(int max_bands) {
     prog->set(name.c_str(), static_cast<float>(A[static_cast<std::size_t>(l)]));
   }
   return prog;
+}
+
+// The camera of the current shading program `prog`: its projection, the eye (relative to the
+// frame's centre) and the pixel rays of gi_pixel_point.glsl (atmosh/gpu/pixel_ray.hpp).
+void set_view(const gpu::Program& prog, const float* vp, const glm::vec3& eye, const Frame& fr, int width, int height) {
+  prog.set_mat4("view_proj", vp);
+  prog.set("eye", eye.x, eye.y, eye.z);
+  gpu::set_pixel_ray(prog, fr.right, fr.up, -fr.f, fr.th, width, height);
 }
 #endif
 
@@ -330,8 +340,7 @@ ProbeFrameGpu::ProbeFrameGpu(const Scene& scene, const Camera& cam, int width, i
   m.eye = glm::vec3(eye);
   m.prog = shade_program(3);  // the default band count; render() remakes it for another
   m.prog_bands = 3;
-  m.prog->set_mat4("view_proj", m.view_proj);
-  m.prog->set("eye", m.eye.x, m.eye.y, m.eye.z);
+  set_view(*m.prog, m.view_proj, m.eye, m.fr, width, height);
   m.raster = std::make_unique<gpu::MeshRaster>(m.ctx, vert, std::vector<int>{3, 3, 3, 3, 3}, idx, width, height);
 #else
   throw InputError("gi probes: this build has no GPU library (atmosh::gpu)");
@@ -355,8 +364,7 @@ RadianceImage ProbeFrameGpu::render(const ProbeGrid& grid, bool grid_includes_su
   if (m.prog_bands != grid.bands) {  // the shading program's basis array is sized for its band count
     m.prog = shade_program(grid.bands);
     m.prog_bands = grid.bands;
-    m.prog->set_mat4("view_proj", m.view_proj);
-    m.prog->set("eye", m.eye.x, m.eye.y, m.eye.z);
+    set_view(*m.prog, m.view_proj, m.eye, m.fr, m.width, m.height);
   }
   gpu::Buffer bsh(sh.size() * sizeof(float), sh.data());
   bsh.bind(0);
@@ -474,8 +482,7 @@ ProbeFrameResident::ProbeFrameResident(const Scene& scene, const Camera& cam, in
   m.grid_lo = g.lo - m.centre;
   m.grid_hi = g.hi - m.centre;
   m.prog = shade_program(po.bands);
-  m.prog->set_mat4("view_proj", vp);
-  m.prog->set("eye", static_cast<float>(eye.x), static_cast<float>(eye.y), static_cast<float>(eye.z));
+  set_view(*m.prog, vp, glm::vec3(eye), m.fr, width, height);
   m.prog->set("stride", m.projector->stride());
   m.raster = std::make_unique<gpu::MeshRaster>(m.ctx, vert, std::vector<int>{3, 3, 3, 3, 3}, idx, width, height);
   // the background: the environment along every pixel centre (fixed for this camera)

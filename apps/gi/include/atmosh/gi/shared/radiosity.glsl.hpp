@@ -89,9 +89,15 @@ ATMOSH_FN real gi_sh_irradiance(const real c[9], int bands, real3 n) {
   return s;
 }
 
-// True if q lies inside the box [lo, hi].
+// True if q lies inside the box [lo, hi] widened by 1e-5 of its longest edge on every side: a
+// step that ends on a face of the box (the wall of a closed room, where the fetched distance
+// lands) counts as inside whatever the rounding. Without the slack, float on a GPU ends such
+// walks after their first bounce: q = p + s d comes out a few ulps outside (seen on an NVIDIA
+// H200, driver 580, where p + s d is fused; llvmpipe happened to round inside).
 ATMOSH_FN bool gi_inside_box(real3 q, real3 lo, real3 hi) {
-  return !(glm::any(glm::lessThan(q, lo)) || glm::any(glm::lessThan(hi, q)));
+  real3 e = hi - lo;
+  real slack = real(1e-5) * glm::max(e.x, glm::max(e.y, e.z));
+  return !(glm::any(glm::lessThan(q, lo - real3(slack))) || glm::any(glm::lessThan(hi + real3(slack), q)));
 }
 
 // Radiance arriving at x along its unit normal n (the walk above), `bounces` >= 0 steps;
