@@ -455,7 +455,7 @@ BENCHMARK(BM_ProbeResidentFrame512)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecon
 // light; 2 sphere-on-plane under the sun alone), grid (cells along the longest axis).
 // One resident LPV frame per iteration with `cascades` levels: the body of
 // BM_LpvResidentFrame512 and BM_LpvCascadeFrame512.
-void lpv_resident_frame_512(benchmark::State& state, int scene, int grid, int cascades) {
+void lpv_resident_frame_512(benchmark::State& state, int scene, int grid, int cascades, int emitter_rsm = 0) {
   gi::Scene s = gi::builtin_scene(scene == 1 ? "cornell-box" : "sphere-on-plane");
   if (scene != 1) s.sun = gi::Sun{gi::sun_direction(s, 135, 40), glm::dvec3(3.0, 2.0, 1.0)};
   if (scene == 0) {
@@ -467,6 +467,7 @@ void lpv_resident_frame_512(benchmark::State& state, int scene, int grid, int ca
   }
   gi::LpvOptions o;
   o.grid = grid;
+  o.emitter_rsm = emitter_rsm;
   double passes = 0, first = 0;
   try {
     gi::LpvFrameGpu frame(s, o, {}, cascades);
@@ -492,6 +493,21 @@ BENCHMARK(BM_LpvResidentFrame512)
     ->Args({1, 16})
     ->Args({2, 8})
     ->Args({2, 16})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+
+// The resident LPV frame of the Cornell box with its light's VPLs from the emitters' reflective
+// shadow maps (LpvOptions::emitter_rsm: 4 points a triangle, N x N texels a cube face; made by the
+// first frame and kept, as the light does not move; first_ms) instead of photon rays made on the
+// CPU at construction (BM_LpvResidentFrame512/1/grid). Arguments: grid, N.
+void BM_LpvEmitterRsmFrame512(benchmark::State& state) {
+  lpv_resident_frame_512(state, 1, static_cast<int>(state.range(0)), 1, static_cast<int>(state.range(1)));
+}
+BENCHMARK(BM_LpvEmitterRsmFrame512)
+    ->Args({8, 32})
+    ->Args({16, 32})
+    ->Args({16, 64})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(3);

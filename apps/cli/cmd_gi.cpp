@@ -33,6 +33,7 @@ struct GiConvergeCmd {
   int reference_samples = 256;
   int lpv_cascade_max_grid = 16;
   int lpv_paper_max_grid = 16;
+  int lpv_emitter_rsm = 32;
   bool netcdf = false;
 };
 
@@ -86,6 +87,9 @@ void run_converge(const GiConvergeCmd& co) {
   if (co.lpv_paper_max_grid < 0 || co.lpv_paper_max_grid > 256)
     throw InputError("--lpv-paper-max-grid: must be in 0..256, got " + std::to_string(co.lpv_paper_max_grid));
   c.study.lpv_paper_max_grid = co.lpv_paper_max_grid;
+  if (co.lpv_emitter_rsm != 0 && (co.lpv_emitter_rsm < 2 || co.lpv_emitter_rsm > 1024))
+    throw InputError("--lpv-emitter-rsm: must be 0 (none) or 2..1024, got " + std::to_string(co.lpv_emitter_rsm));
+  c.study.lpv_emitter_rsm = co.lpv_emitter_rsm;
   c.reference_samples = co.reference_samples;
   if (co.reference_samples < 2 || co.reference_samples > 10000000)
     throw InputError("--reference-samples: must be in 2..10000000, got " + std::to_string(co.reference_samples));
@@ -150,6 +154,9 @@ void register_gi_commands(CLI::App& app) {
                 "lpv: how a propagation step re-emits a face's flux: direction (along the face's direction, keeps "
                 "the light's direction; default) or paper (Kaplanyan & Dachsbacher 2010: a Lambertian lobe about "
                 "the face normal)");
+  c->add_option("--lpv-emitter-rsm", o->method.lpv_emitter_rsm,
+                "lpv on the GPU frame: the area emitters' VPLs from reflective shadow maps of N x N texels a cube "
+                "face (2..1024) instead of photon rays (0, default)");
   add_device_option(c, o->method.device, "radiosity, lpv and probes (rasterised cube maps of a baked surface radiance) on the GPU (path: CPU only)");
   c->add_option("--size", o->size, "image size WxH (default 256x256)");
   c->add_option("-o,--output", o->out, "radiance image (.exr: R, G, B, stderr.R, stderr.G, stderr.B)")->required();
@@ -178,6 +185,10 @@ void register_gi_commands(CLI::App& app) {
                 "rows lpv-paper (the one-level LPV with Kaplanyan & Dachsbacher 2010's face-normal re-emission, CPU; "
                 "lpv-paper-gpu with --device gpu|auto) "
                 "beside the lpv rows, for the LPV grids 1..N (default 16; 0: none)");
+  v->add_option("--lpv-emitter-rsm", co->lpv_emitter_rsm,
+                "with --device gpu|auto and a scene with 1..64 emitting triangles: rows lpv-rsm-gpu, the GPU-resident "
+                "LPV frame with the area emitters' reflective shadow maps of N x N texels a cube face instead of "
+                "photon rays (default 32; 0: none)");
   v->add_option("--reference-samples", co->reference_samples, "reference paths per pixel (default 256)");
   add_device_option(v, co->render.method.device, "also the GPU forms of probes, radiosity and lpv (rows <method>-gpu)");
   add_format_option(v, co->netcdf);

@@ -202,6 +202,28 @@ void sky_axes(const glm::dvec3& w, glm::dvec3& ex, glm::dvec3& ey) {
   ey = glm::cross(w, ex);
 }
 
+// Point k of the K fixed points of triangle (a, b, c) where the emitters' distance maps and
+// RSMs are made: the Hammersley point ((k + 1/2) / K, radical inverse of k), sqrt-mapped onto
+// the triangle.
+glm::dvec3 emitter_point(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int k, int K) {
+  double u2 = 0, base = 0.5;
+  for (unsigned q = static_cast<unsigned>(k); q; q >>= 1, base *= 0.5) u2 += (q & 1u) * base;
+  const double r = std::sqrt((k + 0.5) / K);
+  return (1 - r) * a + r * (1 - u2) * b + r * u2 * c;
+}
+
+// The emitting triangles of a mesh (emission summed over the channels > 0), at most 64.
+std::vector<std::size_t> emitting_triangles(const GiMeshView& mesh, const char* who) {
+  std::vector<std::size_t> out;
+  for (std::size_t t = 0; t < mesh.triangles->size(); ++t) {
+    const glm::dvec3 L = (*mesh.emission)[t];
+    if (!(L.x + L.y + L.z > 0)) continue;
+    if (out.size() == 64) throw std::invalid_argument(std::string(who) + ": more than 64 emitting triangles");
+    out.push_back(t);
+  }
+  return out;
+}
+
 // The cube-map face frames of the emitters' distance maps: forward, right, up (the same in the
 // rendering and the shader's lookup).
 void face_frames(glm::dvec3 (&ff)[6], glm::dvec3 (&fr)[6], glm::dvec3 (&fu)[6]) {
@@ -269,11 +291,8 @@ void draw_emitter_maps(const GiMeshView& mesh, const Soup& soup, GBufferPrograms
       for (const glm::dvec3& v : {a, b, c, L, n})
         for (int i = 0; i < 3; ++i) etri.push_back(static_cast<float>(v[i]));
       etri.push_back(static_cast<float>(one));
-      for (int k = 0; k < K; ++k) {  // Hammersley point (k + 1/2) / K, radical inverse of k; sqrt map
-        double u2 = 0, base = 0.5;
-        for (unsigned q = static_cast<unsigned>(k); q; q >>= 1, base *= 0.5) u2 += (q & 1u) * base;
-        const double r = std::sqrt((k + 0.5) / K);
-        const glm::dvec3 y = (1 - r) * a + r * (1 - u2) * b + r * u2 * c;
+      for (int k = 0; k < K; ++k) {
+        const glm::dvec3 y = emitter_point(a, b, c, k, K);
         for (int i = 0; i < 3; ++i) epts.push_back(static_cast<float>(y[i]));
         epts.push_back(static_cast<float>(n_em - 1));
       }
@@ -407,6 +426,96 @@ void update_light_maps(const GiMeshView& mesh, const Soup& soup, GBufferPrograms
   }
   if (skyd.empty()) skyd.assign(12, 0.0f);
   M.b_sky = std::make_unique<Buffer>(skyd.size() * sizeof(float), skyd.data());
+}
+
+// The area emitters' RSMs (gi_emitter_rsm): one atlas of 3 RGBA32F targets (position w = 1
+// where a surface is, normal, flux; relative to the bounding-box centre) and its depth, the
+// cube faces in square tiles of N x N texels, tile 6 k + f at column (6 k + f) mod cols.
+struct EmitterRsmPart {
+  Textures tex{4};
+  Framebuffers fbo{1};
+  std::vector<double> key;
+  int width = 1, height = 1;
+};
+
+void check_emitter_rsm_options(const GiEmitterRsmOptions& o) {
+  if (o.points_per_triangle < 1 || o.points_per_triangle > 64 || o.resolution < 2 || o.resolution > 1024)
+    throw std::invalid_argument("gi_emitter_rsm: points per triangle must be 1..64 and the resolution 2..1024");
+}
+
+void draw_emitter_rsm(const GiMeshView& mesh, const Soup& soup, const Program& prog, EmitterRsmPart& M,
+                      const GiEmitterRsmOptions& o) {
+  check_emitter_rsm_options(o);
+  const std::vector<std::size_t> tris = emitting_triangles(mesh, "gi_emitter_rsm");
+  const int K = o.points_per_triangle, N = o.resolution;
+  const int tiles = 6 * K * static_cast<int>(tris.size());
+  const int cols = std::max(1, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(tiles)))));
+  const int rows = std::max(1, (tiles + cols - 1) / cols);
+  M.width = tiles ? cols * N : 1;
+  M.height = tiles ? rows * N : 1;
+  if (M.width > 16384 || M.height > 16384)
+    throw std::invalid_argument("gi_emitter_rsm: the atlas would exceed 16384 texels a side");
+  colour_targets(M.fbo.ids[0], M.tex, 3, M.width, M.height, "gi emitter RSM");
+  if (tiles == 0) return;
+  glm::dvec3 ff[6], fr[6], fu[6];
+  face_frames(ff, fr, fu);
+  const double radius = soup.radius;
+  const double near_d = 1e-4 * radius, far_d = 4 * radius;
+  const double za = (far_d + near_d) / (far_d - near_d), zb = -2.0 * far_d * near_d / (far_d - near_d);
+  const auto& P = *mesh.positions;
+  prog.use();
+  prog.set("face_size", static_cast<float>(N));
+  glBindVertexArray(soup.vao.ids[0]);
+  int tile = 0;
+  for (const std::size_t t : tris) {
+    const auto& tv = (*mesh.triangles)[t];
+    const glm::dvec3 a = P[tv[0]] - soup.centre, b = P[tv[1]] - soup.centre, c = P[tv[2]] - soup.centre;
+    const glm::dvec3 ne = glm::normalize((*mesh.normal)[t]);
+    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+    const glm::dvec3 power = (*mesh.emission)[t] * (area / K);
+    prog.set("emitter_normal", static_cast<float>(ne.x), static_cast<float>(ne.y), static_cast<float>(ne.z));
+    prog.set("one_sided", mesh.one_sided && (*mesh.one_sided)[t] ? 1 : 0);
+    prog.set("point_power", static_cast<float>(power.x), static_cast<float>(power.y), static_cast<float>(power.z));
+    for (int k = 0; k < K; ++k) {
+      const glm::dvec3 y = emitter_point(a, b, c, k, K);
+      prog.set("origin", static_cast<float>(y.x), static_cast<float>(y.y), static_cast<float>(y.z));
+      for (int f = 0; f < 6; ++f, ++tile) {
+        const int ox = (tile % cols) * N, oy = (tile / cols) * N;
+        glViewport(ox, oy, N, N);
+        Mat4 m;  // clip = (x . r, x . u, za (x . f) + zb, x . f), x = p - y (the distance maps' faces)
+        for (int q = 0; q < 3; ++q) {
+          m.set(0, q, fr[f][q]);
+          m.set(1, q, fu[f][q]);
+          m.set(2, q, za * ff[f][q]);
+          m.set(3, q, ff[f][q]);
+        }
+        m.set(0, 3, -glm::dot(fr[f], y));
+        m.set(1, 3, -glm::dot(fu[f], y));
+        m.set(2, 3, -za * glm::dot(ff[f], y) + zb);
+        m.set(3, 3, -glm::dot(ff[f], y));
+        prog.set_mat4("view_proj", m.m);
+        prog.set("tile_origin", static_cast<float>(ox), static_cast<float>(oy), 0.0f);
+        for (const auto& [name, v] : {std::pair{"face_f", ff[f]}, std::pair{"face_r", fr[f]}, std::pair{"face_u", fu[f]}})
+          prog.set(name, static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z));
+        // the texel ray through window (x, y): f + u r + v up, u = 2 (x - ox) / N - 1 (pixel_ray.hpp's form)
+        const double e = 2.0 / N;
+        const glm::dvec3 d0 = ff[f] - fr[f] - fu[f] - (ox * e) * fr[f] - (oy * e) * fu[f];
+        const glm::dvec3 rays[3] = {d0, e * fr[f], e * fu[f]};
+        const char* names[3] = {"pixel_ray[0]", "pixel_ray[1]", "pixel_ray[2]"};
+        for (int q = 0; q < 3; ++q)
+          prog.set(names[q], static_cast<float>(rays[q].x), static_cast<float>(rays[q].y), static_cast<float>(rays[q].z));
+        glDrawArrays(GL_TRIANGLES, 0, soup.count);
+      }
+    }
+  }
+  check_gl("gi emitter RSM pass");
+}
+
+std::unique_ptr<Program> emitter_rsm_program() {
+  return std::make_unique<Program>(
+      parts("gpu/shaders/gi_gbuffer.vert"),
+      std::vector<ShaderPart>{embedded_source("gpu/shaders/gi_pixel_point.glsl"),
+                              embedded_source("gpu/shaders/gi_emitter_rsm.frag")});
 }
 
 // The G-buffer (6 RGBA32F targets in T.tex[0..5], framebuffer T.fbo[0]) of `cam`, with the
@@ -590,6 +699,34 @@ GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& 
   return r;
 }
 
+GiEmitterRsmResult gi_emitter_rsm(const Context& ctx, const GiMeshView& mesh, const GiEmitterRsmOptions& o) {
+  check_emitter_rsm_options(o);
+  ctx.make_current();
+  const auto t0 = Clock::now();
+  Soup soup;
+  upload(mesh, soup);
+  const std::unique_ptr<Program> prog = emitter_rsm_program();
+  EmitterRsmPart M;
+  draw_emitter_rsm(mesh, soup, *prog, M, o);
+  const std::vector<float> pos = read_rgba(M.fbo.ids[0], 0, M.width, M.height),
+                           nrm = read_rgba(M.fbo.ids[0], 1, M.width, M.height),
+                           flx = read_rgba(M.fbo.ids[0], 2, M.width, M.height);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glBindVertexArray(0);
+  GiEmitterRsmResult r;
+  const std::size_t np = static_cast<std::size_t>(M.width) * M.height;
+  for (std::size_t p = 0; p < np; ++p) {
+    if (pos[4 * p + 3] == 0.0f) continue;
+    r.position.push_back(rgb(pos, p) + soup.centre);
+    r.normal.push_back(rgb(nrm, p));
+    r.flux.push_back(rgb(flx, p));
+  }
+  r.texels = static_cast<std::size_t>(6 * o.points_per_triangle) * emitting_triangles(mesh, "gi_emitter_rsm").size() *
+             static_cast<std::size_t>(o.resolution) * static_cast<std::size_t>(o.resolution);
+  r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return r;
+}
+
 }  // namespace atmosh::gpu
 
 // ---------------------------------------------------------------------------------------------
@@ -658,6 +795,8 @@ struct GiLpvFrame::Impl {
   Soup soup;
   GBufferPrograms gbuffer;
   std::unique_ptr<LightMaps> maps;  // the lights' maps of the last frame, kept while the lights are unchanged
+  std::unique_ptr<Program> ersm_prog;     // the emitters' RSM program (made when first needed)
+  std::unique_ptr<EmitterRsmPart> ersm;   // the emitters' RSMs, kept while their options are unchanged
   Program rsm{parts("gpu/shaders/gi_gbuffer.vert"), parts("gpu/shaders/gi_rsm.frag")};
   Program points{lpv_parts("gpu/shaders/gi_lpv_points.vert"), parts("gpu/shaders/gi_lpv_points.frag")};
   Program pack{parts("gpu/shaders/gi_lpv_pack.comp")};
@@ -818,6 +957,7 @@ GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOption
   check_gbuffer_inputs(cam, o.sun, o.shadow, o.emitters, o.sky);
   if (o.iterations < 0 || o.iterations > 1024) throw std::invalid_argument("GiLpvFrame: iterations must be in 0..1024");
   if (o.rsm) check_rsm_view(*o.rsm);
+  if (o.emitter_rsm) check_emitter_rsm_options(*o.emitter_rsm);
   if (!std::isfinite(o.sun_irradiance.x + o.sun_irradiance.y + o.sun_irradiance.z))
     throw std::invalid_argument("GiLpvFrame: the sun's irradiance must be finite");
   I.ctx.make_current();
@@ -829,6 +969,17 @@ GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOption
   Textures rtex(4);
   Framebuffers rfbo(1);
   if (o.rsm) draw_rsm(I.soup, I.rsm, rtex, rfbo, *o.rsm);
+  // 2b. The area emitters' RSMs (static: made once for these options).
+  if (o.emitter_rsm) {
+    const std::vector<double> key{static_cast<double>(o.emitter_rsm->points_per_triangle),
+                                  static_cast<double>(o.emitter_rsm->resolution)};
+    if (!I.ersm || I.ersm->key != key) {
+      if (!I.ersm_prog) I.ersm_prog = emitter_rsm_program();
+      I.ersm = std::make_unique<EmitterRsmPart>();
+      draw_emitter_rsm(I.mesh, I.soup, *I.ersm_prog, *I.ersm, *o.emitter_rsm);
+      I.ersm->key = key;
+    }
+  }
   for (LpvLevel& L : I.levels) {
     const GiLpvGrid& g = L.grid;
     // 3. Injection: RSM texels and the given VPLs as points into the level's cell atlas.
@@ -851,6 +1002,15 @@ GiLpvFrameResult GiLpvFrame::render(const PrtCamera& cam, const GiLpvFrameOption
       I.points.set("rsm_flux", 2);
       I.points.set("rsm_width", o.rsm->mt);
       glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(o.rsm->mt) * o.rsm->mb);
+    }
+    if (o.emitter_rsm) {  // the emitters' RSM texels, the same way
+      bind_textures(I.ersm->tex.ids.data(), 3);
+      I.points.set("mode", 0);
+      I.points.set("rsm_position", 0);
+      I.points.set("rsm_normal", 1);
+      I.points.set("rsm_flux", 2);
+      I.points.set("rsm_width", I.ersm->width);
+      glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(I.ersm->width) * I.ersm->height);
     }
     if (I.n_vpls > 0) {
       I.points.set("mode", 1);

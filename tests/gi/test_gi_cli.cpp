@@ -274,4 +274,51 @@ TEST(GiCli, ConvergeWithDeviceAddsGpuRowsAndSplitsRinging) {
   EXPECT_EQ(resident_rows, gpu_rows > 0 ? 2 : 0);
 }
 
+// The emitters' reflective shadow maps from the command line: `gi render --lpv-emitter-rsm N`
+// (named in the JSON), a bad N (exit 2 naming it), and the converge study's lpv-rsm-gpu row of a
+// scene with an area light beside its lpv-gpu row (the same frame with photon VPLs; the two
+// estimate the same reflected power, docs/gi.md "The area emitters' reflective shadow maps").
+TEST(GiCli, LpvEmitterRsmRenderAndConvergeRow) {
+  const auto dir = atmosh::test::scratch_dir("atmosh_gi_cli", "emitter_rsm");
+  auto r = run_cli("gi render --scene-builtin cornell-box --method lpv --lpv-emitter-rsm 1 -o '" +
+                   (dir / "bad.exr").string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--lpv-emitter-rsm"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" 1"), std::string::npos) << r.err;
+  r = run_cli("gi converge --scene-builtin cornell-box --lpv-emitter-rsm 2000 -o '" + (dir / "badc").string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("2000"), std::string::npos) << r.err;
+  const auto exr = dir / "rsm.exr";
+  r = run_cli("gi render --scene-builtin cornell-box --method lpv --grid 4 --device auto --pixel-samples 1 "
+              "--lpv-emitter-rsm 8 --size 12x8 -o '" + exr.string() + "' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"lpv_emitter_rsm\": 8"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(exr));
+  r = run_cli("gi converge --scene-builtin cornell-box --bands-list 1 --grids 1 --cube-size 2 --samples 2 "
+              "--path-samples 2 --reference-samples 2 --size 8x6 --radiosity-grids none --lpv-grids 2 "
+              "--lpv-paper-max-grid 0 --lpv-cascade-max-grid 0 --lpv-emitter-rsm 8 --device auto -o '" +
+              (dir / "conv").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream csv(dir / "conv" / "gi_converge.csv");
+  std::string line;
+  double rms_photons = -1, rms_rsm = -1;
+  auto rms_of = [](const std::string& l) {
+    std::size_t a = 0;
+    for (int k = 0; k < 3; ++k) a = l.find(',', a) + 1;
+    return std::stod(l.substr(a, l.find(',', a) - a));
+  };
+  while (std::getline(csv, line)) {
+    if (line.rfind("lpv-gpu,", 0) == 0) rms_photons = rms_of(line);
+    if (line.rfind("lpv-rsm-gpu,grid=2 iterations=4 emitter_rsm=8,", 0) == 0) rms_rsm = rms_of(line);
+  }
+  if (std::getenv("ATMOSH_REQUIRE_GPU_CONTEXT") || r.err.find("CPU forms") == std::string::npos) {
+    ASSERT_GT(rms_photons, 0) << r.err;
+    ASSERT_GT(rms_rsm, 0) << r.err;
+    std::printf("[ measured ] Cornell box, grid 2, 8x6: lpv-gpu rms %.4f, lpv-rsm-gpu rms %.4f\n", rms_photons, rms_rsm);
+    EXPECT_NEAR(rms_rsm, rms_photons, 0.05);
+  } else {
+    EXPECT_LT(rms_rsm, 0) << "no GPU: no lpv-rsm-gpu row";
+  }
+}
+
 }  // namespace

@@ -314,6 +314,52 @@ TEST(GiLpvGpu, ResidentFrameRemakesALightMapWhenItsLightChanges) {
   EXPECT_GT(differs(fresh(options(&sun2, &k3, 256)), fresh(options(&sun2, &k2, 256))), 1e-4);
 }
 
+// The resident frame with the area emitters' RSMs instead of their photon VPLs (LpvOptions::
+// emitter_rsm): its accumulated grid against the CPU LPV (double) fed the same VPLs, read back
+// from the same rasterisation (lpv_vpls_emitter_rsm). Agreement within float rounding, as
+// ResidentFrameAgreesWithTheCpuLpv; the RSM's own flux is checked against a closed form and the
+// photons in test_gi_raster.cpp.
+TEST(GiLpvGpu, ResidentFrameWithTheEmittersRsmAgreesWithTheCpuLpv) {
+  std::string why;
+  if (no_gpu(why)) GTEST_SKIP() << why;
+  const gi::Scene s = gi::builtin_scene("cornell-box");
+  gi::LpvOptions o;
+  o.grid = 8;
+  o.iterations = 12;
+  o.emitter_rsm = 16;
+  gi::ShadowMapOptions so;
+  so.emitter_resolution = 64;
+  gi::LpvGrid inj = gi::lpv_grid(s, o.grid);
+  // the CPU side's rasterised input first (no context may end while the frame's lives)
+  const std::vector<gi::Vpl> vpls = gi::lpv_vpls_emitter_rsm(s, o, inj, so.emitter_points);
+  ASSERT_GT(vpls.size(), 1000u);
+  gi::LpvFrameGpu frame(s, o, so);
+  EXPECT_TRUE(frame.emitter_vpls().empty()) << "no photon VPLs with the emitters' RSM";
+  EXPECT_EQ(frame.rays(), 0u);
+  gi::LpvGrid acc_gpu;
+  const gi::RadianceImage img = frame.render(s.camera, 32, 32, &acc_gpu);
+  for (const gi::Vpl& v : vpls) gi::lpv_add_vpl(inj, v.p, v.n, v.flux);
+  const gi::GeometryVolume gv = gi::lpv_geometry(s, inj);
+  const gi::LpvGrid acc = gi::lpv_propagate(inj, &gv, o.iterations);
+  double scale = 0, worst = 0;
+  for (std::size_t c = 0; c < acc.cells.size(); ++c)
+    for (int q = 0; q < 12; ++q) {
+      scale = std::max(scale, std::abs(acc.cells[c][q]));
+      worst = std::max(worst, std::abs(acc.cells[c][q] - acc_gpu.cells[c][q]));
+    }
+  ASSERT_GT(scale, 0);
+  std::printf("cornell-box, emitters' RSM 16^2 a face: %zu VPLs; resident frame vs CPU LPV: grid %.3g of the largest "
+              "coefficient\n",
+              vpls.size(), worst / scale);
+  EXPECT_LT(worst, 1e-4 * scale);
+  for (int c = 0; c < 3; ++c)
+    for (const float x : img.mean[c]) ASSERT_TRUE(std::isfinite(x));
+  o.emitter_rsm = 1;
+  EXPECT_THROW(gi::LpvFrameGpu(s, o, so), InputError);
+  o.emitter_rsm = 1025;
+  EXPECT_THROW(gi::lpv_vpls_emitter_rsm(s, o, inj), InputError);
+}
+
 TEST(GiLpvGpu, BadOptionsThrowInputError) {
   std::string why;
   if (no_gpu(why)) GTEST_SKIP() << why;

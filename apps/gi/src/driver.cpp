@@ -91,6 +91,7 @@ MethodOptions method_options(const RenderOptions& o) {
   m.iterations = o.iterations;
   m.lpv_cascades = o.cascades;
   m.lpv_reemission = lpv_reemission_from_name(o.lpv_reemission);
+  m.lpv_emitter_rsm = o.lpv_emitter_rsm;
   m.device = parse_device_request(o.device, "--device");
   return m;
 }
@@ -212,7 +213,8 @@ void write_method_image(const fs::path& exr, const fs::path& png, const Scene& s
     prov.add("grid", num(o.grid)).add("bands", num(o.bands)).add("cube_size", num(o.cube_size))
         .add("iterations", num(o.iterations)).add("pixel_samples", num(o.pixel_samples))
         .add("build_seconds", r.probe_seconds);
-  if (o.method == "lpv") prov.add("cascades", num(o.cascades)).add("lpv_reemission", o.lpv_reemission);
+  if (o.method == "lpv")
+    prov.add("cascades", num(o.cascades)).add("lpv_reemission", o.lpv_reemission).add("lpv_emitter_rsm", num(o.lpv_emitter_rsm));
   if (s.sun)
     prov.add("sun_direction", io::format_double(s.sun->direction.x) + "," + io::format_double(s.sun->direction.y) + "," +
                                   io::format_double(s.sun->direction.z));
@@ -250,6 +252,7 @@ nlohmann::json render_json(const Scene& s, const RenderOptions& o, const MethodI
   if (o.method == "lpv") {
     j["cascades"] = o.cascades;
     j["lpv_reemission"] = o.lpv_reemission;
+    j["lpv_emitter_rsm"] = o.lpv_emitter_rsm;
   }
   return j;
 }

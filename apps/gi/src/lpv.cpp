@@ -39,6 +39,9 @@ void check(const LpvOptions& o) {
     throw InputError("gi lpv: emitter photons must be in 0..1e8, got " + std::to_string(o.emitter_photons));
   if (o.samples < 1 || o.samples > 1000000)
     throw InputError("gi lpv: camera rays per pixel must be in 1..1000000, got " + std::to_string(o.samples));
+  if (o.emitter_rsm != 0 && (o.emitter_rsm < 2 || o.emitter_rsm > 1024))
+    throw InputError("gi lpv: the emitters' RSM resolution must be 0 (photon rays) or 2..1024, got " +
+                     std::to_string(o.emitter_rsm));
   if (o.reemission != LpvReemission::direction && o.reemission != LpvReemission::face_lobe)
     throw InputError("gi lpv: unknown re-emission " + std::to_string(static_cast<int>(o.reemission)));
 }

@@ -42,6 +42,7 @@ struct LpvFrameGpu::Impl {
   gpu::GiEmitterOptions geo;
   gpu::GiSkyOptions gsky;
   gpu::GiRsmView rsm;
+  gpu::GiEmitterRsmOptions ersm;  // with opt.emitter_rsm > 0: the emitters' RSMs instead of photons
   int iterations = 0;
   std::optional<LpvCascadeLayout> cascade;
   Impl(const Scene& s, const LpvOptions& o, const ShadowMapOptions& so) : scene(s), opt(o), shadow(so), attrs(scene) {}
@@ -62,6 +63,9 @@ LpvFrameGpu::LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const Shadow
     throw InputError("gi lpv: cascades must be 1 or 2, got " + std::to_string(cascades));
   if (o.iterations < -1 || o.iterations > 1024)
     throw InputError("gi lpv: iterations must be -1 (2 x grid) or 0..1024, got " + std::to_string(o.iterations));
+  if (o.emitter_rsm != 0 && (o.emitter_rsm < 2 || o.emitter_rsm > 1024))
+    throw InputError("gi lpv: the emitters' RSM resolution must be 0 (photon rays) or 2..1024, got " +
+                     std::to_string(o.emitter_rsm));
   const LpvGrid g = lpv_grid(scene, o.grid);
   if (static_cast<long long>(g.ny + 1) * (g.nz + 1) > 16384)
     throw InputError("gi lpv: the GPU frame's atlas needs (ny + 1)(nz + 1) <= 16384 cells, grid " +
@@ -102,7 +106,9 @@ LpvFrameGpu::LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const Shadow
     I.geo.resolution = so.emitter_resolution;
     I.geo.eval_offset = 0.01 * off;
     I.geo.shadow_offset = off;
-    if (o.emitter_photons > 0) {  // the emitters' VPLs: photon rays on the CPU, once
+    I.ersm.points_per_triangle = so.emitter_points;
+    I.ersm.resolution = o.emitter_rsm;
+    if (o.emitter_photons > 0 && o.emitter_rsm == 0) {  // the emitters' VPLs: photon rays on the CPU, once
       Scene rest = scene;
       rest.sun.reset();
       I.vpls = lpv_vpls(rest, o, vg, &I.rays);
@@ -165,6 +171,7 @@ RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvG
   fo.emitters = I.emitters ? &I.geo : nullptr;
   fo.sky = I.sky ? &I.gsky : nullptr;
   fo.rsm = sun ? &I.rsm : nullptr;
+  fo.emitter_rsm = I.emitters && I.opt.emitter_rsm > 0 ? &I.ersm : nullptr;
   fo.read_grid = accumulated != nullptr || inner != nullptr || fine != nullptr;
   const gpu::GiLpvFrameResult r = I.frame->render(pc, fo);
   RadianceImage img;

@@ -45,6 +45,7 @@ LpvOptions lpv_options(const MethodOptions& o) {
   l.iterations = o.iterations;
   l.blocking = o.lpv_blocking;
   l.reemission = o.lpv_reemission;
+  l.emitter_rsm = o.lpv_emitter_rsm;
   l.samples = o.pixel_samples;
   l.seed = o.seed;
   l.threads = o.threads;
@@ -117,6 +118,8 @@ void check_method_options(const MethodOptions& o) {
     need(o.lpv_cascades == 1 || o.lpv_cascades == 2,
          "gi lpv: --cascades must be 1 or 2, got " + std::to_string(o.lpv_cascades));
     need(o.lpv_cascades == 1 || o.grid >= 2, "gi lpv: --cascades 2 needs --grid >= 2, got " + std::to_string(o.grid));
+    need(o.lpv_emitter_rsm == 0 || (o.lpv_emitter_rsm >= 2 && o.lpv_emitter_rsm <= 1024),
+         "gi lpv: --lpv-emitter-rsm must be 0 (photon rays) or 2..1024, got " + std::to_string(o.lpv_emitter_rsm));
   }
 }
 
@@ -398,6 +401,9 @@ void study_methods(const Scene& scene, int width, int height, const StudyOptions
       };
       if (o.gpu)  // injection, geometry, propagation and shading on the GPU
         gpu_row(r.method + "-gpu", r.setting, [&](MethodOptions& m) { m.lpv_blocking = block; });
+      if (o.gpu && block && o.lpv_emitter_rsm > 0 && n_emitting >= 1 && n_emitting <= 64)  // emitters by RSMs
+        gpu_row("lpv-rsm-gpu", r.setting + " emitter_rsm=" + std::to_string(o.lpv_emitter_rsm),
+                [&](MethodOptions& m) { m.lpv_emitter_rsm = o.lpv_emitter_rsm; });
       if (block && g <= o.lpv_paper_max_grid) {  // the published re-emission, side by side (CPU)
         LpvOptions lp = lo;
         lp.reemission = LpvReemission::face_lobe;

@@ -258,4 +258,41 @@ std::vector<Vpl> lpv_vpls_rsm(const Scene& scene, const LpvOptions& opt, const L
 #endif
 }
 
+std::vector<Vpl> lpv_vpls_emitter_rsm(const Scene& scene, const LpvOptions& opt, const LpvGrid& g, int points,
+                                      double* gpu_seconds) {
+  validate(scene);
+  const int res = opt.emitter_rsm == 0 ? 2 : opt.emitter_rsm;
+  if (res < 2 || res > 1024)
+    throw InputError("gi lpv: the emitters' RSM resolution must be 0 (photon rays) or 2..1024, got " +
+                     std::to_string(opt.emitter_rsm));
+  if (points < 1 || points > 64) throw InputError("gi lpv: emitter points must be in 1..64, got " + std::to_string(points));
+  if (!(g.h > 0) || g.nx < 1 || g.ny < 1 || g.nz < 1) throw InputError("gi lpv: empty grid");
+  std::size_t n_emitting = 0;
+  for (std::size_t t = 0; t < scene.material.size(); ++t) {
+    const glm::dvec3 L = scene.materials[scene.material[t]].emission;
+    n_emitting += L.x + L.y + L.z > 0 ? 1 : 0;
+  }
+  if (n_emitting > 64)
+    throw InputError("gi lpv: the emitters' RSM takes 1..64 emitting triangles; this scene has " + std::to_string(n_emitting));
+  std::vector<Vpl> out;
+  if (gpu_seconds != nullptr) *gpu_seconds = 0;
+  if (n_emitting == 0) return out;
+#ifdef ATMOSH_GI_HAVE_GPU
+  const gpu::Context ctx;
+  const detail::MeshAttrs attrs(scene);
+  gpu::GiEmitterRsmOptions o;
+  o.points_per_triangle = points;
+  o.resolution = res;
+  const gpu::GiEmitterRsmResult r = gpu::gi_emitter_rsm(ctx, attrs.view(), o);
+  if (gpu_seconds != nullptr) *gpu_seconds = r.seconds;
+  for (std::size_t i = 0; i < r.flux.size(); ++i) {
+    const glm::dvec3& phi = r.flux[i];
+    if (phi.x + phi.y + phi.z > 0) out.push_back({r.position[i] + 0.5 * g.h * r.normal[i], r.normal[i], phi});
+  }
+  return out;
+#else
+  throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
+#endif
+}
+
 }  // namespace atmosh::gi

@@ -127,6 +127,32 @@ struct GiRsmResult {
 
 GiRsmResult gi_rsm(const Context& ctx, const GiMeshView& mesh, const GiRsmView& view);
 
+/// Reflective shadow maps of the area emitters (the emitters' counterpart of gi_rsm): at each of
+/// `points_per_triangle` fixed points y of every emitting triangle (the Hammersley set of
+/// GiEmitterOptions' distance maps) a cube map of `resolution`^2 texels a face, whose texel
+/// centre ray w from y meets the first surface x; that texel's VPL is x with its normal turned
+/// towards y and the flux it reflects diffusely of the light the point sends into the texel:
+///   Phi = albedo(x) L_e (A / K) c(n_e . w) Omega_texel,
+/// A the triangle's area, K the points per triangle, c(t) = max(0, t) for a one-sided emitter
+/// (the normal's side) and |t| otherwise, Omega_texel = (2/N)^2 / (1 + u^2 + v^2)^(3/2) the
+/// texel's solid angle at its centre (u, v). The texels' c Omega sum to pi over a side's
+/// hemisphere, so a side's VPLs carry albedo x its power pi L_e A (the CPU's photon VPLs,
+/// atmosh/gi/lpv.hpp, are an unbiased estimate of the same). Each point is a point light: near
+/// the emitter (closer than its size) the flux lands where a point, not the extended triangle,
+/// sends it. Surface points from the texel ray and the triangle plane (gi_pixel_point.glsl).
+struct GiEmitterRsmOptions {
+  int points_per_triangle = 4;  ///< 1..64
+  int resolution = 32;          ///< texels a cube face side, 2..1024
+};
+struct GiEmitterRsmResult {
+  /// One entry per texel that sees a surface: position (world), unit normal, flux per channel.
+  std::vector<glm::dvec3> position, normal, flux;
+  std::size_t texels = 0;  ///< all texels of all cube maps
+  double seconds = 0;      ///< upload, draws, read-back
+};
+/// std::invalid_argument for options out of range or more than 64 emitting triangles.
+GiEmitterRsmResult gi_emitter_rsm(const Context& ctx, const GiMeshView& mesh, const GiEmitterRsmOptions& options);
+
 // ---------------------------------------------------------------------------------------------
 // A GPU-resident light propagation volume frame (Kaplanyan & Dachsbacher 2010; the method and
 // its CPU form: atmosh/gi/lpv.hpp), every pass in one context, its data kept in GPU textures and
@@ -190,6 +216,10 @@ struct GiLpvFrameOptions {
   const GiEmitterOptions* emitters = nullptr;  ///< as gi_gbuffer
   const GiSkyOptions* sky = nullptr;           ///< as gi_gbuffer
   const GiRsmView* rsm = nullptr;  ///< the sun's RSM (null: no sun VPLs)
+  /// The area emitters' RSMs (gi_emitter_rsm), injected as VPLs like the sun's (null: none; the
+  /// emitters' light then comes only from the VPLs given at construction). Made by the first
+  /// frame that asks for them and kept while the options are unchanged (static geometry).
+  const GiEmitterRsmOptions* emitter_rsm = nullptr;
   bool read_grid = false;          ///< also read back the accumulated grid (for tests)
 };
 struct GiLpvFrameResult {

@@ -60,6 +60,7 @@ struct RenderOptions {
   int iterations = -1;          // lpv: propagation steps (-1: 2 x grid)
   int cascades = 1;             // lpv: 1 grid, or 2 (the 2-level nested cascade, grid >= 2)
   std::string lpv_reemission = "direction";  // lpv: direction | paper (gi::LpvReemission, lpv.hpp)
+  int lpv_emitter_rsm = 0;      // lpv on the GPU frame: 0 photon VPLs, or the emitters' RSM texels a face side
   std::string device = "cpu";   // cpu | gpu | auto (radiosity shading and lpv run on the GPU)
 };
 // The method's options, checked (InputError naming the option).
@@ -106,7 +107,8 @@ struct ConvergeStudy {
                                    // shaded on the CPU), probes-resident-gpu "bands=B grid=G" (B <= 16; the
                                    // GPU-resident frame, time_s = one frame), radiosity-gpu, lpv[-noblock]-gpu,
                                    // lpv-cascade-gpu (the 2-level cascade in the GPU-resident LPV frame),
-                                   // lpv-paper[-gpu] (the published re-emission, StudyOptions::lpv_paper_max_grid)
+                                   // lpv-paper[-gpu] (the published re-emission, StudyOptions::lpv_paper_max_grid),
+                                   // lpv-rsm-gpu (the emitters' RSMs, StudyOptions::lpv_emitter_rsm)
   io::Provenance provenance;
   std::string notice;  // --device auto without a usable GPU: one line for the user
 };

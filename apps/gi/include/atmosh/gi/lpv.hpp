@@ -87,6 +87,11 @@ struct LpvOptions {
   int iterations = -1;           ///< propagation steps, 0..1024 (-1: 2 x grid)
   int sun_rays = 16;             ///< sun injection rays per cell edge of the box's cross-section, 1..256
   int emitter_photons = 65536;   ///< injection rays from area emitters, 0..1e8
+  /// The GPU-resident frame (LpvFrameGpu) only: 0 injects the area emitters' photon VPLs above
+  /// (made once per frame object on the CPU); N in 2..1024 instead rasterises the emitters'
+  /// reflective shadow maps every frame object keeps (lpv_vpls_emitter_rsm: N x N texels a cube
+  /// face at ShadowMapOptions::emitter_points points per triangle).
+  int emitter_rsm = 0;
   bool blocking = true;          ///< use the geometry volume
   LpvReemission reemission = LpvReemission::direction;  ///< the propagation's re-emission (above)
   int samples = 4;               ///< camera rays per pixel, 1..1e6
@@ -147,6 +152,17 @@ GeometryVolume lpv_geometry(const Scene& scene, const LpvGrid& g);
 /// lpv_propagate_gpu; gpu_seconds: the RSM's upload, draw and read-back.
 std::vector<Vpl> lpv_vpls_rsm(const Scene& scene, const LpvOptions& opt, const LpvGrid& g,
                               double* gpu_seconds = nullptr);
+/// The area emitters' VPLs from reflective shadow maps rasterised on the GPU (atmosh::gpu::
+/// gi_emitter_rsm, its own EGL context): at `points` fixed points of every emitting triangle a
+/// cube map of opt.emitter_rsm texels a face side (2 when 0), one VPL per texel whose centre ray
+/// sees a surface: flux albedo L_e (A / points) c(n_e . w) Omega_texel, normal turned towards
+/// the point, position moved h/2 along it — the photon rays of lpv_vpls replaced by the texel
+/// rays of point lights (the same expected reflected flux; no noise, but each point is a point
+/// light near the emitter). Empty without emitters. InputError for options out of range or
+/// more than 64 emitting triangles; errors otherwise as lpv_propagate_gpu. gpu_seconds: upload,
+/// draws and read-back.
+std::vector<Vpl> lpv_vpls_emitter_rsm(const Scene& scene, const LpvOptions& opt, const LpvGrid& g, int points = 4,
+                                      double* gpu_seconds = nullptr);
 /// The VPLs injected into `g`'s cells on the GPU: binned by cell on the CPU (a stable
 /// counting sort: each bin in the given order), then one compute invocation per cell
 /// (gpu/shaders/gi_lpv_inject.comp) sums its VPLs' Lambertian lobes in float (as lpv_add_vpl);

@@ -36,6 +36,10 @@ struct MethodOptions {
   /// render_lpv_cascade on the CPU; on the GPU the resident frame with cascades = 2, scenes with
   /// <= 64 emitting triangles; beyond that gpu is an error and auto a notice and the CPU cascade)
   int lpv_cascades = 1;
+  /// lpv on the GPU-resident frame: 0 (the emitters' photon VPLs) or 2..1024, the area emitters'
+  /// reflective shadow maps of that many texels a cube face side instead (LpvOptions::emitter_rsm).
+  /// Ignored on the CPU and by the separate GPU passes (more than 64 emitting triangles).
+  int lpv_emitter_rsm = 0;
   /// cpu | gpu | auto (atmosh/device.hpp). gpu/auto: LPV injection, geometry, propagation and
   /// shading and the radiosity walk run on the GPU; probes are built from a baked surface
   /// radiance (bake_surface_radiance, surface_divisions / surface_samples) whose cube maps are
@@ -98,6 +102,11 @@ struct StudyOptions {
   /// with `gpu`, the same on the GPU after it (method "lpv-paper-gpu", render_method with
   /// lpv_reemission = face_lobe). 0: none. It costs what the "lpv" rows of the same grid cost.
   int lpv_paper_max_grid = 16;
+  /// With `gpu`, for every LPV grid (geometry volume on) of a scene with 1..64 emitting
+  /// triangles, the GPU-resident frame with the area emitters' reflective shadow maps of this
+  /// many texels a face side instead of their photon VPLs (method "lpv-rsm-gpu", the "lpv"
+  /// row's setting plus " emitter_rsm=N"; render_method with lpv_emitter_rsm). 0: none.
+  int lpv_emitter_rsm = 32;
 };
 struct StudyRow {
   std::string method, setting;  ///< e.g. "radiosity", "bands=2 grid=8 bounces=2"
