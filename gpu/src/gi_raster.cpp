@@ -202,6 +202,24 @@ void sky_axes(const glm::dvec3& w, glm::dvec3& ex, glm::dvec3& ey) {
   ey = glm::cross(w, ex);
 }
 
+// The projection of a cube face (forward f, right r, up u) seen from y: clip = (x . r, x . u,
+// za (x . f) + zb, x . f), x = p - y; the emitters' distance maps and RSMs.
+Mat4 cube_face_matrix(const glm::dvec3& f, const glm::dvec3& r, const glm::dvec3& u, const glm::dvec3& y, double za,
+                      double zb) {
+  Mat4 m;
+  for (int c = 0; c < 3; ++c) {
+    m.set(0, c, r[c]);
+    m.set(1, c, u[c]);
+    m.set(2, c, za * f[c]);
+    m.set(3, c, f[c]);
+  }
+  m.set(0, 3, -glm::dot(r, y));
+  m.set(1, 3, -glm::dot(u, y));
+  m.set(2, 3, -za * glm::dot(f, y) + zb);
+  m.set(3, 3, -glm::dot(f, y));
+  return m;
+}
+
 // Point k of the K fixed points of triangle (a, b, c) where the emitters' distance maps and
 // RSMs are made: the Hammersley point ((k + 1/2) / K, radical inverse of k), sqrt-mapped onto
 // the triangle.
@@ -332,19 +350,7 @@ void draw_emitter_maps(const GiMeshView& mesh, const Soup& soup, GBufferPrograms
         glClearBufferfv(GL_COLOR, 0, far_value);
         glClearDepth(1.0);
         glClear(GL_DEPTH_BUFFER_BIT);
-        // clip = (x . r, x . u, za (x . f) + zb, x . f), x = p - y
-        Mat4 m;
-        for (int c = 0; c < 3; ++c) {
-          m.set(0, c, fr[f][c]);
-          m.set(1, c, fu[f][c]);
-          m.set(2, c, za * ff[f][c]);
-          m.set(3, c, ff[f][c]);
-        }
-        m.set(0, 3, -glm::dot(fr[f], y));
-        m.set(1, 3, -glm::dot(fu[f], y));
-        m.set(2, 3, -za * glm::dot(ff[f], y) + zb);
-        m.set(3, 3, -glm::dot(ff[f], y));
-        dist.set_mat4("view_proj", m.m);
+        dist.set_mat4("view_proj", cube_face_matrix(ff[f], fr[f], fu[f], y, za, zb).m);
         glDrawArrays(GL_TRIANGLES, 0, soup.count);
       }
     }
@@ -482,18 +488,7 @@ void draw_emitter_rsm(const GiMeshView& mesh, const Soup& soup, const Program& p
       for (int f = 0; f < 6; ++f, ++tile) {
         const int ox = (tile % cols) * N, oy = (tile / cols) * N;
         glViewport(ox, oy, N, N);
-        Mat4 m;  // clip = (x . r, x . u, za (x . f) + zb, x . f), x = p - y (the distance maps' faces)
-        for (int q = 0; q < 3; ++q) {
-          m.set(0, q, fr[f][q]);
-          m.set(1, q, fu[f][q]);
-          m.set(2, q, za * ff[f][q]);
-          m.set(3, q, ff[f][q]);
-        }
-        m.set(0, 3, -glm::dot(fr[f], y));
-        m.set(1, 3, -glm::dot(fu[f], y));
-        m.set(2, 3, -za * glm::dot(ff[f], y) + zb);
-        m.set(3, 3, -glm::dot(ff[f], y));
-        prog.set_mat4("view_proj", m.m);
+        prog.set_mat4("view_proj", cube_face_matrix(ff[f], fr[f], fu[f], y, za, zb).m);
         prog.set("tile_origin", static_cast<float>(ox), static_cast<float>(oy), 0.0f);
         for (const auto& [name, v] : {std::pair{"face_f", ff[f]}, std::pair{"face_r", fr[f]}, std::pair{"face_u", fu[f]}})
           prog.set(name, static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z));

@@ -47,6 +47,15 @@ struct Case {
   gi::Scene scene;
 };
 
+// The largest coefficient of the CPU grid `acc` (scale) and the largest difference of `gpu` from it.
+void grid_difference(const gi::LpvGrid& acc, const gi::LpvGrid& gpu, double& scale, double& worst) {
+  for (std::size_t c = 0; c < acc.cells.size(); ++c)
+    for (int q = 0; q < 12; ++q) {
+      scale = std::max(scale, std::abs(acc.cells[c][q]));
+      worst = std::max(worst, std::abs(acc.cells[c][q] - gpu.cells[c][q]));
+    }
+}
+
 // The 2-level nested cascade in the resident frame (LpvFrameGpu with cascades = 2: the RSM at
 // the fine level's density, the VPLs split by the fine box, three grids propagated and blended, on
 // the GPU with one read-back) against the CPU cascade in double on the same VPLs
@@ -174,11 +183,7 @@ TEST(GiLpvGpu, ResidentFrameAgreesWithTheCpuLpv) {
       const gi::GeometryVolume gv = gi::lpv_geometry(s, inj);
       const gi::LpvGrid acc = gi::lpv_propagate(inj, &gv, o.iterations);
       double scale = 0, worst = 0;
-      for (std::size_t c = 0; c < acc.cells.size(); ++c)
-        for (int q = 0; q < 12; ++q) {
-          scale = std::max(scale, std::abs(acc.cells[c][q]));
-          worst = std::max(worst, std::abs(acc.cells[c][q] - acc_gpu.cells[c][q]));
-        }
+      grid_difference(acc, acc_gpu, scale, worst);
       ASSERT_GT(scale, 0) << k.name;
       EXPECT_LT(worst, 1e-4 * scale) << k.name << ": accumulated grid";
       // the image: the CPU application on the rasterised G-buffer
@@ -342,11 +347,7 @@ TEST(GiLpvGpu, ResidentFrameWithTheEmittersRsmAgreesWithTheCpuLpv) {
   const gi::GeometryVolume gv = gi::lpv_geometry(s, inj);
   const gi::LpvGrid acc = gi::lpv_propagate(inj, &gv, o.iterations);
   double scale = 0, worst = 0;
-  for (std::size_t c = 0; c < acc.cells.size(); ++c)
-    for (int q = 0; q < 12; ++q) {
-      scale = std::max(scale, std::abs(acc.cells[c][q]));
-      worst = std::max(worst, std::abs(acc.cells[c][q] - acc_gpu.cells[c][q]));
-    }
+  grid_difference(acc, acc_gpu, scale, worst);
   ASSERT_GT(scale, 0);
   std::printf("cornell-box, emitters' RSM 16^2 a face: %zu VPLs; resident frame vs CPU LPV: grid %.3g of the largest "
               "coefficient\n",

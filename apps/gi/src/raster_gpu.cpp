@@ -233,6 +233,13 @@ RadiosityGBuffer radiosity_gbuffer_gpu(const Scene& scene, const Camera& cam, in
 #endif
 }
 
+namespace {
+// An RSM texel's VPL (flux > 0): moved half of g's cell edge along its normal.
+void add_rsm_vpl(std::vector<Vpl>& out, const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& phi, const LpvGrid& g) {
+  if (phi.x + phi.y + phi.z > 0) out.push_back({p + 0.5 * g.h * n, n, phi});
+}
+}  // namespace
+
 std::vector<Vpl> lpv_vpls_rsm(const Scene& scene, const LpvOptions& opt, const LpvGrid& g, double* gpu_seconds) {
   validate(scene);
   if (opt.sun_rays < 1 || opt.sun_rays > 256)
@@ -247,11 +254,8 @@ std::vector<Vpl> lpv_vpls_rsm(const Scene& scene, const LpvOptions& opt, const L
   const detail::MeshAttrs attrs(scene);
   const gpu::GiRsmResult r = gpu::gi_rsm(ctx, attrs.view(), v);
   if (gpu_seconds != nullptr) *gpu_seconds = r.seconds;
-  for (std::size_t i = 0; i < r.hit.size(); ++i) {
-    if (!r.hit[i]) continue;
-    const glm::dvec3& phi = r.flux[i];
-    if (phi.x + phi.y + phi.z > 0) out.push_back({r.position[i] + 0.5 * g.h * r.normal[i], r.normal[i], phi});
-  }
+  for (std::size_t i = 0; i < r.hit.size(); ++i)
+    if (r.hit[i]) add_rsm_vpl(out, r.position[i], r.normal[i], r.flux[i], g);
   return out;
 #else
   throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
@@ -285,10 +289,7 @@ std::vector<Vpl> lpv_vpls_emitter_rsm(const Scene& scene, const LpvOptions& opt,
   o.resolution = res;
   const gpu::GiEmitterRsmResult r = gpu::gi_emitter_rsm(ctx, attrs.view(), o);
   if (gpu_seconds != nullptr) *gpu_seconds = r.seconds;
-  for (std::size_t i = 0; i < r.flux.size(); ++i) {
-    const glm::dvec3& phi = r.flux[i];
-    if (phi.x + phi.y + phi.z > 0) out.push_back({r.position[i] + 0.5 * g.h * r.normal[i], r.normal[i], phi});
-  }
+  for (std::size_t i = 0; i < r.flux.size(); ++i) add_rsm_vpl(out, r.position[i], r.normal[i], r.flux[i], g);
   return out;
 #else
   throw InputError("gi lpv: this build has no GPU library (atmosh::gpu)");
