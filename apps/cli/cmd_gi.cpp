@@ -99,6 +99,9 @@ void run_converge(const GiConvergeCmd& co) {
   po.method.method = "path";
   int w = 0, h = 0;
   const gi::Scene s = prepare(po, w, h);
+  const std::size_t n_emitting = gi::emitting_triangles(s);
+  if (co.lpv_emitter_rsm > 0 && o.method.device != "cpu" && n_emitting >= 1 && n_emitting <= 64 && !c.study.lpv_grids.empty())
+    gi::check_emitter_rsm_size(s, co.lpv_emitter_rsm, gi::ShadowMapOptions{}.emitter_points);
   c.method = o.method;
   c.method.threads = threads_option(o.method.threads);
   check_memory(gi::probe_grid_bytes(*std::max_element(c.grids.begin(), c.grids.end()), o.method.cube_size),

@@ -288,6 +288,17 @@ TEST(GiCli, LpvEmitterRsmRenderAndConvergeRow) {
   r = run_cli("gi converge --scene-builtin cornell-box --lpv-emitter-rsm 2000 -o '" + (dir / "badc").string() + "'");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("2000"), std::string::npos) << r.err;
+  // an atlas over kMaxEmitterRsmTexels (the Cornell box's 2 emitting triangles x 4 points x 6
+  // faces x 1024^2 = 50 M texels): refused before any work, by render and by converge
+  r = run_cli("gi render --scene-builtin cornell-box --method lpv --device gpu --lpv-emitter-rsm 1024 -o '" +
+              (dir / "big.exr").string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("1024"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "big.exr"));
+  r = run_cli("gi converge --scene-builtin cornell-box --device auto --lpv-emitter-rsm 1024 -o '" +
+              (dir / "bigc").string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("lower --lpv-emitter-rsm"), std::string::npos) << r.err;
   const auto exr = dir / "rsm.exr";
   r = run_cli("gi render --scene-builtin cornell-box --method lpv --grid 4 --device auto --pixel-samples 1 "
               "--lpv-emitter-rsm 8 --size 12x8 -o '" + exr.string() + "' --json");

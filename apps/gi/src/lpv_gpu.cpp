@@ -92,6 +92,7 @@ LpvFrameGpu::LpvFrameGpu(const Scene& scene, const LpvOptions& opt, const Shadow
   std::size_t n_emitting = 0;
   for (const glm::dvec3& L : I.attrs.emission) n_emitting += L.x + L.y + L.z > 0 ? 1 : 0;
   I.emitters = n_emitting > 0;
+  if (I.emitters && o.emitter_rsm > 0) check_emitter_rsm_size(scene, o.emitter_rsm, so.emitter_points);
   if (I.emitters && (so.emitter_points == 0 || n_emitting > 64))
     throw InputError("gi lpv: the GPU frame lights area emitters on the GPU only (1..64 emitting triangles, "
                      "emitter points > 0); this scene has " + std::to_string(n_emitting));

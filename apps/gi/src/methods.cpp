@@ -30,14 +30,6 @@ RadiosityOptions radiosity_options(const MethodOptions& o) {
   return r;
 }
 
-std::size_t emitting_triangles(const Scene& scene) {
-  std::size_t n = 0;
-  for (std::uint32_t m : scene.material) {
-    const glm::dvec3& L = scene.materials[m].emission;
-    n += L.x + L.y + L.z > 0 ? 1 : 0;
-  }
-  return n;
-}
 
 LpvOptions lpv_options(const MethodOptions& o) {
   LpvOptions l;
@@ -126,6 +118,8 @@ void check_method_options(const MethodOptions& o) {
 MethodResult render_method(const Scene& scene, const Camera& camera, int width, int height, const MethodOptions& o) {
   check_method_options(o);
   validate(scene);  // what every method checks, here before the first pass on either device
+  if (o.method == "lpv" && o.lpv_emitter_rsm > 0 && o.device != DeviceRequest::cpu)
+    check_emitter_rsm_size(scene, o.lpv_emitter_rsm, ShadowMapOptions{}.emitter_points);
   check_view(camera, width, height);
   MethodResult r;
   if (o.method == "path" && o.device != DeviceRequest::cpu)
@@ -265,11 +259,7 @@ MethodResult render_method(const Scene& scene, const Camera& camera, int width, 
     } else {  // the GPU-resident frame where the scene allows it (<= 64 emitting triangles), else the
               // separate passes (injection, geometry and propagation on the GPU, emitters' VPLs by rays)
       l.iterations = lo.iterations < 0 ? 2 * lo.grid : lo.iterations;
-      std::size_t n_emitting = 0;
-      for (std::uint32_t m : scene.material) {
-        const glm::dvec3& L = scene.materials[m].emission;
-        n_emitting += L.x + L.y + L.z > 0 ? 1 : 0;
-      }
+      const std::size_t n_emitting = emitting_triangles(scene);
       const auto t0 = Clock::now();
       const std::optional<GpuUnusable> unusable = try_gpu([&] {
         if (n_emitting <= 64) {

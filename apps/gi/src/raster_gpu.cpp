@@ -262,6 +262,18 @@ std::vector<Vpl> lpv_vpls_rsm(const Scene& scene, const LpvOptions& opt, const L
 #endif
 }
 
+void check_emitter_rsm_size(const Scene& scene, int resolution, int points) {
+  const std::size_t n_emitting = emitting_triangles(scene);
+  if (n_emitting > 64)
+    throw InputError("gi lpv: the emitters' RSM takes 1..64 emitting triangles; this scene has " + std::to_string(n_emitting));
+  const long long texels = 6LL * points * static_cast<long long>(n_emitting) * resolution * resolution;
+  if (texels > kMaxEmitterRsmTexels)
+    throw InputError("gi lpv: the emitters' RSM at " + std::to_string(resolution) + " texels a face would hold " +
+                     std::to_string(texels) + " texels (6 faces x " + std::to_string(points) + " points x " +
+                     std::to_string(n_emitting) + " emitting triangles), more than " +
+                     std::to_string(kMaxEmitterRsmTexels) + ": lower --lpv-emitter-rsm");
+}
+
 std::vector<Vpl> lpv_vpls_emitter_rsm(const Scene& scene, const LpvOptions& opt, const LpvGrid& g, int points,
                                       double* gpu_seconds) {
   validate(scene);
@@ -271,16 +283,10 @@ std::vector<Vpl> lpv_vpls_emitter_rsm(const Scene& scene, const LpvOptions& opt,
                      std::to_string(opt.emitter_rsm));
   if (points < 1 || points > 64) throw InputError("gi lpv: emitter points must be in 1..64, got " + std::to_string(points));
   if (!(g.h > 0) || g.nx < 1 || g.ny < 1 || g.nz < 1) throw InputError("gi lpv: empty grid");
-  std::size_t n_emitting = 0;
-  for (std::size_t t = 0; t < scene.material.size(); ++t) {
-    const glm::dvec3 L = scene.materials[scene.material[t]].emission;
-    n_emitting += L.x + L.y + L.z > 0 ? 1 : 0;
-  }
-  if (n_emitting > 64)
-    throw InputError("gi lpv: the emitters' RSM takes 1..64 emitting triangles; this scene has " + std::to_string(n_emitting));
+  check_emitter_rsm_size(scene, res, points);
   std::vector<Vpl> out;
   if (gpu_seconds != nullptr) *gpu_seconds = 0;
-  if (n_emitting == 0) return out;
+  if (emitting_triangles(scene) == 0) return out;
 #ifdef ATMOSH_GI_HAVE_GPU
   const gpu::Context ctx;
   const detail::MeshAttrs attrs(scene);

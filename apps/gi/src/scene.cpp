@@ -204,6 +204,15 @@ EnvironmentMap read_environment_map(const std::filesystem::path& exr) {
   return e;
 }
 
+std::size_t emitting_triangles(const Scene& scene) {
+  std::size_t n = 0;
+  for (const std::uint32_t m : scene.material) {
+    const glm::dvec3& L = scene.materials[m].emission;
+    n += L.x + L.y + L.z > 0 ? 1 : 0;
+  }
+  return n;
+}
+
 void validate(const Scene& s) {
   prt::validate(s.mesh);
   if (s.material.size() != s.mesh.triangles.size())

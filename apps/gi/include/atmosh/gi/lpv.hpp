@@ -163,6 +163,13 @@ std::vector<Vpl> lpv_vpls_rsm(const Scene& scene, const LpvOptions& opt, const L
 /// draws and read-back.
 std::vector<Vpl> lpv_vpls_emitter_rsm(const Scene& scene, const LpvOptions& opt, const LpvGrid& g, int points = 4,
                                       double* gpu_seconds = nullptr);
+/// The most texels the emitters' RSM atlas may hold (6 faces x points x emitting triangles x
+/// resolution^2; 4 floats x 3 targets + depth = 52 bytes a texel: 218 MB).
+inline constexpr long long kMaxEmitterRsmTexels = 1LL << 22;
+/// InputError naming the resolution where the scene's emitters' RSMs at `resolution` texels a
+/// face and `points` per triangle exceed kMaxEmitterRsmTexels, or the scene has more than 64
+/// emitting triangles; checked before any work by the CLI, render_method and LpvFrameGpu.
+void check_emitter_rsm_size(const Scene& scene, int resolution, int points);
 /// The VPLs injected into `g`'s cells on the GPU: binned by cell on the CPU (a stable
 /// counting sort: each bin in the given order), then one compute invocation per cell
 /// (gpu/shaders/gi_lpv_inject.comp) sums its VPLs' Lambertian lobes in float (as lpv_add_vpl);

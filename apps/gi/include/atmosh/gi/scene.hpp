@@ -116,6 +116,8 @@ EnvironmentMap read_environment_map(const std::filesystem::path& exr);
 /// count / index mismatch, albedo outside [0, 1] or emission < 0 or not finite, a bad sun,
 /// environment coefficients of the wrong length, a bad camera.
 void validate(const Scene& scene);
+/// The triangles whose material emits (emission summed over the channels > 0).
+std::size_t emitting_triangles(const Scene& scene);
 /// Throws InputError (one line naming the fault) for an image size outside 1..16384 a side
 /// or a camera without a finite eye, with forward and up parallel (or zero), or with a
 /// field of view outside (0, 180) degrees: what every renderer checks before its work.
