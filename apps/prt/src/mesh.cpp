@@ -112,7 +112,9 @@ Mesh load_obj(const std::filesystem::path& file) {
 // file aborts inside its triangulation and a binary header with no data reads past
 // the end. So the whole file is walked here first, header and data, without trusting
 // any count: every row must lie inside the file, list lengths must be 3..kMaxPolygon,
-// x/y/z finite, vertex indices in range.
+// x/y/z finite, vertex indices in range. Triangle strips (element "tristrips") are refused:
+// the mesh library (assimp 5.2) loses the first triangle of a strip (a 4-vertex strip over a
+// square came back as one triangle) and leaks memory on every strip longer than three.
 constexpr std::size_t kMaxPolygon = 1024;
 constexpr std::uint64_t kMaxElements = std::uint64_t{1} << 31;
 
@@ -158,6 +160,10 @@ class PlyCheck {
     for (const auto& e : elements_)
       if (e.name == "vertex") vertex = &e;
     if (vertex == nullptr) fail("has no vertex element");
+    for (const auto& e : elements_)
+      if (e.name == "tristrips" && e.count > 0)
+        fail("has triangle strips (element 'tristrips'), which are not read correctly here: store the triangles as "
+             "'face' lists");
     nverts_ = vertex->count;
     for (const auto& e : elements_) {
       if (e.name == "vertex")
@@ -176,6 +182,7 @@ class PlyCheck {
           }
           const double n = value(e, r, p.count_size, false, p.count_signed);
           const bool face = e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
+
           if (!(n >= 0) || n > static_cast<double>(kMaxPolygon) || (face && n < 3))
             fail(e.name + " " + std::to_string(r) + " lists " + io_num(n) + " items (" + (face ? "3" : "0") + ".." +
                  std::to_string(kMaxPolygon) + " allowed)");
