@@ -63,15 +63,25 @@ cmake --build build-asan -j "$JOBS"
 # sanitizers, its tables and studies run in one process) is checked end to end in stage 1;
 # here each subcommand, study and writer it chains runs in its own CLI and library tests.
 ASAN_SKIP='^(Docs\.(CliExamplesRun|SweepExampleRuns)|CliSkyDevice\.ApproximateScatteringRendersOnTheGpuLikeTheCpu|Cli\.DemoQuickEndToEnd)$'
+# Tests run without Mesa's shader cache: when this one's programs come from the cache,
+# LeakSanitizer's tracer faults at its exit, after it passed (signal 11 while it stops the
+# threads; under ctest 4 runs of 4, in two fresh clones and here; with the cache disabled 3
+# of 3 passed, and run outside ctest it passed too). See also the retry below.
+ASAN_NOCACHE='^GiRaster\.GBufferAgreesWithTheRayCastGBufferExceptAtEdges$'
 seed_costs build-asan tests/ci/ctest-costs-asan.txt
-if ctest --test-dir build-asan -j "$JOBS" --output-on-failure --timeout 1800 -E "$ASAN_SKIP" | tee "$LOGS/asan.log"; then
+MESA_SHADER_CACHE_DISABLE=true ctest --test-dir build-asan --output-on-failure --timeout 1800 -R "$ASAN_NOCACHE" |
+  tee "$LOGS/asan-nocache.log"
+count_passed "$LOGS/asan-nocache.log"
+if ctest --test-dir build-asan -j "$JOBS" --output-on-failure --timeout 1800 -E "$ASAN_SKIP|$ASAN_NOCACHE" | tee "$LOGS/asan.log"; then
   count_passed "$LOGS/asan.log"
 else
   # LeakSanitizer's own tracer now and then faults while it stops a process's threads at exit
   # ("Tracer caught signal 11 ... LeakSanitizer has encountered a fatal error", intermittent,
   # google/sanitizers#1353); seen here in two runs, each time after a GPU + Embree test had
   # passed, as threads of those libraries may be ending. Only when every failure is that fault, and the log holds no finding of a
-  # sanitizer and no failed assertion, are the failed tests run once more; anything else fails.
+  # sanitizer and no failed assertion, are the failed tests run once more, without Mesa's
+  # shader cache (ASAN_NOCACHE above: its reader's threads are what the tracer trips on);
+  # anything else fails.
   failed=$(sed -n 's/^[0-9]*% tests passed, \([0-9]*\) tests failed out of [0-9]*$/\1/p' "$LOGS/asan.log" | tail -n 1)
   tracer=$(grep -c "LeakSanitizer has encountered a fatal error" "$LOGS/asan.log" || true)
   if [ -n "$failed" ] && [ "$failed" -gt 0 ] && [ "$tracer" = "$failed" ] &&
@@ -82,7 +92,8 @@ else
     names=$(sed -n '/^The following tests FAILED:/,$ s/^[[:space:]]*[0-9][0-9]* - \([^ ]*\) (.*$/\1/p' "$LOGS/asan.log" |
       sed 's/\./\\./g' | paste -sd '|' -)
     [ -n "$names" ] || exit 1
-    ctest --test-dir build-asan --output-on-failure --timeout 1800 -R "^(${names})\$" | tee "$LOGS/asan-rerun.log"
+    MESA_SHADER_CACHE_DISABLE=true ctest --test-dir build-asan --output-on-failure --timeout 1800 -R "^(${names})\$" |
+      tee "$LOGS/asan-rerun.log"
     grep -q "100% tests passed, 0 tests failed out of ${failed}\$" "$LOGS/asan-rerun.log" || exit 1
     total=$(sed -n 's/^[0-9]*% tests passed, [0-9]* tests failed out of \([0-9]*\)$/\1/p' "$LOGS/asan.log" | tail -n 1)
     passed=$((passed + total))
