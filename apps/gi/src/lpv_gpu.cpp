@@ -184,9 +184,9 @@ RadianceImage LpvFrameGpu::render(const Camera& cam, int width, int height, LpvG
     img.mean[c].assign(np, 0.0f);
     img.stderr_[c].assign(np, 0.0f);
   }
-  // The misses' environment on the CPU, on all threads (a quarter of a 512^2 frame's sky would
+  // The misses' environment on the CPU, on opt.threads (0: all; a quarter of a 512^2 frame's sky would
   // otherwise take milliseconds on one core).
-  parallel_for_ranges(np, 4096, 0, [&](std::size_t b, std::size_t e) {
+  parallel_for_ranges(np, 4096, I.opt.threads, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       if (r.radiance[4 * i + 3] == 0.0f) {
         if (I.sky) {
