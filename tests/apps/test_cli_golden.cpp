@@ -7,7 +7,9 @@
 //
 // Bits depend on the code path: the digests were recorded on an x86-64-v3 (AVX2 + FMA)
 // CPU, and the test runs the binary with ATMOSH_NO_AVX512=1 so that a CPU with AVX-512
-// takes the same AVX2 kernels (atmosh/dispatch.hpp). A CPU without AVX2, or a build
+// takes the same AVX2 kernels (atmosh/dispatch.hpp), Embree's ray traversal included (its
+// device is created with max_isa=avx2 then: apps/prt/src/bake.cpp; its AVX-512 kernels
+// changed the last bits of the Cornell box's LPV image on an AVX-512 CPU). A CPU without AVX2, or a build
 // without function multiversioning (ATMOSH_DISPATCH_BASELINE_ONLY, sanitizer builds,
 // other compilers), computes the last bits differently: there the digests must be
 // recorded afresh before a refactor (ATMOSH_UPDATE_GOLDEN=1 at the old commit).
