@@ -18,6 +18,7 @@
 #include <cmath>
 #include <utility>
 #include <functional>
+#include <initializer_list>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -54,68 +55,102 @@ inline double to_ground(const glm::dvec3& p, const glm::dvec3& u, double R) {
   return -b - std::sqrt(disc);
 }
 
+// The scattering constituents at wavelength i: phase functions and coefficients at
+// relative density 1 (absent constituents scatter nothing).
+struct ScatteringPhases {
+  atmosh::atmo::PhaseFunction rayleigh, mie;
+  double sr, sm;  // [1/m]
+};
+inline ScatteringPhases scattering_phases(const atmosh::atmo::Atmosphere& atm, std::size_t i) {
+  using namespace atmosh::atmo;
+  const auto& k = atm.coefficients(i);
+  return {PhaseFunction(atm.spec().rayleigh ? atm.spec().rayleigh->phase : PhaseSpec::of(PhaseSpec::Model::Rayleigh)),
+          PhaseFunction(atm.spec().mie ? atm.spec().mie->phase
+                                       : PhaseSpec::of(PhaseSpec::Model::HenyeyGreenstein, 0.0)),
+          atm.has(kRayleigh) ? k.scattering[kRayleigh] : 0.0, atm.has(kMie) ? k.scattering[kMie] : 0.0};
+}
+
+// A frame at x (planet radius R): up, two horizontal axes, and the cosine of the
+// direction that grazes the ground (below it, rays hit the ground).
+struct LocalFrame {
+  glm::dvec3 up, e1, e2;
+  double mu_h;
+};
+inline LocalFrame local_frame(const glm::dvec3& x, double R) {
+  const double rx = glm::length(x);
+  const glm::dvec3 up = x / rx;
+  glm::dvec3 e1 = glm::cross(up, glm::dvec3(0.0, 1.0, 0.0));
+  if (glm::length(e1) < 1e-6) e1 = glm::cross(up, glm::dvec3(1.0, 0.0, 0.0));
+  e1 = glm::normalize(e1);
+  return {up, e1, glm::cross(up, e1), -std::sqrt(std::max(0.0, 1.0 - (R / rx) * (R / rx)))};
+}
+
+// The sphere of directions about a local frame: Gauss-Legendre zenith cosines on each
+// piece {lo, hi, n} of [-1, 1] and n_azimuth uniform azimuths; fn(w, solid angle).
+struct CosinePiece {
+  double lo, hi;
+  int n;
+};
+template <class F>
+void for_each_direction(const LocalFrame& f, std::initializer_list<CosinePiece> pieces, int n_azimuth, F&& fn) {
+  const double pi = 3.14159265358979323846;
+  for (const CosinePiece& c : pieces) {
+    if (!(c.hi > c.lo)) continue;
+    const auto gl = atmosh::sh::gauss_legendre(c.n);
+    for (std::size_t a = 0; a < gl.nodes.size(); ++a) {
+      const double mu = 0.5 * (c.lo + c.hi) + 0.5 * (c.hi - c.lo) * gl.nodes[a];
+      const double wmu = 0.5 * (c.hi - c.lo) * gl.weights[a];
+      const double sin_t = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+      for (int b = 0; b < n_azimuth; ++b) {
+        const double phi = 2.0 * pi * (b + 0.5) / n_azimuth;
+        fn(mu * f.up + sin_t * (std::cos(phi) * f.e1 + std::sin(phi) * f.e2), wmu * (2.0 * pi / n_azimuth));
+      }
+    }
+  }
+}
+
 // Double-scattering radiance per unit solar irradiance [1/sr] at wavelength index i,
 // observer at the ground, view v and sun l unit vectors (z up).
 inline double double_scattering_thin(const atmosh::atmo::Atmosphere& atm, std::size_t i, const glm::dvec3& v,
                                      const glm::dvec3& l, int n_zenith = 48, int n_azimuth = 48) {
   using namespace atmosh::atmo;
   const double R = atm.ground_radius(), T = atm.top_radius();
-  const auto& k = atm.coefficients(i);
-  const PhaseFunction pr(atm.spec().rayleigh ? atm.spec().rayleigh->phase : PhaseSpec::of(PhaseSpec::Model::Rayleigh));
-  const PhaseFunction pm(atm.spec().mie ? atm.spec().mie->phase
-                                        : PhaseSpec::of(PhaseSpec::Model::HenyeyGreenstein, 0.0));
-  const double sr = atm.has(kRayleigh) ? k.scattering[kRayleigh] : 0.0;
-  const double sm = atm.has(kMie) ? k.scattering[kMie] : 0.0;
+  const ScatteringPhases ph = scattering_phases(atm, i);
+  const PhaseFunction &pr = ph.rayleigh, &pm = ph.mie;
+  const double sr = ph.sr, sm = ph.sm;
   auto sigma = [&](const glm::dvec3& p) {
     const glm::dvec3 rho = atm.density(std::max(glm::length(p) - R, 0.0));
     return glm::dvec2(sr * rho[kRayleigh], sm * rho[kMie]);
   };
   const glm::dvec3 o(0.0, 0.0, R);
   const double S = to_sphere(o, v, T);
-  const double pi = 3.14159265358979323846;
   double total = 0.0;
   geometric_rule(S, 500.0, 12, [&](double s, double ws) {
     const glm::dvec3 x = o + s * v;
     const glm::dvec2 sx = sigma(x);
-    const double rx = glm::length(x);
-    const glm::dvec3 up = x / rx;
-    // A frame at x: up, and two horizontal axes.
-    glm::dvec3 e1 = glm::cross(up, glm::dvec3(0.0, 1.0, 0.0));
-    if (glm::length(e1) < 1e-6) e1 = glm::cross(up, glm::dvec3(1.0, 0.0, 0.0));
-    e1 = glm::normalize(e1);
-    const glm::dvec3 e2 = glm::cross(up, e1);
-    const double mu_h = -std::sqrt(std::max(0.0, 1.0 - (R / rx) * (R / rx)));
+    const LocalFrame f = local_frame(x, R);
+    const double mu_h = f.mu_h;
     double sphere = 0.0;
-    for (int side = 0; side < 2; ++side) {
-      const double lo = side == 0 ? -1.0 : mu_h, hi = side == 0 ? mu_h : 1.0;
-      const auto gl = atmosh::sh::gauss_legendre(side == 0 ? n_zenith / 4 : n_zenith);
-      for (std::size_t a = 0; a < gl.nodes.size(); ++a) {
-        const double mu = 0.5 * (lo + hi) + 0.5 * (hi - lo) * gl.nodes[a];
-        const double wmu = 0.5 * (hi - lo) * gl.weights[a];
-        const double sn = std::sqrt(std::max(0.0, 1.0 - mu * mu));
-        for (int b = 0; b < n_azimuth; ++b) {
-          const double phi = 2.0 * pi * (b + 0.5) / n_azimuth;
-          const glm::dvec3 w = mu * up + sn * (std::cos(phi) * e1 + std::sin(phi) * e2);
-          const double dg = to_ground(x, w, R);
-          const double d = dg >= 0 ? dg : to_sphere(x, w, T);
-          // Light travels sun -> y -> x -> observer: the first scattering turns -l into
-          // -w (cosine w . l), the second -w into -v (cosine w . v).
-          const double nu1 = glm::dot(w, l), nu2 = glm::dot(w, v);
-          const double p1r = pr.value(nu1), p1m = pm.value(nu1);
-          const double p2r = pr.value(nu2), p2m = pm.value(nu2);
-          double inner = 0.0;
-          geometric_rule(d, 200.0, 10, [&](double t, double wt) {
-            const glm::dvec3 y = x + t * w;
-            if (to_ground(y, l, R) >= 0) return;  // the Earth's shadow
-            const glm::dvec2 sy = sigma(y);
-            inner += wt * (sy.x * p1r + sy.y * p1m);
-          });
-          // Split the second scattering by constituent at x: the first's source is
-          // common to both.
-          sphere += wmu * (2.0 * pi / n_azimuth) * inner * (sx.x * p2r + sx.y * p2m);
-        }
-      }
-    }
+    const std::initializer_list<CosinePiece> pieces = {{-1.0, mu_h, n_zenith / 4}, {mu_h, 1.0, n_zenith}};
+    for_each_direction(f, pieces, n_azimuth, [&](const glm::dvec3& w, double dw) {
+      const double dg = to_ground(x, w, R);
+      const double d = dg >= 0 ? dg : to_sphere(x, w, T);
+      // Light travels sun -> y -> x -> observer: the first scattering turns -l into
+      // -w (cosine w . l), the second -w into -v (cosine w . v).
+      const double nu1 = glm::dot(w, l), nu2 = glm::dot(w, v);
+      const double p1r = pr.value(nu1), p1m = pm.value(nu1);
+      const double p2r = pr.value(nu2), p2m = pm.value(nu2);
+      double inner = 0.0;
+      geometric_rule(d, 200.0, 10, [&](double t, double wt) {
+        const glm::dvec3 y = x + t * w;
+        if (to_ground(y, l, R) >= 0) return;  // the Earth's shadow
+        const glm::dvec2 sy = sigma(y);
+        inner += wt * (sy.x * p1r + sy.y * p1m);
+      });
+      // Split the second scattering by constituent at x: the first's source is
+      // common to both.
+      sphere += dw * inner * (sx.x * p2r + sx.y * p2m);
+    });
     total += ws * sphere;
   });
   return total;
@@ -151,12 +186,10 @@ inline double double_scattering_full(const atmosh::atmo::Atmosphere& atm, std::s
                                      const glm::dvec3& l, int n_gauss = 6, int n_zenith = 16, int n_azimuth = 32) {
   using namespace atmosh::atmo;
   const double R = atm.ground_radius(), T = atm.top_radius();
+  const ScatteringPhases ph = scattering_phases(atm, i);
+  const PhaseFunction &pr = ph.rayleigh, &pm = ph.mie;
+  const double sr = ph.sr, sm = ph.sm;
   const auto& k = atm.coefficients(i);
-  const PhaseFunction pr(atm.spec().rayleigh ? atm.spec().rayleigh->phase : PhaseSpec::of(PhaseSpec::Model::Rayleigh));
-  const PhaseFunction pm(atm.spec().mie ? atm.spec().mie->phase
-                                        : PhaseSpec::of(PhaseSpec::Model::HenyeyGreenstein, 0.0));
-  const double sr = atm.has(kRayleigh) ? k.scattering[kRayleigh] : 0.0;
-  const double sm = atm.has(kMie) ? k.scattering[kMie] : 0.0;
   auto rho = [&](const glm::dvec3& p) { return atm.density(std::max(glm::length(p) - R, 0.0)); };
   auto ext = [&](const glm::dvec3& p) {
     const glm::dvec3 d = rho(p);
@@ -169,7 +202,6 @@ inline double double_scattering_full(const atmosh::atmo::Atmosphere& atm, std::s
     if (to_ground(y, l, R) >= 0) return 0.0;  // the Earth's shadow
     return std::exp(-segment_depth(y, l, to_sphere(y, l, T), ext, n_gauss));
   };
-  const double pi = 3.14159265358979323846;
   const glm::dvec3 o(0.0, 0.0, R);
   const double S = to_sphere(o, v, T);
   // Nodes along the view ray, and T(o, x) accumulated node to node.
@@ -182,55 +214,39 @@ inline double double_scattering_full(const atmosh::atmo::Atmosphere& atm, std::s
     s_prev = s;
     const glm::dvec3 x = o + s * v;
     const glm::dvec3 dx = rho(x);
-    const double rx = glm::length(x);
-    const glm::dvec3 up = x / rx;
-    glm::dvec3 e1 = glm::cross(up, glm::dvec3(0.0, 1.0, 0.0));
-    if (glm::length(e1) < 1e-6) e1 = glm::cross(up, glm::dvec3(1.0, 0.0, 0.0));
-    e1 = glm::normalize(e1);
-    const glm::dvec3 e2 = glm::cross(up, e1);
-    const double mu_h = -std::sqrt(std::max(0.0, 1.0 - (R / rx) * (R / rx)));
-    const double breaks[4] = {-1.0, mu_h, 0.0, 1.0};
-    const auto gl = atmosh::sh::gauss_legendre(n_zenith);
+    const LocalFrame f = local_frame(x, R);
+    const double mu_h = f.mu_h;
     double sphere = 0.0;
-    for (int side = 0; side < 3; ++side) {
-      const double lo = breaks[side], hi = breaks[side + 1];
-      if (hi <= lo) continue;
-      for (std::size_t a = 0; a < gl.nodes.size(); ++a) {
-        const double mu = 0.5 * (lo + hi) + 0.5 * (hi - lo) * gl.nodes[a];
-        const double wmu = 0.5 * (hi - lo) * gl.weights[a];
-        const double sin_t = std::sqrt(std::max(0.0, 1.0 - mu * mu));
-        for (int b = 0; b < n_azimuth; ++b) {
-          const double phi = 2.0 * pi * (b + 0.5) / n_azimuth;
-          const glm::dvec3 w = mu * up + sin_t * (std::cos(phi) * e1 + std::sin(phi) * e2);
-          const double dg = to_ground(x, w, R);
-          const double d = dg >= 0 ? dg : to_sphere(x, w, T);
-          // Pieces of [0, d] between the crossings of the shadow's cylinder
-          // |y - (y . l) l| = R (where the sunlight switches on or off).
-          std::vector<double> cut = {0.0, d};
-          const glm::dvec3 xp = x - glm::dot(x, l) * l, wp = w - glm::dot(w, l) * l;
-          const double A = glm::dot(wp, wp), B = 2.0 * glm::dot(xp, wp), C = glm::dot(xp, xp) - R * R;
-          const double D = B * B - 4.0 * A * C;
-          if (A > 1e-14 && D > 0)
-            for (double t : {(-B - std::sqrt(D)) / (2.0 * A), (-B + std::sqrt(D)) / (2.0 * A)})
-              if (t > 0 && t < d) cut.push_back(t);
-          std::sort(cut.begin(), cut.end());
-          const double nu1 = glm::dot(w, l), nu2 = glm::dot(w, v);
-          const double p1r = pr.value(nu1), p1m = pm.value(nu1);
-          const double p2r = pr.value(nu2), p2m = pm.value(nu2);
-          double inner = 0.0;
-          for (std::size_t q = 0; q + 1 < cut.size(); ++q)
-            geometric_rule(cut[q + 1] - cut[q], 1000.0, n_gauss, [&](double t, double wt) {
-              const glm::dvec3 y = x + (cut[q] + t) * w;
-              const double ts = sun_transmittance(y);
-              if (ts == 0.0) return;
-              const glm::dvec3 dy = rho(y);
-              const double txy = std::exp(-segment_depth(x, w, cut[q] + t, ext, n_gauss));
-              inner += wt * txy * ts * (sr * dy[kRayleigh] * p1r + sm * dy[kMie] * p1m);
-            });
-          sphere += wmu * (2.0 * pi / n_azimuth) * inner * (sr * dx[kRayleigh] * p2r + sm * dx[kMie] * p2m);
-        }
-      }
-    }
+    const std::initializer_list<CosinePiece> pieces = {
+        {-1.0, mu_h, n_zenith}, {mu_h, 0.0, n_zenith}, {0.0, 1.0, n_zenith}};
+    for_each_direction(f, pieces, n_azimuth, [&](const glm::dvec3& w, double dw) {
+      const double dg = to_ground(x, w, R);
+      const double d = dg >= 0 ? dg : to_sphere(x, w, T);
+      // Pieces of [0, d] between the crossings of the shadow's cylinder
+      // |y - (y . l) l| = R (where the sunlight switches on or off).
+      std::vector<double> cut = {0.0, d};
+      const glm::dvec3 xp = x - glm::dot(x, l) * l, wp = w - glm::dot(w, l) * l;
+      const double A = glm::dot(wp, wp), B = 2.0 * glm::dot(xp, wp), C = glm::dot(xp, xp) - R * R;
+      const double D = B * B - 4.0 * A * C;
+      if (A > 1e-14 && D > 0)
+        for (double t : {(-B - std::sqrt(D)) / (2.0 * A), (-B + std::sqrt(D)) / (2.0 * A)})
+          if (t > 0 && t < d) cut.push_back(t);
+      std::sort(cut.begin(), cut.end());
+      const double nu1 = glm::dot(w, l), nu2 = glm::dot(w, v);
+      const double p1r = pr.value(nu1), p1m = pm.value(nu1);
+      const double p2r = pr.value(nu2), p2m = pm.value(nu2);
+      double inner = 0.0;
+      for (std::size_t q = 0; q + 1 < cut.size(); ++q)
+        geometric_rule(cut[q + 1] - cut[q], 1000.0, n_gauss, [&](double t, double wt) {
+          const glm::dvec3 y = x + (cut[q] + t) * w;
+          const double ts = sun_transmittance(y);
+          if (ts == 0.0) return;
+          const glm::dvec3 dy = rho(y);
+          const double txy = std::exp(-segment_depth(x, w, cut[q] + t, ext, n_gauss));
+          inner += wt * txy * ts * (sr * dy[kRayleigh] * p1r + sm * dy[kMie] * p1m);
+        });
+      sphere += dw * inner * (sr * dx[kRayleigh] * p2r + sm * dx[kMie] * p2m);
+    });
     total += ws * std::exp(-depth_ox) * sphere;
   }
   return total;
