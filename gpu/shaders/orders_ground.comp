@@ -11,10 +11,8 @@ void main() {
     OrdersRayCoord c = orders_ray_coord(params.R, mu, false, params.R, params.T, params.H, params.nr, params.nh);
     for (int b = 0; b < params.nphi; ++b) {
       double nu = orders_nu(mu, mu_s, geom[params.off_cphi + b]);
-      int p[8];
-      float w0[8], w1[8];
-      orders_corners(c, orders_sun_coord(mu, mu_s, nu, params.ns, params.na, params.sun_m), p, w0, w1);
-      for (int w = 0; w < params.nw; ++w) acc[w] += float(wz) * orders_blend(p, w0, w1, w);
+      OrdersLookup L = orders_corners(c, orders_sun_coord(mu, mu_s, nu, params.ns, params.na, params.sun_m));
+      for (int w = 0; w < params.nw; ++w) acc[w] += float(wz) * orders_blend(L, w);
     }
   }
   for (int w = 0; w < params.nw; ++w) e_out[k * params.nw + w] = acc[w];

@@ -1,6 +1,6 @@
 // Buffers and the table lookup of the successive-orders passes (orders_*.comp), after
 // shared/geometry.glsl.hpp (float, then double) and shared/orders.glsl.hpp (double).
-// The lookup (orders_corners, orders_blend) is orders_lookup.glsl's, assembled after
+// The lookup (orders_corners, orders_blend, orders_ground_at) is orders_lookup.glsl's, assembled after
 // this part on the table a pass reads (tab_in).
 layout(local_size_x = 64) in;
 layout(std430, binding = ATMOSH_ORDERS_BIND_TAB_IN) readonly buffer TabIn { float tab_in[]; };
@@ -19,6 +19,7 @@ layout(std430, binding = ATMOSH_ORDERS_BIND_E_OUT) writeonly buffer EOut { float
 layout(std430, binding = ATMOSH_ORDERS_BIND_PARAMS) readonly buffer Params { GpuOrdersParams params; };
 
 #define ATMOSH_ORDERS_TABLE(i) tab_in[i]
+#define ATMOSH_ORDERS_GROUND(i) ground_log[i]
 #define ATMOSH_ORDERS_P params
 
 const double kOrdersPi = 3.14159265358979323846LF;

@@ -14,10 +14,8 @@ void main() {
     double wn = node[4 * nd + 3];
     if (!(wn > 0.0LF)) continue;
     double mus_y = orders_sun_cosine_at(r, mu_s, node[4 * nd], nu, node[4 * nd + 1]);
-    int p[8];
-    float w0[8], w1[8];
-    orders_corners(coord[nd], orders_sun_coord(node[4 * nd + 2], mus_y, nu, params.ns, params.na, params.sun_m), p, w0, w1);
-    for (int w = 0; w < params.nw; ++w) acc[w] += float(wn) * ray_t[nd * params.nw + w] * orders_blend(p, w0, w1, w);
+    OrdersLookup L = orders_corners(coord[nd], orders_sun_coord(node[4 * nd + 2], mus_y, nu, params.ns, params.na, params.sun_m));
+    for (int w = 0; w < params.nw; ++w) acc[w] += float(wn) * ray_t[nd * params.nw + w] * orders_blend(L, w);
   }
   for (int w = 0; w < params.nw; ++w) {
     tab_out[e * params.nw + w] = orders_log(acc[w]);

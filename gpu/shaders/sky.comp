@@ -67,17 +67,15 @@ void sky_add_orders(dvec3 column) {
   double r = clamp(g_ray.r, op.R, op.T);
   OrdersRayCoord c = orders_ray_coord(r, g_ray.mu, g_ray.ground, op.R, op.T, op.H, op.nr, op.nh);
   OrdersSunCoord s = orders_sun_coord(g_ray.mu, g_ray.mu_s, g_ray.nu, op.ns, op.na, op.sun_m);
-  int p[8];
-  float w0[8], w1[8];
-  orders_corners(c, s, p, w0, w1);
+  OrdersLookup L = orders_corners(c, s);
   for (int i = 0; i < nwc; ++i)
-    g_acc[i] += spec[sky_spectral(6, nw, i)] * params.irradiance_scale * orders_blend(p, w0, w1, i);
+    g_acc[i] += spec[sky_spectral(6, nw, i)] * params.irradiance_scale * orders_blend(L, i);
   if (g_ray.ground && op.albedo > 0.0LF) {
     OrdersSunCoord g = orders_ground_coord(sky_ground_sun_cosine(g_ray), op.ns, op.sun_m);
     float a = float(op.albedo / 3.14159265358979323846LF);
     for (int i = 0; i < nwc; ++i)
       g_acc[i] += spec[sky_spectral(6, nw, i)] * params.irradiance_scale * a *
-                  orders_ground_value(orders_ground[g.k0 * nw + i], orders_ground[(g.k0 + 1) * nw + i], g.fs) *
+                  orders_ground_at(g, i) *
                   exp(-tau_at(i, vec3(column)));
   }
 }

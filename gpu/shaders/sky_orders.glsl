@@ -7,4 +7,5 @@ layout(std430, binding = ATMOSH_SKY_BIND_ORDERS) readonly buffer OrdersSum { flo
 layout(std430, binding = ATMOSH_SKY_BIND_ORDERS_GROUND) readonly buffer OrdersGround { float orders_ground[]; };
 layout(std430, binding = ATMOSH_SKY_BIND_ORDERS_PARAMS) readonly buffer OrdersParams { GpuOrdersParams op; };
 #define ATMOSH_ORDERS_TABLE(i) orders_sum[i]
+#define ATMOSH_ORDERS_GROUND(i) orders_ground[i]
 #define ATMOSH_ORDERS_P op

@@ -57,7 +57,7 @@ std::vector<MsStudySetting> ms_study_default_settings(bool quick) {
                                  std::to_string(az) + (steps > 0 ? " steps=" + std::to_string(steps) : ""),
                    o});
   };
-  for (int n : {2, 3, 4, 6, 8})
+  for (int n : {2, 3, 4, 5, 6, 8})
     orders(n, d.orders_radii, d.orders_view_directions, d.orders_sun_directions, d.orders_azimuths);
   orders(d.orders, d.orders_radii / 2, d.orders_view_directions / 2, d.orders_sun_directions / 2,
          d.orders_azimuths / 2);  // half the default in every dimension

@@ -50,74 +50,94 @@ void zenith_rule(double R, double r, int n, std::vector<double>& mu, std::vector
 }
 }  // namespace
 
-// The tables hold logarithms and are interpolated multilinearly in them: a weighted
-// geometric mean of the corners, right for the exponential falls of the Earth's
-// shadow but, where the light varies smoothly (daylight), always at or below the
-// weighted arithmetic mean (AM-GM) -- a systematic low bias that compounds through
-// the orders (every order interpolates the previous one), measured at -0.3 to -1.8 %
-// of the sky's luminance against the Monte-Carlo reference (docs/radiative-transfer.md).
-// Correction: with l the corners' logarithms, w their weights and V = sum w (l - lbar)^2
-// their weighted variance, log of the arithmetic mean = lbar + V / 2 + O(spread^3)
-// (cumulant expansion), so exp(lbar + V / 2) is the linear interpolation to second
-// order where the corners are close. Where they differ by large factors (V >> kSpreadV0:
-// the terminator, the shadow) the correction fades out, leaving the geometric mean:
-//   c(V) = (V / 2) / (1 + (V / kSpreadV0)^2),  at most kSpreadV0 / 4 (+2.5 %).
-// kSpreadV0 = 0.1 (corners within a factor ~1.9 of each other at mid-cell are
-// corrected fully).
-// (sg::orders_spread_correction, sg::orders_blend_log: shared/orders.glsl.hpp.)
+// The tables hold logarithms and are interpolated multilinearly in them, with the
+// curvature correction of shared/orders.glsl.hpp (orders_curvature): a weighted
+// geometric mean of the corners alone is right for the exponential falls of the
+// Earth's shadow but, where the light varies smoothly (daylight), at or below the
+// weighted arithmetic mean (AM-GM) -- a low bias that compounds through the orders
+// (every order interpolates the previous one), measured at -0.3 to -1.8 % of the sky's
+// luminance against the Monte-Carlo reference (docs/radiative-transfer.md). The
+// second difference of the logarithms along each axis restores the curvature the
+// multilinear blend leaves out, in both cases.
 
 namespace {
-// exp of the weighted mean of 16 corners' logarithms plus the spread correction, into
-// out[0..nw): corner n is p[n][q] (weight w[n] (1 - fa)) and p[n][nw + q] (w[n] fa).
-// Mean and variance about the first corner (precision). Vectorised over the
-// wavelengths (AVX2 clone: 8 per vector; exp_neg_f, relative error <= 2e-7).
+// One lookup: the 8 (radius, view, sun) corners p[n] (each with its azimuths a0 and
+// a0 + 1 at p[n] and p[n] + nw) with weights w[n] and the azimuth fraction fa; per axis x
+// (radius, view, sun, azimuth) the two samples b0[x], b1[x] of sg::orders_curvature
+// whose second differences (neighbours at -+ st[x] floats) are blended with the weights
+// g0[x], g1[x].
+struct Lookup {
+  const float* p[8];
+  float w[8];
+  float fa;
+  const float* b0[4];
+  const float* b1[4];
+  std::ptrdiff_t st[4];
+  float g0[4], g1[4];
+};
+// exp of the weighted mean of the 16 corners' logarithms minus the curvature terms, into
+// out[0..nw) (0 below the visibility floor). Mean about the first corner (precision).
+// Vectorised over the wavelengths (AVX2 clone: 8 per vector; exp_neg_f, relative error
+// <= 2e-7).
 typedef float V8f __attribute__((vector_size(32)));
-ATMOSH_DISPATCH void blend_log_corners(std::size_t nw, const float* const* p, const float* w, float fa,
-                                       float* __restrict out) {
-  float acc[256], acc2[256];
-  const float* ref = p[0];
+typedef int V8i __attribute__((vector_size(32)));
+[[gnu::always_inline]] inline V8f load8(const float* p) {
+  V8f v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+ATMOSH_DISPATCH void blend_log_corners(std::size_t nw, const Lookup& L, float* __restrict out) {
+  float acc[256];
+  const float* ref = L.p[0];
   float w0[8], w1[8];
   for (int n = 0; n < 8; ++n) {
-    w0[n] = w[n] * (1 - fa);
-    w1[n] = w[n] * fa;
+    w0[n] = L.w[n] * (1 - L.fa);
+    w1[n] = L.w[n] * L.fa;
   }
+  const float floor_seen = sg::kOrdersLogFloor + 0.7f;  // sg::orders_log_visible
+  // g D of the samples around b (sg::orders_curvature_term), 8 wavelengths.
+  auto term8 = [floor_seen](float g, const float* b, std::ptrdiff_t st) {
+    const V8f lm = load8(b - st), lc = load8(b), lp = load8(b + st);
+    const V8i seen = (lm > floor_seen) & (lp > floor_seen) & (lc > floor_seen);
+    const V8f t = g * (lm + lp - 2.0f * lc);
+    return (V8f)((V8i)t & seen);  // the term where all three are seen, else 0
+  };
   std::size_t q = 0;
   for (; q + 8 <= nw; q += 8) {  // 8 wavelengths at a time, the 16 corners in registers
-    V8f r, a = {}, a2 = {};
-    __builtin_memcpy(&r, ref + q, sizeof r);
-    for (int n = 0; n < 8; ++n) {
-      V8f v0, v1;
-      __builtin_memcpy(&v0, p[n] + q, sizeof v0);
-      __builtin_memcpy(&v1, p[n] + nw + q, sizeof v1);
-      const V8f d0 = v0 - r, d1 = v1 - r;
-      a += w0[n] * d0 + w1[n] * d1;
-      a2 += w0[n] * d0 * d0 + w1[n] * d1 * d1;
+    const V8f r = load8(ref + q);
+    V8f a = {}, corr = {};
+    for (int n = 0; n < 8; ++n) a += w0[n] * (load8(L.p[n] + q) - r) + w1[n] * (load8(L.p[n] + nw + q) - r);
+    for (int x = 0; x < 4; ++x) {
+      if (L.g0[x] > 0) corr += term8(L.g0[x], L.b0[x] + q, L.st[x]);
+      if (L.g1[x] > 0) corr += term8(L.g1[x], L.b1[x] + q, L.st[x]);
     }
     __builtin_memcpy(acc + q, &a, sizeof a);
-    __builtin_memcpy(acc2 + q, &a2, sizeof a2);
+    __builtin_memcpy(out + q, &corr, sizeof corr);
   }
   for (; q < nw; ++q) {
-    float a = 0, a2 = 0;
-    for (int n = 0; n < 8; ++n) {
-      const float d0 = p[n][q] - ref[q], d1 = p[n][nw + q] - ref[q];
-      a += w0[n] * d0 + w1[n] * d1;
-      a2 += w0[n] * d0 * d0 + w1[n] * d1 * d1;
+    float a = 0, corr = 0;
+    for (int n = 0; n < 8; ++n) a += w0[n] * (L.p[n][q] - ref[q]) + w1[n] * (L.p[n][nw + q] - ref[q]);
+    for (int x = 0; x < 4; ++x) {
+      const float *b0 = L.b0[x] + q, *b1 = L.b1[x] + q;
+      const std::ptrdiff_t st = L.st[x];
+      if (L.g0[x] > 0) corr += sg::orders_curvature_term(L.g0[x], b0[-st], b0[0], b0[st]);
+      if (L.g1[x] > 0) corr += sg::orders_curvature_term(L.g1[x], b1[-st], b1[0], b1[st]);
     }
     acc[q] = a;
-    acc2[q] = a2;
+    out[q] = corr;
   }
   for (q = 0; q < nw; ++q) {
     const float l = ref[q] + acc[q];
-    const float v = exp_neg_f(-sg::orders_blend_log(ref[q], acc[q], acc2[q]));
+    const float v = exp_neg_f(out[q] - l);
     out[q] = sg::orders_log_visible(l) ? v : 0.0f;
   }
 }
 
 // acc[q] += wn T[q] exp(blend) (the S pass's quadrature along a ray), q < nw.
-ATMOSH_DISPATCH void blend_log_corners_acc(std::size_t nw, const float* const* p, const float* w, float fa, double wn,
-                                           const float* __restrict T, double* __restrict acc) {
+ATMOSH_DISPATCH void blend_log_corners_acc(std::size_t nw, const Lookup& L, double wn, const float* __restrict T,
+                                           double* __restrict acc) {
   float J[256];
-  blend_log_corners(nw, p, w, fa, J);
+  blend_log_corners(nw, L, J);
   for (std::size_t q = 0; q < nw; ++q) acc[q] += wn * T[q] * J[q];
 }
 
@@ -199,43 +219,67 @@ struct ScatteringOrders::Impl {
   SunCoord sun_coord(double mu, double mu_s, double nu) const {
     return sg::orders_sun_coord(mu, mu_s, nu, ns, na, sun_m());
   }
-  // exp of the multilinear interpolation of a log table into out[0..nw).
+  // exp of the interpolation of a log table into out[0..nw) (blend_log_corners).
   void interp(const float* tab, const RayCoord& c, double mu, double mu_s, double nu, float* out) const {
     interp(tab, c, sun_coord(mu, mu_s, nu), out);
   }
   void interp(const float* tab, const RayCoord& c, const SunCoord& s, float* out) const {
-    const float* p[8];
-    float w[8];
-    corners(tab, c, s, p, w);
-    blend_log_corners(nw, p, w, s.fa, out);
+    Lookup L;
+    lookup(tab, c, s, L);
+    blend_log_corners(nw, L, out);
   }
-  // The 8 (radius, view, sun) corners of a lookup (each with its azimuths a0, a0 + 1
-  // at p and p + nw) and their weights.
-  void corners(const float* tab, const RayCoord& c, const SunCoord& s, const float** p, float* w) const {
+  // A lookup at (c, s) of a table whose texel (i, j, k, a) is at tab + (i - i_base,
+  // j, k - k_base, a) of a block with nk sun samples (the whole table: 0, 0, ns).
+  void lookup(const float* tab, const RayCoord& c, const SunCoord& s, Lookup& L, int i_base = 0, int k_base = 0,
+              int nk = 0) const {
+    if (nk == 0) nk = ns;
+    const std::ptrdiff_t sa = static_cast<std::ptrdiff_t>(nw), sk = sa * na, sj = sk * nk, si = sj * nmu;
+    auto at = [&](int i, int j, int k, int a) { return tab + (i - i_base) * si + j * sj + (k - k_base) * sk + a * sa; };
     int n = 0;
     for (int di = 0; di < 2; ++di)
       for (int dj = 0; dj < 2; ++dj)
         for (int dk = 0; dk < 2; ++dk, ++n) {
-          w[n] = sg::orders_corner_weight(c.fr, c.fm, s.fs, di, dj, dk);
-          p[n] = tab + index(c.i0 + di, c.j0 + dj, s.k0 + dk, s.a0);
+          L.w[n] = sg::orders_corner_weight(c.fr, c.fm, s.fs, di, dj, dk);
+          L.p[n] = at(c.i0 + di, c.j0 + dj, s.k0 + dk, s.a0);
         }
+    L.fa = s.fa;
+    const sg::OrdersCurvature k = sg::orders_curvature(c, s, nr, half, ns, na);
+    L.st[0] = si, L.st[1] = sj, L.st[2] = sk, L.st[3] = sa;
+    for (int x = 0; x < 4; ++x) {
+      glm::ivec4 t0 = k.centre, t1 = k.centre;  // the line along axis x
+      t0[x] = k.at0[x];
+      t1[x] = k.at1[x];
+      L.b0[x] = at(t0[0], t0[1], t0[2], t0[3]);
+      L.b1[x] = at(t1[0], t1[1], t1[2], t1[3]);
+      L.g0[x] = k.g0[x];
+      L.g1[x] = k.g1[x];
+    }
   }
-  // The sum's part: index of a texel (i, j, k, a) in `sum`, and whether the 16 corners of
-  // a lookup at (c, sc) are in it.
-  std::size_t part_index(int i, int j, int k, int a) const {
-    return ((((static_cast<std::size_t>(i - part_i) * nmu + j) * part_nk + (k - part_k)) * na + a) * nw);
-  }
+  // Whether the 16 corners of a lookup at (c, sc), and the neighbours of its curvature
+  // samples, are in the sum's part: read_back_at reads the radius and sun samples i0 - 1
+  // .. i0 + 2 and k0 - 1 .. k0 + 2 of the lookups at one radius and sun cosine, and the
+  // curvature samples are i0 and i0 + 1 (k0, k0 + 1) moved inside the table.
   bool in_part(const RayCoord& c, const SunCoord& sc) const {
-    return c.i0 >= part_i && c.i0 + 1 < part_i + part_ni && sc.k0 >= part_k && sc.k0 + 1 < part_k + part_nk;
+    const sg::OrdersCurvature k = sg::orders_curvature(c, sc, nr, half, ns, na);
+    const int i_lo = std::min(c.i0, k.at0[0] - (nr >= 3)), i_hi = std::max(c.i0 + 1, k.at1[0] + (nr >= 3));
+    const int k_lo = std::min(sc.k0, k.at0[2] - (ns >= 3)), k_hi = std::max(sc.k0 + 1, k.at1[2] + (ns >= 3));
+    return i_lo >= part_i && i_hi < part_i + part_ni && k_lo >= part_k && k_hi < part_k + part_nk;
   }
   void set_full_part() { part_i = 0, part_ni = nr, part_k = 0, part_nk = ns; }
   bool sum_is_full() const { return !sum.empty() && part_ni == nr && part_nk == ns; }
   // Ground irradiance table (log, [mu_s sample][wavelength]) at mu_s.
   void interp_ground(const std::vector<float>& e, double mu_s, float* out) const {
     const sg::OrdersSunCoord c = sg::orders_ground_coord(mu_s, ns, sun_m());
-    const int k0 = c.k0;
-    const float fs = c.fs;
-    for (std::size_t q = 0; q < nw; ++q) out[q] = sg::orders_ground_value(e[k0 * nw + q], e[(k0 + 1) * nw + q], fs);
+    const float g = sg::orders_curvature_weight(c.fs, ns), g0 = g * (1 - c.fs), g1 = g * c.fs;
+    const std::size_t k0 = static_cast<std::size_t>(c.k0) * nw;
+    const std::size_t p0 = static_cast<std::size_t>(ns >= 3 ? sg::orders_curvature_at(c.k0, 0, ns) : 1) * nw,
+                      p1 = static_cast<std::size_t>(ns >= 3 ? sg::orders_curvature_at(c.k0 + 1, 0, ns) : 1) * nw;
+    for (std::size_t q = 0; q < nw; ++q) {
+      const float t = g > 0 ? sg::orders_curvature_term(g0, e[p0 - nw + q], e[p0 + q], e[p0 + nw + q]) +
+                                  sg::orders_curvature_term(g1, e[p1 - nw + q], e[p1 + q], e[p1 + nw + q])
+                            : 0.0f;
+      out[q] = sg::orders_ground_value(e[k0 + q], e[k0 + nw + q], c.fs, t);
+    }
   }
 };
 
@@ -598,16 +642,15 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
           mus[ka] = m.mus_of(k);
           nu[ka] = Impl::nu_of(mu, mus[ka], m.phi_of(a));
         }
-      const float* p[8];
-      float w[8];
+      Lookup L;
       for (int n = 0; n < nn; ++n) {
         if (!(nd[n].w > 0)) continue;
         const float* Tn = T + static_cast<std::size_t>(n) * nw;
         for (std::size_t ka = 0; ka < nka; ++ka) {
           const double mus_y = sg::orders_sun_cosine_at(r, mus[ka], nd[n].t, nu[ka], nd[n].r);
           const Impl::SunCoord sc = m.sun_coord(nd[n].mu, mus_y, nu[ka]);
-          m.corners(dens.data(), nd[n].c, sc, p, w);
-          blend_log_corners_acc(nw, p, w, sc.fa, nd[n].w, Tn, &acc[ka * nw]);
+          m.lookup(dens.data(), nd[n].c, sc, L);
+          blend_log_corners_acc(nw, L, nd[n].w, Tn, &acc[ka * nw]);
         }
       }
       for (int k = 0; k < m.ns; ++k)
@@ -648,16 +691,10 @@ void ScatteringOrders::radiance(double r, double mu, bool ground, double mu_s, d
   if (!m.in_part(c, sc))
     throw InputError("orders radiance: the lookup at r = " + std::to_string(r) + " m, mu_s = " + std::to_string(mu_s) +
                      " is outside the part of the table read back from the device");
-  const float* p[8];
-  float w[8], v[256];
-  int n = 0;
-  for (int di = 0; di < 2; ++di)
-    for (int dj = 0; dj < 2; ++dj)
-      for (int dk = 0; dk < 2; ++dk, ++n) {
-        w[n] = sg::orders_corner_weight(c.fr, c.fm, sc.fs, di, dj, dk);
-        p[n] = m.sum.data() + m.part_index(c.i0 + di, c.j0 + dj, sc.k0 + dk, sc.a0);
-      }
-  blend_log_corners(m.nw, p, w, sc.fa, v);
+  Lookup L;
+  m.lookup(m.sum.data(), c, sc, L, m.part_i, m.part_k, m.part_nk);
+  float v[256];
+  blend_log_corners(m.nw, L, v);
   for (std::size_t q = 0; q < m.nw; ++q) out[q] = v[q];
 }
 

@@ -42,8 +42,9 @@ struct MsStudySetting {
 // The settings the study runs: single scattering; the approximation at table sizes
 // (altitudes x sun directions) 8x16 (8 zenith x 4 azimuth directions, 16 steps per
 // entry), 16x32, 32x64 (the default), 64x128 and the default with twice the
-// directions and steps per entry; orders N = 2, 3, 4, 6 at the default table sizes and
-// N = 4 at half of them (radii, view, sun, azimuths). quick: single + the
+// directions and steps per entry; orders N = 2, 3, 4, 5, 6, 8 at the default table
+// sizes, the default N at half of them (radii, view, sun, azimuths) and with each of
+// the radii, view, sun axes and the ray steps doubled alone. quick: single + the
 // approximation at 8x16 (coarse entries) and 16x32 (orders' tables take seconds).
 std::vector<MsStudySetting> ms_study_default_settings(bool quick);
 

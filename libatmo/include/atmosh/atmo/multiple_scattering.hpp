@@ -64,24 +64,27 @@ ScatteringMethod parse_scattering_method(const std::string& name, const std::str
 struct MultipleScatteringOptions {
   ScatteringMethod method = ScatteringMethod::Single;
   // orders: the highest order of scattering computed (>= 1; 1 = single scattering only).
-  int orders = 4;
+  // 5: orders 5 and 6 add 0.3-1 % at sun -4 to -6 deg, 0.1 % by day (docs/sky.md).
+  int orders = 5;
   // approximate: table size and the integration of each entry.
   int ms_altitudes = 32;        // >= 2
   int ms_sun_directions = 64;   // >= 2
   int ms_zenith_directions = 16;  // Gauss-Legendre zenith cosines over [-1, 1], >= 2
   int ms_azimuth_directions = 8;  // azimuths over [0, pi], >= 1
   int ms_ray_steps = 32;          // per ray, >= 4
-  // orders: table sizes (scattering_orders.hpp). The defaults put N = 4 within 0.4 % of
-  // the Monte-Carlo reference by day and 1 % to sun -3 deg (docs/radiative-transfer.md,
-  // "Orders at the default tables"); 16 azimuths, where 8 left the horizon across the
-  // sun 1-2 % high, paid for by 48 view cosines and 24 ray steps (same build time).
+  // orders: table sizes (scattering_orders.hpp). The defaults put N = 5 within 0.25 % of
+  // the Monte-Carlo reference by day, 0.8 % to sun -6 deg and 5.5 % to -12 deg, and order
+  // 2 alone within 0.8 % of an independent quadrature from sun 60 to -6 deg (docs/sky.md,
+  // "Multiple scattering"). The sphere rule (16 x 16) and the ray steps (32) set the
+  // second order's error by day once the interpolation follows the curvature (12 x 12
+  // and 24 steps left it ~1 % high).
   int orders_radii = 14;         // >= 4
   int orders_view_directions = 48;  // view zenith cosines (half up, half down), even, >= 8
   int orders_sun_directions = 48;   // >= 4
   int orders_azimuths = 16;         // cos(view, sun) samples, >= 4
-  int orders_sphere_zenith = 12;    // scattering density: zenith directions of its sphere rule, >= 4
-  int orders_sphere_azimuth = 12;   // and azimuths over [0, 2 pi), >= 4
-  int orders_ray_steps = 24;        // steps per ray of the in-scattered radiance, >= 4
+  int orders_sphere_zenith = 16;    // scattering density: zenith directions of its sphere rule, >= 4
+  int orders_sphere_azimuth = 16;   // and azimuths over [0, 2 pi), >= 4
+  int orders_ray_steps = 32;        // steps per ray of the in-scattered radiance, >= 4
   int threads = 0;                  // table builds (0..1024; 0 = the CPUs this process may use)
   // orders: the device that runs the passes of orders >= 2 (nullptr: the CPU), e.g. the
   // GPU's (gpu::make_orders_passes, gpu/orders.hpp). Used only while tables are built.

@@ -33,10 +33,10 @@
 //   azimuth:  phi in [0, pi] between the view's and the sun's vertical planes, uniform
 //             in cos phi (nu = mu mu_s + sqrt((1 - mu^2)(1 - mu_s^2)) cos phi: every
 //             sample valid; the twilight sky's log is close to linear in cos phi);
-// multilinear interpolation of the logarithms with a second-order correction toward the
-// arithmetic mean where the corners are close (the plain geometric mean of log
-// interpolation is biased low and the bias compounds through the orders; see
-// spread_correction in scattering_orders.cpp). J uses a sphere rule of `orders_sphere_zenith` cosines
+// multilinear interpolation of the logarithms with a correction by their second
+// differences along each axis (the plain geometric mean of log interpolation is biased
+// low where the light varies smoothly and the bias compounds through the orders;
+// orders_curvature in shared/orders.glsl.hpp). J uses a sphere rule of `orders_sphere_zenith` cosines
 // (Gauss-Legendre on each side of the local horizon, gathered toward it) x
 // `orders_sphere_azimuth` uniform azimuths, the phase functions normalised to 1 over
 // the rule (energy kept where the rule cannot resolve a forward peak); the

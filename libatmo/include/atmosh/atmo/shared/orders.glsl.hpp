@@ -14,7 +14,7 @@
 //   sun      u = k / (ns - 1) -> mu_s (orders_mus_of_u), m = sin(36 deg) below the horizon;
 //   azimuth  cos(phi) = 1 - 2 a / (na - 1).
 // Lookups: multilinear in (rho, view, sun, 1 - cos phi) of the logarithms, with the
-// second-order spread correction (orders_blend_log). Accuracy: exact up to rounding.
+// curvature correction (orders_curvature). Accuracy: exact up to rounding.
 #pragma once
 
 #include <cmath>
@@ -51,31 +51,67 @@ const float kOrdersFloor = 1e-30f;
 const float kOrdersLogFloor = -69.07755279f;
 ATMOSH_FN bool orders_log_visible(float l) { return l > kOrdersLogFloor + 0.7f; }
 
-// Log interpolation is a weighted geometric mean: below the arithmetic mean (AM-GM)
-// by ~V / 2 in the log, V the corners' weighted variance of their logarithms. The
-// correction c(V) = (V / 2) / (1 + (V / V0)^2), V0 = 0.1, restores the arithmetic
-// mean to second order where the corners are close and fades out where they differ by
-// large factors (the terminator, the shadow). Derivation: scattering_orders.cpp.
-const float kOrdersSpreadV0 = 0.1f;
-ATMOSH_FN float orders_spread_correction(float V) {
-  if (!(V > 0.0f)) return 0.0f;
-  float x = V / kOrdersSpreadV0;
-  return 0.5f * V / (1.0f + x * x);
+// Log interpolation and its curvature correction. Multilinear interpolation of the
+// logarithms l is exact where the light falls exponentially along an axis (the Earth's
+// shadow) and low where it varies smoothly: linear interpolation of a function g
+// between samples at 0 and 1 exceeds g(f) by f (1 - f) g'' / 2 to second order.
+// The lookup therefore subtracts, for each axis a with cell [k, k + 1] and fraction f,
+//   f (1 - f) / 2 ((1 - f) D(k) + f D(k + 1)),   D(p) = l[p - 1] + l[p + 1] - 2 l[p],
+// the second differences (in sample units) at the cell's two samples, on the line along
+// the axis through the lookup's nearest sample on the other three axes; a sample at an
+// end of its axis (or of its half of the view axis) takes its neighbour's D. Quadratic
+// in the logarithm along each axis, so to second order right both for smooth light (as
+// linear interpolation of the values) and for exponential falls (where the geometric
+// mean of the corners is exact), and continuous along the axis (a single D at the
+// nearest sample jumps by up to ~1 % where the cell's middle is crossed in deep
+// twilight). A D is dropped (0) where one of its samples is at the visibility floor,
+// and an axis of fewer than 3 samples has no correction. (It replaces a correction by
+// the corners' variance, c(V) = (V / 2) / (1 + (V / 0.1)^2), which restored the
+// arithmetic mean also where the light falls exponentially: order 2 alone was 2.6 %
+// high on the horizon away from the sun at sun -3 deg, and 3.9 % at -6 deg with 2-4x
+// finer tables, against an independent quadrature; docs/sky.md, "Second order against a
+// quadrature".)
+struct OrdersCurvature {
+  glm::ivec4 centre;  // the nearest sample on each axis: radius, view, sun, azimuth
+  glm::ivec4 at0;     // per axis: the samples p0, p1 whose D are blended (the cell's
+  glm::ivec4 at1;     // two, moved inside the axis)
+  glm::vec4 g0;       // per axis: the weights of D(p0), D(p1); 0: no correction
+  glm::vec4 g1;
+};
+// Sample p moved inside the samples lo .. lo + n - 1 of its axis (n >= 3).
+ATMOSH_FN int orders_curvature_at(int p, int lo, int n) {
+  return glm::clamp(p, lo + 1, lo + n - 2);
 }
-// The blended logarithm of corners l_n with weights w_n (sum 1): with a = sum w (l - l_0)
-// and a2 = sum w (l - l_0)^2 about the first corner l_0 (precision), the mean l_0 + a
-// plus the spread correction of the variance a2 - a^2.
-ATMOSH_FN float orders_blend_log(float l0, float a, float a2) {
-  float l = l0 + a;
-  float V0 = a2 - a * a, V = V0 > 0.0f ? V0 : 0.0f, x = V / kOrdersSpreadV0;
-  return l + 0.5f * V / (1.0f + x * x);
+ATMOSH_FN float orders_curvature_weight(float f, int n) {
+  return n < 3 ? 0.0f : 0.5f * f * (1.0f - f);
 }
-// The ground table's blend of two samples a, b at fraction fs.
+ATMOSH_FN OrdersCurvature orders_curvature(OrdersRayCoord c, OrdersSunCoord s, int nr, int nh, int ns, int na) {
+  OrdersCurvature k;
+  int lo = c.j0 < nh ? 0 : nh;  // the view axis's half
+  k.centre = glm::ivec4(c.fr < 0.5f ? c.i0 : c.i0 + 1, c.fm < 0.5f ? c.j0 : c.j0 + 1, s.fs < 0.5f ? s.k0 : s.k0 + 1,
+                        s.fa < 0.5f ? s.a0 : s.a0 + 1);
+  k.at0 = glm::ivec4(orders_curvature_at(c.i0, 0, nr), orders_curvature_at(c.j0, lo, nh),
+                     orders_curvature_at(s.k0, 0, ns), orders_curvature_at(s.a0, 0, na));
+  k.at1 = glm::ivec4(orders_curvature_at(c.i0 + 1, 0, nr), orders_curvature_at(c.j0 + 1, lo, nh),
+                     orders_curvature_at(s.k0 + 1, 0, ns), orders_curvature_at(s.a0 + 1, 0, na));
+  glm::vec4 f = glm::vec4(c.fr, c.fm, s.fs, s.fa);
+  glm::vec4 g = glm::vec4(orders_curvature_weight(c.fr, nr), orders_curvature_weight(c.fm, nh),
+                          orders_curvature_weight(s.fs, ns), orders_curvature_weight(s.fa, na));
+  k.g0 = g * (glm::vec4(1.0f) - f);
+  k.g1 = g * f;
+  return k;
+}
+// One term g D of the samples lm, lc, lp around p (0 where one is at the floor).
+ATMOSH_FN float orders_curvature_term(float g, float lm, float lc, float lp) {
+  bool seen = orders_log_visible(lm) && orders_log_visible(lc) && orders_log_visible(lp);
+  return seen ? g * (lm + lp - 2.0f * lc) : 0.0f;
+}
+// The ground table (one axis, ns samples): the blend of the samples a = l[k0], b = l[k0 + 1]
+// at fraction fs, minus its curvature terms t (orders_curvature_term at
+// orders_curvature_at(k0, 0, ns) and (k0 + 1, 0, ns), weights
+// orders_curvature_weight(fs, ns) (1 - fs) and fs).
 ATMOSH_FN float orders_ground_log(float a, float b, float fs) {
   return (1.0f - fs) * a + fs * b;
-}
-ATMOSH_FN float orders_ground_log_corrected(float a, float b, float fs) {
-  return orders_ground_log(a, b, fs) + orders_spread_correction(fs * (1.0f - fs) * (b - a) * (b - a));
 }
 
 // Radius [m] of radius sample i of nr.
@@ -302,10 +338,12 @@ struct GpuOrdersParams {
 };
 
 // ---- The sky's orders term (SkyIntegrator with method orders; gpu/shaders/sky.comp) ----
-// The ground table's value at fraction fs between samples a, b (logarithms): the
-// corrected blend's exp, 0 below the floor (ScatteringOrders::Impl::interp_ground).
-ATMOSH_FN float orders_ground_value(float a, float b, float fs) {
-  return orders_log_visible(orders_ground_log(a, b, fs)) ? glm::exp(orders_ground_log_corrected(a, b, fs)) : 0.0f;
+// The ground table's value at fraction fs between samples a, b (logarithms), with its
+// curvature terms t (orders_ground_log): the corrected blend's exp, 0 below the floor
+// (ScatteringOrders::Impl::interp_ground).
+ATMOSH_FN float orders_ground_value(float a, float b, float fs, float t) {
+  float l = orders_ground_log(a, b, fs);
+  return orders_log_visible(l) ? glm::exp(l - t) : 0.0f;
 }
 // The sky pass's binding points of the orders tables (gpu/src/sky.cpp binds them).
 #define ATMOSH_SKY_BIND_ORDERS 15         // float: log of sum S_2..S_N [texel][wavelength]
