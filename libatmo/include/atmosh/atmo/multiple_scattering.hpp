@@ -64,7 +64,7 @@ ScatteringMethod parse_scattering_method(const std::string& name, const std::str
 struct MultipleScatteringOptions {
   ScatteringMethod method = ScatteringMethod::Single;
   // orders: the highest order of scattering computed (>= 1; 1 = single scattering only).
-  // 5: orders 5 and 6 add 0.3-1 % at sun -4 to -6 deg, 0.1 % by day (docs/sky.md).
+  // 5: orders 5 and 6 add 0.3-0.8 % at sun -4 to -9 deg, 0.1 % by day (docs/sky.md).
   int orders = 5;
   // approximate: table size and the integration of each entry.
   int ms_altitudes = 32;        // >= 2
@@ -73,7 +73,7 @@ struct MultipleScatteringOptions {
   int ms_azimuth_directions = 8;  // azimuths over [0, pi], >= 1
   int ms_ray_steps = 32;          // per ray, >= 4
   // orders: table sizes (scattering_orders.hpp). The defaults put N = 5 within 0.25 % of
-  // the Monte-Carlo reference by day, 0.8 % to sun -6 deg and 5.5 % to -12 deg, and order
+  // the Monte-Carlo reference by day, 0.75 % to sun -6 deg and 2.5 % to -12 deg, and order
   // 2 alone within 0.8 % of an independent quadrature from sun 60 to -6 deg (docs/sky.md,
   // "Multiple scattering"). The sphere rule (16 x 16) and the ray steps (32) set the
   // second order's error by day once the interpolation follows the curvature (12 x 12
