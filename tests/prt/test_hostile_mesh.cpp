@@ -181,3 +181,18 @@ TEST(HostileMesh, PlyHeaderIsReadAsTheMeshLibraryReadsIt) {
   ASSERT_GT(fuzzed.size(), 1000u);
   EXPECT_NE(error_of(write("fuzzed.ply", fuzzed)).find("format line"), std::string::npos);
 }
+
+// A NUL byte inside an ASCII row ended the number for strtod unseen ("0\0\3..." read as 0),
+// so the walk passed the file on, and the mesh library leaked memory reading it
+// (libFuzzer; tests/fuzz/corpus_mesh_ply/nul_in_ascii.ply). Such a row is refused, naming
+// it; a value with trailing letters still is.
+TEST(HostileMesh, NulBytesInAsciiRowsAreRefused) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string rest = "\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 3 2\n";
+  EXPECT_EQ(error_of(write("clean.ply", head + "0 0 0" + rest)), "");
+  const std::string nul = head + "0 0 0" + std::string("\0\3\0\3", 4) + rest;
+  EXPECT_NE(error_of(write("nul.ply", nul)).find("vertex 0 has a NUL byte in an ASCII file"), std::string::npos);
+  EXPECT_NE(error_of(write("alpha.ply", head + "0 0 0x" + rest)).find("vertex 0 has a value '0x' that is not a number"),
+            std::string::npos);
+}
