@@ -66,8 +66,7 @@ struct Reused {
   }
 };
 struct ThreadWork {
-  Reused<double> fm, col, smant, four;
-  Reused<int> sexp;
+  Reused<double> fm, col, four;
 };
 ThreadWork& thread_work() {
   thread_local ThreadWork w;
@@ -128,24 +127,61 @@ void sectorals(int bands, const Pairs& p, const LegendreTable& t, double* mant, 
 }
 }  // namespace
 
+// Lanes join the sums once their recurrence value exceeds 2^-kJoinExp (polar
+// optimisation): a lane starts in the extended range when its sectoral value is below
+// that, and folds back to the plain range (exponent 0) when its mantissa passes
+// kJoinFold = 2^(kScaleExp - kJoinExp), i.e. its value 2^-kJoinExp. The terms left out
+// are below 2^-80 |f| each (lam >= |Pbar_lm| / alpha >= |Pbar_lm|), so they cannot change
+// a double result at the 1e-13 level of the round trips; below that threshold lanes
+// only cost work: at L = 1024 they are a large share of the triangle near the poles.
+// Between checks values grow by less than 2^(60 kFoldEvery / 2) = 2^240, so they stay
+// below 2^760.
+constexpr int kJoinExp = 80;
+inline const double kJoin = std::ldexp(1.0, -kJoinExp);
+inline const double kJoinFold = std::ldexp(1.0, kScaleExp - kJoinExp);
+// Sectoral value of a lane (mant * 2^ex) in the representation of the kernels: values
+// below kJoin go to the extended range (exponent -kScaleExp) until they join.
+inline void lane_start(double mant, int ex, double& m, double& e) {
+  if (ex == 0 && std::abs(mant) < kJoin) {
+    m = mant * kScaleUp;
+    e = -kScaleExp;
+  } else {
+    m = mant;
+    e = ex;
+  }
+}
 // Set-up of the Legendre stage that depends on the rings alone: ring pairs, sectoral start
 // values of every order and lane, and (filled by the first transform that needs them) the
 // number of polar blocks that contribute nothing to column m, per direction.
 struct RingPlan {
   int bands = 0;
   Pairs pr;
-  std::vector<double> smant;
-  std::vector<int> sexp;
+  // Every lane's start in the kernels' representation (lane_start of the sectoral value):
+  // lam0, e0 [m * padded + q]; x^2 [q]; whether block b of W lanes of column m has no
+  // extended lane: plain[m * (padded / W) + b]. The kernels copy them per column.
+  std::vector<double> lam0, e0, csq;
+  std::vector<unsigned char> plain;
   int W = 0;                                   // lanes per block the skip counts are for
   std::unique_ptr<std::atomic<int>[]> skip_a;  // analysis (-1: not known yet)
   std::unique_ptr<std::atomic<int>[]> skip_s;  // synthesis (-1: not known yet)
   RingPlan(int bands_, int nrings, const double* cos_t, const double* sin_t, bool symmetric, int lanes)
       : bands(bands_), pr(make_pairs(nrings, cos_t, sin_t, symmetric)), W(lanes),
         skip_a(new std::atomic<int>[bands_]), skip_s(new std::atomic<int>[bands_]) {
-    const std::size_t nsect = static_cast<std::size_t>(bands) * pr.x.size();
-    smant.resize(nsect);
-    sexp.resize(nsect);
-    sectorals(bands, pr, *legendre_table(bands), smant.data(), sexp.data());
+    const std::size_t padded = pr.x.size(), nsect = static_cast<std::size_t>(bands) * padded;
+    lam0.resize(nsect);
+    e0.resize(nsect);
+    {
+      std::vector<double> smant(nsect);
+      std::vector<int> sexp(nsect);
+      sectorals(bands, pr, *legendre_table(bands), smant.data(), sexp.data());
+      for (std::size_t i = 0; i < nsect; ++i) lane_start(smant[i], sexp[i], lam0[i], e0[i]);
+    }
+    csq.resize(padded);
+    for (std::size_t q = 0; q < padded; ++q) csq[q] = pr.x[q] * pr.x[q];
+    const std::size_t nb = padded / static_cast<std::size_t>(W);
+    plain.assign(static_cast<std::size_t>(bands) * nb, 1);
+    for (std::size_t i = 0; i < nsect; ++i)
+      if (e0[i] != 0.0) plain[(i / padded) * nb + (i % padded) / static_cast<std::size_t>(W)] = 0;
     for (int m = 0; m < bands; ++m) {
       skip_a[m].store(-1, std::memory_order_relaxed);
       skip_s[m].store(-1, std::memory_order_relaxed);
@@ -359,29 +395,6 @@ __attribute__((always_inline)) inline bool any(I m) {
 // (recurrence and masked sums into sums[k]). A block leaves at the first check at
 // which all its lanes are plain: join[i] = that step (kmax + 1 if never).
 constexpr int kFoldEvery = 8;
-// Lanes join the sums once their recurrence value exceeds 2^-kJoinExp (polar
-// optimisation): a lane starts in the extended range when its sectoral value is below
-// that, and folds back to the plain range (exponent 0) when its mantissa passes
-// kJoinFold = 2^(kScaleExp - kJoinExp), i.e. its value 2^-kJoinExp. The terms left out
-// are below 2^-80 |f| each (lam >= |Pbar_lm| / alpha >= |Pbar_lm|), so they cannot change
-// a double result at the 1e-13 level of the round trips; below that threshold lanes
-// only cost work: at L = 1024 they are a large share of the triangle near the poles.
-// Between checks values grow by less than 2^(60 kFoldEvery / 2) = 2^240, so they stay
-// below 2^760.
-constexpr int kJoinExp = 80;
-inline const double kJoin = std::ldexp(1.0, -kJoinExp);
-inline const double kJoinFold = std::ldexp(1.0, kScaleExp - kJoinExp);
-// Sectoral value of a lane (mant * 2^ex) in the representation of the kernels: values
-// below kJoin go to the extended range (exponent -kScaleExp) until they join.
-inline void lane_start(double mant, int ex, double& m, double& e) {
-  if (ex == 0 && std::abs(mant) < kJoin) {
-    m = mant * kScaleUp;
-    e = -kScaleExp;
-  } else {
-    m = mant;
-    e = ex;
-  }
-}
 template <int W>
 __attribute__((always_inline)) inline void ana_extended(int kmax, const double* ap, const double* bp,
                                                         AnaGroup<W>* grp, const int* ids, int nx, int* join,
@@ -573,6 +586,7 @@ static int ana_skip8(int kmax, const double* ap, const double* bp, const AnaGrou
 // Per-thread work space of the column sums for blocks of W ring pairs.
 template <int W>
 struct AnaWork {
+  static constexpr int lanes = W;
   int ngroups;
   // (not std::vector: GCC drops the vector attribute, and thus the alignment, in template arguments)
   std::unique_ptr<AnaGroup<W>[]> nat, act;
@@ -592,43 +606,40 @@ struct AnaScratch {
 };
 
 // sums[k] (k <= kmax + 1) of column m: f = the ring sums of m in blocks of W lanes
-// (E cos, E sin, xO cos, xO sin: 4 W values per block), mant/ex the sectoral values.
+// (E cos, E sin, xO cos, xO sin: 4 W values per block); csq, lam0, e0 the lanes' x^2 and
+// starts, plain the blocks without an extended lane (RingPlan).
 template <int W>
-void ana_column(int kmax, const double* x, const double* mant, const int* ex, const double* f,
-                const ColCoef& cf, AnaWork<W>& w, V4* sums, std::atomic<int>& skip_cache) {
+__attribute__((always_inline)) inline void ana_column(int kmax, const double* csq, const double* lam0,
+                                                      const double* e0, const unsigned char* plain,
+                                                      const double* f, const ColCoef& cf, AnaWork<W>& w, V4* sums,
+                                                      std::atomic<int>& skip_cache) {
+  using D = typename Lanes<W>::D;
   const int ngroups = w.ngroups;
+  auto build = [&](AnaGroup<W>& g, int gi) {
+    std::memcpy(&g.ec, f + 4 * W * gi, 4 * W * sizeof(double));  // ec, es, oc, os
+    std::memcpy(&g.csq, csq + W * gi, W * sizeof(double));
+    g.lam1 = D{};
+    std::memcpy(&g.lam2, lam0 + W * gi, W * sizeof(double));
+    std::memcpy(&g.e, e0 + W * gi, W * sizeof(double));
+  };
   // plain blocks are made in place in act (ring order); the others go to nat[gi] and run
   // their extended phase there
   int nx = 0, nplain = 0;
   for (int gi = 0; gi < ngroups; ++gi) {
-    AnaGroup<W>& g = w.act[nplain];
-    std::memcpy(&g.ec, f + 4 * W * gi, 4 * W * sizeof(double));  // ec, es, oc, os
-    bool plain = true;
-    for (int k = 0; k < W; ++k) {
-      const int q = W * gi + k;
-      g.csq[k] = x[q] * x[q];
-      g.lam1[k] = 0.0;
-      double lm, le;
-      lane_start(mant[q], ex[q], lm, le);
-      g.lam2[k] = lm;
-      g.e[k] = le;
-      if (le != 0) plain = false;
-    }
     w.join[gi] = 0;
-    if (plain) {
-      ++nplain;
-    } else {
-      w.nat[gi] = g;
+    if (plain[gi])
+      build(w.act[nplain++], gi);
+    else
       w.ids[nx++] = gi;
-    }
   }
   // Blocks none of whose lanes reach 2^-kJoinExp by step kmax contribute nothing
   // (ana_skip): they are skipped instead of being stepped to kmax for nothing.
   // (depends on the rings and m alone: counted by the first transform, kept in the plan)
-  int skip = 0;
+  int skip = 0, built = 0;  // extended blocks ids[0..built) made
   if (nx > 1) {
     skip = skip_cache.load(std::memory_order_relaxed);
     if (skip < 0) {
+      for (; built < nx; ++built) build(w.nat[w.ids[built]], w.ids[built]);
       if constexpr (W == 8)
         skip = ana_skip8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
       else
@@ -637,6 +648,7 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
     }
     for (int i = 0; i < skip; ++i) w.join[w.ids[i]] = kmax + 1;
   }
+  for (int i = std::max(built, skip); i < nx; ++i) build(w.nat[w.ids[i]], w.ids[i]);  // the skipped ones are not
   if (nx > skip) {
     if constexpr (W == 8)
       ana_extended8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), w.live.data(), sums);
@@ -660,6 +672,19 @@ void ana_column(int kmax, const double* x, const double* mant, const int* ex, co
     ana_kernel8(K0, kmax, w.nact.data(), cf.ap, cf.bp, w.act.get(), sums);
   else
     ana_kernel4(K0, kmax, w.nact.data(), cf.ap, cf.bp, w.act.get(), sums);
+}
+// Compiled as the kernels (the block copies in vector registers).
+ATMOSH_DISPATCH
+static void ana_column4(int kmax, const double* csq, const double* lam0, const double* e0, const unsigned char* plain,
+                        const double* f, const ColCoef& cf, AnaWork<4>& w, V4* sums, std::atomic<int>& skip) {
+  ana_column<4>(kmax, csq, lam0, e0, plain, f, cf, w, sums, skip);
+}
+#if ATMOSH_HAS_DISPATCH
+ATMOSH_TARGET_AVX512
+#endif
+static void ana_column8(int kmax, const double* csq, const double* lam0, const double* e0, const unsigned char* plain,
+                        const double* f, const ColCoef& cf, AnaWork<8>& w, V4* sums, std::atomic<int>& skip) {
+  ana_column<8>(kmax, csq, lam0, e0, plain, f, cf, w, sums, skip);
 }
 }  // namespace
 
@@ -785,8 +810,9 @@ constexpr int kSynQB = 16;
 // writes the per-lane sums E cos, E sin, O cos, O sin (O = x * D) of ring pair q to
 // out[(q / kSynQB) * bstride + 4 (q % kSynQB) + f].
 template <int W>
-__attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, const double* x, const double* mant,
-                                                      const int* ex, const double* ap, const double* bp,
+__attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, const double* x, const double* csq,
+                                                      const double* lam0, const double* e0, const double* ap,
+                                                      const double* bp,
                                                       const double* cf, double* out, std::size_t bstride,
                                                       std::atomic<int>& g0_cache) {
   auto at = [&](int q) { return out + static_cast<std::size_t>(q / kSynQB) * bstride + 4 * (q % kSynQB); };
@@ -799,15 +825,10 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
     while (lo < hi) {
       const int mid = (lo + hi) / 2;
       AnaGroup<W> g;
-      for (int j = 0; j < W; ++j) {
-        const int q = W * mid + j;
-        double lm, le;
-        lane_start(mant[q], ex[q], lm, le);
-        g.csq[j] = x[q] * x[q];
-        g.lam1[j] = 0.0;
-        g.lam2[j] = lm;
-        g.e[j] = le;
-      }
+      std::memcpy(&g.csq, csq + W * mid, W * sizeof(double));
+      g.lam1 = typename Lanes<W>::D{};
+      std::memcpy(&g.lam2, lam0 + W * mid, W * sizeof(double));
+      std::memcpy(&g.e, e0 + W * mid, W * sizeof(double));
       const int id = 0;
       if (ana_skip<W>(kmax, ap, bp, &g, &id, 1) == 0)
         hi = mid;
@@ -825,16 +846,13 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
     const int nb = std::min(2, ngroups - gi);
     for (int b = 0; b < 2; ++b) {
       SynState<W>& g = st[b];
-      for (int j = 0; j < W; ++j) {
-        const int q = W * (gi + std::min(b, nb - 1)) + j;
-        g.csq[j] = x[q] * x[q];
-        g.lam1[j] = 0.0;
-        double lm, le;
-        lane_start(mant[q], ex[q], lm, le);
-        g.lam2[j] = lm;
-        g.e[j] = le;
-        g.ec[j] = g.es[j] = g.dc[j] = g.ds[j] = 0.0;
-      }
+      using D = typename Lanes<W>::D;
+      const int q0 = W * (gi + std::min(b, nb - 1));
+      std::memcpy(&g.csq, csq + q0, W * sizeof(double));
+      g.lam1 = D{};
+      std::memcpy(&g.lam2, lam0 + q0, W * sizeof(double));
+      std::memcpy(&g.e, e0 + q0, W * sizeof(double));
+      g.ec = g.es = g.dc = g.ds = D{};
       if (b < nb) {
         bool plain = true;
         for (int j = 0; j < W; ++j) plain &= g.e[j] == 0.0;
@@ -855,16 +873,18 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
 }
 
 ATMOSH_DISPATCH
-static void syn_column4(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
-                        const double* bp, const double* cf, double* out, std::size_t bstride, std::atomic<int>& g0) {
-  syn_column<4>(kmax, ngroups, x, mant, ex, ap, bp, cf, out, bstride, g0);
+static void syn_column4(int kmax, int ngroups, const double* x, const double* csq, const double* lam0,
+                        const double* e0, const double* ap, const double* bp, const double* cf, double* out,
+                        std::size_t bstride, std::atomic<int>& g0) {
+  syn_column<4>(kmax, ngroups, x, csq, lam0, e0, ap, bp, cf, out, bstride, g0);
 }
 #if ATMOSH_HAS_DISPATCH
 ATMOSH_TARGET_AVX512
 #endif
-static void syn_column8(int kmax, int ngroups, const double* x, const double* mant, const int* ex, const double* ap,
-                        const double* bp, const double* cf, double* out, std::size_t bstride, std::atomic<int>& g0) {
-  syn_column<8>(kmax, ngroups, x, mant, ex, ap, bp, cf, out, bstride, g0);
+static void syn_column8(int kmax, int ngroups, const double* x, const double* csq, const double* lam0,
+                        const double* e0, const double* ap, const double* bp, const double* cf, double* out,
+                        std::size_t bstride, std::atomic<int>& g0) {
+  syn_column<8>(kmax, ngroups, x, csq, lam0, e0, ap, bp, cf, out, bstride, g0);
 }
 }  // namespace
 
@@ -938,8 +958,6 @@ void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeff
   const int padded = static_cast<int>(pr.x.size());
   const bool wide = rp.W == 8;
   ThreadWork& tw = thread_work();
-  const double* const smant = rp.smant.data();
-  const int* const sexp = rp.sexp.data();
 
   // per-m results: column m at col_offset(m), 2 (bands - m) values
   auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
@@ -952,8 +970,12 @@ void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeff
     const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
     for (int k = 0; k <= kmax + 1; ++k) sums[k] = V4{};
     const std::size_t off = static_cast<std::size_t>(m) * padded;
-    ana_column(kmax, pr.x.data(), smant + off, sexp + off, fm + static_cast<std::size_t>(m) * ring_sum_stride(padded), cf,
-               work, sums, rp.skip_a[m]);
+    const double* const fcol = fm + static_cast<std::size_t>(m) * ring_sum_stride(padded);
+    const unsigned char* const plain = rp.plain.data() + static_cast<std::size_t>(m) * work.ngroups;
+    if constexpr (std::remove_reference_t<decltype(work)>::lanes == 8)
+      ana_column8(kmax, rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, plain, fcol, cf, work, sums, rp.skip_a[m]);
+    else
+      ana_column4(kmax, rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, plain, fcol, cf, work, sums, rp.skip_a[m]);
     // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
     // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
     double* out = col + col_offset(m);
@@ -1019,8 +1041,6 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
   const int padded = static_cast<int>(pr.x.size());
   const int np = static_cast<int>(pr.north.size());
   ThreadWork& tw = thread_work();
-  const double* const smant = rp.smant.data();
-  const int* const sexp = rp.sexp.data();
   const int W = rp.W;
   // Coefficients regrouped m-major (column m: c_l,m and c_l,-m for l = m..bands-1 at
   // col + col_offset(m)); the per-column sums are kept in blocks of 16 ring pairs (sm,
@@ -1082,11 +1102,11 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
     double* const out = sm + static_cast<std::size_t>(m) * QB * 4;
     const std::size_t bstride = static_cast<std::size_t>(bands) * QB * 4;
     if (W == 8)
-      syn_column8(kmax, padded / 8, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp, sc.data(), out, bstride,
-                  rp.skip_s[m]);
+      syn_column8(kmax, padded / 8, pr.x.data(), rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, cf.ap, cf.bp,
+                  sc.data(), out, bstride, rp.skip_s[m]);
     else
-      syn_column4(kmax, padded / 4, pr.x.data(), smant + off, sexp + off, cf.ap, cf.bp, sc.data(), out, bstride,
-                  rp.skip_s[m]);
+      syn_column4(kmax, padded / 4, pr.x.data(), rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, cf.ap, cf.bp,
+                  sc.data(), out, bstride, rp.skip_s[m]);
   };
   parallel_for_m(
       bands, threads,
