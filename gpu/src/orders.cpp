@@ -124,9 +124,12 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
       b_prev_ = buffer_of(*s.single);
     } else {  // S_1 here: sky_lib.glsl's sun lookups on the build's own optical-depth tables
       b_prev_ = std::make_unique<Buffer>(n_tab_ * sizeof(float));
-      const auto t1 = Clock::now();
+      finish();
+      if (times_) times_->upload_s += since(t0);
+      auto t1 = Clock::now();
       const Program single(single_parts());
       if (times_) times_->compile_s += since(t1);
+      t1 = Clock::now();
       const SunLookupInputs in = sun_lookup_inputs(*s.lut, *s.atmosphere);
       const auto b_tab = buffer_of(in.tables), b_shells = buffer_of(in.shells), b_spec = buffer_of(in.spectral);
       const auto b_sky = std::make_unique<Buffer>(sizeof(in.params), &in.params);
@@ -146,17 +149,15 @@ class OrdersGpuPasses final : public atmo::OrdersPasses {
       check_gl("orders: S_1 set-up");
       dispatch_items(single, n_tab_ / s.nw);
       check_gl("orders: S_1");
+      finish();
+      if (times_) times_->single_s += since(t1);
+      t0 = Clock::now();
     }
     // Three tables of this size on the device: S_{k-1} (then S_k, written over it: the
-    // radiance pass reads J_k only), J_k and the sum. The sum zeroed from a 1 MB block (no
-    // table-sized array on the CPU).
+    // radiance pass reads J_k only), J_k and the sum, zeroed there.
     b_dens_ = std::make_unique<Buffer>(n_tab_ * sizeof(float));
     b_sum_ = std::make_unique<Buffer>(n_tab_ * sizeof(float));
-    {
-      const std::vector<float> zeros(std::min<std::size_t>(n_tab_, std::size_t(1) << 18), 0.0f);
-      for (std::size_t at = 0; at < n_tab_; at += zeros.size())
-        b_sum_->upload(zeros.data(), std::min(zeros.size(), n_tab_ - at) * sizeof(float), at * sizeof(float));
-    }
+    b_sum_->clear();
     b_incoming_ = std::make_unique<Buffer>(std::max<std::size_t>(n_incoming_ * s.nw, 1) * sizeof(float));
     b_e_ = std::make_unique<Buffer>(static_cast<std::size_t>(s.ns) * s.nw * sizeof(float));
     b_ground_ = std::make_unique<Buffer>(static_cast<std::size_t>(s.ns) * s.nw * sizeof(float));

@@ -204,6 +204,12 @@ void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
   check_gl("glBufferSubData");
 }
 
+void Buffer::clear() {
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+  glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  check_gl("glClearBufferData");
+}
+
 void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
   glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes), data);

@@ -114,6 +114,9 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
   const int nv = lut.options().view_tables ? lut.options().view_directions : 0, ns = lut.options().sun_directions;
   std::vector<float> out;
   out.reserve(static_cast<std::size_t>(S) * (2 * nv + ns) * 3);
+  // Once per constituent (its vertical column is an integral over the profile: asked per
+  // entry it was nearly all of this function's time).
+  const bool tab[3] = {tabulated(atm, 0), tabulated(atm, 1), tabulated(atm, 2)};
   auto table = [&](int n, int kind) {  // 0 view up, 1 view ground, 2 sun
     for (int k = 0; k < S; ++k) {
       const double r = radii[static_cast<std::size_t>(k)];
@@ -146,7 +149,7 @@ std::vector<float> lut_tables_from_cpu(const atmo::OpticalDepthLut& lut, const a
           }
         }
         for (int c = 0; c < 3; ++c)
-          out.push_back(tabulated(atm, c) ? static_cast<float>(std::log(std::max(mean[c], 1e-300))) : 0.0f);
+          out.push_back(tab[c] ? static_cast<float>(std::log(std::max(mean[c], 1e-300))) : 0.0f);
       }
     }
   };

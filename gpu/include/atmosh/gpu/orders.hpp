@@ -72,10 +72,13 @@ class OrdersResidentTable final : public atmo::OrdersDeviceTable {
   std::unique_ptr<Buffer> table_;
 };
 
-// Seconds of the GPU passes: compile (the programs; llvmpipe JITs at the first dispatch),
-// upload (with S_1), passes of orders >= 2 with their read-backs.
+// Seconds of the GPU side of a build, summed over builds: compile (the programs; llvmpipe
+// JITs at the first dispatch), upload (the set-up's buffers, the tables' allocation and
+// the sum's clearing), single (S_1 on the GPU: its inputs from the optical-depth table,
+// the pass and the wait for it), passes of orders >= 2 with their read-backs. The rest of
+// a build's wall time is the CPU's set-up (ScatteringOrders) and the sum's read-back.
 struct OrdersGpuTimes {
-  double compile_s = 0, upload_s = 0, passes_s = 0;
+  double compile_s = 0, upload_s = 0, single_s = 0, passes_s = 0;
 };
 
 // The tables of atmo::ScatteringOrders(atmosphere, o) with the passes of orders >= 2

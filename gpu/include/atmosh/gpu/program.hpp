@@ -98,6 +98,9 @@ class Buffer {
   Buffer& operator=(const Buffer&) = delete;
   void bind(unsigned binding) const;
   void upload(const void* data, std::size_t bytes, std::size_t offset = 0);
+  // Every byte zero, on the device (nothing copied from the host). The size must be a
+  // multiple of 4.
+  void clear();
   void download(void* data, std::size_t bytes, std::size_t offset = 0) const;
   std::size_t bytes() const { return bytes_; }
 
