@@ -440,11 +440,13 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
   struct Sphere {
     std::vector<double> mu, w;
     int n_ground = 0;
-    std::vector<float> Pr, Pm;     // [out][q]
+    float *Pr = nullptr, *Pm = nullptr;  // [out][q]: this radius's rows of Pr_all, Pm_all
     std::vector<float> t_ground;   // [q][wavelength] transmittance to the ground (ground directions)
     std::vector<double> d_ground;  // [q] distance to the ground
   };
   std::vector<Sphere> sph(static_cast<std::size_t>(m.nr));
+  // Every radius's phase matrices in one array each, handed to the device as they are.
+  std::vector<float> Pr_all(static_cast<std::size_t>(m.nr) * nout * nq), Pm_all(Pr_all.size());
   std::vector<double> cphi(nphi), sphi(nphi);
   for (int b = 0; b < nphi; ++b) {
     cphi[b] = std::cos(2.0 * kPi * (b + 0.5) / nphi);
@@ -454,8 +456,8 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     Sphere& S = sph[i];
     const double r = m.r_of(static_cast<int>(i));
     zenith_rule(m.R, r, nz, S.mu, S.w, S.n_ground);
-    S.Pr.assign(nout * nq, 0.0f);
-    S.Pm.assign(nout * nq, 0.0f);
+    S.Pr = Pr_all.data() + i * nout * nq;
+    S.Pm = Pm_all.data() + i * nout * nq;
     for (int j = 0; j < m.nmu; ++j) {
       double mu, d;
       m.mu_of(r, j, mu, d);
@@ -529,10 +531,6 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
       st.sphere_w.insert(st.sphere_w.end(), S.w.begin(), S.w.end());
       st.d_ground.insert(st.d_ground.end(), S.d_ground.begin(), S.d_ground.end());
       st.t_ground.insert(st.t_ground.end(), S.t_ground.begin(), S.t_ground.end());
-      st.Pr.insert(st.Pr.end(), S.Pr.begin(), S.Pr.end());
-      st.Pm.insert(st.Pm.end(), S.Pm.begin(), S.Pm.end());
-      std::vector<float>().swap(S.Pr);  // the device's copy only (the CPU's J pass does not run)
-      std::vector<float>().swap(S.Pm);
       for (int k = 0; k < m.ns; ++k) {  // order 2's direct sun on the ground (as the J pass)
         const double r = m.r_of(i), mu_s = m.mus_of(k), ss = std::sqrt(std::max(0.0, 1 - mu_s * mu_s));
         for (int z = 0; z < S.n_ground; ++z) {
@@ -555,6 +553,8 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
     st.atmosphere = &atm;
     st.lut = &lut;
     st.ray_t = std::move(ray_t);  // the CPU's S pass does not run
+    st.Pr = std::move(Pr_all);    // nor its J pass
+    st.Pm = std::move(Pm_all);
     st.ray_mu = ray_mu;
     st.cphi = cphi;
     st.sphi = sphi;
@@ -673,7 +673,9 @@ ScatteringOrders::ScatteringOrders(const Atmosphere& atm, const MultipleScatteri
   if (passes) device_ = passes->keep_sum();
   if (!device_ || passes->read_back_sum()) {
     if (passes) passes->sum(sum_lin);
-    for (float& v : sum_lin) v = to_log(v);  // in place: the table is its log
+    parallel_for_ranges(sum_lin.size(), std::size_t(1) << 16, threads, [&](std::size_t b, std::size_t e) {
+      for (std::size_t q = b; q < e; ++q) sum_lin[q] = to_log(sum_lin[q]);  // in place: the table is its log
+    });
     m.sum = std::move(sum_lin);
     m.set_full_part();
   }
