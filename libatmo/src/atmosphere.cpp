@@ -45,6 +45,8 @@ Atmosphere::Atmosphere(const AtmosphereSpec& spec, std::vector<double> wavelengt
     if (present_[c])
       for (double k : profiles_[c].kinks())
         if (k > 0.0 && k < top_altitude()) kinks_.push_back(k);
+  for (int c = 0; c < kConstituents; ++c)
+    if (present_[c]) vertical_column_[c] = profiles_[c].vertical_column(0.0, top_altitude());
   std::sort(kinks_.begin(), kinks_.end());
   kinks_.erase(std::unique(kinks_.begin(), kinks_.end()), kinks_.end());
   coefficients_.reserve(wavelengths_.size());
@@ -66,13 +68,6 @@ double Atmosphere::feature_length() const {
   for (int c = 0; c < kConstituents; ++c)
     if (present_[c]) m = std::min(m, profiles_[c].feature_length());
   return std::isfinite(m) ? m : top_altitude();
-}
-
-glm::dvec3 Atmosphere::vertical_column() const {
-  glm::dvec3 v(0.0);
-  for (int c = 0; c < kConstituents; ++c)
-    if (present_[c]) v[c] = profiles_[c].vertical_column(0.0, top_altitude());
-  return v;
 }
 
 Coefficients Atmosphere::coefficients_at(double nm) const {

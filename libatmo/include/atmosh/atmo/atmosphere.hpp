@@ -58,8 +58,9 @@ class Atmosphere {
   const std::vector<double>& kinks() const { return kinks_; }
   // Smallest feature length over the present profiles [m] (scale height etc.).
   double feature_length() const;
-  // Vertical column from the ground to the top per constituent [m].
-  glm::dvec3 vertical_column() const;
+  // Vertical column from the ground to the top per constituent [m] (integrated once, at
+  // construction).
+  const glm::dvec3& vertical_column() const { return vertical_column_; }
 
   const std::vector<double>& wavelengths_nm() const { return wavelengths_; }
   const Coefficients& coefficients(std::size_t i) const { return coefficients_.at(i); }
@@ -75,6 +76,7 @@ class Atmosphere {
   std::vector<Coefficients> coefficients_;
   double ozone_number_density_ = 0.0;  // m^-3 at relative density 1
   double rayleigh_number_density_ = 0.0;
+  glm::dvec3 vertical_column_{0.0};
 };
 
 }  // namespace atmosh::atmo
