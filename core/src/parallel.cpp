@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <condition_variable>
+#include <memory>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -155,6 +157,133 @@ int available_cpus() {
   static const int limit = cgroup_cpu_limit();
   if (limit > 0 && (n < 1 || limit < n)) n = limit;
   return std::max(1, n);
+}
+
+namespace {
+
+// The loops' persistent workers (parallel.hpp, "Workers").
+struct PoolJob {
+  const std::function<void()>* task = nullptr;
+  int slots = 0;
+  std::atomic<int> next{0};     // slots claimed: by pool threads, and at the end by the caller
+  std::atomic<int> running{0};  // pool threads between their claim attempt and its end
+  std::mutex m;
+  std::condition_variable done;
+};
+
+thread_local bool t_pool_thread = false;
+
+class Pool {
+ public:
+  bool run(int extra, const std::function<void()>& task) {
+    if (t_pool_thread || extra < 1) return false;
+    bool idle = false;
+    if (!busy_.compare_exchange_strong(idle, true)) return false;
+    struct Release {
+      std::atomic<bool>& busy;
+      ~Release() { busy.store(false); }
+    } release{busy_};
+    grow(extra);
+    if (threads_.empty()) return false;
+    auto job = std::make_shared<PoolJob>();
+    job->task = &task;
+    job->slots = std::min(extra, static_cast<int>(threads_.size()));
+    bool wake = false;
+    {
+      const std::lock_guard<std::mutex> lock(m_);
+      job_ = job;
+      gen_.fetch_add(1);
+      wake = sleepers_ > 0;
+    }
+    if (wake) cv_.notify_all();  // (a system call: skipped while every thread still spins)
+    auto drain = [&] {
+      // The slots no pool thread has claimed are dropped (their task would find no range).
+      while (job->next.fetch_add(1) < job->slots) {
+      }
+      // A pool thread counts itself running before it claims, so every claimed slot is
+      // counted here: spin briefly for them, then sleep.
+      const auto t0 = std::chrono::steady_clock::now();
+      while (job->running.load() > 0 && std::chrono::steady_clock::now() - t0 < std::chrono::microseconds(50)) {
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#endif
+      }
+      if (job->running.load() > 0) {
+        std::unique_lock<std::mutex> lock(job->m);
+        job->done.wait(lock, [&] { return job->running.load() == 0; });
+      }
+      const std::lock_guard<std::mutex> lock(m_);
+      if (job_ == job) job_.reset();
+    };
+    try {
+      task();
+    } catch (...) {  // (the loops' tasks catch their own; another caller's must not leave one running)
+      drain();
+      throw;
+    }
+    drain();
+    return true;
+  }
+
+ private:
+  void grow(int extra) {
+    while (static_cast<int>(threads_.size()) < extra) {
+      try {
+        const unsigned seen = gen_.load();
+        threads_.emplace_back([this, seen] { loop(seen); });
+        threads_.back().detach();
+      } catch (...) {  // no more threads: run with those there are
+        return;
+      }
+    }
+  }
+
+  void loop(unsigned seen) {
+    t_pool_thread = true;
+    for (;;) {
+      // about 50 us of spinning for the next loop (back-to-back loops of a transform),
+      // then sleep
+      const auto t0 = std::chrono::steady_clock::now();
+      while (gen_.load(std::memory_order_acquire) == seen &&
+             std::chrono::steady_clock::now() - t0 < std::chrono::microseconds(50)) {
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#endif
+      }
+      std::shared_ptr<PoolJob> job;
+      {
+        std::unique_lock<std::mutex> lock(m_);
+        ++sleepers_;
+        cv_.wait(lock, [&] { return gen_.load() != seen; });
+        --sleepers_;
+        seen = gen_.load();
+        job = job_;
+      }
+      if (!job) continue;
+      job->running.fetch_add(1);
+      if (job->next.fetch_add(1) < job->slots) (*job->task)();
+      if (job->running.fetch_sub(1) == 1) {
+        const std::lock_guard<std::mutex> lock(job->m);
+        job->done.notify_all();
+      }
+    }
+  }
+
+  std::atomic<bool> busy_{false};
+  std::vector<std::thread> threads_;  // detached; kept for their count
+  std::mutex m_;
+  std::condition_variable cv_;
+  std::atomic<unsigned> gen_{0};
+  int sleepers_ = 0;  // threads in cv_.wait (under m_)
+  std::shared_ptr<PoolJob> job_;
+};
+
+}  // namespace
+
+bool detail::pool_run(int extra, const std::function<void()>& task) {
+  // Never destroyed: its threads may still wait on it while the process exits.
+  static Pool* const pool = new Pool;
+  return pool->run(extra, task);
 }
 
 int resolve_threads(int requested, const std::string& what) {

@@ -149,3 +149,69 @@ TEST(ParallelFor, ResolvesThreadCounts) {
 }
 
 }  // namespace
+
+// Without progress, the workers besides the calling thread are kept from one loop to the
+// next (parallel.hpp, "Workers"): a thread that takes part in a loop has taken part in an
+// earlier one. Threads started per loop would each see one loop only.
+TEST(ParallelFor, WorkersAreKeptFromOneLoopToTheNext) {
+  static thread_local int loops_seen = 0;
+  const auto caller = std::this_thread::get_id();
+  std::atomic<int> most{0};
+  for (int loop = 0; loop < 20; ++loop) {
+    std::atomic<int> hits{0};
+    atmosh::parallel_for_ranges_local(
+        16, 1, 2, [&] { return ++loops_seen; },
+        [&](int& seen, std::size_t b, std::size_t e) {
+          if (std::this_thread::get_id() != caller) {
+            int m = most.load();
+            while (seen > m && !most.compare_exchange_weak(m, seen)) {
+            }
+          }
+          // long enough that a worker woken from sleep still finds ranges left
+          std::this_thread::sleep_for(std::chrono::microseconds(500));
+          hits.fetch_add(static_cast<int>(e - b));
+        });
+    ASSERT_EQ(hits.load(), 16);
+  }
+  EXPECT_GE(most.load(), 2);
+}
+
+// Many short loops back to back on the kept workers, with changing thread counts (the pool
+// grows), loops inside a loop's body and loops from two threads at once (one of them
+// starts threads of its own), and a loop after one that threw: every index exactly once.
+TEST(ParallelFor, BackToBackNestedAndConcurrentLoopsVisitEveryIndexOnce) {
+  auto many = [](int rounds, int salt) {
+    for (int r = 0; r < rounds; ++r) {
+      const std::size_t n = 1 + static_cast<std::size_t>((r * 7 + salt) % 61);
+      const int threads = 2 + (r + salt) % 4;
+      std::vector<std::atomic<int>> hits(n);
+      atmosh::parallel_for(n, threads, [&](std::size_t i) { hits[i].fetch_add(1); });
+      for (std::size_t i = 0; i < n; ++i)
+        if (hits[i].load() != 1) return false;
+    }
+    return true;
+  };
+  EXPECT_TRUE(many(3000, 0));
+
+  std::vector<std::atomic<int>> outer(8), inner(8 * 50);
+  atmosh::parallel_for(8, 3, [&](std::size_t o) {
+    outer[o].fetch_add(1);
+    atmosh::parallel_for(50, 2, [&](std::size_t i) { inner[o * 50 + i].fetch_add(1); });
+  });
+  for (auto& h : outer) ASSERT_EQ(h.load(), 1);
+  for (auto& h : inner) ASSERT_EQ(h.load(), 1);
+
+  bool a = false, b = false;
+  std::thread other([&] { b = many(1000, 3); });
+  a = many(1000, 5);
+  other.join();
+  EXPECT_TRUE(a);
+  EXPECT_TRUE(b);
+
+  EXPECT_THROW(atmosh::parallel_for(64, 2,
+                                    [](std::size_t i) {
+                                      if (i == 5) throw std::runtime_error("index 5");
+                                    }),
+               std::runtime_error);
+  EXPECT_TRUE(many(200, 1));
+}

@@ -18,6 +18,15 @@
 // allocated once per worker instead of once per range). Results must not depend on
 // which worker's scratch a range sees.
 //
+// Workers. Without `progress`, the workers besides the calling thread come from a pool of
+// threads kept for the process (started at the first loop that needs them, about 50 us
+// each on a 2-core VM; that start per loop was most of a 2-thread SH transform at
+// L = 256). A worker spins about 50 us after its last range and then sleeps. The calling
+// thread never waits for a worker that has not started: when it runs out of ranges it
+// takes the slots no worker has claimed. A loop inside a loop's body, a loop started
+// while another thread's loop holds the pool, and a loop with `progress` start threads
+// of their own, as before.
+//
 // Why not TBB (a dependency through Embree): its default arena follows the affinity
 // mask but not a cgroup v2 cpu.max quota (resolve_threads reads both), its partitioners
 // do not promise which ranges a body sees, and this loop is about 60 lines with no
@@ -45,6 +54,13 @@ namespace atmosh {
 int available_cpus();
 
 namespace detail {
+/// Runs task() on `extra` of the pool's threads and on the calling thread, and returns when
+/// every call that started has returned. Slots that no pool thread has claimed by the time
+/// the calling thread's own task() returns are dropped. Such a slot's task() would have
+/// found no range left, so dropping it is safe. Returns false without running anything
+/// when the pool cannot take the loop: the calling thread is a pool thread, or another
+/// loop holds the pool. The caller then starts threads of its own.
+bool pool_run(int extra, const std::function<void()>& task);
 /// The smallest CPU limit of this process's cgroups, read from the files under
 /// cgroup_root (available_cpus() passes "/proc/self/cgroup" and "/sys/fs/cgroup"; tests
 /// a folder of fixture files), every cgroup on the way from the process's own up to the
@@ -95,6 +111,10 @@ void parallel_for_ranges_local(std::size_t n, std::size_t chunk, int threads, Ma
       failed.store(true);
     }
   };
+  if (!progress && workers > 1 && detail::pool_run(workers - 1, work)) {
+    if (failure) std::rethrow_exception(failure);
+    return;
+  }
   std::vector<std::thread> pool;
   const int spawned = progress ? workers : workers - 1;
   pool.reserve(static_cast<std::size_t>(std::max(spawned, 0)));
