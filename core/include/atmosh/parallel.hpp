@@ -29,8 +29,8 @@
 //
 // Why not TBB (a dependency through Embree): its default arena follows the affinity
 // mask but not a cgroup v2 cpu.max quota (resolve_threads reads both), its partitioners
-// do not promise which ranges a body sees, and this loop is about 60 lines with no
-// dependency; docs/core.md has the timings of the loops it replaced.
+// do not promise which ranges a body sees, and this loop with its kept workers is about
+// 200 lines with no dependency; docs/core.md has the timings of the loops it replaced.
 #pragma once
 
 #include <algorithm>
