@@ -1,4 +1,4 @@
-// The successive-orders tables (atmo::ScatteringOrders, 4 orders, 16 wavelengths)
+// The successive-orders tables (atmo::ScatteringOrders, 4 orders or the default 5, 16 wavelengths)
 // built on the CPU (all cores) and with S_1 and the passes of orders >= 2 on the GPU
 // (gpu::build_scattering_orders; the set-up stays on the CPU): at the default table size
 // (14 x 48 x 48 x 16, sphere rule 16 x 16, 32 steps) and at a smaller one (8 x 32 x 24 x
@@ -38,11 +38,13 @@ using namespace atmosh::atmo;
 namespace {
 using atmosh::bench::spec16;
 
-MultipleScatteringOptions options(bool small) {
+// size 0: the quarter size, 4 orders; 1: the default size, 4 orders; 2: the default
+// size and the default number of orders (MultipleScatteringOptions::orders).
+MultipleScatteringOptions options(long size) {
   MultipleScatteringOptions o;
   o.method = ScatteringMethod::Orders;
-  o.orders = 4;
-  if (small) {
+  if (size != 2) o.orders = 4;
+  if (size == 0) {
     o.orders_radii = 8;
     o.orders_view_directions = 32;
     o.orders_sun_directions = 24;
@@ -55,7 +57,7 @@ MultipleScatteringOptions options(bool small) {
 
 void BM_OrdersCpu(benchmark::State& state) {
   const Atmosphere atm(spec16());
-  const MultipleScatteringOptions o = options(state.range(0) == 0);
+  const MultipleScatteringOptions o = options(state.range(0));
   for (auto _ : state) {
     ScatteringOrders t(atm, o);
     benchmark::DoNotOptimize(t.radiance_table().data());
@@ -72,7 +74,7 @@ void BM_OrdersGpu(benchmark::State& state) {
     return;
   }
   const Atmosphere atm(spec16());
-  const MultipleScatteringOptions o = options(state.range(0) == 0);
+  const MultipleScatteringOptions o = options(state.range(0));
   atmosh::gpu::OrdersGpuTimes t;
   long runs = 0;
   double wall = 0;
@@ -101,7 +103,7 @@ void BM_OrdersSky(benchmark::State& state) {
   const AtmosphereSpec spec = spec16();
   const Atmosphere atm(spec);
   SkyOptions so;
-  so.scattering = options(small);
+  so.scattering = options(small ? 0 : 2);
   const glm::dvec3 sun = enu_direction_from_zenith(96.0, 180.0);  // sun -6 deg
   std::shared_ptr<const atmosh::gpu::Context> ctx;
 #ifdef ATMOSH_BENCH_GPU
@@ -149,10 +151,11 @@ void BM_OrdersSky(benchmark::State& state) {
 }
 }  // namespace
 
-// Arg 0: the quarter size (Small), 1: the default size.
-BENCHMARK(BM_OrdersCpu)->ArgName("default")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3);
+// Arg 0: the quarter size, 4 orders; 1: the default size, 4 orders; 2: the default size
+// and the default number of orders.
+BENCHMARK(BM_OrdersCpu)->ArgName("default")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3);
 #ifdef ATMOSH_BENCH_GPU
-BENCHMARK(BM_OrdersGpu)->ArgName("default")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3);
+BENCHMARK(BM_OrdersGpu)->ArgName("default")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3);
 #endif
 // Args {device 0 CPU | 1 GPU | 2 CPU tables + GPU image | 3 GPU, tables kept there,
 // default size 0|1}.
