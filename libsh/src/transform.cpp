@@ -878,6 +878,39 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
   if (gi < ngroups) run(std::integral_constant<int, 1>{}, gi);
 }
 
+// The step coefficients of synthesis column m from its coefficients cm[2 (l - m) + {0, 1}]
+// (cos, sin; see above): sc[4 k + {0, 1}] = e_k = alpha_k c_m+2k, sc[4 k + {2, 3}] = d_k =
+// rb_k y_k with y_k = c_m+2k+1 - qa_k+1 y_k+1 for the odd degrees m + 2k + 1 < bands
+// (k <= kodd; kodd = -1: none), zero past the last degree, to k = kmax + 1. The backward
+// substitution is a chain of dependent operations: it runs two steps per link,
+// y_k = (c_k - qa_k+1 c_k+1) + qa_k+1 qa_k+2 y_k+2 (y_k+1 from y_k+2 beside it).
+ATMOSH_DISPATCH
+static void syn_step_coefficients(int kmax, int kodd, const double* __restrict alpha, const double* __restrict qa,
+                                  const double* __restrict rb, const double* __restrict cm, double* __restrict sc) {
+  typedef double V2 __attribute__((vector_size(16)));
+  auto ld = [](const double* p) {
+    V2 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  };
+  auto st = [](double* p, V2 v) { std::memcpy(p, &v, sizeof v); };
+  for (int k = 0; k <= kmax; ++k) st(sc + 4 * k, alpha[k] * ld(cm + 4 * k));
+  for (int k = kodd + 1; k <= kmax + 1; ++k) st(sc + 4 * k + 2, V2{});
+  st(sc + 4 * (kmax + 1), V2{});
+  if (kodd < 0) return;
+  int j = kodd;
+  V2 y = ld(cm + 4 * j + 2);  // y_kodd
+  st(sc + 4 * j + 2, rb[j] * y);
+  for (; j >= 2; j -= 2) {
+    const V2 c1 = ld(cm + 4 * (j - 1) + 2), c2 = ld(cm + 4 * (j - 2) + 2);
+    const V2 y1 = c1 - qa[j] * y;
+    y = (c2 - qa[j - 1] * c1) + (qa[j - 1] * qa[j]) * y;
+    st(sc + 4 * (j - 1) + 2, rb[j - 1] * y1);
+    st(sc + 4 * (j - 2) + 2, rb[j - 2] * y);
+  }
+  if (j == 1) st(sc + 2, rb[0] * (ld(cm + 2) - qa[1] * y));
+}
+
 ATMOSH_DISPATCH
 static void syn_column4(int kmax, int ngroups, const double* x, const double* csq, const double* lam0,
                         const double* e0, const double* ap, const double* bp, const double* cf, double* out,
@@ -1085,24 +1118,7 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
     const int kmax = (bands - 1 - m) / 2;
     if (!coefs) ana_coefficients(bands, m, scratch.cf);
     const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
-    // step coefficients: e_k (cos, sin) and d_k (cos, sin), zero past the last degree
-    std::fill(sc.begin(), sc.begin() + 4 * (kmax + 2), 0.0);
-    const double* cm = col + col_offset(m);  // [2 (l - m) + {0, 1}]
-    for (int k = 0; k <= kmax; ++k) {
-      sc[4 * k] = cf.alpha[k] * cm[4 * k];
-      sc[4 * k + 1] = cf.alpha[k] * cm[4 * k + 1];
-    }
-    const int kodd = (bands - 2 - m) / 2;  // odd degrees m + 2k + 1 < bands: k <= kodd
-    if (bands - 2 - m >= 0) {
-      double yc = 0.0, ys = 0.0;
-      for (int k = kodd; k >= 0; --k) {
-        const double q = k + 1 <= kodd ? cf.qa[k + 1] : 0.0;
-        yc = cm[4 * k + 2] - q * yc;
-        ys = cm[4 * k + 3] - q * ys;
-        sc[4 * k + 2] = cf.rb[k] * yc;
-        sc[4 * k + 3] = cf.rb[k] * ys;
-      }
-    }
+    syn_step_coefficients(kmax, bands - 2 - m >= 0 ? (bands - 2 - m) / 2 : -1, cf.alpha, cf.qa, cf.rb, col + col_offset(m), sc.data());
     const std::size_t off = static_cast<std::size_t>(m) * padded;
     // block b of the sums: sm[((b * bands + m) * QB + j) * 4 + f] for pair b QB + j
     double* const out = sm + static_cast<std::size_t>(m) * QB * 4;
