@@ -696,10 +696,11 @@ static void ana_column8(int kmax, const double* csq, const double* lam0, const d
 // O(x) = sum_k c_m+2k+1 Pbar_m+2k+1(x) = x sum_j d_j lam_j(x) with d = D L^-T c_odd (a
 // backward substitution y_k = c_k - qa_k+1 y_k+1, d_k = rb_k y_k). Per ring pair and two
 // degrees: 2 FMAs of recurrence (the same lam as the analysis) and 4 of accumulation
-// (cos and sin parts of E and of O / x). Blocks of W ring pairs are run one after the
-// other (two at a time, to overlap the recurrences), k inner, with their sums in
-// registers; lanes in the extended range are stepped as in ana_extended and contribute
-// from the step at which they reach the plain range (their terms before are < 2^-250).
+// (cos and sin parts of E and of O / x). Blocks of W ring pairs are run one group after
+// the other (kSynBlocks at a time, to overlap the recurrences), k inner, with their state
+// and sums in registers; lanes in the extended range are stepped as in ana_extended and
+// contribute from the step at which they reach the plain range (their terms before are
+// < 2^-250).
 namespace {
 template <int W>
 struct SynState {
