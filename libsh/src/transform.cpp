@@ -989,6 +989,36 @@ void legendre_analysis(int bands, int nrings, const double* cos_t, const double*
 }
 
 namespace {
+// The coefficients of analysis column m from its step sums (E cos, E sin, xO cos, xO sin
+// per step k): out[4 k + {0, 1}] = alpha_k E (degree m + 2k); for the odd degrees
+// m + 2k + 1 < bands (k <= kodd; kodd = -1: none) out[4 k + {2, 3}] = P_k by the forward
+// substitution P_k = rb_k (xO)_k - qa_k P_k-1 (P_-1 = 0). That is a chain of dependent
+// operations: it runs two steps per link, P_k+1 = (R_k+1 - qa_k+1 R_k) + qa_k+1 qa_k P_k-1
+// with R_k = rb_k (xO)_k (P_k from P_k-1 beside it). Nothing is written past the column.
+ATMOSH_DISPATCH
+static void ana_outputs(int kmax, int kodd, const double* __restrict alpha, const double* __restrict rb,
+                        const double* __restrict qa, const V4* __restrict sums, double* __restrict out) {
+  typedef double V2 __attribute__((vector_size(16)));
+  auto lo = [](const V4& v) { return V2{v[0], v[1]}; };
+  auto hi = [](const V4& v) { return V2{v[2], v[3]}; };
+  auto st = [](double* p, V2 v) { std::memcpy(p, &v, sizeof v); };
+  for (int k = 0; k <= kmax; ++k) st(out + 4 * k, alpha[k] * lo(sums[k]));
+  if (kodd < 0) return;
+  V2 p = rb[0] * hi(sums[0]);
+  st(out + 2, p);
+  int k = 1;
+  for (; k + 1 <= kodd; k += 2) {
+    const V2 r1 = rb[k] * hi(sums[k]), r2 = rb[k + 1] * hi(sums[k + 1]);
+    const V2 p1 = r1 - qa[k] * p;
+    p = (r2 - qa[k + 1] * r1) + (qa[k + 1] * qa[k]) * p;
+    st(out + 4 * k + 2, p1);
+    st(out + 4 * k + 6, p);
+  }
+  if (k == kodd) st(out + 4 * k + 2, rb[k] * hi(sums[k]) - qa[k] * p);
+}
+}  // namespace
+
+namespace {
 // Legendre sums of the analysis from the ring sums fm (see ring_sum_index); adds the
 // coefficients to coeffs, or (assign) writes them (coeffs need not be initialised).
 void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeffs, int threads, bool assign) {
@@ -1018,21 +1048,8 @@ void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeff
       ana_column4(kmax, rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, plain, fcol, cf, work, sums, rp.skip_a[m]);
     // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
     // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
-    double* out = col + col_offset(m);
-    double pc = 0.0, ps = 0.0;  // A_l-1 of the odd parity
-    for (int k = 0; k <= kmax; ++k) {
-      const int i = 2 * k;
-      const V4 sk = sums[k];
-      const double al = cf.alpha[k];
-      out[2 * i] = al * sk[0];
-      out[2 * i + 1] = al * sk[1];
-      if (m + i + 1 < bands) {
-        pc = cf.rb[k] * sk[2] - cf.qa[k] * pc;
-        ps = cf.rb[k] * sk[3] - cf.qa[k] * ps;
-        out[2 * i + 2] = pc;
-        out[2 * i + 3] = ps;
-      }
-    }
+    ana_outputs(kmax, bands - 2 - m >= 0 ? (bands - 2 - m) / 2 : -1, cf.alpha, cf.rb, cf.qa, sums,
+                col + col_offset(m));
   };
   if (wide)
     parallel_for_m(bands, threads, [&] { return AnaScratch<8>(padded, bands); }, columns);
@@ -1863,9 +1880,10 @@ ATMOSH_DISPATCH_NO_FMA
 void spectra_to_ring_sums(int L, int W, const double* north, const double* south, std::size_t sstride,
                           const double* wn, const double* ws, const double* x, double* o, std::size_t mstride) {
   int m0 = 0;
-  if (W == 4) {
-    // two orders at a time: the four lanes' (re, im) of orders m, m + 1 transposed in
-    // registers, then the same products and sums elementwise over the lanes
+  if (W == 4 || W == 8) {
+    // two orders at a time, four lanes at a time: the four lanes' (re, im) of orders m,
+    // m + 1 transposed in registers, then the same products and sums elementwise over
+    // the lanes
     typedef double V __attribute__((vector_size(32)));
     auto load = [](const double* p) {
       V v;
@@ -1882,34 +1900,45 @@ void spectra_to_ring_sums(int L, int W, const double* north, const double* south
       c = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
       d = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
     };
-    const V vwn = {wn[0], wn[1], wn[2], wn[3]}, vws = {ws[0], ws[1], ws[2], ws[3]}, vx = {x[0], x[1], x[2], x[3]};
     const V zero = V{};
-    // lanes' south rows are in reverse order
-    const double* N0 = north;
-    const double* N1 = north + sstride;
-    const double* N2 = north + 2 * sstride;
-    const double* N3 = north + 3 * sstride;
-    const double* S0 = south + 3 * sstride;
-    const double* S1 = south + 2 * sstride;
-    const double* S2 = south + sstride;
-    const double* S3 = south;
-    auto emit = [&](double* om, V nre, V nim, V sre, V sim, double sq, bool sin_on) {
-      const V wnm = vwn * sq, wsm = vws * sq;
+    struct Quad {
+      V wn, ws, x;
+      const double* n[4];
+      const double* s[4];
+    };
+    // lanes 4h .. 4h + 3 (the lanes' south rows are in reverse order)
+    Quad qd[2];
+    const int nq = W / 4;
+    for (int h = 0; h < nq; ++h) {
+      Quad& q = qd[h];
+      q.wn = V{wn[4 * h], wn[4 * h + 1], wn[4 * h + 2], wn[4 * h + 3]};
+      q.ws = V{ws[4 * h], ws[4 * h + 1], ws[4 * h + 2], ws[4 * h + 3]};
+      q.x = V{x[4 * h], x[4 * h + 1], x[4 * h + 2], x[4 * h + 3]};
+      for (int k = 0; k < 4; ++k) {
+        q.n[k] = north + static_cast<std::size_t>(4 * h + k) * sstride;
+        q.s[k] = south + static_cast<std::size_t>(W - 1 - 4 * h - k) * sstride;
+      }
+    }
+    auto emit = [&](const Quad& q, double* om, V nre, V nim, V sre, V sim, double sq, bool sin_on) {
+      const V wnm = q.wn * sq, wsm = q.ws * sq;
       const V nc = nre * wnm, ns = -nim * (sin_on ? wnm : zero);
       const V sc = sre * wsm, ss = -sim * (sin_on ? wsm : zero);
       store(om, nc + sc);
-      store(om + 4, ns + ss);
-      store(om + 8, vx * (nc - sc));
-      store(om + 12, vx * (ns - ss));
+      store(om + W, ns + ss);
+      store(om + 2 * W, q.x * (nc - sc));
+      store(om + 3 * W, q.x * (ns - ss));
     };
     for (; m0 + 2 <= L; m0 += 2) {
       const std::size_t j = 2 * static_cast<std::size_t>(m0);
-      V nre0, nim0, nre1, nim1, sre0, sim0, sre1, sim1;
-      transpose(load(N0 + j), load(N1 + j), load(N2 + j), load(N3 + j), nre0, nim0, nre1, nim1);
-      transpose(load(S0 + j), load(S1 + j), load(S2 + j), load(S3 + j), sre0, sim0, sre1, sim1);
       double* om = o + static_cast<std::size_t>(m0) * mstride;
-      emit(om, nre0, nim0, sre0, sim0, m0 > 0 ? std::numbers::sqrt2 : 1.0, m0 > 0);
-      emit(om + mstride, nre1, nim1, sre1, sim1, std::numbers::sqrt2, true);
+      for (int h = 0; h < nq; ++h) {
+        const Quad& q = qd[h];
+        V nre0, nim0, nre1, nim1, sre0, sim0, sre1, sim1;
+        transpose(load(q.n[0] + j), load(q.n[1] + j), load(q.n[2] + j), load(q.n[3] + j), nre0, nim0, nre1, nim1);
+        transpose(load(q.s[0] + j), load(q.s[1] + j), load(q.s[2] + j), load(q.s[3] + j), sre0, sim0, sre1, sim1);
+        emit(q, om + 4 * h, nre0, nim0, sre0, sim0, m0 > 0 ? std::numbers::sqrt2 : 1.0, m0 > 0);
+        emit(q, om + mstride + 4 * h, nre1, nim1, sre1, sim1, std::numbers::sqrt2, true);
+      }
     }
   }
   for (int m = m0; m < L; ++m) {
