@@ -719,28 +719,23 @@ __attribute__((always_inline)) inline void syn_blocks(int kmax, const double* ap
                                                       SynState<W>* s, bool ext) {
   using D = typename Lanes<W>::D;
   using I = typename Lanes<W>::I;
+  // the sums of one degree's values v (E cos, E sin, D cos, D sin by c[0..3])
+  auto add = [](SynState<W>& t, D v, const double* c) __attribute__((always_inline)) {
+    t.ec += v * c[0];
+    t.es += v * c[1];
+    t.dc += v * c[2];
+    t.ds += v * c[3];
+  };
   // one step of two degrees; keep[b]: the plain lanes of block b (all ones in plain steps)
   auto step = [&](int k, const I* keep) __attribute__((always_inline)) {
     const double* c = cf + 4 * k;
     const double a1 = ap[k], b1 = bp[k], a2 = ap[k + 1], b2 = bp[k + 1];
 #pragma GCC unroll 8
-    for (int b = 0; b < NB; ++b) {
-      const D l2 = (D)((I)s[b].lam2 & keep[b]);
-      s[b].ec += l2 * c[0];
-      s[b].es += l2 * c[1];
-      s[b].dc += l2 * c[2];
-      s[b].ds += l2 * c[3];
-    }
+    for (int b = 0; b < NB; ++b) add(s[b], (D)((I)s[b].lam2 & keep[b]), c);
 #pragma GCC unroll 8
     for (int b = 0; b < NB; ++b) s[b].lam1 = (a1 * s[b].csq + b1) * s[b].lam2 + s[b].lam1;
 #pragma GCC unroll 8
-    for (int b = 0; b < NB; ++b) {
-      const D l1 = (D)((I)s[b].lam1 & keep[b]);
-      s[b].ec += l1 * c[4];
-      s[b].es += l1 * c[5];
-      s[b].dc += l1 * c[6];
-      s[b].ds += l1 * c[7];
-    }
+    for (int b = 0; b < NB; ++b) add(s[b], (D)((I)s[b].lam1 & keep[b]), c + 4);
 #pragma GCC unroll 8
     for (int b = 0; b < NB; ++b) s[b].lam2 = (a2 * s[b].csq + b2) * s[b].lam1 + s[b].lam2;
   };
