@@ -2,7 +2,12 @@
 // recurrences in latitude, vectorised over blocks of ring pairs.
 #include "atmosh/sh/transform.hpp"
 
-// Internal vector helpers never cross a library boundary: the ABI note does not apply.
+// Internal vector helpers never cross a library boundary, so GCC's note on the ABI of wide
+// vector arguments is silenced. Within this file it still matters: a helper that takes or
+// returns a vector wider than 16 bytes must be inlined into (always_inline, as
+// fold_extended) or defined inside the dispatched function that uses it. Called out of
+// line across a target boundary (a default-target helper from an AVX2 clone) the two
+// sides pass such a vector in different places, and the values arrive as garbage.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 #include <algorithm>
@@ -385,6 +390,29 @@ __attribute__((always_inline)) inline bool any(I m) {
   }
 }
 
+// Lane masks from the bits alone (no vector comparisons: those would be lowered before
+// this code is inlined into the wide-vector functions): e is 0 or a negative multiple of
+// kScaleExp, so its sign bit marks the extended lanes; for non-negative doubles the bit
+// patterns order like the values. Folds the extended lanes of a block (lam1, lam2, e:
+// AnaGroup or SynState) whose |lam| passed kJoinFold by 2^-kScaleExp and returns the mask
+// of the lanes still extended.
+template <int W, class S>
+__attribute__((always_inline)) inline typename Lanes<W>::I fold_extended(S& g) {
+  using D = typename Lanes<W>::D;
+  using I = typename Lanes<W>::I;
+  const D down = D{} + kScaleDown, step = D{} + static_cast<double>(kScaleExp);
+  const I fold = I{} + std::bit_cast<long long>(kJoinFold), magnitude = I{} + 0x7fffffffffffffffLL;
+  I ext = (I)g.e >> 63;
+  const I big = (((fold - ((I)g.lam2 & magnitude)) | (fold - ((I)g.lam1 & magnitude))) >> 63) & ext;
+  if (any(big)) {
+    g.lam1 = (D)(((I)(g.lam1 * down) & big) | ((I)g.lam1 & ~big));
+    g.lam2 = (D)(((I)(g.lam2 * down) & big) | ((I)g.lam2 & ~big));
+    g.e = (D)(((I)(g.e + step) & big) | ((I)g.e & ~big));
+    ext = (I)g.e >> 63;
+  }
+  return ext;
+}
+
 // Blocks whose sectoral values need the extended range (mant * 2^e, e < 0 a multiple
 // of kScaleExp; an extended lane's terms are dropped: with the fold below its values
 // are under 2^-250, far below any term that can change a double result). Steps all of
@@ -401,28 +429,14 @@ __attribute__((always_inline)) inline void ana_extended(int kmax, const double* 
                                                         int* live, V4* sums) {
   using D = typename Lanes<W>::D;
   using I = typename Lanes<W>::I;
-  const D down = D{} + kScaleDown, step = D{} + static_cast<double>(kScaleExp);
-  const I fold = I{} + std::bit_cast<long long>(kJoinFold), magnitude = I{} + 0x7fffffffffffffffLL;
   int nlive = nx, nall = 0;  // live[0..nall): no plain lane; live[nall..nlive): some
   int* mixed = live + nx;    // scratch (live has room for 2 nx)
   for (int j = 0; j < nx; ++j) live[j] = ids[j];
   for (int k = 0; k <= kmax && nlive > 0; k += 2) {
     if (k % kFoldEvery == 0) {
-      // Lane masks from the bits alone (no vector comparisons: those would be lowered
-      // before this code is inlined into the wide-vector functions): e is 0 or a
-      // negative multiple of kScaleExp, so its sign bit marks the extended lanes; for
-      // non-negative doubles the bit patterns order like the values.
       int na = 0, nm = 0;
       for (int j = 0; j < nlive; ++j) {
-        AnaGroup<W>& g = grp[live[j]];
-        I ext = (I)g.e >> 63;
-        const I big = (((fold - ((I)g.lam2 & magnitude)) | (fold - ((I)g.lam1 & magnitude))) >> 63) & ext;
-        if (any(big)) {
-          g.lam1 = (D)(((I)(g.lam1 * down) & big) | ((I)g.lam1 & ~big));
-          g.lam2 = (D)(((I)(g.lam2 * down) & big) | ((I)g.lam2 & ~big));
-          g.e = (D)(((I)(g.e + step) & big) | ((I)g.e & ~big));
-          ext = (I)g.e >> 63;
-        }
+        const I ext = fold_extended<W>(grp[live[j]]);
         if (!any(ext))
           join[live[j]] = k;
         else if (any(~ext))
@@ -744,23 +758,12 @@ __attribute__((always_inline)) inline void syn_blocks(int kmax, const double* ap
 #pragma GCC unroll 8
   for (int b = 0; b < NB; ++b) keep[b] = ~I{};
   if (ext) {
-    const D down = D{} + kScaleDown, scale = D{} + static_cast<double>(kScaleExp);
-    const I fold = I{} + std::bit_cast<long long>(kJoinFold), magnitude = I{} + 0x7fffffffffffffffLL;
     for (; k <= kmax; k += 2) {
       if (k % kFoldEvery == 0) {
         I anyx{};
 #pragma GCC unroll 8
         for (int b = 0; b < NB; ++b) {
-          // fold the extended lanes whose |lam| passed kJoinFold
-          SynState<W>& t = s[b];
-          I x = (I)t.e >> 63;
-          const I big = (((fold - ((I)t.lam2 & magnitude)) | (fold - ((I)t.lam1 & magnitude))) >> 63) & x;
-          if (any(big)) {
-            t.lam1 = (D)(((I)(t.lam1 * down) & big) | ((I)t.lam1 & ~big));
-            t.lam2 = (D)(((I)(t.lam2 * down) & big) | ((I)t.lam2 & ~big));
-            t.e = (D)(((I)(t.e + scale) & big) | ((I)t.e & ~big));
-            x = (I)t.e >> 63;
-          }
+          const I x = fold_extended<W>(s[b]);
           keep[b] = ~x;
           anyx |= x;
         }
