@@ -877,37 +877,52 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
   if (gi < ngroups) run(std::integral_constant<int, 1>{}, gi);
 }
 
-// The step coefficients of synthesis column m from its coefficients cm[2 (l - m) + {0, 1}]
-// (cos, sin; see above): sc[4 k + {0, 1}] = e_k = alpha_k c_m+2k, sc[4 k + {2, 3}] = d_k =
+// The step coefficients of synthesis column m from its coefficients c_l,m and c_l,-m (cos,
+// sin; read from the degree rows of `coeffs` at l (l + 1) +- m): sc[4 k + {0, 1}] = e_k = alpha_k c_m+2k, sc[4 k + {2, 3}] = d_k =
 // rb_k y_k with y_k = c_m+2k+1 - qa_k+1 y_k+1 for the odd degrees m + 2k + 1 < bands
 // (k <= kodd; kodd = -1: none), zero past the last degree, to k = kmax + 1. The backward
 // substitution is a chain of dependent operations: it runs two steps per link,
 // y_k = (c_k - qa_k+1 c_k+1) + qa_k+1 qa_k+2 y_k+2 (y_k+1 from y_k+2 beside it).
 ATMOSH_DISPATCH
 static void syn_step_coefficients(int kmax, int kodd, const double* __restrict alpha, const double* __restrict qa,
-                                  const double* __restrict rb, const double* __restrict cm, double* __restrict sc) {
+                                  const double* __restrict rb, const double* __restrict coeffs, int m,
+                                  bool prefetch, double* __restrict sc) {
   typedef double V2 __attribute__((vector_size(16)));
-  auto ld = [](const double* p) {
-    V2 v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
+  // (c_l,m, c_l,-m) of degree l = m + i; c_l,-0 = 0
+  auto ldc = [coeffs, m](int i) {
+    const int l = m + i;
+    const double* const row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+    return V2{row[m], m > 0 ? row[-m] : 0.0};
   };
   auto st = [](double* p, V2 v) { std::memcpy(p, &v, sizeof v); };
-  for (int k = 0; k <= kmax; ++k) st(sc + 4 * k, alpha[k] * ld(cm + 4 * k));
+  if (prefetch) {
+    // the next 8 orders' values of these degrees (a cache line on from each of these)
+    for (int k = 0; k <= kmax; ++k) {
+      st(sc + 4 * k, alpha[k] * ldc(2 * k));
+      for (int i = 0; i < 2; ++i) {
+        const int l = m + 2 * k + i;
+        const double* p = coeffs + static_cast<std::size_t>(l) * (l + 1);
+        __builtin_prefetch(p + m + 8);
+        __builtin_prefetch(p - m - 8);
+      }
+    }
+  } else {
+    for (int k = 0; k <= kmax; ++k) st(sc + 4 * k, alpha[k] * ldc(2 * k));
+  }
   for (int k = kodd + 1; k <= kmax + 1; ++k) st(sc + 4 * k + 2, V2{});
   st(sc + 4 * (kmax + 1), V2{});
   if (kodd < 0) return;
   int j = kodd;
-  V2 y = ld(cm + 4 * j + 2);  // y_kodd
+  V2 y = ldc(2 * j + 1);  // y_kodd
   st(sc + 4 * j + 2, rb[j] * y);
   for (; j >= 2; j -= 2) {
-    const V2 c1 = ld(cm + 4 * (j - 1) + 2), c2 = ld(cm + 4 * (j - 2) + 2);
+    const V2 c1 = ldc(2 * (j - 1) + 1), c2 = ldc(2 * (j - 2) + 1);
     const V2 y1 = c1 - qa[j] * y;
     y = (c2 - qa[j - 1] * c1) + (qa[j - 1] * qa[j]) * y;
     st(sc + 4 * (j - 1) + 2, rb[j - 1] * y1);
     st(sc + 4 * (j - 2) + 2, rb[j - 2] * y);
   }
-  if (j == 1) st(sc + 2, rb[0] * (ld(cm + 2) - qa[1] * y));
+  if (j == 1) st(sc + 2, rb[0] * (ldc(1) - qa[1] * y));
 }
 
 ATMOSH_DISPATCH
@@ -1097,33 +1112,14 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
   const int np = static_cast<int>(pr.north.size());
   ThreadWork& tw = thread_work();
   const int W = rp.W;
-  // Coefficients regrouped m-major (column m: c_l,m and c_l,-m for l = m..bands-1 at
-  // col + col_offset(m)); the per-column sums are kept in blocks of 16 ring pairs (sm,
-  // 4 values per pair, m after m within a block) and turned into ring rows at the end. (Strided reads and writes
-  // of single values per (l, m) and (ring, m) cost a fifth of a synthesis at L = 1024.)
-  auto col_offset = [bands](int m) { return 2 * (static_cast<std::size_t>(m) * bands - static_cast<std::size_t>(m) * (m - 1) / 2); };
-  double* const col = tw.col.get(col_offset(bands));
+  // The per-column sums are kept in blocks of 16 ring pairs (sm, 4 values per pair, m after
+  // m within a block) and turned into ring rows at the end. (Strided reads and writes of
+  // single values per (ring, m) cost a fifth of a synthesis at L = 1024.) The coefficients are
+  // read from their degree rows by the column set-up: a regroup into m-major columns before
+  // it was a separate pass over all of them (~6 % of a synthesis at L = 256 and 1024).
   constexpr int QB = kSynQB;  // ring pairs per block of the sums
   const int nqb = (padded + QB - 1) / QB;
   double* const sm = tw.fm.get(static_cast<std::size_t>(bands) * nqb * QB * 4);
-  // degree rows into columns in tiles of 8 degrees x 8 orders (as the analysis; rows of
-  // tiles split between the threads)
-  constexpr int T = 8;
-  parallel_for_m((bands + T - 1) / T, bands >= 512 ? threads : 1, [] { return NoScratch{}; }, [&](NoScratch&, int lt) {
-    const int l0 = lt * T;
-    const int l1 = std::min(bands, l0 + T);
-    for (int m0 = 0; m0 < l1; m0 += T) {
-      const int m1 = std::min(l1, m0 + T);
-      for (int m = m0; m < m1; ++m) {
-        double* c = col + col_offset(m);
-        for (int l = std::max(l0, m); l < l1; ++l) {
-          const double* row = coeffs + static_cast<std::size_t>(l) * (l + 1);
-          c[2 * (l - m)] = row[m];
-          c[2 * (l - m) + 1] = m > 0 ? row[-m] : 0.0;
-        }
-      }
-    }
-  });
 
   struct Scratch {
     AnaCoef cf;
@@ -1134,7 +1130,8 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
     const int kmax = (bands - 1 - m) / 2;
     if (!coefs) ana_coefficients(bands, m, scratch.cf);
     const ColCoef cf = coefs ? coefs->col(m) : view(scratch.cf);
-    syn_step_coefficients(kmax, bands - 2 - m >= 0 ? (bands - 2 - m) / 2 : -1, cf.alpha, cf.qa, cf.rb, col + col_offset(m), sc.data());
+    syn_step_coefficients(kmax, bands - 2 - m >= 0 ? (bands - 2 - m) / 2 : -1, cf.alpha, cf.qa, cf.rb, coeffs, m,
+                          bands >= 512, sc.data());
     const std::size_t off = static_cast<std::size_t>(m) * padded;
     // block b of the sums: sm[((b * bands + m) * QB + j) * 4 + f] for pair b QB + j
     double* const out = sm + static_cast<std::size_t>(m) * QB * 4;
@@ -1272,20 +1269,26 @@ namespace {
 // How a size is transformed (chosen from the factors of n alone, so that the same input
 // gives the same bits from run to run; the costs were measured with FFTW 3.3 on AVX2, one
 // thread, docs/sh.md):
-//   real: n = 2^a 3^b 5^c — one real FFT (r2c / c2r) per ring;
+//   split: n a power of two >= 16 — two rings as the real and imaginary parts of one
+//         complex FFT in FFTW's split format, so that the rings' own rows are its input
+//         (forward) or output (inverse): 25-45 % less time per ring than one c2r per ring at
+//         n = 128 ... 2048 (Zen 5, FFTW 3.3.10, docs/sh.md); sizes with a factor 3 or 5 were
+//         slower in this form than as real FFTs;
+//   real: other n = 2^a 3^b 5^c — one real FFT (r2c / c2r) per ring;
 //   pair: other factors all <= 13 — two rings as the real and imaginary parts of one
 //         complex FFT of size n (FFTW's real transforms of such sizes cost 3-4x the complex
 //         ones per ring);
 //   chirp: a prime factor > 13 (511 = 7 x 73, 2047 = 23 x 89: FFTW then takes 10-20x the
 //         power-of-two time) — two rings at once through Bluestein's chirp convolution
 //         with complex FFTs of the power of two M >= 2n.
-enum class FftMode { real, pair, chirp };
+enum class FftMode { real, split, pair, chirp };
 struct FftPlans {
   FftMode mode = FftMode::real;
   int m = 0;                                   // complex FFT size: n (pair) or M (chirp)
   fftw_plan r2c = nullptr, c2r = nullptr;      // size n, real
   fftw_plan r2c_rows[2] = {nullptr, nullptr};  // 4 / 8 consecutive rings at once (real mode, even n)
   fftw_plan fwd = nullptr, bwd = nullptr;      // size m, complex, in place
+  fftw_plan sfwd = nullptr, sbwd = nullptr;    // size n, complex, split format, out of place (split)
   fftw_plan fwd_oop = nullptr, bwd_oop = nullptr;  // size m, complex, out of place (chirp analysis)
   // chirp analysis with m >= 4096: the convolution's FFTs as m = n1 x n2 (four steps: n1
   // columns of n2 values, twiddles, n2 rows of n1 values), spectra in transposed order
@@ -1307,8 +1310,8 @@ struct PlanCache {
   ~PlanCache() {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
     for (auto& [n, p] : plans)
-      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.fwd_oop, p.bwd_oop, p.r2c_rows[0], p.r2c_rows[1], p.col_f,
-                          p.row_f, p.row_b, p.col_b})
+      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.sfwd, p.sbwd, p.fwd_oop, p.bwd_oop, p.r2c_rows[0],
+                          p.r2c_rows[1], p.col_f, p.row_f, p.row_b, p.col_b})
         if (q) fftw_destroy_plan(q);
     plans.clear();
   }
@@ -1322,6 +1325,7 @@ FftMode fft_mode(int n) {
       r /= p;
     }
   if (r > 1) largest = std::max(largest, r);
+  if (r == 1 && largest == 2 && n >= 16) return FftMode::split;
   if (largest <= 5) return FftMode::real;
   return largest <= 13 ? FftMode::pair : FftMode::chirp;
 }
@@ -1364,7 +1368,19 @@ const FftPlans* fft_plans(int n) {
       fftw_free(cc);
     }
   }
-  if (p.mode != FftMode::real) {
+  if (ok && p.mode == FftMode::split) {
+    // FFTW's split DFT is the forward one (sign -1); with the real and imaginary parts of
+    // input and output exchanged it is the backward one: i conj(DFT(i conj z)) = IDFT(z)
+    p.m = n;
+    double* a = fftw_alloc_real(4 * static_cast<std::size_t>(n));
+    fftw_iodim dim{n, 1, 1};
+    p.sfwd = fftw_plan_guru_split_dft(1, &dim, 0, nullptr, a, a + n, a + 2 * n, a + 3 * n,
+                                      FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+    p.sbwd = fftw_plan_guru_split_dft(1, &dim, 0, nullptr, a + n, a, a + 3 * n, a + 2 * n, FFTW_ESTIMATE);
+    fftw_free(a);
+    ok = p.sfwd && p.sbwd;
+  }
+  if (p.mode == FftMode::pair || p.mode == FftMode::chirp) {
     int m = n;
     if (p.mode == FftMode::chirp) {
       m = 1;
@@ -1457,7 +1473,8 @@ const FftPlans* fft_plans(int n) {
     fftw_free(z);
   }
   if (!ok) {
-    for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.fwd_oop, p.bwd_oop, p.col_f, p.row_f, p.row_b, p.col_b})
+    for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.sfwd, p.sbwd, p.fwd_oop, p.bwd_oop, p.r2c_rows[0], p.r2c_rows[1],
+                        p.col_f, p.row_f, p.row_b, p.col_b})
       if (q) fftw_destroy_plan(q);
     throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
   }
@@ -1562,6 +1579,45 @@ void chirp_inverse_fill(const double* __restrict cs1, const double* __restrict c
   }
 }
 
+// The spectra of two rings, X1_k = (Z_k + conj(Z_-k)) / 2 and X2_k = (Z_k - conj(Z_-k)) / (2 i)
+// for k < cm (re, im interleaved), from the split forward FFT Z of z = f1 + i f2 (zr, zi).
+ATMOSH_DISPATCH_NO_FMA
+void split_separate(const double* __restrict zr, const double* __restrict zi, int n, int cm, double* __restrict s1,
+                    double* __restrict s2) {
+  if (cm < 1) return;
+  s1[0] = zr[0];
+  s1[1] = 0.0;
+  s2[0] = zi[0];
+  s2[1] = 0.0;
+  const double* const rm = zr + n;
+  const double* const im = zi + n;
+  for (int k = 1; k < cm; ++k) {
+    s1[2 * k] = 0.5 * (zr[k] + rm[-k]);
+    s1[2 * k + 1] = 0.5 * (zi[k] - im[-k]);
+    s2[2 * k] = 0.5 * (zi[k] + im[-k]);
+    s2[2 * k + 1] = -0.5 * (zr[k] - rm[-k]);
+  }
+}
+
+// The split inverse's spectrum of two rings (see RealFft::inverse2): Z_k = V1_k + i V2_k
+// for 0 < k < count and its mirror Z_-k at n - k, real parts in zr, imaginary parts in zi;
+// k = 0 and the zeros between are the caller's. (Two loops, so that each vectorises.)
+ATMOSH_DISPATCH_NO_FMA
+void split_inverse_fill(const double* __restrict cs1, const double* __restrict cs2, int count, int n,
+                        double* __restrict zr, double* __restrict zi) {
+  // V1_k = c1 - i s1, V2_k = c2 - i s2: Z_k = (c1 + s2) + i (c2 - s1); Z_-k = (c1 - s2) + i (c2 + s1)
+  for (int k = 1; k < count; ++k) {
+    zr[k] = 0.5 * cs1[2 * k] + 0.5 * cs2[2 * k + 1];
+    zi[k] = 0.5 * cs2[2 * k] - 0.5 * cs1[2 * k + 1];
+  }
+  double* const rm = zr + n;
+  double* const im = zi + n;
+  for (int k = 1; k < count; ++k) {
+    rm[-k] = 0.5 * cs1[2 * k] - 0.5 * cs2[2 * k + 1];
+    im[-k] = 0.5 * cs2[2 * k] + 0.5 * cs1[2 * k + 1];
+  }
+}
+
 // v1_j + i v2_j = w_j z_j, j < n (the chirp inverse's last step; no fused multiply-add).
 ATMOSH_DISPATCH_NO_FMA
 void chirp_inverse_out(const double* __restrict z, const double* __restrict w, int n, double* __restrict v1,
@@ -1581,9 +1637,13 @@ RealFft::RealFft(int n) : n_(n) {
   real_ = fftw_alloc_real(static_cast<std::size_t>(n));
   spec_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
   // chirp: three arrays of m complex values (in-place work / out-of-place output, the
-  // forward input with its zero tail, the forward spectrum)
-  const bool chirp = static_cast<const FftPlans*>(plans_)->mode == FftMode::chirp;
-  work_ = m > 0 ? reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(m) * (chirp ? 3 : 1))) : nullptr;
+  // forward input with its zero tail, the forward spectrum); split: four arrays of n values
+  // (the spectrum's real and imaginary parts, two rings where the caller's rows are not
+  // aligned as the plan's)
+  const FftMode mode = static_cast<const FftPlans*>(plans_)->mode;
+  const bool chirp = mode == FftMode::chirp;
+  work_ = m > 0 ? reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(m) * (chirp ? 3 : mode == FftMode::split ? 2 : 1)))
+                : nullptr;
   if (chirp && work_) std::fill(work_ + 2 * static_cast<std::size_t>(m), work_ + 4 * static_cast<std::size_t>(m), 0.0);
   spec2_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
   if (!real_ || !spec_ || !spec2_ || (m > 0 && !work_)) {
@@ -1683,9 +1743,34 @@ void RealFft::forward2_spectra(const double* f1, const double* f2, int count, do
     chirp_spectra(f1, f2, cm, s1, s2);
     return;
   }
+  if (p.mode == FftMode::split) {
+    split_spectra(f1, f2, cm, s1, s2);
+    return;
+  }
   forward2(f1, f2, count, nullptr, nullptr);  // leaves the spectra in spec_, spec2_
   std::memcpy(s1, spec_, sizeof(double) * 2 * cm);
   std::memcpy(s2, spec2_, sizeof(double) * 2 * cm);
+}
+
+void RealFft::split_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2) {
+  // z_j = f1_j + i f2_j from the rows themselves (copied where they are not aligned as the
+  // plan's arrays); F1_k = (Z_k + conj(Z_-k)) / 2, F2_k = (Z_k - conj(Z_-k)) / (2 i)
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  const int n = n_;
+  double* const zr = work_;
+  double* const zi = work_ + n;
+  const double* a = f1;
+  const double* b = f2;
+  if (fftw_alignment_of(const_cast<double*>(f1)) != fftw_alignment_of(zr) ||
+      fftw_alignment_of(const_cast<double*>(f2)) != fftw_alignment_of(zr)) {
+    double* const t = work_ + 2 * static_cast<std::size_t>(n);
+    std::memcpy(t, f1, sizeof(double) * n);
+    std::memcpy(t + n, f2, sizeof(double) * n);
+    a = t;
+    b = t + n;
+  }
+  fftw_execute_split_dft(p.sfwd, const_cast<double*>(a), const_cast<double*>(b), zr, zi);
+  split_separate(zr, zi, n, cm, s1, s2);
 }
 
 void RealFft::chirp_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2) {
@@ -1717,6 +1802,13 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
     return;
   }
   double* z = work_;
+  if (p.mode == FftMode::split) {
+    split_spectra(f1, f2, cm, spec_, spec2_);
+    if (!out1) return;
+    emit_orders(spec_, n, count, out1);
+    emit_orders(spec2_, n, count, out2);
+    return;
+  }
   // z_j = f1_j + i f2_j; X_k = F1_k + i F2_k for |k| < cm at xk(k)
   if (p.mode == FftMode::pair) {
     for (int j = 0; j < n; ++j) {
@@ -1794,6 +1886,28 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
     throw InputError("RealFft::inverse2: " + std::to_string(count) + " orders need at least " +
                      std::to_string(2 * count - 1) + " points, have " + std::to_string(n_));
   const int n = n_, m = p.m;
+  if (p.mode == FftMode::split) {
+    // Z_k = V1_k + i V2_k (as below) in split format; the backward FFT's real and imaginary
+    // parts are the two rings, written to v1, v2 themselves where they are aligned as the
+    // plan's arrays
+    double* const zr = work_;
+    double* const zi = work_ + n;
+    zr[0] = count > 0 ? cs1[0] : 0.0;
+    zi[0] = count > 0 ? cs2[0] : 0.0;
+    split_inverse_fill(cs1, cs2, count, n, zr, zi);
+    const int k0 = std::max(count, 1);
+    std::fill(zr + k0, zr + n - k0 + 1, 0.0);
+    std::fill(zi + k0, zi + n - k0 + 1, 0.0);
+    const bool direct = fftw_alignment_of(v1) == fftw_alignment_of(zr) && fftw_alignment_of(v2) == fftw_alignment_of(zr);
+    double* const o1 = direct ? v1 : work_ + 2 * static_cast<std::size_t>(n);
+    double* const o2 = direct ? v2 : work_ + 3 * static_cast<std::size_t>(n);
+    fftw_execute_split_dft(p.sbwd, zi, zr, o2, o1);
+    if (!direct) {
+      std::memcpy(v1, o1, sizeof(double) * n);
+      std::memcpy(v2, o2, sizeof(double) * n);
+    }
+    return;
+  }
   double* z = work_;
   std::fill(z, z + 2 * m, 0.0);
   const double* w = p.chirp.data();

@@ -42,8 +42,9 @@ class RealFft {
   /// The raw spectra X_k = sum_j f_j e^{-2 pi i j k / n}, k <= n/2 (re, im interleaved, row
   /// stride n/2 + 1 complex values) of `rows` (4 or 8) consecutive rings (stride n) by one
   /// FFTW call of a plan over all of them, made once per size. Returns false, having done
-  /// nothing, where no such plan applies (odd n, sizes other than 2^a 3^b 5^c, rows not
-  /// aligned as FFTW's own arrays).
+  /// nothing, where no such plan applies (odd n, sizes other than 2^a 3^b 5^c, powers of two:
+  /// forward2_spectra's split FFTs of two rings are faster there; rows not aligned as
+  /// FFTW's own arrays).
   bool forward_rows(const double* f, int rows, double* spectra);
   /// forward() of two rings (out1 from f1, out2 from f2).
   void forward2(const double* f1, const double* f2, int count, double* out1, double* out2);
@@ -57,8 +58,9 @@ class RealFft {
   void inverse2(const double* cs1, const double* cs2, int count, double* v1, double* v2);
 
  private:
-  // forward2_spectra of the chirp method (spectra for k < cm into s1, s2)
+  // forward2_spectra of the chirp and split methods (spectra for k < cm into s1, s2)
   void chirp_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2);
+  void split_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2);
 
   int n_;
   const void* plans_;  // the shared plans of size n

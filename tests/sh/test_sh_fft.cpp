@@ -27,12 +27,13 @@ long double angle(long long m, long long j, long long n) {
 }  // namespace
 
 TEST(Transform, PairedRealFftsMatchDirectSums) {
-  // Sizes of each method: 2^a 3^b 5^c (real FFTs), other factors <= 13 (two rings per
-  // complex FFT: 7, 21, 77, 525), a factor > 13 (Bluestein: 17, 34, 89, 511);
+  // Sizes of each method: powers of two from 16 (two rings per split-format complex FFT:
+  // 16, 64, 512), other 2^a 3^b 5^c (real FFTs: 1, 2, 8, 96), other factors <= 13 (two rings
+  // per complex FFT: 7, 21, 77, 525), a factor > 13 (Bluestein: 17, 34, 89, 511);
   // forward with aliased orders (count > n/2), inverse at the largest count.
   std::mt19937_64 rng(27);
   std::uniform_real_distribution<double> U(-1, 1);
-  for (int n : {1, 2, 16, 96, 7, 21, 77, 525, 17, 34, 89, 511}) {
+  for (int n : {1, 2, 8, 16, 64, 512, 96, 7, 21, 77, 525, 17, 34, 89, 511}) {
     detail::RealFft fft(n);
     std::vector<double> f1(n), f2(n);
     for (auto& v : f1) v = U(rng);
@@ -130,6 +131,82 @@ TEST(Transform, ChirpOfFourStepsMatchesDirectSums) {
       ASSERT_NEAR(v1[j], static_cast<double>(s1), 1e-14 * n) << n << " " << j;
       ASSERT_NEAR(v2[j], static_cast<double>(s2), 1e-14 * n) << n << " " << j;
     }
+  }
+}
+
+TEST(Transform, SplitFftsOfTwoRingsReadAndWriteRowsInPlaceOrCopied) {
+  // Powers of two transform two rings as one complex FFT in FFTW's split format, reading the
+  // rows themselves (forward2_spectra) or writing into them (inverse2) where they have the
+  // alignment of the plan's arrays, through copies otherwise. Both ways against direct sums
+  // in long double, the same bits either way, and the input rows left as they were.
+  std::mt19937_64 rng(37);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int n : {16, 128, 1024}) {
+    detail::RealFft fft(n);
+    ASSERT_TRUE(detail::RealFft::pairs_rings(n)) << n;
+    const int cm = n / 2 + 1;
+    double* buf = fftw_alloc_real(2 * static_cast<std::size_t>(n) + 1);
+    std::vector<double> f1(n), f2(n);
+    for (auto& v : f1) v = U(rng);
+    for (auto& v : f2) v = U(rng);
+    std::vector<std::vector<double>> spectra;  // s1, s2 of the aligned rows, then of the shifted
+    for (int shift : {0, 1}) {
+      double* r1 = buf + shift;
+      double* r2 = r1 + n;
+      std::memcpy(r1, f1.data(), sizeof(double) * n);
+      std::memcpy(r2, f2.data(), sizeof(double) * n);
+      std::vector<double> s1(2 * cm), s2(2 * cm);
+      fft.forward2_spectra(r1, r2, cm, s1.data(), s2.data());
+      for (int j = 0; j < n; ++j) ASSERT_TRUE(r1[j] == f1[j] && r2[j] == f2[j]) << "input changed, n = " << n;
+      spectra.push_back(s1);
+      spectra.push_back(s2);
+    }
+    for (int k = 0; k < cm; ++k) {
+      // X_k = sum_j f_j e^{-2 pi i j k / n}
+      long double a1 = 0, b1 = 0, a2 = 0, b2 = 0;
+      for (int j = 0; j < n; ++j) {
+        const long double p = angle(k, j, n);
+        a1 += f1[j] * std::cos(p);
+        b1 -= f1[j] * std::sin(p);
+        a2 += f2[j] * std::cos(p);
+        b2 -= f2[j] * std::sin(p);
+      }
+      const double tol = 1e-14 * n;
+      ASSERT_NEAR(spectra[0][2 * k], static_cast<double>(a1), tol) << n << " " << k;
+      ASSERT_NEAR(spectra[0][2 * k + 1], static_cast<double>(b1), tol) << n << " " << k;
+      ASSERT_NEAR(spectra[1][2 * k], static_cast<double>(a2), tol) << n << " " << k;
+      ASSERT_NEAR(spectra[1][2 * k + 1], static_cast<double>(b2), tol) << n << " " << k;
+      for (int i = 0; i < 2; ++i) {
+        ASSERT_EQ(spectra[i][2 * k], spectra[2 + i][2 * k]) << n << " " << k;
+        ASSERT_EQ(spectra[i][2 * k + 1], spectra[2 + i][2 * k + 1]) << n << " " << k;
+      }
+    }
+    const int count = n / 2;
+    std::vector<double> c1(2 * count), c2(2 * count);
+    for (auto& v : c1) v = U(rng);
+    for (auto& v : c2) v = U(rng);
+    std::vector<double> va;
+    for (int shift : {0, 1}) {
+      double* r1 = buf + shift;
+      double* r2 = r1 + n;
+      fft.inverse2(c1.data(), c2.data(), count, r1, r2);
+      if (shift == 0) {
+        va.assign(r1, r1 + 2 * static_cast<std::size_t>(n));
+        continue;
+      }
+      for (int j = 0; j < 2 * n; ++j) ASSERT_EQ(va[j], r1[j]) << n << " " << j;
+    }
+    for (int j = 0; j < n; ++j) {
+      long double v1 = 0, v2 = 0;
+      for (int m = 0; m < count; ++m) {
+        const long double p = angle(m, j, n), c = std::cos(p), s = m > 0 ? std::sin(p) : 0.0L;
+        v1 += c1[2 * m] * c + c1[2 * m + 1] * s;
+        v2 += c2[2 * m] * c + c2[2 * m + 1] * s;
+      }
+      ASSERT_NEAR(va[j], static_cast<double>(v1), 1e-14 * n) << n << " " << j;
+      ASSERT_NEAR(va[n + j], static_cast<double>(v2), 1e-14 * n) << n << " " << j;
+    }
+    fftw_free(buf);
   }
 }
 
@@ -242,11 +319,11 @@ TEST(Transform, UserFftwPlansAndWisdomSurviveLibshTeardown) {
 
 TEST(Transform, RingBlockFftsMatchDirectSums) {
   // forward_rows (4 or 8 consecutive rings per FFTW call, the path of the analysis for even
-  // 2^a 3^b 5^c sizes) against direct sums in long double; rows off FFTW's alignment and
-  // sizes without such plans are refused.
+  // 2^a 3^b 5^c sizes other than powers of two) against direct sums in long double; rows off
+  // FFTW's alignment and sizes without such plans are refused.
   std::mt19937_64 rng(43);
   std::uniform_real_distribution<double> U(-1, 1);
-  for (int n : {16, 96}) {
+  for (int n : {24, 96}) {
     detail::RealFft fft(n);
     const int nc = n / 2 + 1;
     for (int rows : {4, 8}) {
@@ -269,8 +346,8 @@ TEST(Transform, RingBlockFftsMatchDirectSums) {
       fftw_free(spec);
     }
   }
-  // odd; 2 x 7 (paired complex FFTs); 2 x 23 (chirp)
-  for (int n : {15, 14, 46}) {
+  // odd; 2 x 7 (paired complex FFTs); 2 x 23 (chirp); powers of two (split FFTs of two rings)
+  for (int n : {15, 14, 46, 16, 512}) {
     detail::RealFft fft(n);
     double* f = fftw_alloc_real(static_cast<std::size_t>(n) * 4);
     double* spec = fftw_alloc_real(2 * (static_cast<std::size_t>(n) / 2 + 1) * 4);
