@@ -956,10 +956,15 @@ inline std::size_t ring_sum_index(int padded, int W, int m, int q, int f) {
 }
 
 void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeffs, int threads, bool assign);
-// rows_done(q0, q1), where given, is called by the worker that has just written the ring rows
-// of ring pairs q0..q1-1 (north and south), so that it can transform them while they are in cache.
-void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads,
-                         const std::function<void(int, int)>& rows_done = {});
+// The synthesis's Legendre sums of every ring pair, handed over a block of kSynQB pairs at a
+// time: block_done(q0, q1, sums) is called by the worker that has just finished the sums of
+// pairs q0..q1-1, so that it can use them while they are in cache; pair q's sums of order m
+// are sums[(m kSynQB + q - q0) 4 + f]: E cos, E sin, O cos, O sin (O = x D; see syn_store).
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, int threads,
+                         const std::function<void(int, int, const double*)>& block_done);
+// Ring rows fourier[(r bands + m) 2 + {0, 1}] (as legendre_synthesis) of pairs q0..q1-1 from
+// their block of sums.
+void sums_to_rows(const Pairs& pr, int bands, int q0, int q1, const double* sums, double* fourier);
 }  // namespace
 
 void legendre_analysis(int bands, int nrings, const double* cos_t, const double* sin_t,
@@ -1099,12 +1104,14 @@ void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeff
 void legendre_synthesis(int bands, int nrings, const double* cos_t, const double* sin_t,
                         const double* coeffs, bool symmetric, double* fourier, int threads) {
   const RingPlan rp(bands, nrings, cos_t, sin_t, symmetric, analysis_lanes());
-  synthesis_from_plan(rp, coeffs, fourier, atmosh::resolve_threads(threads));
+  synthesis_from_plan(rp, coeffs, atmosh::resolve_threads(threads), [&](int q0, int q1, const double* sums) {
+    sums_to_rows(rp.pr, bands, q0, q1, sums, fourier);
+  });
 }
 
 namespace {
-void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fourier, int threads,
-                         const std::function<void(int, int)>& rows_done) {
+void synthesis_from_plan(const RingPlan& rp, const double* coeffs, int threads,
+                         const std::function<void(int, int, const double*)>& block_done) {
   const int bands = rp.bands;
   const auto coefs = coef_table(bands);
   const Pairs& pr = rp.pr;
@@ -1146,48 +1153,106 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, double* fouri
   parallel_for_m(
       bands, threads,
       [&] { return Scratch{{}, std::vector<double>(4 * (static_cast<std::size_t>(bands) + 4))}; }, column);
-  // ring rows from the sums, one block of 16 ring pairs at a time (its values are
-  // contiguous, m after m; the 32 ring rows fill in step)
   parallel_for_m((np + QB - 1) / QB, threads, [] { return NoScratch{}; }, [&](NoScratch&, int block) {
-    // runs of 16 orders per ring (ring rows lie a multiple of 4 kB apart when bands is a
-    // power of two: writing 32 of them in step, one value each, thrashed L1's sets)
     const int q0 = block * QB, q1 = std::min(np, q0 + QB);
-    constexpr int MC = 16;
-    for (int m0 = 0; m0 < bands; m0 += MC) {
-      const int m1 = std::min(bands, m0 + MC);
-      for (int q = q0; q < q1; ++q) {
-        double* fn = fourier + static_cast<std::size_t>(pr.north[q]) * bands * 2;
-        double* fs = pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * bands * 2 : nullptr;
-        const double* v0 = sm + static_cast<std::size_t>(block) * bands * QB * 4 + 4 * static_cast<std::size_t>(q - q0);
-        int mb = m0;
-        if (mb == 0) {  // m = 0: no sine part, no sqrt2
-          fn[0] = v0[0] + v0[2];
-          fn[1] = 0.0;
-          if (fs) {
-            fs[0] = v0[0] - v0[2];
-            fs[1] = 0.0;
-          }
-          mb = 1;
-        }
-        // (E cos, E sin) +- (O cos, O sin), times sqrt2: two values per order at once
-        typedef double V2 __attribute__((vector_size(16)));
-        const V2 s2 = V2{} + std::numbers::sqrt2;
-        for (int m = mb; m < m1; ++m) {
-          const double* v = v0 + static_cast<std::size_t>(m) * QB * 4;
-          V2 e, o;
-          std::memcpy(&e, v, sizeof e);
-          std::memcpy(&o, v + 2, sizeof o);
-          const V2 pn = s2 * (e + o);
-          std::memcpy(fn + 2 * m, &pn, sizeof pn);
-          if (fs) {
-            const V2 ps = s2 * (e - o);
-            std::memcpy(fs + 2 * m, &ps, sizeof ps);
-          }
-        }
-      }
-    }
-    if (rows_done) rows_done(q0, q1);
+    block_done(q0, q1, sm + static_cast<std::size_t>(block) * bands * QB * 4);
   });
+}
+
+// Orders m0..m1-1 of one pair's ring rows fn (north) and fs (south; null: none) from its
+// sums v[m kSynQB 4 + f].
+void sums_to_ring_rows(const double* v, int m0, int m1, double* fn, double* fs) {
+  int mb = m0;
+  if (mb == 0 && m1 > 0) {  // m = 0: no sine part, no sqrt2
+    fn[0] = v[0] + v[2];
+    fn[1] = 0.0;
+    if (fs) {
+      fs[0] = v[0] - v[2];
+      fs[1] = 0.0;
+    }
+    mb = 1;
+  }
+  // (E cos, E sin) +- (O cos, O sin), times sqrt2: two values per order at once
+  typedef double V2 __attribute__((vector_size(16)));
+  const V2 s2 = V2{} + std::numbers::sqrt2;
+  for (int m = mb; m < m1; ++m) {
+    const double* const vm = v + static_cast<std::size_t>(m) * kSynQB * 4;
+    V2 e, o;
+    std::memcpy(&e, vm, sizeof e);
+    std::memcpy(&o, vm + 2, sizeof o);
+    const V2 pn = s2 * (e + o);
+    std::memcpy(fn + 2 * m, &pn, sizeof pn);
+    if (fs) {
+      const V2 ps = s2 * (e - o);
+      std::memcpy(fs + 2 * m, &ps, sizeof ps);
+    }
+  }
+}
+
+void sums_to_rows(const Pairs& pr, int bands, int q0, int q1, const double* sums, double* fourier) {
+  // runs of 16 orders per ring (ring rows lie a multiple of 4 kB apart when bands is a
+  // power of two: writing 32 of them in step, one value each, thrashed L1's sets)
+  constexpr int MC = 16;
+  for (int m0 = 0; m0 < bands; m0 += MC)
+    for (int q = q0; q < q1; ++q)
+      sums_to_ring_rows(sums + 4 * static_cast<std::size_t>(q - q0), m0, std::min(bands, m0 + MC),
+                        fourier + static_cast<std::size_t>(pr.north[q]) * bands * 2,
+                        pr.south[q] >= 0 ? fourier + static_cast<std::size_t>(pr.south[q]) * bands * 2 : nullptr);
+}
+
+// The split spectrum (RealFft::inverse_split) whose real and imaginary parts are the north
+// and south rings of one pair, from the pair's sums v[m stride + f] (E cos, E sin, O cos,
+// O sin), of orders m0 <= m < m1; where m1 = count (the pair's last orders), also the zeros
+// for count <= k <= n - count. With P = E + O, Q = E - O the
+// rings' spectra are N = sqrt2 P, S = sqrt2 Q (m > 0; P, Q at m = 0), and as in inverse2
+// Re Z_m = g (P cos + Q sin), Im Z_m = g (Q cos - P sin), Re Z_-m = g (P cos - Q sin),
+// Im Z_-m = g (Q cos + P sin), g = sqrt2 / 2. Four orders at a time through a 4 x 4
+// transpose; no fused multiply-add, so every clone gives the same bits.
+ATMOSH_DISPATCH_NO_FMA
+void sums_to_split(const double* __restrict v, int stride, int m0, int m1, int count, int n, double* __restrict zr,
+                   double* __restrict zi) {
+  if (m0 == 0 && m1 > 0) {
+    zr[0] = v[0] + v[2];
+    zi[0] = v[0] - v[2];
+  }
+  const double g = std::numbers::sqrt2 / 2;
+  double* const rm = zr + n;  // Z_-m at n - m
+  double* const im = zi + n;
+  int m = std::max(m0, 1);
+  for (; m + 4 <= m1; m += 4) {
+    // (one load per order, no array: a copy loop through the stack defeated store forwarding)
+    const double* const vm = v + static_cast<std::size_t>(m) * stride;
+    V4 a0, a1, a2, a3;
+    std::memcpy(&a0, vm, sizeof a0);
+    std::memcpy(&a1, vm + stride, sizeof a1);
+    std::memcpy(&a2, vm + 2 * static_cast<std::size_t>(stride), sizeof a2);
+    std::memcpy(&a3, vm + 3 * static_cast<std::size_t>(stride), sizeof a3);
+    const V4 t0 = __builtin_shufflevector(a0, a1, 0, 4, 2, 6);  // ec, ec', oc, oc'
+    const V4 t1 = __builtin_shufflevector(a0, a1, 1, 5, 3, 7);  // es, es', os, os'
+    const V4 t2 = __builtin_shufflevector(a2, a3, 0, 4, 2, 6);
+    const V4 t3 = __builtin_shufflevector(a2, a3, 1, 5, 3, 7);
+    const V4 ec = __builtin_shufflevector(t0, t2, 0, 1, 4, 5), oc = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+    const V4 es = __builtin_shufflevector(t1, t3, 0, 1, 4, 5), os = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
+    const V4 pc = ec + oc, ps = es + os, qc = ec - oc, qs = es - os;
+    const V4 r0 = g * (pc + qs), i0 = g * (qc - ps), r1 = g * (pc - qs), i1 = g * (qc + ps);
+    std::memcpy(zr + m, &r0, sizeof r0);
+    std::memcpy(zi + m, &i0, sizeof i0);
+    const V4 r1r = __builtin_shufflevector(r1, r1, 3, 2, 1, 0), i1r = __builtin_shufflevector(i1, i1, 3, 2, 1, 0);
+    std::memcpy(rm - m - 3, &r1r, sizeof r1r);
+    std::memcpy(im - m - 3, &i1r, sizeof i1r);
+  }
+  for (; m < m1; ++m) {
+    const double* const vm = v + static_cast<std::size_t>(m) * stride;
+    const double pc = vm[0] + vm[2], ps = vm[1] + vm[3], qc = vm[0] - vm[2], qs = vm[1] - vm[3];
+    zr[m] = g * (pc + qs);
+    zi[m] = g * (qc - ps);
+    rm[-m] = g * (pc - qs);
+    im[-m] = g * (qc + ps);
+  }
+  if (m1 == count) {
+    std::fill(zr + count, rm - count + 1, 0.0);
+    std::fill(zi + count, im - count + 1, 0.0);
+  }
 }
 }  // namespace
 
@@ -1656,6 +1721,27 @@ RealFft::RealFft(int n) : n_(n) {
 }
 
 bool RealFft::pairs_rings(int n) { return n >= 1 && fft_mode(n) != FftMode::real; }
+bool RealFft::splits_rings(int n) { return n >= 1 && fft_mode(n) == FftMode::split; }
+
+void RealFft::inverse_split(double* zr, double* zi, double* v1, double* v2) {
+  // the backward FFT's real and imaginary parts straight into v1, v2 where they are aligned
+  // as the plan's arrays (and from zr, zi where they are)
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  if (fftw_alignment_of(zr) != fftw_alignment_of(work_) || fftw_alignment_of(zi) != fftw_alignment_of(work_)) {
+    if (zr != work_) std::memmove(work_, zr, sizeof(double) * n_);
+    if (zi != work_ + n_) std::memmove(work_ + n_, zi, sizeof(double) * n_);
+    zr = work_;
+    zi = work_ + n_;
+  }
+  const bool direct = fftw_alignment_of(v1) == fftw_alignment_of(zr) && fftw_alignment_of(v2) == fftw_alignment_of(zr);
+  double* const o1 = direct ? v1 : work_ + 2 * static_cast<std::size_t>(n_);
+  double* const o2 = direct ? v2 : work_ + 3 * static_cast<std::size_t>(n_);
+  fftw_execute_split_dft(p.sbwd, zi, zr, o2, o1);
+  if (!direct) {
+    std::memcpy(v1, o1, sizeof(double) * n_);
+    std::memcpy(v2, o2, sizeof(double) * n_);
+  }
+}
 
 RealFft::~RealFft() {
   fftw_free(real_);
@@ -1898,14 +1984,7 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
     const int k0 = std::max(count, 1);
     std::fill(zr + k0, zr + n - k0 + 1, 0.0);
     std::fill(zi + k0, zi + n - k0 + 1, 0.0);
-    const bool direct = fftw_alignment_of(v1) == fftw_alignment_of(zr) && fftw_alignment_of(v2) == fftw_alignment_of(zr);
-    double* const o1 = direct ? v1 : work_ + 2 * static_cast<std::size_t>(n);
-    double* const o2 = direct ? v2 : work_ + 3 * static_cast<std::size_t>(n);
-    fftw_execute_split_dft(p.sbwd, zi, zr, o2, o1);
-    if (!direct) {
-      std::memcpy(v1, o1, sizeof(double) * n);
-      std::memcpy(v2, o2, sizeof(double) * n);
-    }
+    inverse_split(zr, zi, v1, v2);
     return;
   }
   double* z = work_;
@@ -2285,17 +2364,61 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
     throw InputError("synthesise: grid is not initialised (use gauss_grid)");
   threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
-  // every ring and order of the work array is written by legendre_synthesis
-  double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
   const auto plan = detail::plan_for(g);
+  const detail::Pairs& pr = plan->rings.pr;
+  const int np = static_cast<int>(pr.north.size());
+  constexpr int QB = detail::kSynQB;
+  auto row = [](double* base, int r, std::size_t len) { return base + static_cast<std::size_t>(r) * len; };
+  if (detail::RealFft::splits_rings(n) && 2 * L - 1 <= n && n <= 1024) {
+    // Powers of two to 1024: each pair's north and south rings as the real and imaginary
+    // parts of one split-format complex FFT, its spectrum made from the pair's sums and
+    // transformed into the two rows of `values` by the worker that made the sums, while they
+    // are in cache. (With n = 2048 the block's 16 spectra fill half of L2, and FFTs from there
+    // were slower than the ring rows below with their FFTs in L1: 23.3 against 22.5 ms at
+    // L = 1024, where at L = 256 the spectra gave 0.431 against 0.453 ms.)
+    // The spectra of a block's pairs are made 16 orders at a time over all its pairs, so
+    // that the block's sums are read once (one pair after another, they were read from L2
+    // 16 times: 10 % slower at L = 256).
+    struct FftwFree {
+      void operator()(double* p) const { fftw_free(p); }
+    };
+    detail::synthesis_from_plan(plan->rings, coeffs, threads, [&](int q0, int q1, const double* sums) {
+      thread_local std::unique_ptr<detail::RealFft> fft;
+      thread_local std::unique_ptr<double, FftwFree> zbuf;
+      thread_local int zn = 0;
+      thread_local std::vector<double> cs;
+      if (!fft || fft->size() != n) fft = std::make_unique<detail::RealFft>(n);
+      if (zn != n) {
+        zbuf.reset(fftw_alloc_real(2 * static_cast<std::size_t>(n) * QB));
+        if (!zbuf) throw std::bad_alloc();
+        zn = n;
+      }
+      auto z = [&](int q) { return zbuf.get() + 2 * static_cast<std::size_t>(n) * (q - q0); };
+      constexpr int MC = 16;
+      for (int m0 = 0; m0 < L; m0 += MC)
+        for (int q = q0; q < q1; ++q)
+          if (pr.south[q] >= 0)
+            detail::sums_to_split(sums + 4 * static_cast<std::size_t>(q - q0), 4 * QB, m0, std::min(L, m0 + MC), L, n,
+                                  z(q), z(q) + n);
+      for (int q = q0; q < q1; ++q) {
+        if (pr.south[q] >= 0) {
+          fft->inverse_split(z(q), z(q) + n, row(values, pr.north[q], n), row(values, pr.south[q], n));
+        } else {  // a ring without a mirror image (the equator of an odd nlat)
+          cs.resize(2 * static_cast<std::size_t>(L));
+          detail::sums_to_ring_rows(sums + 4 * static_cast<std::size_t>(q - q0), 0, L, cs.data(), nullptr);
+          fft->inverse(cs.data(), L, row(values, pr.north[q], n));
+        }
+      }
+    });
+    return;
+  }
+  // every ring and order of the work array is written by sums_to_rows
+  double* const four = detail::thread_work().four.get(static_cast<std::size_t>(g.nlat) * L * 2);
   // Each block of ring pairs is transformed in longitude by the worker that made its rows,
   // while they are in cache, where the FFTs need no ring of another block: always for one
   // real FFT per ring; for sizes that pair rings 2p and 2p + 1 (inverse2) when every block
   // holds both rings of each such pair (nlat even). The same operations, and bits, as the
   // loop below.
-  const detail::Pairs& pr = plan->rings.pr;
-  const int np = static_cast<int>(pr.north.size());
-  constexpr int QB = detail::kSynQB;
   auto block_rings = [&](int q0, int q1, int* rings) {  // sorted, at most 2 QB
     int k = 0;
     for (int q = q0; q < q1; ++q) {
@@ -2317,29 +2440,31 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
           fuse = false;
     }
   }
+  const std::size_t len = 2 * static_cast<std::size_t>(L);
   if (fuse) {
-    detail::synthesis_from_plan(plan->rings, coeffs, four, threads, [&](int q0, int q1) {
+    detail::synthesis_from_plan(plan->rings, coeffs, threads, [&](int q0, int q1, const double* sums) {
+      detail::sums_to_rows(pr, L, q0, q1, sums, four);
       thread_local std::unique_ptr<detail::RealFft> fft;
       if (!fft || fft->size() != n) fft = std::make_unique<detail::RealFft>(n);
       int rings[2 * QB];
       const int k = block_rings(q0, q1, rings);
-      auto row = [&](double* base, int r, std::size_t len) { return base + static_cast<std::size_t>(r) * len; };
       for (int i = 0; i < k; ++i) {
         const int r = rings[i];
         if (!paired) {
-          fft->inverse(row(four, r, 2 * static_cast<std::size_t>(L)), L, row(values, r, n));
+          fft->inverse(row(four, r, len), L, row(values, r, n));
         } else if (r % 2 == 0) {
           if (r + 1 < g.nlat)
-            fft->inverse2(row(four, r, 2 * static_cast<std::size_t>(L)), row(four, r + 1, 2 * static_cast<std::size_t>(L)),
-                          L, row(values, r, n), row(values, r + 1, n));
+            fft->inverse2(row(four, r, len), row(four, r + 1, len), L, row(values, r, n), row(values, r + 1, n));
           else
-            fft->inverse(row(four, r, 2 * static_cast<std::size_t>(L)), L, row(values, r, n));
+            fft->inverse(row(four, r, len), L, row(values, r, n));
         }
       }
     });
     return;
   }
-  detail::synthesis_from_plan(plan->rings, coeffs, four, threads);
+  detail::synthesis_from_plan(plan->rings, coeffs, threads, [&](int q0, int q1, const double* sums) {
+    detail::sums_to_rows(pr, L, q0, q1, sums, four);
+  });
   // Two rings at a time from the shared counter; each worker keeps its FFT plan.
   const int npairs = (g.nlat + 1) / 2;
   atmosh::parallel_for_ranges_local(

@@ -56,6 +56,13 @@ class RealFft {
   void inverse(const double* cs, int count, double* v);
   /// inverse() of two rings.
   void inverse2(const double* cs1, const double* cs2, int count, double* v1, double* v2);
+  /// Whether size n pairs its rings through split-format complex FFTs (n a power of two >= 16);
+  /// only then is inverse_split defined.
+  static bool splits_rings(int n);
+  /// v1_j + i v2_j = sum_k Z_k e^{2 pi i j k / n} (j, k < n) from Z_k = zr[k] + i zi[k], which
+  /// it overwrites: for Z_k = V1_k + i V2_k with V_-k = conj(V_k), v1 and v2 are the rings
+  /// of the real spectra V1 and V2. Arrays aligned as FFTW's own are used in place.
+  void inverse_split(double* zr, double* zi, double* v1, double* v2);
 
  private:
   // forward2_spectra of the chirp and split methods (spectra for k < cm into s1, s2)
