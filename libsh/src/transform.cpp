@@ -1880,21 +1880,17 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
     return;
   }
   const int n = n_, m = p.m, cm = std::min(count, n / 2 + 1);
-  if (p.mode == FftMode::chirp) {
-    chirp_spectra(f1, f2, cm, spec_, spec2_);
+  if (p.mode == FftMode::chirp || p.mode == FftMode::split) {
+    if (p.mode == FftMode::chirp)
+      chirp_spectra(f1, f2, cm, spec_, spec2_);
+    else
+      split_spectra(f1, f2, cm, spec_, spec2_);
     if (!out1) return;
     emit_orders(spec_, n, count, out1);
     emit_orders(spec2_, n, count, out2);
     return;
   }
   double* z = work_;
-  if (p.mode == FftMode::split) {
-    split_spectra(f1, f2, cm, spec_, spec2_);
-    if (!out1) return;
-    emit_orders(spec_, n, count, out1);
-    emit_orders(spec2_, n, count, out2);
-    return;
-  }
   // z_j = f1_j + i f2_j; X_k = F1_k + i F2_k for |k| < cm at xk(k)
   if (p.mode == FftMode::pair) {
     for (int j = 0; j < n; ++j) {

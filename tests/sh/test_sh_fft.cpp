@@ -24,6 +24,16 @@ namespace {
 long double angle(long long m, long long j, long long n) {
   return 2.0L * std::numbers::pi_v<long double> * ((m * j) % n) / n;
 }
+// v_j = sum_{m < count} (C_m cos(2 pi j m / n) + S_m sin(2 pi j m / n)) in long double from
+// cs[2m] = C_m, cs[2m + 1] = S_m (S_0 not used): the direct sum behind inverse and inverse2.
+long double inverse_sum(const std::vector<double>& cs, int count, int j, int n) {
+  long double v = 0;
+  for (int m = 0; m < count; ++m) {
+    const long double p = angle(m, j, n);
+    v += cs[2 * m] * std::cos(p) + (m > 0 ? cs[2 * m + 1] * std::sin(p) : 0.0L);
+  }
+  return v;
+}
 }  // namespace
 
 TEST(Transform, PairedRealFftsMatchDirectSums) {
@@ -64,15 +74,9 @@ TEST(Transform, PairedRealFftsMatchDirectSums) {
       for (auto& x : c2) x = U(rng);
       fft.inverse2(c1.data(), c2.data(), count, v1.data(), v2.data());
       for (int j = 0; j < n; ++j) {
-        long double s1 = 0, s2 = 0;
-        for (int m = 0; m < count; ++m) {
-          const long double p = angle(m, j, n);
-          s1 += c1[2 * m] * std::cos(p) + (m > 0 ? c1[2 * m + 1] * std::sin(p) : 0.0L);
-          s2 += c2[2 * m] * std::cos(p) + (m > 0 ? c2[2 * m + 1] * std::sin(p) : 0.0L);
-        }
         const double tol = 1e-14 * n + 1e-14;
-        ASSERT_NEAR(v1[j], static_cast<double>(s1), tol) << n << " " << count << " " << j;
-        ASSERT_NEAR(v2[j], static_cast<double>(s2), tol) << n << " " << count << " " << j;
+        ASSERT_NEAR(v1[j], static_cast<double>(inverse_sum(c1, count, j, n)), tol) << n << " " << count << " " << j;
+        ASSERT_NEAR(v2[j], static_cast<double>(inverse_sum(c2, count, j, n)), tol) << n << " " << count << " " << j;
       }
       if (n > 1) {
         std::vector<double> big(2 * ((n + 1) / 2 + 1), 0.0);
@@ -122,14 +126,8 @@ TEST(Transform, ChirpOfFourStepsMatchesDirectSums) {
     for (auto& x : c2) x = U(rng);
     fft.inverse2(c1.data(), c2.data(), count, v1.data(), v2.data());
     for (int j = 0; j < n; j += 23) {
-      long double s1 = 0, s2 = 0;
-      for (int m = 0; m < count; ++m) {
-        const long double p = angle(m, j, n), c = std::cos(p), s = m > 0 ? std::sin(p) : 0.0L;
-        s1 += c1[2 * m] * c + c1[2 * m + 1] * s;
-        s2 += c2[2 * m] * c + c2[2 * m + 1] * s;
-      }
-      ASSERT_NEAR(v1[j], static_cast<double>(s1), 1e-14 * n) << n << " " << j;
-      ASSERT_NEAR(v2[j], static_cast<double>(s2), 1e-14 * n) << n << " " << j;
+      ASSERT_NEAR(v1[j], static_cast<double>(inverse_sum(c1, count, j, n)), 1e-14 * n) << n << " " << j;
+      ASSERT_NEAR(v2[j], static_cast<double>(inverse_sum(c2, count, j, n)), 1e-14 * n) << n << " " << j;
     }
   }
 }
@@ -197,14 +195,8 @@ TEST(Transform, SplitFftsOfTwoRingsReadAndWriteRowsInPlaceOrCopied) {
       for (int j = 0; j < 2 * n; ++j) ASSERT_EQ(va[j], r1[j]) << n << " " << j;
     }
     for (int j = 0; j < n; ++j) {
-      long double v1 = 0, v2 = 0;
-      for (int m = 0; m < count; ++m) {
-        const long double p = angle(m, j, n), c = std::cos(p), s = m > 0 ? std::sin(p) : 0.0L;
-        v1 += c1[2 * m] * c + c1[2 * m + 1] * s;
-        v2 += c2[2 * m] * c + c2[2 * m + 1] * s;
-      }
-      ASSERT_NEAR(va[j], static_cast<double>(v1), 1e-14 * n) << n << " " << j;
-      ASSERT_NEAR(va[n + j], static_cast<double>(v2), 1e-14 * n) << n << " " << j;
+      ASSERT_NEAR(va[j], static_cast<double>(inverse_sum(c1, count, j, n)), 1e-14 * n) << n << " " << j;
+      ASSERT_NEAR(va[n + j], static_cast<double>(inverse_sum(c2, count, j, n)), 1e-14 * n) << n << " " << j;
     }
     fftw_free(buf);
   }
