@@ -22,6 +22,7 @@
 #include <atomic>
 #include <map>
 #include <mutex>
+#include <stdexcept>
 
 #include <fftw3.h>
 
@@ -896,14 +897,16 @@ static void syn_step_coefficients(int kmax, int kodd, const double* __restrict a
   };
   auto st = [](double* p, V2 v) { std::memcpy(p, &v, sizeof v); };
   if (prefetch) {
-    // the next 8 orders' values of these degrees (a cache line on from each of these)
+    // the values of these degrees 8 orders on (a cache line on from each of these), where
+    // the degree has them
     for (int k = 0; k <= kmax; ++k) {
       st(sc + 4 * k, alpha[k] * ldc(2 * k));
       for (int i = 0; i < 2; ++i) {
         const int l = m + 2 * k + i;
-        const double* p = coeffs + static_cast<std::size_t>(l) * (l + 1);
-        __builtin_prefetch(p + m + 8);
-        __builtin_prefetch(p - m - 8);
+        if (m + 8 > l) continue;
+        const double* const row = coeffs + static_cast<std::size_t>(l) * (l + 1);
+        __builtin_prefetch(row + m + 8);
+        __builtin_prefetch(row - m - 8);
       }
     }
   } else {
@@ -1120,7 +1123,7 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, int threads,
   ThreadWork& tw = thread_work();
   const int W = rp.W;
   // The per-column sums are kept in blocks of 16 ring pairs (sm, 4 values per pair, m after
-  // m within a block) and turned into ring rows at the end. (Strided reads and writes of
+  // m within a block) and handed to block_done at the end. (Strided reads and writes of
   // single values per (ring, m) cost a fifth of a synthesis at L = 1024.) The coefficients are
   // read from their degree rows by the column set-up: a regroup into m-major columns before
   // it was a separate pass over all of them (~6 % of a synthesis at L = 256 and 1024).
@@ -1203,8 +1206,8 @@ void sums_to_rows(const Pairs& pr, int bands, int q0, int q1, const double* sums
 // The split spectrum (RealFft::inverse_split) whose real and imaginary parts are the north
 // and south rings of one pair, from the pair's sums v[m stride + f] (E cos, E sin, O cos,
 // O sin), of orders m0 <= m < m1; where m1 = count (the pair's last orders), also the zeros
-// for count <= k <= n - count. With P = E + O, Q = E - O the
-// rings' spectra are N = sqrt2 P, S = sqrt2 Q (m > 0; P, Q at m = 0), and as in inverse2
+// for count <= k <= n - count. With P = E + O and Q = E - O, the rings' spectra are
+// N = sqrt2 P and S = sqrt2 Q (P and Q at m = 0), and as in inverse2
 // Re Z_m = g (P cos + Q sin), Im Z_m = g (Q cos - P sin), Re Z_-m = g (P cos - Q sin),
 // Im Z_-m = g (Q cos + P sin), g = sqrt2 / 2. Four orders at a time through a 4 x 4
 // transpose; no fused multiply-add, so every clone gives the same bits.
@@ -1349,7 +1352,7 @@ namespace {
 enum class FftMode { real, split, pair, chirp };
 struct FftPlans {
   FftMode mode = FftMode::real;
-  int m = 0;                                   // complex FFT size: n (pair) or M (chirp)
+  int m = 0;                                   // complex FFT size: n (split, pair) or M (chirp)
   fftw_plan r2c = nullptr, c2r = nullptr;      // size n, real
   fftw_plan r2c_rows[2] = {nullptr, nullptr};  // 4 / 8 consecutive rings at once (real mode, even n)
   fftw_plan fwd = nullptr, bwd = nullptr;      // size m, complex, in place
@@ -1725,14 +1728,10 @@ bool RealFft::splits_rings(int n) { return n >= 1 && fft_mode(n) == FftMode::spl
 
 void RealFft::inverse_split(double* zr, double* zi, double* v1, double* v2) {
   // the backward FFT's real and imaginary parts straight into v1, v2 where they are aligned
-  // as the plan's arrays (and from zr, zi where they are)
+  // as the plan's arrays
   const FftPlans& p = *static_cast<const FftPlans*>(plans_);
-  if (fftw_alignment_of(zr) != fftw_alignment_of(work_) || fftw_alignment_of(zi) != fftw_alignment_of(work_)) {
-    if (zr != work_) std::memmove(work_, zr, sizeof(double) * n_);
-    if (zi != work_ + n_) std::memmove(work_ + n_, zi, sizeof(double) * n_);
-    zr = work_;
-    zi = work_ + n_;
-  }
+  if (fftw_alignment_of(zr) != fftw_alignment_of(work_) || fftw_alignment_of(zi) != fftw_alignment_of(work_))
+    throw std::logic_error("RealFft::inverse_split: spectrum arrays not aligned as FFTW's");
   const bool direct = fftw_alignment_of(v1) == fftw_alignment_of(zr) && fftw_alignment_of(v2) == fftw_alignment_of(zr);
   double* const o1 = direct ? v1 : work_ + 2 * static_cast<std::size_t>(n_);
   double* const o2 = direct ? v2 : work_ + 3 * static_cast<std::size_t>(n_);

@@ -61,7 +61,9 @@ class RealFft {
   static bool splits_rings(int n);
   /// v1_j + i v2_j = sum_k Z_k e^{2 pi i j k / n} (j, k < n) from Z_k = zr[k] + i zi[k], which
   /// it overwrites: for Z_k = V1_k + i V2_k with V_-k = conj(V_k), v1 and v2 are the rings
-  /// of the real spectra V1 and V2. Arrays aligned as FFTW's own are used in place.
+  /// of the real spectra V1 and V2. zr and zi must be aligned as fftw_malloc's arrays
+  /// (std::logic_error otherwise); v1 and v2 are written in place where they are too, through
+  /// a copy where they are not.
   void inverse_split(double* zr, double* zi, double* v1, double* v2);
 
  private:
