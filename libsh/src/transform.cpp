@@ -414,6 +414,31 @@ __attribute__((always_inline)) inline typename Lanes<W>::I fold_extended(S& g) {
   return ext;
 }
 
+// A block with a plain lane and extended ones (ext: their mask, after fold_extended) goes
+// to the plain range as a whole when every extended lane is one scale step down (e =
+// -kScaleExp) with both values at least 2^-kGraduateExp once scaled (normal doubles, far
+// from the subnormals, so the lane's recurrence keeps its relative accuracy): its
+// extended lanes are scaled to their plain values (exact: a power of two), and from then
+// on they add their terms, which are below 2^-kJoinExp |f| until the lane would have
+// joined. Returns whether it did; otherwise the block is left as it was.
+constexpr int kGraduateExp = 1000;
+template <int W, class S>
+__attribute__((always_inline)) inline bool graduate(S& g, typename Lanes<W>::I ext) {
+  using D = typename Lanes<W>::D;
+  using I = typename Lanes<W>::I;
+  const I magnitude = I{} + 0x7fffffffffffffffLL;
+  const I floor = I{} + std::bit_cast<long long>(std::ldexp(1.0, kScaleExp - kGraduateExp));
+  const I once = I{} + std::bit_cast<long long>(-static_cast<double>(kScaleExp));
+  const I low = ((((I)g.lam1 & magnitude) - floor) | (((I)g.lam2 & magnitude) - floor)) >> 63;
+  const I other = (I)g.e ^ once;  // nonzero where e != -kScaleExp
+  if (any(ext & (low | ((other | -other) >> 63)))) return false;
+  const D down = D{} + kScaleDown;
+  g.lam1 = (D)(((I)(g.lam1 * down) & ext) | ((I)g.lam1 & ~ext));
+  g.lam2 = (D)(((I)(g.lam2 * down) & ext) | ((I)g.lam2 & ~ext));
+  g.e = D{};
+  return true;
+}
+
 // Blocks whose sectoral values need the extended range (mant * 2^e, e < 0 a multiple
 // of kScaleExp; an extended lane's terms are dropped: with the fold below its values
 // are under 2^-250, far below any term that can change a double result). Steps all of
@@ -438,7 +463,7 @@ __attribute__((always_inline)) inline void ana_extended(int kmax, const double* 
       int na = 0, nm = 0;
       for (int j = 0; j < nlive; ++j) {
         const I ext = fold_extended<W>(grp[live[j]]);
-        if (!any(ext))
+        if (!any(ext) || (any(~ext) && graduate<W>(grp[live[j]], ext)))
           join[live[j]] = k;
         else if (any(~ext))
           mixed[nm++] = live[j];
@@ -764,7 +789,8 @@ __attribute__((always_inline)) inline void syn_blocks(int kmax, const double* ap
         I anyx{};
 #pragma GCC unroll 8
         for (int b = 0; b < NB; ++b) {
-          const I x = fold_extended<W>(s[b]);
+          I x = fold_extended<W>(s[b]);
+          if (any(x) && any(~x) && graduate<W>(s[b], x)) x = I{};
           keep[b] = ~x;
           anyx |= x;
         }

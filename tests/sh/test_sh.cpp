@@ -467,6 +467,80 @@ TEST(Transform, SingleHighOrderTermsMatchDirectSumsOnEveryRing) {
   }
 }
 
+// A grid of 16 rings (8 symmetric pairs) whose lane blocks mix rings at 20-22 degrees
+// from the poles with rings near the equator, at band limit 2048: for orders m ~ 700-800
+// the polar rings start near 2^-1000 to 2^-1240 (beyond the double range: the kernels'
+// extended range) while the equatorial ones are plain from the first degree, and the polar
+// ones still climb to within 1e-9 of the peak (to O(1) for m <= 740: turning point
+// l ~ m / sin t) before l = 2047. Such blocks first step their low lanes masked and move
+// them to the plain range only once they are one scale step down and far from the
+// subnormals; a lane moved too early (or scaled by the wrong power) is wrong by many orders
+// of magnitude. Synthesis is checked on every ring against Pbar_lm(cos t) from
+// legendre_column (the three-term recurrence in cos t) times the longitude factor, taken from
+// the direct sum (reconstruct) at an equatorial ring; analysis by the adjoint identity
+// analyse(f)[T2] = sum_ij w_i dphi f_ij Y_T2(ij) with f = synthesise(T1).
+TEST(Transform, BlocksWhoseLanesSpanTheDoubleRangeMatchDirectSums) {
+  const int L = 2048;
+  GaussGrid g;
+  g.bands = L;
+  g.nphi = 4096;
+  const double north[] = {20, 21, 22, 80, 82, 84, 86, 88};  // degrees from the pole
+  for (int i = 0; i < 16; ++i) {
+    const double t = (i < 8 ? north[i] : 180.0 - north[15 - i]) * kPi / 180.0;
+    g.cos_t.push_back(std::cos(t));
+    g.sin_t.push_back(std::sin(t));
+    g.weights.push_back(0.125);
+  }
+  g.nlat = 16;
+  const std::vector<std::pair<int, int>> terms{{2047, 700}, {2047, -700}, {2046, 700}, {2040, 720},
+                                               {2047, 740}, {2047, 780}, {2047, 800}};
+  std::vector<std::vector<double>> f;
+  std::vector<double> c(static_cast<std::size_t>(L) * L, 0.0), col(L);
+  for (const auto& [l, m] : terms) {
+    c[sh_index(l, m)] = 1.0;
+    f.push_back(synthesise(g, c.data()));
+    const int j = 3;  // cos(m phi_j), sin(m phi_j) away from 0
+    auto pbar = [&](int r) {
+      legendre_column(l + 1, std::abs(m), g.cos_t[r], g.sin_t[r], col.data());
+      return col[l - std::abs(m)];
+    };
+    int r0 = 3;  // the equatorial ring with the largest |Pbar_lm|
+    for (int r = 4; r < 13; ++r)
+      if (std::abs(pbar(r)) > std::abs(pbar(r0))) r0 = r;
+    const glm::dvec3 d0(g.sin_t[r0] * std::cos(g.phi(j)), g.sin_t[r0] * std::sin(g.phi(j)), g.cos_t[r0]);
+    const double lon = reconstruct(l + 1, c.data(), d0) / pbar(r0);  // Y_lm = Pbar_lm(cos t) lon(phi)
+    c[sh_index(l, m)] = 0.0;
+    double peak = 0, err = 0, polar = 0;
+    for (int r = 0; r < g.nlat; ++r) {
+      const double ref = pbar(r) * lon;
+      peak = std::max(peak, std::abs(ref));
+      if (r == 1 || r == 14) polar = std::max(polar, std::abs(ref));
+      err = std::max(err, std::abs(f.back()[static_cast<std::size_t>(r) * g.nphi + j] - ref));
+    }
+    EXPECT_GT(polar, 1e-9 * peak) << "the 21-degree rings come far above the tolerance: l=" << l << " m=" << m;
+    EXPECT_LT(err, 3e-12 * peak) << "l=" << l << " m=" << m;
+  }
+  const double dphi = 2 * kPi / g.nphi;
+  auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    double s = 0;
+    for (int r = 0; r < g.nlat; ++r)
+      for (int j = 0; j < g.nphi; ++j) {
+        const std::size_t i = static_cast<std::size_t>(r) * g.nphi + j;
+        s += g.weights[r] * dphi * a[i] * b[i];
+      }
+    return s;
+  };
+  for (std::size_t a = 0; a < terms.size(); ++a) {
+    analyse(g, f[a].data(), c.data(), a == 0 ? 2 : 1);
+    for (std::size_t b = 0; b < terms.size(); ++b) {
+      const double expect = dot(f[a], f[b]), scale = std::sqrt(dot(f[a], f[a]) * dot(f[b], f[b]));
+      EXPECT_NEAR(c[sh_index(terms[b].first, terms[b].second)], expect, 1e-12 * scale)
+          << "T1 = " << terms[a].first << "," << terms[a].second << " T2 = " << terms[b].first << ","
+          << terms[b].second;
+    }
+  }
+}
+
 TEST(Projection, PolynomialFunctionsHaveKnownCoefficients) {
   // f = 3 z^2 - 1 + x: exactly (4/k20) Y_20 - Y_11 / k1 (closed forms above), so
   // c_20 = 1/k20' with 3z^2-1 = Y_20 / (sqrt(5/pi)/4), c_11 = -1/sqrt(3/(4pi)).
