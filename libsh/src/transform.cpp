@@ -441,82 +441,103 @@ __attribute__((always_inline)) inline bool graduate(S& g, typename Lanes<W>::I e
 
 // Blocks whose sectoral values need the extended range (mant * 2^e, e < 0 a multiple
 // of kScaleExp; an extended lane's terms are dropped: with the fold below its values
-// are under 2^-250, far below any term that can change a double result). Steps all of
-// them together, two steps at a time (k outer, so that the blocks' recurrences
-// overlap). Every kFoldEvery steps each extended lane whose |lam| passed kJoinFold is
-// scaled by 2^-kScaleExp (see kJoinExp below), and the blocks are sorted into those
-// with no plain lane (recurrence only: 4 FMAs per two steps) and those with some
-// (recurrence and masked sums into sums[k]). A block leaves at the first check at
-// which all its lanes are plain: join[i] = that step (kmax + 1 if never).
+// are under 2^-250, far below any term that can change a double result). They add no
+// terms, so they are stepped apart from the kernel: kExtBlocks at a time, their state in
+// registers (one block alone would wait on its chain of two dependent FMAs per step).
+// Every kFoldEvery steps each extended lane whose |lam| passed kJoinFold is scaled by
+// 2^-kScaleExp (see kJoinExp below); a block leaves at the first check at which all its
+// lanes are plain or at which it has a plain lane and can graduate (join[i] = that step,
+// kmax + 1 if never; its state is stored then, and its registers run on unused). A block
+// with a plain lane that cannot graduate yet adds the terms of its plain lanes to sums[k]
+// itself (masked, one reduction per step: rare, see graduate).
 constexpr int kFoldEvery = 8;
+constexpr int kExtBlocks = 4;
 template <int W>
 __attribute__((always_inline)) inline void ana_extended(int kmax, const double* ap, const double* bp,
                                                         AnaGroup<W>* grp, const int* ids, int nx, int* join,
-                                                        int* live, V4* sums) {
+                                                        V4* sums) {
   using D = typename Lanes<W>::D;
   using I = typename Lanes<W>::I;
-  int nlive = nx, nall = 0;  // live[0..nall): no plain lane; live[nall..nlive): some
-  int* mixed = live + nx;    // scratch (live has room for 2 nx)
-  for (int j = 0; j < nx; ++j) live[j] = ids[j];
-  for (int k = 0; k <= kmax && nlive > 0; k += 2) {
-    if (k % kFoldEvery == 0) {
-      int na = 0, nm = 0;
-      for (int j = 0; j < nlive; ++j) {
-        const I ext = fold_extended<W>(grp[live[j]]);
-        if (!any(ext) || (any(~ext) && graduate<W>(grp[live[j]], ext)))
-          join[live[j]] = k;
-        else if (any(~ext))
-          mixed[nm++] = live[j];
-        else
-          live[na++] = live[j];
+  constexpr int NB = kExtBlocks;
+  struct State {
+    D lam1, lam2, e;
+  };
+  for (int j0 = 0; j0 < nx; j0 += NB) {
+    const int nb = std::min(NB, nx - j0);
+    State s[NB];
+    D csq[NB];
+#pragma GCC unroll 8
+    for (int b = 0; b < NB; ++b) {
+      const AnaGroup<W>& g = grp[ids[j0 + (b < nb ? b : 0)]];
+      s[b] = State{g.lam1, g.lam2, g.e};
+      csq[b] = g.csq;
+    }
+    unsigned alive = (1u << nb) - 1;
+    for (int k = 0; k <= kmax;) {
+      unsigned mixed = 0;
+#pragma GCC unroll 8
+      for (int b = 0; b < NB; ++b) {
+        if (!(alive >> b & 1)) continue;
+        const I ext = fold_extended<W>(s[b]);
+        if (!any(ext) || (any(~ext) && graduate<W>(s[b], ext))) {
+          AnaGroup<W>& g = grp[ids[j0 + b]];
+          g.lam1 = s[b].lam1;
+          g.lam2 = s[b].lam2;
+          g.e = s[b].e;
+          join[ids[j0 + b]] = k;
+          alive &= ~(1u << b);
+        } else if (any(~ext)) {
+          mixed |= 1u << b;
+        }
       }
-      for (int j = 0; j < nm; ++j) live[na + j] = mixed[j];
-      nall = na;
-      nlive = na + nm;
+      if (!alive) break;
+      const int kend = std::min(k + kFoldEvery - 2, kmax);  // the steps up to the next check
+      if (!mixed) {
+        for (; k <= kend; k += 2) {
+#pragma GCC unroll 8
+          for (int b = 0; b < NB; ++b) {
+            const D t1 = (ap[k] * csq[b] + bp[k]) * s[b].lam2 + s[b].lam1;
+            s[b].lam1 = t1;
+            s[b].lam2 = (ap[k + 1] * csq[b] + bp[k + 1]) * t1 + s[b].lam2;
+          }
+        }
+      } else {
+        for (; k <= kend; k += 2) {
+#pragma GCC unroll 8
+          for (int b = 0; b < NB; ++b) {
+            const D t1 = (ap[k] * csq[b] + bp[k]) * s[b].lam2 + s[b].lam1;
+            if (mixed >> b & 1) {
+              const AnaGroup<W>& g = grp[ids[j0 + b]];
+              const I plain = ~((I)s[b].e >> 63);
+              const D v = (D)((I)s[b].lam2 & plain), w = (D)((I)t1 & plain);
+              sums[k] += hsum(v * g.ec, v * g.es, v * g.oc, v * g.os);
+              sums[k + 1] += hsum(w * g.ec, w * g.es, w * g.oc, w * g.os);
+            }
+            s[b].lam1 = t1;
+            s[b].lam2 = (ap[k + 1] * csq[b] + bp[k + 1]) * t1 + s[b].lam2;
+          }
+        }
+      }
     }
-    const double a1 = ap[k], b1 = bp[k], a2 = ap[k + 1], b2 = bp[k + 1];
-    for (int j = 0; j < nall; ++j) {
-      AnaGroup<W>& g = grp[live[j]];
-      const D csq = g.csq, l2 = g.lam2;
-      const D t1 = (a1 * csq + b1) * l2 + g.lam1;
-      g.lam1 = t1;
-      g.lam2 = (a2 * csq + b2) * t1 + l2;
-    }
-    D c0{}, c1{}, c2{}, c3{}, d0{}, d1{}, d2{}, d3{};
-    for (int j = nall; j < nlive; ++j) {
-      AnaGroup<W>& g = grp[live[j]];
-      const D csq = g.csq, l2 = g.lam2;
-      const I plain = ~((I)g.e >> 63);
-      const D t1 = (a1 * csq + b1) * l2 + g.lam1;
-      const D v = (D)((I)l2 & plain), w = (D)((I)t1 & plain);
-      c0 += v * g.ec;
-      c1 += v * g.es;
-      c2 += v * g.oc;
-      c3 += v * g.os;
-      d0 += w * g.ec;
-      d1 += w * g.es;
-      d2 += w * g.oc;
-      d3 += w * g.os;
-      g.lam1 = t1;
-      g.lam2 = (a2 * csq + b2) * t1 + l2;
-    }
-    if (nlive > nall) {
-      sums[k] += hsum(c0, c1, c2, c3);
-      sums[k + 1] += hsum(d0, d1, d2, d3);
-    }
+#pragma GCC unroll 8
+    for (int b = 0; b < NB; ++b)
+      if (alive >> b & 1) join[ids[j0 + b]] = kmax + 1;
   }
-  for (int j = 0; j < nlive; ++j) join[live[j]] = kmax + 1;
 }
 
-// The plain kernel: steps K0, K0+2, ... <= kmax; at step K the blocks grp[0..nact[K])
-// are active (blocks sorted by the step they join at). Adds the lane sums of lam_K and
+// The plain kernel: steps K0, K0+2, ... <= kmax; at step K the blocks grp[0..n) are
+// active: the nplain plain blocks and those of the others (sorted by the step they join
+// at, jsorted[0..nj) ascending) that have joined by K. Adds the lane sums of lam_K and
 // lam_K+1 times (E cos, E sin, xO cos, xO sin) to sums[K] and sums[K+1].
 template <int W>
-__attribute__((always_inline)) inline void ana_kernel(int K0, int kmax, const int* nact, const double* ap,
-                                                      const double* bp, AnaGroup<W>* grp, V4* sums) {
+__attribute__((always_inline)) inline void ana_kernel(int K0, int kmax, int nplain, const int* jsorted, int nj,
+                                                      const double* ap, const double* bp, AnaGroup<W>* grp,
+                                                      V4* sums) {
   using D = typename Lanes<W>::D;
+  int p = 0;
   for (int K = K0; K <= kmax; K += 2) {
-    const int n = nact[K];
+    while (p < nj && jsorted[p] <= K) ++p;
+    const int n = nplain + p;
     const double a1 = ap[K], b1 = bp[K], a2 = ap[K + 1], b2 = bp[K + 1];
     D c0{}, c1{}, c2{}, c3{}, d0{}, d1{}, d2{}, d3{};
     for (int i = 0; i < n; ++i) {
@@ -546,13 +567,13 @@ __attribute__((always_inline)) inline void ana_kernel(int K0, int kmax, const in
 // instructions per ring pair; the sums are the same up to rounding order).
 ATMOSH_DISPATCH
 static void ana_extended4(int kmax, const double* ap, const double* bp, AnaGroup<4>* grp, const int* ids, int nx,
-                          int* join, int* live, V4* sums) {
-  ana_extended<4>(kmax, ap, bp, grp, ids, nx, join, live, sums);
+                          int* join, V4* sums) {
+  ana_extended<4>(kmax, ap, bp, grp, ids, nx, join, sums);
 }
 ATMOSH_DISPATCH
-static void ana_kernel4(int K0, int kmax, const int* nact, const double* ap, const double* bp, AnaGroup<4>* grp,
-                        V4* sums) {
-  ana_kernel<4>(K0, kmax, nact, ap, bp, grp, sums);
+static void ana_kernel4(int K0, int kmax, int nplain, const int* jsorted, int nj, const double* ap, const double* bp,
+                        AnaGroup<4>* grp, V4* sums) {
+  ana_kernel<4>(K0, kmax, nplain, jsorted, nj, ap, bp, grp, sums);
 }
 #if ATMOSH_HAS_DISPATCH
 #define ATMOSH_V4_KERNEL ATMOSH_TARGET_AVX512
@@ -563,13 +584,13 @@ bool has_avx512() { return false; }
 #endif
 ATMOSH_V4_KERNEL
 static void ana_extended8(int kmax, const double* ap, const double* bp, AnaGroup<8>* grp, const int* ids, int nx,
-                          int* join, int* live, V4* sums) {
-  ana_extended<8>(kmax, ap, bp, grp, ids, nx, join, live, sums);
+                          int* join, V4* sums) {
+  ana_extended<8>(kmax, ap, bp, grp, ids, nx, join, sums);
 }
 ATMOSH_V4_KERNEL
-static void ana_kernel8(int K0, int kmax, const int* nact, const double* ap, const double* bp, AnaGroup<8>* grp,
-                        V4* sums) {
-  ana_kernel<8>(K0, kmax, nact, ap, bp, grp, sums);
+static void ana_kernel8(int K0, int kmax, int nplain, const int* jsorted, int nj, const double* ap, const double* bp,
+                        AnaGroup<8>* grp, V4* sums) {
+  ana_kernel<8>(K0, kmax, nplain, jsorted, nj, ap, bp, grp, sums);
 }
 #undef ATMOSH_V4_KERNEL
 
@@ -630,10 +651,10 @@ struct AnaWork {
   int ngroups;
   // (not std::vector: GCC drops the vector attribute, and thus the alignment, in template arguments)
   std::unique_ptr<AnaGroup<W>[]> nat, act;
-  std::vector<int> join, ids, live, nact;
-  AnaWork(int padded, int bands)
+  std::vector<int> join, ids, jsorted;
+  AnaWork(int padded, int /*bands*/)
       : ngroups(padded / W), nat(new AnaGroup<W>[ngroups]), act(new AnaGroup<W>[ngroups]), join(ngroups),
-        ids(ngroups), live(2 * ngroups), nact(bands + 4) {}
+        ids(ngroups), jsorted(ngroups) {}
 };
 
 // One worker's scratch of the analysis columns (parallel_for_m).
@@ -691,27 +712,24 @@ __attribute__((always_inline)) inline void ana_column(int kmax, const double* cs
   for (int i = std::max(built, skip); i < nx; ++i) build(w.nat[w.ids[i]], w.ids[i]);  // the skipped ones are not
   if (nx > skip) {
     if constexpr (W == 8)
-      ana_extended8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), w.live.data(), sums);
+      ana_extended8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), sums);
     else
-      ana_extended4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), w.live.data(), sums);
+      ana_extended4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), sums);
   }
-  // the plain blocks in ring order (already in act), then the others by the step they join
-  // at (an extended block never joins at step 0: its lanes start below the fold threshold)
-  int nlive = nplain;
+  // the plain blocks in ring order (already in act), then the others by the step they join at
   const int* join = w.join.data();
   std::sort(w.ids.begin(), w.ids.begin() + nx, [&](int p, int q) { return join[p] < join[q] || (join[p] == join[q] && p < q); });
-  for (int i = 0; i < nx && join[w.ids[i]] <= kmax; ++i) w.act[nlive++] = w.nat[w.ids[i]];
-  if (nlive == 0) return;
-  int j = nplain, i = 0;
-  for (int k = 0; k <= kmax + 1; ++k) {
-    while (i < nx && join[w.ids[i]] <= k) ++i, ++j;
-    w.nact[k] = std::min(j, nlive);
+  int nj = 0;
+  for (; nj < nx && join[w.ids[nj]] <= kmax; ++nj) {
+    w.act[nplain + nj] = w.nat[w.ids[nj]];
+    w.jsorted[nj] = join[w.ids[nj]];
   }
-  const int K0 = nplain > 0 ? 0 : join[w.ids[0]];
+  if (nplain + nj == 0) return;
+  const int K0 = nplain > 0 ? 0 : w.jsorted[0];
   if constexpr (W == 8)
-    ana_kernel8(K0, kmax, w.nact.data(), cf.ap, cf.bp, w.act.get(), sums);
+    ana_kernel8(K0, kmax, nplain, w.jsorted.data(), nj, cf.ap, cf.bp, w.act.get(), sums);
   else
-    ana_kernel4(K0, kmax, w.nact.data(), cf.ap, cf.bp, w.act.get(), sums);
+    ana_kernel4(K0, kmax, nplain, w.jsorted.data(), nj, cf.ap, cf.bp, w.act.get(), sums);
 }
 // Compiled as the kernels (the block copies in vector registers).
 ATMOSH_DISPATCH
