@@ -158,7 +158,21 @@ inline void lane_start(double mant, int ex, double& m, double& e) {
 }
 // Set-up of the Legendre stage that depends on the rings alone: ring pairs, sectoral start
 // values of every order and lane, and (filled by the first transform that needs them) the
-// number of polar blocks that contribute nothing to column m, per direction.
+// polar starts of every column.
+//
+// Polar starts of column m, for its blocks of W lanes (ring pairs): a block with a lane
+// below 2^-kJoinExp at the sectoral degree steps the recurrence alone (its terms are
+// dropped) until it joins the plain kernels; where and with which values it joins depends
+// on the rings and m alone, so it is found once (polar_starts) and both directions start
+// such blocks there. join[b]: the step k at which block b joins (0: plain from the start;
+// kPolarNever: not by kmax, it adds nothing; kPolarMasked: it has plain and extended
+// lanes at once and adds its plain lanes' terms while it steps, so it is stepped per
+// transform); lam[slot[b] 2W ...]: lam_k-1 (W values) then lam_k (W values) at its join.
+constexpr int kPolarNever = 1 << 30, kPolarMasked = -1;
+struct PolarStarts {
+  std::vector<int> join, slot;
+  std::vector<double> lam;
+};
 struct RingPlan {
   int bands = 0;
   Pairs pr;
@@ -167,12 +181,20 @@ struct RingPlan {
   // extended lane: plain[m * (padded / W) + b]. The kernels copy them per column.
   std::vector<double> lam0, e0, csq;
   std::vector<unsigned char> plain;
-  int W = 0;                                   // lanes per block the skip counts are for
-  std::unique_ptr<std::atomic<int>[]> skip_a;  // analysis (-1: not known yet)
-  std::unique_ptr<std::atomic<int>[]> skip_s;  // synthesis (-1: not known yet)
+  int W = 0;  // lanes per block the polar starts are for
+  // per column, once found (null before); owned here
+  struct Polar {
+    std::unique_ptr<std::atomic<const PolarStarts*>[]> p;
+    int n = 0;
+    explicit Polar(int count) : p(new std::atomic<const PolarStarts*>[count]), n(count) {
+      for (int i = 0; i < n; ++i) p[i].store(nullptr, std::memory_order_relaxed);
+    }
+    ~Polar() {
+      for (int i = 0; i < n; ++i) delete p[i].load(std::memory_order_acquire);
+    }
+  } polar;
   RingPlan(int bands_, int nrings, const double* cos_t, const double* sin_t, bool symmetric, int lanes)
-      : bands(bands_), pr(make_pairs(nrings, cos_t, sin_t, symmetric)), W(lanes),
-        skip_a(new std::atomic<int>[bands_]), skip_s(new std::atomic<int>[bands_]) {
+      : bands(bands_), pr(make_pairs(nrings, cos_t, sin_t, symmetric)), W(lanes), polar(bands_) {
     const std::size_t padded = pr.x.size(), nsect = static_cast<std::size_t>(bands) * padded;
     lam0.resize(nsect);
     e0.resize(nsect);
@@ -188,10 +210,6 @@ struct RingPlan {
     plain.assign(static_cast<std::size_t>(bands) * nb, 1);
     for (std::size_t i = 0; i < nsect; ++i)
       if (e0[i] != 0.0) plain[(i / padded) * nb + (i % padded) / static_cast<std::size_t>(W)] = 0;
-    for (int m = 0; m < bands; ++m) {
-      skip_a[m].store(-1, std::memory_order_relaxed);
-      skip_s[m].store(-1, std::memory_order_relaxed);
-    }
   }
 };
 namespace {
@@ -449,13 +467,13 @@ __attribute__((always_inline)) inline bool graduate(S& g, typename Lanes<W>::I e
 // lanes are plain or at which it has a plain lane and can graduate (join[i] = that step,
 // kmax + 1 if never; its state is stored then, and its registers run on unused). A block
 // with a plain lane that cannot graduate yet adds the terms of its plain lanes to sums[k]
-// itself (masked, one reduction per step: rare, see graduate).
+// itself (masked, one reduction per step: rare, see graduate), and is marked in masked[i].
 constexpr int kFoldEvery = 8;
 constexpr int kExtBlocks = 4;
 template <int W>
 __attribute__((always_inline)) inline void ana_extended(int kmax, const double* ap, const double* bp,
                                                         AnaGroup<W>* grp, const int* ids, int nx, int* join,
-                                                        V4* sums) {
+                                                        V4* sums, unsigned char* masked) {
   using D = typename Lanes<W>::D;
   using I = typename Lanes<W>::I;
   constexpr int NB = kExtBlocks;
@@ -488,6 +506,7 @@ __attribute__((always_inline)) inline void ana_extended(int kmax, const double* 
           alive &= ~(1u << b);
         } else if (any(~ext)) {
           mixed |= 1u << b;
+          masked[ids[j0 + b]] = 1;
         }
       }
       if (!alive) break;
@@ -567,8 +586,8 @@ __attribute__((always_inline)) inline void ana_kernel(int K0, int kmax, int npla
 // instructions per ring pair; the sums are the same up to rounding order).
 ATMOSH_DISPATCH
 static void ana_extended4(int kmax, const double* ap, const double* bp, AnaGroup<4>* grp, const int* ids, int nx,
-                          int* join, V4* sums) {
-  ana_extended<4>(kmax, ap, bp, grp, ids, nx, join, sums);
+                          int* join, V4* sums, unsigned char* masked) {
+  ana_extended<4>(kmax, ap, bp, grp, ids, nx, join, sums, masked);
 }
 ATMOSH_DISPATCH
 static void ana_kernel4(int K0, int kmax, int nplain, const int* jsorted, int nj, const double* ap, const double* bp,
@@ -584,8 +603,8 @@ bool has_avx512() { return false; }
 #endif
 ATMOSH_V4_KERNEL
 static void ana_extended8(int kmax, const double* ap, const double* bp, AnaGroup<8>* grp, const int* ids, int nx,
-                          int* join, V4* sums) {
-  ana_extended<8>(kmax, ap, bp, grp, ids, nx, join, sums);
+                          int* join, V4* sums, unsigned char* masked) {
+  ana_extended<8>(kmax, ap, bp, grp, ids, nx, join, sums, masked);
 }
 ATMOSH_V4_KERNEL
 static void ana_kernel8(int K0, int kmax, int nplain, const int* jsorted, int nj, const double* ap, const double* bp,
@@ -633,15 +652,84 @@ __attribute__((always_inline)) inline int ana_skip(int kmax, const double* ap, c
   }
   return lo;
 }
+
+// The polar starts of a column (see PolarStarts): its extended blocks are made from their
+// sectoral starts, those that never reach 2^-kJoinExp are left out (ana_skip), and the
+// others are stepped as by the analysis (ana_extended, the terms of masked blocks to a
+// scratch array) to the step at which they join, where their values are kept.
+template <int W>
+__attribute__((always_inline)) inline PolarStarts* make_polar_starts(int kmax, int ngroups, const double* csq,
+                                                                     const double* lam0, const double* e0,
+                                                                     const unsigned char* plain, const ColCoef& cf) {
+  using D = typename Lanes<W>::D;
+  auto ps = std::make_unique<PolarStarts>();
+  ps->join.assign(ngroups, 0);
+  ps->slot.assign(ngroups, -1);
+  std::vector<int> ids, join(ngroups, 0);
+  for (int gi = 0; gi < ngroups; ++gi)
+    if (!plain[gi]) ids.push_back(gi);
+  const int nx = static_cast<int>(ids.size());
+  if (nx == 0) return ps.release();
+  std::unique_ptr<AnaGroup<W>[]> grp(new AnaGroup<W>[ngroups]);
+  for (int gi : ids) {
+    AnaGroup<W>& g = grp[gi];
+    g.ec = g.es = g.oc = g.os = D{};
+    std::memcpy(&g.csq, csq + W * gi, W * sizeof(double));
+    g.lam1 = D{};
+    std::memcpy(&g.lam2, lam0 + W * gi, W * sizeof(double));
+    std::memcpy(&g.e, e0 + W * gi, W * sizeof(double));
+  }
+  const int skip = nx > 1 ? ana_skip<W>(kmax, cf.ap, cf.bp, grp.get(), ids.data(), nx) : 0;
+  for (int i = 0; i < skip; ++i) ps->join[ids[i]] = kPolarNever;
+  std::vector<unsigned char> masked(ngroups, 0);
+  std::unique_ptr<V4[]> scratch(new V4[kmax + 4]);
+  ana_extended<W>(kmax, cf.ap, cf.bp, grp.get(), ids.data() + skip, nx - skip, join.data(), scratch.get(),
+                  masked.data());
+  for (int i = skip; i < nx; ++i) {
+    const int gi = ids[i];
+    if (masked[gi]) {
+      ps->join[gi] = kPolarMasked;
+    } else if (join[gi] > kmax) {
+      ps->join[gi] = kPolarNever;
+    } else {
+      ps->join[gi] = join[gi];
+      ps->slot[gi] = static_cast<int>(ps->lam.size() / (2 * W));
+      const double* l1 = reinterpret_cast<const double*>(&grp[gi].lam1);
+      const double* l2 = reinterpret_cast<const double*>(&grp[gi].lam2);
+      ps->lam.insert(ps->lam.end(), l1, l1 + W);
+      ps->lam.insert(ps->lam.end(), l2, l2 + W);
+    }
+  }
+  return ps.release();
+}
 ATMOSH_DISPATCH
-static int ana_skip4(int kmax, const double* ap, const double* bp, const AnaGroup<4>* grp, const int* ids, int nx) {
-  return ana_skip<4>(kmax, ap, bp, grp, ids, nx);
+static PolarStarts* make_polar_starts4(int kmax, int ngroups, const double* csq, const double* lam0, const double* e0,
+                                       const unsigned char* plain, const ColCoef& cf) {
+  return make_polar_starts<4>(kmax, ngroups, csq, lam0, e0, plain, cf);
 }
 #if ATMOSH_HAS_DISPATCH
 ATMOSH_TARGET_AVX512
 #endif
-static int ana_skip8(int kmax, const double* ap, const double* bp, const AnaGroup<8>* grp, const int* ids, int nx) {
-  return ana_skip<8>(kmax, ap, bp, grp, ids, nx);
+static PolarStarts* make_polar_starts8(int kmax, int ngroups, const double* csq, const double* lam0, const double* e0,
+                                       const unsigned char* plain, const ColCoef& cf) {
+  return make_polar_starts<8>(kmax, ngroups, csq, lam0, e0, plain, cf);
+}
+// Column m's polar starts, found by the first call that needs them (threads that find them
+// at the same time keep the first one published; the others are the same values).
+const PolarStarts& polar_starts(const RingPlan& rp, int m, const ColCoef& cf) {
+  std::atomic<const PolarStarts*>& slot = rp.polar.p[m];
+  if (const PolarStarts* ps = slot.load(std::memory_order_acquire)) return *ps;
+  const int kmax = (rp.bands - 1 - m) / 2;
+  const int ngroups = static_cast<int>(rp.pr.x.size()) / rp.W;
+  const std::size_t off = static_cast<std::size_t>(m) * rp.pr.x.size();
+  const unsigned char* plain = rp.plain.data() + static_cast<std::size_t>(m) * ngroups;
+  std::unique_ptr<const PolarStarts> made(
+      rp.W == 8 ? make_polar_starts8(kmax, ngroups, rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, plain, cf)
+                : make_polar_starts4(kmax, ngroups, rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, plain, cf));
+  const PolarStarts* expected = nullptr;
+  if (slot.compare_exchange_strong(expected, made.get(), std::memory_order_acq_rel, std::memory_order_acquire))
+    return *made.release();
+  return *expected;
 }
 
 // Per-thread work space of the column sums for blocks of W ring pairs.
@@ -652,9 +740,10 @@ struct AnaWork {
   // (not std::vector: GCC drops the vector attribute, and thus the alignment, in template arguments)
   std::unique_ptr<AnaGroup<W>[]> nat, act;
   std::vector<int> join, ids, jsorted;
+  std::vector<unsigned char> masked;
   AnaWork(int padded, int /*bands*/)
       : ngroups(padded / W), nat(new AnaGroup<W>[ngroups]), act(new AnaGroup<W>[ngroups]), join(ngroups),
-        ids(ngroups), jsorted(ngroups) {}
+        ids(ngroups), jsorted(ngroups), masked(ngroups) {}
 };
 
 // One worker's scratch of the analysis columns (parallel_for_m).
@@ -668,12 +757,12 @@ struct AnaScratch {
 
 // sums[k] (k <= kmax + 1) of column m: f = the ring sums of m in blocks of W lanes
 // (E cos, E sin, xO cos, xO sin: 4 W values per block); csq, lam0, e0 the lanes' x^2 and
-// starts, plain the blocks without an extended lane (RingPlan).
+// starts, plain the blocks without an extended lane (RingPlan), ps the column's polar starts.
 template <int W>
 __attribute__((always_inline)) inline void ana_column(int kmax, const double* csq, const double* lam0,
                                                       const double* e0, const unsigned char* plain,
                                                       const double* f, const ColCoef& cf, AnaWork<W>& w, V4* sums,
-                                                      std::atomic<int>& skip_cache) {
+                                                      const PolarStarts& ps) {
   using D = typename Lanes<W>::D;
   const int ngroups = w.ngroups;
   auto build = [&](AnaGroup<W>& g, int gi) {
@@ -683,38 +772,37 @@ __attribute__((always_inline)) inline void ana_column(int kmax, const double* cs
     std::memcpy(&g.lam2, lam0 + W * gi, W * sizeof(double));
     std::memcpy(&g.e, e0 + W * gi, W * sizeof(double));
   };
-  // plain blocks are made in place in act (ring order); the others go to nat[gi] and run
-  // their extended phase there
-  int nx = 0, nplain = 0;
+  // plain blocks are made in place in act (ring order); the others go to nat[gi]: those
+  // with a polar start with its values, the masked ones to run their extended phase there
+  int nx = 0, nm = 0, nplain = 0;
+  int* const masked_ids = w.jsorted.data();  // (free until the sort below)
   for (int gi = 0; gi < ngroups; ++gi) {
-    w.join[gi] = 0;
-    if (plain[gi])
+    if (plain[gi]) {
       build(w.act[nplain++], gi);
-    else
-      w.ids[nx++] = gi;
-  }
-  // Blocks none of whose lanes reach 2^-kJoinExp by step kmax contribute nothing
-  // (ana_skip): they are skipped instead of being stepped to kmax for nothing.
-  // (depends on the rings and m alone: counted by the first transform, kept in the plan)
-  int skip = 0, built = 0;  // extended blocks ids[0..built) made
-  if (nx > 1) {
-    skip = skip_cache.load(std::memory_order_relaxed);
-    if (skip < 0) {
-      for (; built < nx; ++built) build(w.nat[w.ids[built]], w.ids[built]);
-      if constexpr (W == 8)
-        skip = ana_skip8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
-      else
-        skip = ana_skip4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data(), nx);
-      skip_cache.store(skip, std::memory_order_relaxed);
+      continue;
     }
-    for (int i = 0; i < skip; ++i) w.join[w.ids[i]] = kmax + 1;
+    const int j = ps.join[gi];
+    if (j == kPolarNever) continue;
+    AnaGroup<W>& g = w.nat[gi];
+    build(g, gi);
+    if (j == kPolarMasked) {
+      masked_ids[nm++] = gi;
+    } else {
+      const double* lam = ps.lam.data() + static_cast<std::size_t>(ps.slot[gi]) * 2 * W;
+      std::memcpy(&g.lam1, lam, W * sizeof(double));
+      std::memcpy(&g.lam2, lam + W, W * sizeof(double));
+      g.e = D{};
+      w.join[gi] = j;
+      w.ids[nx++] = gi;
+    }
   }
-  for (int i = std::max(built, skip); i < nx; ++i) build(w.nat[w.ids[i]], w.ids[i]);  // the skipped ones are not
-  if (nx > skip) {
+  if (nm > 0) {
+    unsigned char* const scratch = w.masked.data();
     if constexpr (W == 8)
-      ana_extended8(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), sums);
+      ana_extended8(kmax, cf.ap, cf.bp, w.nat.get(), masked_ids, nm, w.join.data(), sums, scratch);
     else
-      ana_extended4(kmax, cf.ap, cf.bp, w.nat.get(), w.ids.data() + skip, nx - skip, w.join.data(), sums);
+      ana_extended4(kmax, cf.ap, cf.bp, w.nat.get(), masked_ids, nm, w.join.data(), sums, scratch);
+    for (int i = 0; i < nm; ++i) w.ids[nx++] = masked_ids[i];
   }
   // the plain blocks in ring order (already in act), then the others by the step they join at
   const int* join = w.join.data();
@@ -734,15 +822,15 @@ __attribute__((always_inline)) inline void ana_column(int kmax, const double* cs
 // Compiled as the kernels (the block copies in vector registers).
 ATMOSH_DISPATCH
 static void ana_column4(int kmax, const double* csq, const double* lam0, const double* e0, const unsigned char* plain,
-                        const double* f, const ColCoef& cf, AnaWork<4>& w, V4* sums, std::atomic<int>& skip) {
-  ana_column<4>(kmax, csq, lam0, e0, plain, f, cf, w, sums, skip);
+                        const double* f, const ColCoef& cf, AnaWork<4>& w, V4* sums, const PolarStarts& ps) {
+  ana_column<4>(kmax, csq, lam0, e0, plain, f, cf, w, sums, ps);
 }
 #if ATMOSH_HAS_DISPATCH
 ATMOSH_TARGET_AVX512
 #endif
 static void ana_column8(int kmax, const double* csq, const double* lam0, const double* e0, const unsigned char* plain,
-                        const double* f, const ColCoef& cf, AnaWork<8>& w, V4* sums, std::atomic<int>& skip) {
-  ana_column<8>(kmax, csq, lam0, e0, plain, f, cf, w, sums, skip);
+                        const double* f, const ColCoef& cf, AnaWork<8>& w, V4* sums, const PolarStarts& ps) {
+  ana_column<8>(kmax, csq, lam0, e0, plain, f, cf, w, sums, ps);
 }
 }  // namespace
 
@@ -772,9 +860,13 @@ struct SynState {
 // every lane is plain, the steps are plain. A plain lane gets the same operations in the
 // same order in both kinds of step, so its sums do not depend on where the masked steps
 // end. (cf: 4 values per step, zero past the column's last degree; defined to kmax + 1.)
+// With join (and ext false), the blocks start from zero values (adding nothing) and
+// block b takes its values from pend[b] (lam1, lam2) at step join[b] (from its polar start:
+// the same values and steps as the masked stepping gives it), from k0, the first of them.
 template <int W, int NB>
 __attribute__((always_inline)) inline void syn_blocks(int kmax, const double* ap, const double* bp, const double* cf,
-                                                      SynState<W>* s, bool ext) {
+                                                      SynState<W>* s, bool ext, int k0 = 0,
+                                                      const int* join = nullptr, const SynState<W>* pend = nullptr) {
   using D = typename Lanes<W>::D;
   using I = typename Lanes<W>::I;
   // the sums of one degree's values v (E cos, E sin, D cos, D sin by c[0..3])
@@ -797,10 +889,25 @@ __attribute__((always_inline)) inline void syn_blocks(int kmax, const double* ap
 #pragma GCC unroll 8
     for (int b = 0; b < NB; ++b) s[b].lam2 = (a2 * s[b].csq + b2) * s[b].lam1 + s[b].lam2;
   };
-  int k = 0;
+  int k = k0;
   I keep[NB];
 #pragma GCC unroll 8
   for (int b = 0; b < NB; ++b) keep[b] = ~I{};
+  if (join) {
+    int klast = k0;
+#pragma GCC unroll 8
+    for (int b = 0; b < NB; ++b)
+      if (join[b] <= kmax) klast = std::max(klast, join[b]);
+    for (; k <= klast; k += 2) {
+#pragma GCC unroll 8
+      for (int b = 0; b < NB; ++b)
+        if (join[b] == k) {
+          s[b].lam1 = pend[b].lam1;
+          s[b].lam2 = pend[b].lam2;
+        }
+      step(k, keep);
+    }
+  }
   if (ext) {
     for (; k <= kmax; k += 2) {
       if (k % kFoldEvery == 0) {
@@ -866,30 +973,12 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
                                                       const double* lam0, const double* e0, const double* ap,
                                                       const double* bp,
                                                       const double* cf, double* out, std::size_t bstride,
-                                                      std::atomic<int>& g0_cache) {
+                                                      const PolarStarts& ps) {
   auto at = [&](int q) { return out + static_cast<std::size_t>(q / kSynQB) * bstride + 4 * (q % kSynQB); };
-  // Leading blocks none of whose lanes reaches 2^-kJoinExp by kmax (see ana_skip) add
-  // nothing to their rings: their sums are zero.
-  // (depends on the rings and m alone: found by the first synthesis, kept in the plan)
-  int g0 = g0_cache.load(std::memory_order_relaxed);
-  if (g0 < 0) {
-    int lo = 0, hi = ngroups;
-    while (lo < hi) {
-      const int mid = (lo + hi) / 2;
-      AnaGroup<W> g;
-      std::memcpy(&g.csq, csq + W * mid, W * sizeof(double));
-      g.lam1 = typename Lanes<W>::D{};
-      std::memcpy(&g.lam2, lam0 + W * mid, W * sizeof(double));
-      std::memcpy(&g.e, e0 + W * mid, W * sizeof(double));
-      const int id = 0;
-      if (ana_skip<W>(kmax, ap, bp, &g, &id, 1) == 0)
-        hi = mid;
-      else
-        lo = mid + 1;
-    }
-    g0 = lo;
-    g0_cache.store(g0, std::memory_order_relaxed);
-  }
+  // Leading blocks that never join (polar starts) add nothing to their rings: their sums
+  // are zero.
+  int g0 = 0;
+  while (g0 < ngroups && ps.join[g0] == kPolarNever) ++g0;
   for (int q = 0; q < W * g0; ++q)
     for (int f = 0; f < 4; ++f) at(q)[f] = 0.0;
   using D = typename Lanes<W>::D;
@@ -901,14 +990,42 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
     s.ec = s.es = s.dc = s.ds = D{};
     return any(s.e != D{});  // whether a lane is extended
   };
-  // kSynBlocks blocks at a time (their recurrences overlap), then what is left
+  // kSynBlocks blocks at a time (their recurrences overlap), then what is left; each from
+  // its polar start, or all stepped masked from their sectoral starts where one of them
+  // has plain and extended lanes at once (kPolarMasked)
   auto run = [&](auto nb, int gi) __attribute__((always_inline)) {
     constexpr int NB = decltype(nb)::value;
     SynState<W> st[NB];
-    bool ext = false;
+    bool masked = false;
 #pragma GCC unroll 8
-    for (int b = 0; b < NB; ++b) ext |= load(st[b], W * (gi + b));
-    syn_blocks<W, NB>(kmax, ap, bp, cf, st, ext);
+    for (int b = 0; b < NB; ++b) masked |= ps.join[gi + b] == kPolarMasked;
+    if (masked) {
+      bool ext = false;
+#pragma GCC unroll 8
+      for (int b = 0; b < NB; ++b) ext |= load(st[b], W * (gi + b));
+      syn_blocks<W, NB>(kmax, ap, bp, cf, st, ext);
+    } else {
+      SynState<W> pend[NB];
+      int join[NB], k0 = kmax + 1;
+#pragma GCC unroll 8
+      for (int b = 0; b < NB; ++b) {
+        const int g = gi + b, j = ps.join[g];
+        std::memcpy(&st[b].csq, csq + W * g, sizeof(D));
+        st[b].lam1 = st[b].lam2 = st[b].e = st[b].ec = st[b].es = st[b].dc = st[b].ds = D{};
+        join[b] = j;
+        pend[b].lam1 = pend[b].lam2 = D{};
+        if (j == 0) {
+          pend[b].lam1 = D{};
+          std::memcpy(&pend[b].lam2, lam0 + W * g, sizeof(D));
+        } else if (j <= kmax) {
+          const double* lam = ps.lam.data() + static_cast<std::size_t>(ps.slot[g]) * 2 * W;
+          std::memcpy(&pend[b].lam1, lam, sizeof(D));
+          std::memcpy(&pend[b].lam2, lam + W, sizeof(D));
+        }
+        if (j <= kmax) k0 = std::min(k0, j);
+      }
+      if (k0 <= kmax) syn_blocks<W, NB>(kmax, ap, bp, cf, st, false, k0, join, pend);
+    }
 #pragma GCC unroll 8
     for (int b = 0; b < NB; ++b) syn_store<W>(st[b], x + W * (gi + b), at(W * (gi + b)));
   };
@@ -975,16 +1092,16 @@ static void syn_step_coefficients(int kmax, int kodd, const double* __restrict a
 ATMOSH_DISPATCH
 static void syn_column4(int kmax, int ngroups, const double* x, const double* csq, const double* lam0,
                         const double* e0, const double* ap, const double* bp, const double* cf, double* out,
-                        std::size_t bstride, std::atomic<int>& g0) {
-  syn_column<4>(kmax, ngroups, x, csq, lam0, e0, ap, bp, cf, out, bstride, g0);
+                        std::size_t bstride, const PolarStarts& ps) {
+  syn_column<4>(kmax, ngroups, x, csq, lam0, e0, ap, bp, cf, out, bstride, ps);
 }
 #if ATMOSH_HAS_DISPATCH
 ATMOSH_TARGET_AVX512
 #endif
 static void syn_column8(int kmax, int ngroups, const double* x, const double* csq, const double* lam0,
                         const double* e0, const double* ap, const double* bp, const double* cf, double* out,
-                        std::size_t bstride, std::atomic<int>& g0) {
-  syn_column<8>(kmax, ngroups, x, csq, lam0, e0, ap, bp, cf, out, bstride, g0);
+                        std::size_t bstride, const PolarStarts& ps) {
+  syn_column<8>(kmax, ngroups, x, csq, lam0, e0, ap, bp, cf, out, bstride, ps);
 }
 }  // namespace
 
@@ -1108,9 +1225,11 @@ void analysis_from_ring_sums(const RingPlan& rp, const double* fm, double* coeff
     const double* const fcol = fm + static_cast<std::size_t>(m) * ring_sum_stride(padded);
     const unsigned char* const plain = rp.plain.data() + static_cast<std::size_t>(m) * work.ngroups;
     if constexpr (std::remove_reference_t<decltype(work)>::lanes == 8)
-      ana_column8(kmax, rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, plain, fcol, cf, work, sums, rp.skip_a[m]);
+      ana_column8(kmax, rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, plain, fcol, cf, work, sums,
+                  polar_starts(rp, m, cf));
     else
-      ana_column4(kmax, rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, plain, fcol, cf, work, sums, rp.skip_a[m]);
+      ana_column4(kmax, rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, plain, fcol, cf, work, sums,
+                  polar_starts(rp, m, cf));
     // A_l (l - m even) directly; A_l+1 from B_l by forward substitution (cos and sin
     // parts side by side); column m goes to col[2 (l - m) + {0, 1}]
     ana_outputs(kmax, bands - 2 - m >= 0 ? (bands - 2 - m) / 2 : -1, cf.alpha, cf.rb, cf.qa, sums,
@@ -1192,10 +1311,10 @@ void synthesis_from_plan(const RingPlan& rp, const double* coeffs, int threads,
     const std::size_t bstride = static_cast<std::size_t>(bands) * QB * 4;
     if (W == 8)
       syn_column8(kmax, padded / 8, pr.x.data(), rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, cf.ap, cf.bp,
-                  sc.data(), out, bstride, rp.skip_s[m]);
+                  sc.data(), out, bstride, polar_starts(rp, m, cf));
     else
       syn_column4(kmax, padded / 4, pr.x.data(), rp.csq.data(), rp.lam0.data() + off, rp.e0.data() + off, cf.ap, cf.bp,
-                  sc.data(), out, bstride, rp.skip_s[m]);
+                  sc.data(), out, bstride, polar_starts(rp, m, cf));
   };
   parallel_for_m(
       bands, threads,

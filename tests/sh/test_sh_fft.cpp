@@ -10,6 +10,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fftw3.h>
@@ -390,4 +391,42 @@ TEST(Transform, CallerArraysAndTheGridsPlanGiveTheSameBits) {
     for (std::size_t i = 0; i < f.size(); ++i) ASSERT_EQ(fm[i], fb[i]) << i;
     EXPECT_GT(diff, 1e-6) << "the moved rings gave the original grid's coefficients";
   }
+}
+
+TEST(Transform, PolarStartsFoundByConcurrentCallsGiveTheBitsOfFreshPlans) {
+  // The polar starts of every column (where the blocks of polar rings join the plain
+  // kernels, and their values there) are found by the first transform on a grid's plan and
+  // kept in it. Two threads running their first transforms on one grid at once (each also
+  // with two worker threads), and later calls, give the bits of a grid without a plan
+  // (whose calls each find them afresh).
+  const int L = 300;
+  const GaussGrid g = gauss_grid(L, 0, 600);
+  GaussGrid bare = g;
+  bare.plan.reset();
+  std::mt19937_64 rng(61);
+  std::uniform_real_distribution<double> U(-1, 1);
+  std::vector<double> c(static_cast<std::size_t>(L) * L);
+  for (auto& v : c) v = U(rng);
+  const auto f_ref = synthesise(bare, c.data());
+  const auto a_ref = analyse(bare, f_ref.data());
+  std::vector<double> f1(f_ref.size()), f2(f_ref.size()), a1(c.size()), a2(c.size());
+  std::thread t1([&] { synthesise(g, c.data(), f1.data(), 2); analyse(g, f_ref.data(), a1.data(), 1); });
+  std::thread t2([&] { analyse(g, f_ref.data(), a2.data(), 2); synthesise(g, c.data(), f2.data(), 1); });
+  t1.join();
+  t2.join();
+  const auto f3 = synthesise(g, c.data());
+  const auto a3 = analyse(g, f_ref.data(), 2);
+  for (std::size_t i = 0; i < f_ref.size(); ++i) {
+    ASSERT_EQ(f1[i], f_ref[i]) << i;
+    ASSERT_EQ(f2[i], f_ref[i]) << i;
+    ASSERT_EQ(f3[i], f_ref[i]) << i;
+  }
+  double err = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    ASSERT_EQ(a1[i], a_ref[i]) << i;
+    ASSERT_EQ(a2[i], a_ref[i]) << i;
+    ASSERT_EQ(a3[i], a_ref[i]) << i;
+    err = std::max(err, std::abs(a_ref[i] - c[i]));
+  }
+  EXPECT_LT(err, 1e-12);
 }

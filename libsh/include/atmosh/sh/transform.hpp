@@ -54,7 +54,8 @@ struct GaussGrid {
   std::vector<double> weights;  ///< Gauss–Legendre weight per ring (sum 2)
   double phi(int j) const;      ///< longitude of column j, radians
   /// Set-up of the transforms made once with the grid by gauss_grid / regular_grid and shared
-  /// by copies (ring pairs, sectoral start values of every order and ring, polar skip counts):
+  /// by copies (ring pairs, sectoral start values of every order and ring, and the polar
+  /// starts of every order, found by the first transform that needs them):
   /// used only while it matches the fields above (compared on every call), otherwise made
   /// again per call.
   std::shared_ptr<const detail::GridPlan> plan;
