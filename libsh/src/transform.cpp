@@ -662,16 +662,37 @@ __attribute__((always_inline)) inline PolarStarts* make_polar_starts(int kmax, i
                                                                      const double* lam0, const double* e0,
                                                                      const unsigned char* plain, const ColCoef& cf) {
   using D = typename Lanes<W>::D;
+  // the calling thread's work arrays, kept from one column to the next (a plan made per
+  // call finds every column's starts on every call)
+  thread_local struct Work {
+    std::vector<int> ids, join;
+    std::vector<unsigned char> masked;
+    std::unique_ptr<AnaGroup<W>[]> grp;
+    std::unique_ptr<V4[]> sums;
+    int ngrp = 0, nsums = 0;
+  } w;
   auto ps = std::make_unique<PolarStarts>();
   ps->join.assign(ngroups, 0);
   ps->slot.assign(ngroups, -1);
-  std::vector<int> ids, join(ngroups, 0);
+  w.ids.clear();
   for (int gi = 0; gi < ngroups; ++gi)
-    if (!plain[gi]) ids.push_back(gi);
-  const int nx = static_cast<int>(ids.size());
+    if (!plain[gi]) w.ids.push_back(gi);
+  const int nx = static_cast<int>(w.ids.size());
   if (nx == 0) return ps.release();
-  std::unique_ptr<AnaGroup<W>[]> grp(new AnaGroup<W>[ngroups]);
-  for (int gi : ids) {
+  if (w.ngrp < ngroups) {
+    w.grp.reset(new AnaGroup<W>[ngroups]);
+    w.ngrp = ngroups;
+  }
+  if (w.nsums < kmax + 4) {
+    w.sums.reset(new V4[kmax + 4]);
+    w.nsums = kmax + 4;
+  }
+  w.join.assign(ngroups, 0);
+  w.masked.assign(ngroups, 0);
+  const int* const ids = w.ids.data();
+  AnaGroup<W>* const grp = w.grp.get();
+  for (int i = 0; i < nx; ++i) {
+    const int gi = ids[i];
     AnaGroup<W>& g = grp[gi];
     g.ec = g.es = g.oc = g.os = D{};
     std::memcpy(&g.csq, csq + W * gi, W * sizeof(double));
@@ -679,25 +700,25 @@ __attribute__((always_inline)) inline PolarStarts* make_polar_starts(int kmax, i
     std::memcpy(&g.lam2, lam0 + W * gi, W * sizeof(double));
     std::memcpy(&g.e, e0 + W * gi, W * sizeof(double));
   }
-  const int skip = nx > 1 ? ana_skip<W>(kmax, cf.ap, cf.bp, grp.get(), ids.data(), nx) : 0;
+  const int skip = nx > 1 ? ana_skip<W>(kmax, cf.ap, cf.bp, grp, ids, nx) : 0;
   for (int i = 0; i < skip; ++i) ps->join[ids[i]] = kPolarNever;
-  std::vector<unsigned char> masked(ngroups, 0);
-  std::unique_ptr<V4[]> scratch(new V4[kmax + 4]);
-  ana_extended<W>(kmax, cf.ap, cf.bp, grp.get(), ids.data() + skip, nx - skip, join.data(), scratch.get(),
-                  masked.data());
+  ana_extended<W>(kmax, cf.ap, cf.bp, grp, ids + skip, nx - skip, w.join.data(), w.sums.get(), w.masked.data());
+  int kept = 0;
+  for (int i = skip; i < nx; ++i) kept += !w.masked[ids[i]] && w.join[ids[i]] <= kmax;
+  ps->lam.resize(static_cast<std::size_t>(kept) * 2 * W);
+  kept = 0;
   for (int i = skip; i < nx; ++i) {
     const int gi = ids[i];
-    if (masked[gi]) {
+    if (w.masked[gi]) {
       ps->join[gi] = kPolarMasked;
-    } else if (join[gi] > kmax) {
+    } else if (w.join[gi] > kmax) {
       ps->join[gi] = kPolarNever;
     } else {
-      ps->join[gi] = join[gi];
-      ps->slot[gi] = static_cast<int>(ps->lam.size() / (2 * W));
-      const double* l1 = reinterpret_cast<const double*>(&grp[gi].lam1);
-      const double* l2 = reinterpret_cast<const double*>(&grp[gi].lam2);
-      ps->lam.insert(ps->lam.end(), l1, l1 + W);
-      ps->lam.insert(ps->lam.end(), l2, l2 + W);
+      ps->join[gi] = w.join[gi];
+      ps->slot[gi] = kept;
+      double* const lam = ps->lam.data() + static_cast<std::size_t>(kept++) * 2 * W;
+      std::memcpy(lam, &grp[gi].lam1, W * sizeof(double));
+      std::memcpy(lam + W, &grp[gi].lam2, W * sizeof(double));
     }
   }
   return ps.release();
