@@ -435,7 +435,8 @@ __attribute__((always_inline)) inline typename Lanes<W>::I fold_extended(S& g) {
 // A block with a plain lane and extended ones (ext: their mask, after fold_extended) goes
 // to the plain range as a whole when every extended lane is one scale step down (e =
 // -kScaleExp) with both values at least 2^-kGraduateExp once scaled (normal doubles, far
-// from the subnormals, so the lane's recurrence keeps its relative accuracy): its
+// from the subnormals, so the lane's recurrence keeps its relative accuracy; or lam1 = 0,
+// the start at step 0): its
 // extended lanes are scaled to their plain values (exact: a power of two), and from then
 // on they add their terms, which are below 2^-kJoinExp |f| until the lane would have
 // joined. Returns whether it did; otherwise the block is left as it was.
@@ -447,7 +448,9 @@ __attribute__((always_inline)) inline bool graduate(S& g, typename Lanes<W>::I e
   const I magnitude = I{} + 0x7fffffffffffffffLL;
   const I floor = I{} + std::bit_cast<long long>(std::ldexp(1.0, kScaleExp - kGraduateExp));
   const I once = I{} + std::bit_cast<long long>(-static_cast<double>(kScaleExp));
-  const I low = ((((I)g.lam1 & magnitude) - floor) | (((I)g.lam2 & magnitude) - floor)) >> 63;
+  // (lam1 = 0 exactly, the start value lam_-1 at step 0, needs no accuracy)
+  const I a1 = (I)g.lam1 & magnitude, a2 = (I)g.lam2 & magnitude, one = I{} + 1;
+  const I low = (((a1 - floor) & ~(a1 - one)) | (a2 - floor)) >> 63;
   const I other = (I)g.e ^ once;  // nonzero where e != -kScaleExp
   if (any(ext & (low | ((other | -other) >> 63)))) return false;
   const D down = D{} + kScaleDown;
@@ -1035,7 +1038,7 @@ __attribute__((always_inline)) inline void syn_column(int kmax, int ngroups, con
         st[b].lam1 = st[b].lam2 = st[b].e = st[b].ec = st[b].es = st[b].dc = st[b].ds = D{};
         join[b] = j;
         pend[b].lam1 = pend[b].lam2 = D{};
-        if (j == 0) {
+        if (ps.slot[g] < 0 && j == 0) {  // a plain block
           pend[b].lam1 = D{};
           std::memcpy(&pend[b].lam2, lam0 + W * g, sizeof(D));
         } else if (j <= kmax) {
