@@ -496,7 +496,8 @@ TEST(Transform, BlocksWhoseLanesSpanTheDoubleRangeMatchDirectSums) {
                                                {2047, 740}, {2047, 780}, {2047, 800}};
   std::vector<std::vector<double>> f;
   std::vector<double> c(static_cast<std::size_t>(L) * L, 0.0), col(L);
-  for (const auto& [l, m] : terms) {
+  for (const auto& term : terms) {
+    const int l = term.first, m = term.second;  // (plain variables: lambdas capture them below)
     c[sh_index(l, m)] = 1.0;
     f.push_back(synthesise(g, c.data()));
     const int j = 3;  // cos(m phi_j), sin(m phi_j) away from 0
