@@ -194,9 +194,11 @@ void BM_RotationBandMatrix(benchmark::State& st) {
   for (auto _ : st) benchmark::DoNotOptimize(R.band_matrix(L - 1));
 }
 
+// Arguments: bands, threads, nphi (0: the default), and (optional) 1: FftPlanning::measure.
 void BM_Analysis(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0)), threads = static_cast<int>(st.range(1));
-  const GaussGrid g = gauss_grid(L, 0, static_cast<int>(st.range(2)));
+  GaussGrid g = gauss_grid(L, 0, static_cast<int>(st.range(2)));
+  if (st.range(3)) g.fft = FftPlanning::measure;
   std::vector<double> c(sh_count(L), 0.01);
   const auto f = synthesise(g, c.data());
   for (auto _ : st) benchmark::DoNotOptimize(analyse(g, f.data(), threads));
@@ -204,8 +206,10 @@ void BM_Analysis(benchmark::State& st) {
 
 void BM_Synthesis(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0)), threads = static_cast<int>(st.range(1));
-  const GaussGrid g = gauss_grid(L, 0, static_cast<int>(st.range(2)));
+  GaussGrid g = gauss_grid(L, 0, static_cast<int>(st.range(2)));
+  if (st.range(3)) g.fft = FftPlanning::measure;
   std::vector<double> c(sh_count(L), 0.01);
+  benchmark::DoNotOptimize(synthesise(g, c.data(), threads));  // plans and polar starts
   for (auto _ : st) benchmark::DoNotOptimize(synthesise(g, c.data(), threads));
 }
 }  // namespace
@@ -224,9 +228,11 @@ BENCHMARK(BM_RotationApply)->Arg(4)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark:
 BENCHMARK(BM_RotationApplyHigh)->Args({512, 0})->Args({1000, 0})->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_RotationBandMatrix)->Arg(64)->Arg(256)->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Analysis)
-    ->Args({256, 1, 0})->Args({256, 1, 511})->Args({256, 1, 768})->Args({256, 2, 0})
-    ->Args({1024, 1, 0})->Args({1024, 1, 2047})->Args({1024, 1, 3072})->Args({1024, 2, 0})
+    ->Args({256, 1, 0, 0})->Args({256, 1, 511, 0})->Args({256, 1, 768, 0})->Args({256, 2, 0, 0})
+    ->Args({1024, 1, 0, 0})->Args({1024, 1, 2047, 0})->Args({1024, 1, 3072, 0})->Args({1024, 2, 0, 0})
+    ->Args({256, 1, 0, 1})->Args({256, 1, 511, 1})->Args({256, 1, 768, 1})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Synthesis)
-    ->Args({256, 1, 0})->Args({256, 1, 511})->Args({256, 1, 768})->Args({1024, 1, 0})->Args({1024, 1, 2047})
+    ->Args({256, 1, 0, 0})->Args({256, 1, 511, 0})->Args({256, 1, 768, 0})->Args({1024, 1, 0, 0})
+    ->Args({1024, 1, 2047, 0})->Args({256, 1, 0, 1})->Args({256, 1, 511, 1})->Args({256, 1, 768, 1})
     ->Unit(benchmark::kMillisecond);

@@ -129,8 +129,14 @@ void BM_shtns_RotationApply(benchmark::State& st) {
   }
   shtns_rotation_destroy(rot);
 }
-BENCHMARK(BM_shtns_Analysis)->Args({256, 0})->Args({1024, 0})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_shtns_Synthesis)->Args({256, 0})->Args({1024, 0})->Unit(benchmark::kMillisecond);
+// the same sizes as libsh's below: nphi other than a power of two go through FFTW's own
+// plans of those sizes in SHTns
+BENCHMARK(BM_shtns_Analysis)
+    ->Args({256, 0})->Args({256, 511})->Args({256, 525})->Args({256, 768})->Args({1024, 0})->Args({1024, 2047})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_shtns_Synthesis)
+    ->Args({256, 0})->Args({256, 511})->Args({256, 525})->Args({256, 768})->Args({1024, 0})->Args({1024, 2047})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_shtns_RotationApply)->Arg(1000)->Unit(benchmark::kMillisecond)->Iterations(3);
 #endif
 }  // namespace

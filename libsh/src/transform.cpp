@@ -764,8 +764,8 @@ struct AnaWork {
   // (not std::vector: GCC drops the vector attribute, and thus the alignment, in template arguments)
   std::unique_ptr<AnaGroup<W>[]> nat, act;
   std::vector<int> join, ids, jsorted;
-  std::vector<unsigned char> masked;
-  AnaWork(int padded, int /*bands*/)
+  std::vector<unsigned char> masked;  // ana_extended's marks (read by the polar starts only)
+  explicit AnaWork(int padded)
       : ngroups(padded / W), nat(new AnaGroup<W>[ngroups]), act(new AnaGroup<W>[ngroups]), join(ngroups),
         ids(ngroups), jsorted(ngroups), masked(ngroups) {}
 };
@@ -776,7 +776,7 @@ struct AnaScratch {
   AnaWork<W> work;
   std::unique_ptr<V4[]> sums;
   AnaCoef cf;
-  AnaScratch(int padded, int bands) : work(padded, bands), sums(new V4[bands + 4]) {}
+  AnaScratch(int padded, int bands) : work(padded), sums(new V4[bands + 4]) {}
 };
 
 // sums[k] (k <= kmax + 1) of column m: f = the ring sums of m in blocks of W lanes
@@ -1561,7 +1561,7 @@ std::mutex& fftw_planner_mutex() {
 // plans and nothing else: FFTW's global state (wisdom, planner) belongs to the process, and
 // fftw_cleanup() would invalidate the plans that other code in it holds.
 struct PlanCache {
-  std::map<int, FftPlans> plans;
+  std::map<std::pair<int, bool>, FftPlans> plans;  // (n, measured)
   ~PlanCache() {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
     for (auto& [n, p] : plans)
@@ -1593,32 +1593,35 @@ void chirp_value(long long t, int n, double& re, double& im) {
   im = std::sin(a);
 }
 
-const FftPlans* fft_plans(int n) {
+const FftPlans* fft_plans(int n, bool measured) {
   std::lock_guard<std::mutex> lock(fftw_planner_mutex());
   static PlanCache cache;
   auto& plans = cache.plans;
-  auto it = plans.find(n);
+  auto it = plans.find({n, measured});
   if (it != plans.end()) return &it->second;
+  // every plan below: FFTW_ESTIMATE, or FFTW_MEASURE where asked for (the method, p.mode,
+  // stays the one of n; the planner overwrites the arrays it is given, all scratch here)
+  const unsigned plan_flag = measured ? FFTW_MEASURE : FFTW_ESTIMATE;
   FftPlans p;
   p.mode = fft_mode(n);
   double* r = fftw_alloc_real(static_cast<std::size_t>(n));
   fftw_complex* c = fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1);
-  p.r2c = fftw_plan_dft_r2c_1d(n, r, c, FFTW_ESTIMATE);
-  p.c2r = fftw_plan_dft_c2r_1d(n, c, r, FFTW_ESTIMATE);
+  p.r2c = fftw_plan_dft_r2c_1d(n, r, c, plan_flag);
+  p.c2r = fftw_plan_dft_c2r_1d(n, c, r, plan_flag);
   fftw_free(r);
   fftw_free(c);
   bool ok = p.r2c && p.c2r;
   if (ok && p.mode == FftMode::real && n % 2 == 0) {
     // several rings per FFTW call (FFTW then vectorises across them): ~20 % less time per
-    // ring than one call per ring at n = 512 (AVX2, FFTW 3.3.10); still FFTW_ESTIMATE, so
-    // the plan, and the bits of the results, do not depend on timing
+    // ring than one call per ring at n = 512 (AVX2, FFTW 3.3.10); FFTW_ESTIMATE (unless
+    // measured), so the plan, and the bits of the results, do not depend on timing
     const int nc = n / 2 + 1;
     for (int i = 0; i < 2; ++i) {
       const int rows = i == 0 ? 4 : 8;
       double* rr = fftw_alloc_real(static_cast<std::size_t>(n) * rows);
       fftw_complex* cc = fftw_alloc_complex(static_cast<std::size_t>(nc) * rows);
       p.r2c_rows[i] = fftw_plan_many_dft_r2c(1, &n, rows, rr, nullptr, 1, n, cc, nullptr, 1, nc,
-                                             FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+                                             plan_flag | FFTW_PRESERVE_INPUT);
       fftw_free(rr);
       fftw_free(cc);
     }
@@ -1630,8 +1633,8 @@ const FftPlans* fft_plans(int n) {
     double* a = fftw_alloc_real(4 * static_cast<std::size_t>(n));
     fftw_iodim dim{n, 1, 1};
     p.sfwd = fftw_plan_guru_split_dft(1, &dim, 0, nullptr, a, a + n, a + 2 * n, a + 3 * n,
-                                      FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
-    p.sbwd = fftw_plan_guru_split_dft(1, &dim, 0, nullptr, a + n, a, a + 3 * n, a + 2 * n, FFTW_ESTIMATE);
+                                      plan_flag | FFTW_PRESERVE_INPUT);
+    p.sbwd = fftw_plan_guru_split_dft(1, &dim, 0, nullptr, a + n, a, a + 3 * n, a + 2 * n, plan_flag);
     fftw_free(a);
     ok = p.sfwd && p.sbwd;
   }
@@ -1643,16 +1646,16 @@ const FftPlans* fft_plans(int n) {
     }
     p.m = m;
     fftw_complex* z = fftw_alloc_complex(static_cast<std::size_t>(m));
-    p.fwd = fftw_plan_dft_1d(m, z, z, FFTW_FORWARD, FFTW_ESTIMATE);
-    p.bwd = fftw_plan_dft_1d(m, z, z, FFTW_BACKWARD, FFTW_ESTIMATE);
+    p.fwd = fftw_plan_dft_1d(m, z, z, FFTW_FORWARD, plan_flag);
+    p.bwd = fftw_plan_dft_1d(m, z, z, FFTW_BACKWARD, plan_flag);
     ok = ok && p.fwd && p.bwd;
     if (ok && p.mode == FftMode::chirp) {
       // the forward chirp's two FFTs out of place: FFTW's in-place plans of these sizes
       // buffer their columns (a third of the FFT time at M = 1024); the input array keeps
       // its zero tail from call to call (an out-of-place c2c preserves its input)
       fftw_complex* y = fftw_alloc_complex(static_cast<std::size_t>(m));
-      p.fwd_oop = fftw_plan_dft_1d(m, z, y, FFTW_FORWARD, FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
-      p.bwd_oop = fftw_plan_dft_1d(m, y, z, FFTW_BACKWARD, FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+      p.fwd_oop = fftw_plan_dft_1d(m, z, y, FFTW_FORWARD, plan_flag | FFTW_PRESERVE_INPUT);
+      p.bwd_oop = fftw_plan_dft_1d(m, y, z, FFTW_BACKWARD, plan_flag | FFTW_PRESERVE_INPUT);
       fftw_free(y);
       ok = p.fwd_oop && p.bwd_oop;
     }
@@ -1695,11 +1698,11 @@ const FftPlans* fft_plans(int n) {
       p.n1 = n1;
       fftw_complex* y = fftw_alloc_complex(static_cast<std::size_t>(m));
       p.col_f = fftw_plan_many_dft(1, &n2, n1, z, nullptr, n1, 1, y, nullptr, n1, 1, FFTW_FORWARD,
-                                   FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
-      p.row_f = fftw_plan_many_dft(1, &n1, n2, y, nullptr, 1, n1, y, nullptr, 1, n1, FFTW_FORWARD, FFTW_ESTIMATE);
-      p.row_b = fftw_plan_many_dft(1, &n1, n2, y, nullptr, 1, n1, y, nullptr, 1, n1, FFTW_BACKWARD, FFTW_ESTIMATE);
+                                   plan_flag | FFTW_PRESERVE_INPUT);
+      p.row_f = fftw_plan_many_dft(1, &n1, n2, y, nullptr, 1, n1, y, nullptr, 1, n1, FFTW_FORWARD, plan_flag);
+      p.row_b = fftw_plan_many_dft(1, &n1, n2, y, nullptr, 1, n1, y, nullptr, 1, n1, FFTW_BACKWARD, plan_flag);
       p.col_b = fftw_plan_many_dft(1, &n2, n1, y, nullptr, n1, 1, z, nullptr, n1, 1, FFTW_BACKWARD,
-                                   FFTW_ESTIMATE | FFTW_PRESERVE_INPUT);
+                                   plan_flag | FFTW_PRESERVE_INPUT);
       fftw_free(y);
       ok = p.col_f && p.row_f && p.row_b && p.col_b;
       const std::size_t mm = static_cast<std::size_t>(m);
@@ -1733,7 +1736,7 @@ const FftPlans* fft_plans(int n) {
       if (q) fftw_destroy_plan(q);
     throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
   }
-  return &plans.emplace(n, std::move(p)).first->second;
+  return &plans.emplace(std::make_pair(n, measured), std::move(p)).first->second;
 }
 
 // z *= k elementwise (m complex values, interleaved).
@@ -1885,9 +1888,9 @@ void chirp_inverse_out(const double* __restrict z, const double* __restrict w, i
 }
 }  // namespace
 
-RealFft::RealFft(int n) : n_(n) {
+RealFft::RealFft(int n, bool measured) : n_(n), measured_(measured) {
   if (n < 1) throw InputError("RealFft: size must be >= 1, got " + std::to_string(n));
-  plans_ = fft_plans(n);
+  plans_ = fft_plans(n, measured);
   const int m = static_cast<const FftPlans*>(plans_)->m;
   real_ = fftw_alloc_real(static_cast<std::size_t>(n));
   spec_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
@@ -2520,7 +2523,7 @@ void analyse(const GaussGrid& g, const double* values, double* coeffs, int threa
   atmosh::parallel_for_ranges_local(
       static_cast<std::size_t>(padded / W), 1, threads,
       [&] {
-        Scratch s{detail::RealFft(n), std::vector<double>(2 * static_cast<std::size_t>(L)),
+        Scratch s{detail::RealFft(n, g.fft == FftPlanning::measure), std::vector<double>(2 * static_cast<std::size_t>(L)),
                   std::vector<double>(2 * static_cast<std::size_t>(L)),
                   std::vector<double>(static_cast<std::size_t>(W) * 4 * LS),
                   std::unique_ptr<double, FftwFree>(reinterpret_cast<double*>(fftw_alloc_complex(W * sstride)))};
@@ -2546,6 +2549,7 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
     throw InputError("synthesise: grid is not initialised (use gauss_grid)");
   threads = atmosh::resolve_threads(threads);
   const int L = g.bands, n = g.nphi;
+  const bool measured = g.fft == FftPlanning::measure;
   const auto plan = detail::plan_for(g);
   const detail::Pairs& pr = plan->rings.pr;
   const int np = static_cast<int>(pr.north.size());
@@ -2569,7 +2573,7 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
       thread_local std::unique_ptr<double, FftwFree> zbuf;
       thread_local int zn = 0;
       thread_local std::vector<double> cs;
-      if (!fft || fft->size() != n) fft = std::make_unique<detail::RealFft>(n);
+      if (!fft || fft->size() != n || fft->measured() != measured) fft = std::make_unique<detail::RealFft>(n, measured);
       if (zn != n) {
         zbuf.reset(fftw_alloc_real(2 * static_cast<std::size_t>(n) * QB));
         if (!zbuf) throw std::bad_alloc();
@@ -2627,7 +2631,7 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
     detail::synthesis_from_plan(plan->rings, coeffs, threads, [&](int q0, int q1, const double* sums) {
       detail::sums_to_rows(pr, L, q0, q1, sums, four);
       thread_local std::unique_ptr<detail::RealFft> fft;
-      if (!fft || fft->size() != n) fft = std::make_unique<detail::RealFft>(n);
+      if (!fft || fft->size() != n || fft->measured() != measured) fft = std::make_unique<detail::RealFft>(n, measured);
       int rings[2 * QB];
       const int k = block_rings(q0, q1, rings);
       for (int i = 0; i < k; ++i) {
@@ -2650,7 +2654,7 @@ void synthesise(const GaussGrid& g, const double* coeffs, double* values, int th
   // Two rings at a time from the shared counter; each worker keeps its FFT plan.
   const int npairs = (g.nlat + 1) / 2;
   atmosh::parallel_for_ranges_local(
-      static_cast<std::size_t>(npairs), 1, threads, [&] { return detail::RealFft(n); },
+      static_cast<std::size_t>(npairs), 1, threads, [&] { return detail::RealFft(n, measured); },
       [&](detail::RealFft& fft, std::size_t b, std::size_t e) {
         for (std::size_t q = b; q < e; ++q) {
           const std::size_t r = 2 * q;

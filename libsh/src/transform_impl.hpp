@@ -20,18 +20,21 @@ void fft(double* re, double* im, int n, int sign);
 /// Real FFT of any size n >= 1 through FFTW3. The plans are made once per size (FFTW's
 /// planner is not thread safe: under a process-wide lock) with FFTW_ESTIMATE, and the
 /// method is chosen from the factors of n alone (transform.cpp), so the same input gives
-/// the same bits from run to run; executing them is thread safe. Sizes with a prime factor
+/// the same bits from run to run; with `measured`, FFTW_MEASURE plans of the same method
+/// instead (kept apart from the others; faster for some sizes, chosen by timing, so the
+/// bits may differ between runs). Executing them is thread safe. Sizes with a prime factor
 /// above 5 transform two rings at once (forward2 / inverse2: one complex FFT of size n,
 /// or Bluestein's chirp convolution where a prime factor exceeds 13). Each object owns
 /// aligned work arrays: one per thread. libsh destroys only its own plans at exit.
 class RealFft {
  public:
-  explicit RealFft(int n);
+  explicit RealFft(int n, bool measured = false);
   ~RealFft();
   RealFft(RealFft&& o) noexcept;
   RealFft(const RealFft&) = delete;
   RealFft& operator=(const RealFft&) = delete;
   int size() const { return n_; }
+  bool measured() const { return measured_; }
   /// Whether size n transforms two rings at once (forward2 / inverse2 then pair their rings;
   /// otherwise they are two independent real FFTs).
   static bool pairs_rings(int n);
@@ -72,6 +75,7 @@ class RealFft {
   void split_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2);
 
   int n_;
+  bool measured_;
   const void* plans_;  // the shared plans of size n
   double* real_;       // n values (FFTW-aligned)
   double* spec_;       // n/2 + 1 complex values

@@ -11,6 +11,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <fftw3.h>
@@ -41,11 +42,18 @@ TEST(Transform, PairedRealFftsMatchDirectSums) {
   // Sizes of each method: powers of two from 16 (two rings per split-format complex FFT:
   // 16, 64, 512), other 2^a 3^b 5^c (real FFTs: 1, 2, 8, 96), other factors <= 13 (two rings
   // per complex FFT: 7, 21, 77, 525), a factor > 13 (Bluestein: 17, 34, 89, 511);
-  // forward with aliased orders (count > n/2), inverse at the largest count.
+  // forward with aliased orders (count > n/2), inverse at the largest count. Plans of
+  // FFTW_ESTIMATE and of FFTW_MEASURE (measured: its planner overwrites the arrays it plans
+  // on, the chirp's kernels among them were they made first).
   std::mt19937_64 rng(27);
   std::uniform_real_distribution<double> U(-1, 1);
-  for (int n : {1, 2, 8, 16, 64, 512, 96, 7, 21, 77, 525, 17, 34, 89, 511}) {
-    detail::RealFft fft(n);
+  std::vector<std::pair<int, bool>> cases;
+  for (int n : {1, 2, 8, 16, 64, 512, 96, 7, 21, 77, 525, 17, 34, 89, 511})
+    for (bool measured : {false, true}) cases.emplace_back(n, measured);
+  for (const auto& [n, measured] : cases) {
+    SCOPED_TRACE(measured ? "FFTW_MEASURE" : "FFTW_ESTIMATE");
+    detail::RealFft fft(n, measured);
+    ASSERT_EQ(fft.measured(), measured);
     std::vector<double> f1(n), f2(n);
     for (auto& v : f1) v = U(rng);
     for (auto& v : f2) v = U(rng);
@@ -93,10 +101,12 @@ TEST(Transform, ChirpOfFourStepsMatchesDirectSums) {
   // transforms at L = 1024) and 2053 (prime, M = 8192, n1 != n2), against long-double
   // direct sums at every 23rd order (and the largest) of a count with aliased orders
   // (count > n/2); the inverse at every 23rd point.
+  // Plans of FFTW_ESTIMATE and (2047, the size of the benchmarks) of FFTW_MEASURE.
   std::mt19937_64 rng(61);
   std::uniform_real_distribution<double> U(-1, 1);
-  for (int n : {2047, 2053}) {
-    detail::RealFft fft(n);
+  for (const auto& [n, measured] : {std::pair{2047, false}, std::pair{2053, false}, std::pair{2047, true}}) {
+    SCOPED_TRACE(measured ? "FFTW_MEASURE" : "FFTW_ESTIMATE");
+    detail::RealFft fft(n, measured);
     std::vector<double> f1(n), f2(n);
     for (auto& v : f1) v = U(rng);
     for (auto& v : f2) v = U(rng);
@@ -429,4 +439,38 @@ TEST(Transform, PolarStartsFoundByConcurrentCallsGiveTheBitsOfFreshPlans) {
     err = std::max(err, std::abs(a_ref[i] - c[i]));
   }
   EXPECT_LT(err, 1e-12);
+}
+
+TEST(Transform, MeasuredFftPlansGiveTheTransformsToRounding) {
+  // GaussGrid::fft = FftPlanning::measure: FFTW_MEASURE plans, chosen by timing, of every
+  // method (512: split, 768: real rows, 525: paired, 511: chirp). Synthesis and analysis
+  // agree with those of the default plans to rounding, round trips stay exact, and repeated
+  // calls in the process give the same bits (the plans are made once per size and kept).
+  std::mt19937_64 rng(83);
+  std::uniform_real_distribution<double> U(-1, 1);
+  const int L = 96;
+  std::vector<double> c(L * L);
+  for (auto& v : c) v = U(rng);
+  for (int nphi : {512, 768, 525, 511}) {
+    SCOPED_TRACE(nphi);
+    const GaussGrid g = gauss_grid(L, 0, nphi);
+    GaussGrid gm = g;
+    gm.fft = FftPlanning::measure;
+    const auto f = synthesise(g, c.data()), fm = synthesise(gm, c.data(), 2);
+    double fmax = 0, fdiff = 0;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      fmax = std::max(fmax, std::abs(f[i]));
+      fdiff = std::max(fdiff, std::abs(f[i] - fm[i]));
+    }
+    EXPECT_LT(fdiff, 1e-14 * fmax);
+    const auto a = analyse(g, f.data()), am = analyse(gm, f.data());
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      ASSERT_NEAR(am[i], a[i], 1e-14) << i;
+      ASSERT_NEAR(am[i], c[i], 1e-13) << i;
+    }
+    const auto fm2 = synthesise(gm, c.data());
+    const auto am2 = analyse(gm, f.data(), 2);
+    for (std::size_t i = 0; i < f.size(); ++i) ASSERT_EQ(fm2[i], fm[i]) << i;
+    for (std::size_t i = 0; i < c.size(); ++i) ASSERT_EQ(am2[i], am[i]) << i;
+  }
 }

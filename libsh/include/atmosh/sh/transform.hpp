@@ -8,10 +8,12 @@
 // nlat >= L and nphi >= 2L - 1 (the Gauss rule integrates the degree <= 2L-2 products
 // in cos t; the uniform rule the trigonometric ones in p).
 //
-// Method: per ring a real FFT in p (FFTW3, any nphi, plans made once per size; sizes with
-// a prime factor above 5 take two rings per complex FFT, and above 13 Bluestein's chirp
-// convolution through power-of-two FFTs: analysis at nphi = 511, 768, 2047 in 1.1-1.3x the
-// power-of-two time, docs/sh.md), then the
+// Method: per ring a real FFT in p (FFTW3, any nphi, plans made once per size; powers of
+// two take two rings per split-format complex FFT, sizes with a prime factor above 5 two
+// rings per complex FFT, and above 13 Bluestein's chirp convolution through power-of-two
+// FFTs: one thread, L = 256, analysis at nphi = 525 and 768 in ~1.3x the time at 512, at
+// 511 in ~1.8x (SHTns: ~3.3x); GaussGrid::fft = FftPlanning::measure takes 768 to ~1.1x,
+// docs/sh.md), then the
 // Legendre sums, m outer, vectorised over
 // blocks of ring pairs and using the equatorial symmetry Pbar_lm(-x) = (-1)^(l+m)
 // Pbar_lm(x). Analysis recurs only the degrees of the parity of m, in x^2 (two FMAs per
@@ -44,6 +46,17 @@ struct GridPlan;
 /// t_i = i pi / (nlat - 1) with the Clenshaw–Curtis rule (quadrature.hpp).
 enum class LatitudeRule { gauss, fejer, clenshaw_curtis };
 
+/// How the FFTs in longitude are planned (FFTW3).
+/// estimate (default): the method and FFTW's plans follow from nphi alone (FFTW_ESTIMATE), so
+///   the same input gives the same bits in every run.
+/// measure: FFTW chooses its plans by timing candidates (FFTW_MEASURE) at the first transform
+///   of each nphi in the process (tens of ms to ~1 s, once; the plans are kept to exit).
+///   Faster for some sizes other than powers of two (one thread, L = 256, Zen 5: nphi = 768
+///   12 % less time per analysis and synthesis, 511 3-5 %, 512 1-2 %), but the chosen plans,
+///   and so the last bits of the results (~1e-16 relative), may differ between runs and
+///   machines. Within one process every transform of a size uses the same plans.
+enum class FftPlanning { estimate, measure };
+
 struct GaussGrid {
   int bands = 0;
   LatitudeRule rule = LatitudeRule::gauss;
@@ -59,6 +72,7 @@ struct GaussGrid {
   /// used only while it matches the fields above (compared on every call), otherwise made
   /// again per call.
   std::shared_ptr<const detail::GridPlan> plan;
+  FftPlanning fft = FftPlanning::estimate;  ///< planning of the FFTs in longitude (above)
 };
 
 /// Grid for `bands` bands; nlat = 0 / nphi = 0 pick the defaults above.
