@@ -50,7 +50,7 @@ enum class LatitudeRule { gauss, fejer, clenshaw_curtis };
 /// estimate (default): the method and FFTW's plans follow from nphi alone (FFTW_ESTIMATE), so
 ///   the same input gives the same bits in every run.
 /// measure: FFTW chooses its plans by timing candidates (FFTW_MEASURE) at the first transform
-///   of each nphi in the process (tens of ms to ~1 s, once; the plans are kept to exit).
+///   of each nphi in the process (0.2-1 s at nphi = 512 ... 3072, once; kept to exit).
 ///   Faster for some sizes other than powers of two (one thread, L = 256, Zen 5: nphi = 768
 ///   12 % less time per analysis and synthesis, 511 3-5 %, 512 1-2 %), but the chosen plans,
 ///   and so the last bits of the results (~1e-16 relative), may differ between runs and
