@@ -72,20 +72,24 @@ def grid(bands, rule="gauss", nlat=0, nphi=0):
     return g
 
 
-def analyse(values, bands, rule="gauss", threads=1):
+def analyse(values, bands, rule="gauss", threads=1, fft="estimate"):
     """SH coefficients of samples on a grid(bands, rule, nlat, nphi): values (nlat, nphi)
     -> (L^2,), or (C, nlat, nphi) -> (C, L^2). Exact for band-limited functions on a
-    Gauss grid."""
+    Gauss grid. fft: "estimate" (FFT plans from nphi alone: the same bits in every run) or
+    "measure" (FFTW's plans chosen by timing at the first call of each nphi, 0.2-1 s once:
+    faster for some nphi other than powers of two, e.g. ~12 % at 768; the last bits may
+    differ between runs)."""
     v = np.asarray(values, dtype=np.float64)
     single = v.ndim == 2
-    out = _sh.analyse(np.ascontiguousarray(v[np.newaxis] if single else v), bands, rule, threads)
+    out = _sh.analyse(np.ascontiguousarray(v[np.newaxis] if single else v), bands, rule, threads, fft)
     return _back(out, single)
 
 
-def synthesise(coeffs, rule="gauss", nlat=0, nphi=0, threads=1):
-    """Values of coefficients on a grid: (nlat, nphi), or (C, nlat, nphi) for (C, L^2)."""
+def synthesise(coeffs, rule="gauss", nlat=0, nphi=0, threads=1, fft="estimate"):
+    """Values of coefficients on a grid: (nlat, nphi), or (C, nlat, nphi) for (C, L^2).
+    fft as for analyse."""
     c, single = _as2d(coeffs)
-    return _back(_sh.synthesise(c, rule, nlat, nphi, threads), single)
+    return _back(_sh.synthesise(c, rule, nlat, nphi, threads, fft), single)
 
 
 def project_equirect(image, bands, rule="exact", threads=1):

@@ -42,9 +42,19 @@ sh::LatitudeRule parse_rule(const std::string& name) {
   throw InputError("rule: '" + name + "' is not gauss, fejer or clenshaw-curtis");
 }
 
-sh::GaussGrid make_grid(int bands, const std::string& rule, int nlat, int nphi) {
+sh::FftPlanning parse_fft(const std::string& name) {
+  if (name == "estimate") return sh::FftPlanning::estimate;
+  if (name == "measure") return sh::FftPlanning::measure;
+  throw InputError("fft: '" + name + "' is not estimate or measure");
+}
+
+sh::GaussGrid make_grid(int bands, const std::string& rule, int nlat, int nphi, const std::string& fft = "estimate") {
+  const auto planning = parse_fft(fft);
   const auto r = parse_rule(rule);
-  return r == sh::LatitudeRule::gauss ? sh::gauss_grid(bands, nlat, nphi) : sh::regular_grid(bands, r, nlat, nphi);
+  sh::GaussGrid g =
+      r == sh::LatitudeRule::gauss ? sh::gauss_grid(bands, nlat, nphi) : sh::regular_grid(bands, r, nlat, nphi);
+  g.fft = planning;
+  return g;
 }
 
 sh::PixelRule parse_pixel_rule(const std::string& name) {
@@ -93,10 +103,10 @@ void bind_sh(py::module_& m) {
       py::arg("bands"), py::arg("rule") = "gauss", py::arg("nlat") = 0, py::arg("nphi") = 0);
   m.def(
       "analyse",
-      [](const DArray& values, int bands, const std::string& rule, int threads) {
+      [](const DArray& values, int bands, const std::string& rule, int threads, const std::string& fft) {
         if (values.ndim() != 3) throw InputError("values: expected shape (C, nlat, nphi), got " + shape_string(values));
         const int nlat = static_cast<int>(values.shape(1)), nphi = static_cast<int>(values.shape(2));
-        const sh::GaussGrid g = make_grid(bands, rule, nlat, nphi);
+        const sh::GaussGrid g = make_grid(bands, rule, nlat, nphi, fft);
         if (g.nlat != nlat || g.nphi != nphi)
           throw InputError("values: grid of " + std::to_string(nlat) + " x " + std::to_string(nphi) + " does not fit");
         const auto nc = static_cast<std::size_t>(bands) * bands;
@@ -108,12 +118,13 @@ void bind_sh(py::module_& m) {
         }
         return out;
       },
-      py::arg("values"), py::arg("bands"), py::arg("rule") = "gauss", py::arg("threads") = 1);
+      py::arg("values"), py::arg("bands"), py::arg("rule") = "gauss", py::arg("threads") = 1,
+      py::arg("fft") = "estimate");
   m.def(
       "synthesise",
-      [](const DArray& coeffs, const std::string& rule, int nlat, int nphi, int threads) {
+      [](const DArray& coeffs, const std::string& rule, int nlat, int nphi, int threads, const std::string& fft) {
         const int bands = bands_of(coeffs);
-        const sh::GaussGrid g = make_grid(bands, rule, nlat, nphi);
+        const sh::GaussGrid g = make_grid(bands, rule, nlat, nphi, fft);
         const auto per = static_cast<std::size_t>(g.nlat) * g.nphi;
         DArray out = new_array({coeffs.shape(0), g.nlat, g.nphi});
         for (py::ssize_t c = 0; c < coeffs.shape(0); ++c) {
@@ -122,7 +133,8 @@ void bind_sh(py::module_& m) {
         }
         return out;
       },
-      py::arg("coeffs"), py::arg("rule") = "gauss", py::arg("nlat") = 0, py::arg("nphi") = 0, py::arg("threads") = 1);
+      py::arg("coeffs"), py::arg("rule") = "gauss", py::arg("nlat") = 0, py::arg("nphi") = 0, py::arg("threads") = 1,
+      py::arg("fft") = "estimate");
   m.def(
       "project_equirect",
       [](const DArray& img, int bands, const std::string& rule, int threads) {

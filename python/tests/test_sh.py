@@ -45,6 +45,13 @@ def test_grid_analysis_and_projections_of_known_functions():
     vals = 1.0 + 2.0 * g["directions"][..., 2]
     np.testing.assert_allclose(SH.analyse(vals, 4), expect, atol=1e-13)
     np.testing.assert_allclose(SH.synthesise(expect, nlat=vals.shape[0], nphi=vals.shape[1]), vals, atol=1e-13)
+    # FFTW's measured plans (nphi = 12: a factor 3) give the same transforms to rounding
+    g12 = SH.grid(4, nphi=12)
+    v12 = 1.0 + 2.0 * g12["directions"][..., 2]
+    np.testing.assert_allclose(SH.analyse(v12, 4, fft="measure"), expect, atol=1e-13)
+    np.testing.assert_allclose(SH.synthesise(expect, nlat=4, nphi=12, fft="measure"), v12, atol=1e-13)
+    with pytest.raises(atmosh.InputError, match="fft: 'patient'"):
+        SH.analyse(v12, 4, fft="patient")
     # the same function as an equirect image (rows from +z) and a cube map, two channels
     H, W = 16, 32
     theta = math.pi * (np.arange(H) + 0.5) / H
