@@ -1649,10 +1649,10 @@ const FftPlans* fft_plans(int n, bool measured) {
     p.fwd = fftw_plan_dft_1d(m, z, z, FFTW_FORWARD, plan_flag);
     p.bwd = fftw_plan_dft_1d(m, z, z, FFTW_BACKWARD, plan_flag);
     ok = ok && p.fwd && p.bwd;
-    if (ok && p.mode == FftMode::chirp) {
-      // the forward chirp's two FFTs out of place: FFTW's in-place plans of these sizes
-      // buffer their columns (a third of the FFT time at M = 1024); the input array keeps
-      // its zero tail from call to call (an out-of-place c2c preserves its input)
+    if (ok) {
+      // out of place: FFTW's in-place plans of these sizes buffer their columns (a third of
+      // the FFT time at M = 1024, a sixth at n = 525); the chirp's forward input keeps its
+      // zero tail from call to call (an out-of-place c2c preserves its input)
       fftw_complex* y = fftw_alloc_complex(static_cast<std::size_t>(m));
       p.fwd_oop = fftw_plan_dft_1d(m, z, y, FFTW_FORWARD, plan_flag | FFTW_PRESERVE_INPUT);
       p.bwd_oop = fftw_plan_dft_1d(m, y, z, FFTW_BACKWARD, plan_flag | FFTW_PRESERVE_INPUT);
@@ -1897,10 +1897,10 @@ RealFft::RealFft(int n, bool measured) : n_(n), measured_(measured) {
   // chirp: three arrays of m complex values (in-place work / out-of-place output, the
   // forward input with its zero tail, the forward spectrum); split: four arrays of n values
   // (the spectrum's real and imaginary parts, two rings where the caller's rows are not
-  // aligned as the plan's)
+  // aligned as the plan's); pair: two arrays of n complex values (input, output)
   const FftMode mode = static_cast<const FftPlans*>(plans_)->mode;
   const bool chirp = mode == FftMode::chirp;
-  work_ = m > 0 ? reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(m) * (chirp ? 3 : mode == FftMode::split ? 2 : 1)))
+  work_ = m > 0 ? reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(m) * (chirp ? 3 : 2)))
                 : nullptr;
   if (chirp && work_) std::fill(work_ + 2 * static_cast<std::size_t>(m), work_ + 4 * static_cast<std::size_t>(m), 0.0);
   spec2_ = reinterpret_cast<double*>(fftw_alloc_complex(static_cast<std::size_t>(n) / 2 + 1));
@@ -2022,9 +2022,29 @@ void RealFft::forward2_spectra(const double* f1, const double* f2, int count, do
     split_spectra(f1, f2, cm, s1, s2);
     return;
   }
-  forward2(f1, f2, count, nullptr, nullptr);  // leaves the spectra in spec_, spec2_
-  std::memcpy(s1, spec_, sizeof(double) * 2 * cm);
-  std::memcpy(s2, spec2_, sizeof(double) * 2 * cm);
+  pair_spectra(f1, f2, cm, s1, s2);
+}
+
+void RealFft::pair_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2) {
+  // z_j = f1_j + i f2_j, its FFT X out of place; F1_k = (X_k + conj(X_-k)) / 2,
+  // F2_k = (X_k - conj(X_-k)) / (2 i) for k < cm
+  const FftPlans& p = *static_cast<const FftPlans*>(plans_);
+  const int n = n_;
+  double* const z = work_;
+  double* const x = work_ + 2 * static_cast<std::size_t>(n);
+  for (int j = 0; j < n; ++j) {
+    z[2 * j] = f1[j];
+    z[2 * j + 1] = f2[j];
+  }
+  fftw_execute_dft(p.fwd_oop, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(x));
+  for (int k = 0; k < cm; ++k) {
+    const double* xp = x + 2 * static_cast<std::size_t>(k);
+    const double* xm = x + 2 * static_cast<std::size_t>(k == 0 ? 0 : n - k);
+    s1[2 * k] = 0.5 * (xp[0] + xm[0]);
+    s1[2 * k + 1] = 0.5 * (xp[1] - xm[1]);
+    s2[2 * k] = 0.5 * (xp[1] + xm[1]);
+    s2[2 * k + 1] = -0.5 * (xp[0] - xm[0]);
+  }
 }
 
 void RealFft::split_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2) {
@@ -2068,57 +2088,13 @@ void RealFft::forward2(const double* f1, const double* f2, int count, double* ou
     forward(f2, count, out2);
     return;
   }
-  const int n = n_, m = p.m, cm = std::min(count, n / 2 + 1);
-  if (p.mode == FftMode::chirp || p.mode == FftMode::split) {
-    if (p.mode == FftMode::chirp)
-      chirp_spectra(f1, f2, cm, spec_, spec2_);
-    else
-      split_spectra(f1, f2, cm, spec_, spec2_);
-    if (!out1) return;
-    emit_orders(spec_, n, count, out1);
-    emit_orders(spec2_, n, count, out2);
-    return;
-  }
-  double* z = work_;
-  // z_j = f1_j + i f2_j; X_k = F1_k + i F2_k for |k| < cm at xk(k)
-  if (p.mode == FftMode::pair) {
-    for (int j = 0; j < n; ++j) {
-      z[2 * j] = f1[j];
-      z[2 * j + 1] = f2[j];
-    }
-    fftw_execute_dft(p.fwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
-  } else {
-    const double* w = p.chirp.data();
-    for (int j = 0; j < n; ++j) {  // u_j = z_j conj(w_j)
-      const double a = f1[j], b = f2[j], c = w[2 * j], d = w[2 * j + 1];
-      z[2 * j] = a * c + b * d;
-      z[2 * j + 1] = b * c - a * d;
-    }
-    std::fill(z + 2 * n, z + 2 * m, 0.0);
-    fftw_execute_dft(p.fwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
-    complex_multiply(z, p.kf.data(), m);
-    fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
-    // X_k = conj(w_k) z_(k mod M), w_-k = w_k
-    auto fix = [&](int k) {
-      double* v = z + 2 * static_cast<std::size_t>(k < 0 ? k + m : k);
-      const int a = k < 0 ? -k : k;
-      const double c = w[2 * a], d = w[2 * a + 1], x = v[0], y = v[1];
-      v[0] = x * c + y * d;
-      v[1] = y * c - x * d;
-    };
-    for (int k = -(cm - 1); k < cm; ++k) fix(k);
-  }
-  const int period = p.mode == FftMode::pair ? n : m;
-  // F1_k = (X_k + conj(X_-k)) / 2, F2_k = (X_k - conj(X_-k)) / (2 i)
-  for (int k = 0; k < cm; ++k) {
-    const double* xp = z + 2 * static_cast<std::size_t>(k);
-    const double* xm = z + 2 * static_cast<std::size_t>(k == 0 ? 0 : period - k);
-    spec_[2 * k] = 0.5 * (xp[0] + xm[0]);
-    spec_[2 * k + 1] = 0.5 * (xp[1] - xm[1]);
-    spec2_[2 * k] = 0.5 * (xp[1] + xm[1]);
-    spec2_[2 * k + 1] = -0.5 * (xp[0] - xm[0]);
-  }
-  if (!out1) return;  // forward2_spectra
+  const int n = n_, cm = std::min(count, n / 2 + 1);
+  if (p.mode == FftMode::chirp)
+    chirp_spectra(f1, f2, cm, spec_, spec2_);
+  else if (p.mode == FftMode::split)
+    split_spectra(f1, f2, cm, spec_, spec2_);
+  else
+    pair_spectra(f1, f2, cm, spec_, spec2_);
   emit_orders(spec_, n, count, out1);
   emit_orders(spec2_, n, count, out2);
 }
@@ -2173,10 +2149,9 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
     return;
   }
   double* z = work_;
-  std::fill(z, z + 2 * m, 0.0);
-  const double* w = p.chirp.data();
-  const bool chirp = p.mode == FftMode::chirp;
-  if (chirp) {
+  if (p.mode == FftMode::chirp) {
+    std::fill(z, z + 2 * m, 0.0);
+    const double* w = p.chirp.data();
     chirp_inverse_fill(cs1, cs2, count, w, m, z);
     double* const v = work_ + 4 * static_cast<std::size_t>(m);
     auto* const zc = reinterpret_cast<fftw_complex*>(z);
@@ -2184,19 +2159,14 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
     chirp_inverse_out(z, w, n, v1, v2);
     return;
   }
-  // Z_k = V1_k + i V2_k, V_0 = C_0, V_k = (C_k - i S_k) / 2, V_-k = conj(V_k); for the
-  // chirp, y_k = Z_k w_k
+  // pair: Z_k = V1_k + i V2_k, V_0 = C_0, V_k = (C_k - i S_k) / 2, V_-k = conj(V_k), zero
+  // for count <= |k|; its backward FFT out of place, whose real and imaginary parts are the
+  // rings
+  std::fill(z, z + 2 * static_cast<std::size_t>(n), 0.0);
   auto put = [&](int k, double re, double im) {
-    double* v = z + 2 * static_cast<std::size_t>(k < 0 ? k + m : k);
-    if (chirp) {
-      const int a = k < 0 ? -k : k;
-      const double c = w[2 * a], d = w[2 * a + 1];
-      v[0] = re * c - im * d;
-      v[1] = re * d + im * c;
-    } else {
-      v[0] = re;
-      v[1] = im;
-    }
+    double* v = z + 2 * static_cast<std::size_t>(k < 0 ? k + n : k);
+    v[0] = re;
+    v[1] = im;
   };
   if (count > 0) put(0, cs1[0], cs2[0]);
   for (int k = 1; k < count; ++k) {
@@ -2205,17 +2175,11 @@ void RealFft::inverse2(const double* cs1, const double* cs2, int count, double* 
     put(k, c1 + s2, c2 - s1);
     put(-k, c1 - s2, c2 + s1);
   }
-  fftw_execute_dft(p.bwd, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(z));
+  double* const y = work_ + 2 * static_cast<std::size_t>(n);
+  fftw_execute_dft(p.bwd_oop, reinterpret_cast<fftw_complex*>(z), reinterpret_cast<fftw_complex*>(y));
   for (int j = 0; j < n; ++j) {
-    double x = z[2 * j], y = z[2 * j + 1];
-    if (chirp) {  // z_j = w_j (y * conj w)_j
-      const double c = w[2 * j], d = w[2 * j + 1];
-      const double t = x * c - y * d;
-      y = x * d + y * c;
-      x = t;
-    }
-    v1[j] = x;
-    v2[j] = y;
+    v1[j] = y[2 * j];
+    v2[j] = y[2 * j + 1];
   }
 }
 

@@ -70,9 +70,10 @@ class RealFft {
   void inverse_split(double* zr, double* zi, double* v1, double* v2);
 
  private:
-  // forward2_spectra of the chirp and split methods (spectra for k < cm into s1, s2)
+  // forward2_spectra of the chirp, split and pair methods (spectra for k < cm into s1, s2)
   void chirp_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2);
   void split_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2);
+  void pair_spectra(const double* f1, const double* f2, int cm, double* s1, double* s2);
 
   int n_;
   bool measured_;
