@@ -14,6 +14,7 @@
 #include <bit>
 #include <memory>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <numbers>
@@ -1602,6 +1603,19 @@ const FftPlans* fft_plans(int n, bool measured) {
   // every plan below: FFTW_ESTIMATE, or FFTW_MEASURE where asked for (the method, p.mode,
   // stays the one of n; the planner overwrites the arrays it is given, all scratch here)
   const unsigned plan_flag = measured ? FFTW_MEASURE : FFTW_ESTIMATE;
+  // FFTW_MEASURE records wisdom, and later FFTW_ESTIMATE plans of the same problems (libsh's
+  // own, or other code's in the process) would follow it: the process's wisdom is put back
+  // as it was once these plans are made
+  struct WisdomKept {
+    char* saved = nullptr;
+    explicit WisdomKept(bool on) : saved(on ? fftw_export_wisdom_to_string() : nullptr) {}
+    ~WisdomKept() {
+      if (!saved) return;
+      fftw_forget_wisdom();  // (importing adds to the wisdom there is)
+      fftw_import_wisdom_from_string(saved);
+      std::free(saved);  // FFTW allocates it with malloc
+    }
+  } wisdom_kept(measured);
   FftPlans p;
   p.mode = fft_mode(n);
   double* r = fftw_alloc_real(static_cast<std::size_t>(n));

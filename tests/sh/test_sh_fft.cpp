@@ -473,4 +473,24 @@ TEST(Transform, MeasuredFftPlansGiveTheTransformsToRounding) {
     for (std::size_t i = 0; i < f.size(); ++i) ASSERT_EQ(fm2[i], fm[i]) << i;
     for (std::size_t i = 0; i < c.size(); ++i) ASSERT_EQ(am2[i], am[i]) << i;
   }
+  // FFTW_MEASURE records wisdom, which later FFTW_ESTIMATE plans (the default ones, other
+  // code's) would follow: libsh leaves none behind and keeps what was there. The test's own
+  // measured r2c of 1000 (its wisdom) before measured transforms at 1536 (sizes no other
+  // test plans, real FFTs); then FFTW_WISDOM_ONLY finds the r2c of 1000 and not that of 1536.
+  const int n = 1536, n_own = 1000;
+  double* r = fftw_alloc_real(n);
+  fftw_complex* z = fftw_alloc_complex(n / 2 + 1);
+  const fftw_plan own = fftw_plan_dft_r2c_1d(n_own, r, z, FFTW_MEASURE);
+  GaussGrid gm = gauss_grid(L, 0, n);
+  gm.fft = FftPlanning::measure;
+  const auto fm = synthesise(gm, c.data());
+  EXPECT_EQ(analyse(gm, fm.data()).size(), c.size());
+  const fftw_plan leaked = fftw_plan_dft_r2c_1d(n, r, z, FFTW_MEASURE | FFTW_WISDOM_ONLY);
+  EXPECT_EQ(leaked, nullptr) << "libsh's measured plans left wisdom behind";
+  const fftw_plan kept = fftw_plan_dft_r2c_1d(n_own, r, z, FFTW_MEASURE | FFTW_WISDOM_ONLY);
+  EXPECT_NE(kept, nullptr) << "the process's own wisdom was lost";
+  for (fftw_plan q : {own, leaked, kept})
+    if (q) fftw_destroy_plan(q);
+  fftw_free(r);
+  fftw_free(z);
 }

@@ -54,7 +54,9 @@ enum class LatitudeRule { gauss, fejer, clenshaw_curtis };
 ///   Faster for some sizes other than powers of two (one thread, L = 256, Zen 5: nphi = 768
 ///   12 % less time per analysis and synthesis, 511 3-5 %, 512 1-2 %), but the chosen plans,
 ///   and so the last bits of the results (~1e-16 relative), may differ between runs and
-///   machines. Within one process every transform of a size uses the same plans.
+///   machines. Within one process every transform of a size uses the same plans. The wisdom
+///   FFTW_MEASURE records is dropped again (the process's FFTW wisdom is put back as it
+///   was), so the default plans, and other code's FFTW_ESTIMATE plans, do not follow it.
 enum class FftPlanning { estimate, measure };
 
 struct GaussGrid {
