@@ -1543,9 +1543,9 @@ struct FftPlans {
   int m = 0;                                   // complex FFT size: n (split, pair) or M (chirp)
   fftw_plan r2c = nullptr, c2r = nullptr;      // size n, real
   fftw_plan r2c_rows[2] = {nullptr, nullptr};  // 4 / 8 consecutive rings at once (real mode, even n)
-  fftw_plan fwd = nullptr, bwd = nullptr;      // size m, complex, in place
+  fftw_plan fwd = nullptr;                     // size m, complex, in place (chirp: its kernels, at set-up)
   fftw_plan sfwd = nullptr, sbwd = nullptr;    // size n, complex, split format, out of place (split)
-  fftw_plan fwd_oop = nullptr, bwd_oop = nullptr;  // size m, complex, out of place (chirp analysis)
+  fftw_plan fwd_oop = nullptr, bwd_oop = nullptr;  // size m, complex, out of place (pair, chirp)
   // chirp analysis with m >= 4096: the convolution's FFTs as m = n1 x n2 (four steps: n1
   // columns of n2 values, twiddles, n2 rows of n1 values), spectra in transposed order
   int n1 = 0;
@@ -1566,7 +1566,7 @@ struct PlanCache {
   ~PlanCache() {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
     for (auto& [n, p] : plans)
-      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.sfwd, p.sbwd, p.fwd_oop, p.bwd_oop, p.r2c_rows[0],
+      for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.sfwd, p.sbwd, p.fwd_oop, p.bwd_oop, p.r2c_rows[0],
                           p.r2c_rows[1], p.col_f, p.row_f, p.row_b, p.col_b})
         if (q) fftw_destroy_plan(q);
     plans.clear();
@@ -1594,28 +1594,36 @@ void chirp_value(long long t, int n, double& re, double& im) {
   im = std::sin(a);
 }
 
+PlanCache& plan_cache() {  // (first used after the mutex is made, so destroyed before it)
+  static PlanCache cache;
+  return cache;
+}
+
 const FftPlans* fft_plans(int n, bool measured) {
   std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-  static PlanCache cache;
-  auto& plans = cache.plans;
+  auto& plans = plan_cache().plans;
   auto it = plans.find({n, measured});
   if (it != plans.end()) return &it->second;
   // every plan below: FFTW_ESTIMATE, or FFTW_MEASURE where asked for (the method, p.mode,
   // stays the one of n; the planner overwrites the arrays it is given, all scratch here)
   const unsigned plan_flag = measured ? FFTW_MEASURE : FFTW_ESTIMATE;
-  // FFTW_MEASURE records wisdom, and later FFTW_ESTIMATE plans of the same problems (libsh's
-  // own, or other code's in the process) would follow it: the process's wisdom is put back
-  // as it was once these plans are made
+  // FFTW's plans follow the process's wisdom, FFTW_ESTIMATE ones included, and FFTW_MEASURE
+  // records more. So that the default plans depend on n alone, they are made with no wisdom
+  // (it is set aside first); so that measured plans leave nothing that later plans (libsh's
+  // default ones, other code's) would follow, the process's wisdom is put back as it was
+  // once these plans are made. (If FFTW cannot export it, it is left alone.)
   struct WisdomKept {
-    char* saved = nullptr;
-    explicit WisdomKept(bool on) : saved(on ? fftw_export_wisdom_to_string() : nullptr) {}
+    char* saved;
+    explicit WisdomKept(bool set_aside) : saved(fftw_export_wisdom_to_string()) {
+      if (saved && set_aside) fftw_forget_wisdom();
+    }
     ~WisdomKept() {
       if (!saved) return;
       fftw_forget_wisdom();  // (importing adds to the wisdom there is)
       fftw_import_wisdom_from_string(saved);
       std::free(saved);  // FFTW allocates it with malloc
     }
-  } wisdom_kept(measured);
+  } wisdom_kept(!measured);
   FftPlans p;
   p.mode = fft_mode(n);
   double* r = fftw_alloc_real(static_cast<std::size_t>(n));
@@ -1660,9 +1668,10 @@ const FftPlans* fft_plans(int n, bool measured) {
     }
     p.m = m;
     fftw_complex* z = fftw_alloc_complex(static_cast<std::size_t>(m));
-    p.fwd = fftw_plan_dft_1d(m, z, z, FFTW_FORWARD, plan_flag);
-    p.bwd = fftw_plan_dft_1d(m, z, z, FFTW_BACKWARD, plan_flag);
-    ok = ok && p.fwd && p.bwd;
+    if (p.mode == FftMode::chirp) {  // the kernels' transforms (below)
+      p.fwd = fftw_plan_dft_1d(m, z, z, FFTW_FORWARD, plan_flag);
+      ok = ok && p.fwd;
+    }
     if (ok) {
       // out of place: FFTW's in-place plans of these sizes buffer their columns (a third of
       // the FFT time at M = 1024, a sixth at n = 525); the chirp's forward input keeps its
@@ -1745,7 +1754,7 @@ const FftPlans* fft_plans(int n, bool measured) {
     fftw_free(z);
   }
   if (!ok) {
-    for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.bwd, p.sfwd, p.sbwd, p.fwd_oop, p.bwd_oop, p.r2c_rows[0], p.r2c_rows[1],
+    for (fftw_plan q : {p.r2c, p.c2r, p.fwd, p.sfwd, p.sbwd, p.fwd_oop, p.bwd_oop, p.r2c_rows[0], p.r2c_rows[1],
                         p.col_f, p.row_f, p.row_b, p.col_b})
       if (q) fftw_destroy_plan(q);
     throw std::runtime_error("FFTW could not plan a real FFT of size " + std::to_string(n));
@@ -1902,6 +1911,20 @@ void chirp_inverse_out(const double* __restrict z, const double* __restrict w, i
 }
 }  // namespace
 
+bool fft_plans_made(int n, bool measured) {
+  std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+  return plan_cache().plans.count({n, measured}) > 0;
+}
+
+std::string fft_plan_text(int n, bool measured) {
+  const FftPlans* p = fft_plans(n, measured);
+  std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+  char* t = fftw_sprint_plan(p->r2c);
+  std::string text = t ? t : "";
+  std::free(t);
+  return text;
+}
+
 RealFft::RealFft(int n, bool measured) : n_(n), measured_(measured) {
   if (n < 1) throw InputError("RealFft: size must be >= 1, got " + std::to_string(n));
   plans_ = fft_plans(n, measured);
@@ -1954,7 +1977,8 @@ RealFft::~RealFft() {
 }
 
 RealFft::RealFft(RealFft&& o) noexcept
-    : n_(o.n_), plans_(o.plans_), real_(o.real_), spec_(o.spec_), spec2_(o.spec2_), work_(o.work_) {
+    : n_(o.n_), measured_(o.measured_), plans_(o.plans_), real_(o.real_), spec_(o.spec_), spec2_(o.spec2_),
+      work_(o.work_) {
   o.real_ = o.spec_ = o.spec2_ = o.work_ = nullptr;
 }
 

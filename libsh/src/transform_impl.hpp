@@ -2,6 +2,8 @@
 // behind transform.cpp and projection.cpp; tests of the FFT include it from libsh/src.
 #pragma once
 
+#include <string>
+
 namespace atmosh::sh {
 
 namespace detail {
@@ -17,6 +19,10 @@ void legendre_synthesis(int bands, int nrings, const double* cos_t, const double
                         const double* coeffs, bool symmetric, double* fourier, int threads);
 /// In-place complex FFT of size n (power of two), sign -1 forward, +1 inverse (unscaled).
 void fft(double* re, double* im, int n, int sign);
+/// For tests: whether the plans of size n (measured or not) have been made in this process,
+/// and FFTW's printed form of their real forward plan (making them if need be).
+bool fft_plans_made(int n, bool measured);
+std::string fft_plan_text(int n, bool measured);
 /// Real FFT of any size n >= 1 through FFTW3. The plans are made once per size (FFTW's
 /// planner is not thread safe: under a process-wide lock) with FFTW_ESTIMATE, and the
 /// method is chosen from the factors of n alone (transform.cpp), so the same input gives

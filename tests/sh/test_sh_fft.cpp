@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <numbers>
@@ -491,6 +492,67 @@ TEST(Transform, MeasuredFftPlansGiveTheTransformsToRounding) {
   EXPECT_NE(kept, nullptr) << "the process's own wisdom was lost";
   for (fftw_plan q : {own, leaked, kept})
     if (q) fftw_destroy_plan(q);
+  fftw_free(r);
+  fftw_free(z);
+}
+
+TEST(Transform, FftPlanningOfTheGridIsHonouredAndDefaultPlansIgnoreWisdom) {
+  // analyse / synthesise make the plans the grid asks for (sizes no other test uses: 1296,
+  // real FFTs; 1320, paired); and the default plans depend on n alone: made after the
+  // process has wisdom for the very problem (an FFTW_MEASURE r2c of 1200 of the test's own,
+  // which FFTW_ESTIMATE plans would then follow), libsh's is the plan FFTW_ESTIMATE makes
+  // with no wisdom (fftw_sprint_plan).
+  std::mt19937_64 rng(89);
+  std::uniform_real_distribution<double> U(-1, 1);
+  const int L = 40;
+  std::vector<double> c(L * L);
+  for (auto& v : c) v = U(rng);
+  for (const auto& [n, synthesis_first] : {std::pair{1296, false}, std::pair{1320, true}}) {
+    ASSERT_FALSE(detail::fft_plans_made(n, true)) << n;
+    ASSERT_FALSE(detail::fft_plans_made(n, false)) << n;
+    GaussGrid gm = gauss_grid(L, 0, n);
+    gm.fft = FftPlanning::measure;
+    if (synthesis_first) {
+      const auto f = synthesise(gm, c.data());
+      EXPECT_TRUE(detail::fft_plans_made(n, true)) << n;
+      EXPECT_FALSE(detail::fft_plans_made(n, false)) << n;
+      const auto a = analyse(gm, f.data());
+      for (std::size_t i = 0; i < c.size(); ++i) ASSERT_NEAR(a[i], c[i], 1e-13) << i;
+    } else {
+      std::vector<double> f(static_cast<std::size_t>(gm.nlat) * n);
+      for (auto& v : f) v = U(rng);
+      const auto a = analyse(gm, f.data());
+      EXPECT_TRUE(detail::fft_plans_made(n, true)) << n;
+      EXPECT_FALSE(detail::fft_plans_made(n, false)) << n;
+      EXPECT_EQ(a.size(), c.size());
+    }
+  }
+  const int n = 1200;
+  ASSERT_FALSE(detail::fft_plans_made(n, false));
+  double* r = fftw_alloc_real(n);
+  fftw_complex* z = fftw_alloc_complex(n / 2 + 1);
+  auto text = [](fftw_plan q) {
+    char* t = fftw_sprint_plan(q);
+    std::string s = t ? t : "";
+    std::free(t);
+    fftw_destroy_plan(q);
+    return s;
+  };
+  // FFTW_ESTIMATE's plan with no wisdom (the process's wisdom set aside and put back)
+  char* saved = fftw_export_wisdom_to_string();
+  ASSERT_NE(saved, nullptr);
+  fftw_forget_wisdom();
+  const std::string clean = text(fftw_plan_dft_r2c_1d(n, r, z, FFTW_ESTIMATE));
+  fftw_import_wisdom_from_string(saved);
+  std::free(saved);
+  const fftw_plan own = fftw_plan_dft_r2c_1d(n, r, z, FFTW_MEASURE);  // wisdom for the problem
+  const std::string followed = text(fftw_plan_dft_r2c_1d(n, r, z, FFTW_ESTIMATE));
+  const std::string libsh = detail::fft_plan_text(n, false);
+  EXPECT_FALSE(clean.empty());
+  EXPECT_EQ(libsh, clean) << "FFTW_ESTIMATE with wisdom would give " << followed;
+  if (followed == clean)
+    std::printf("(FFTW_MEASURE chose FFTW_ESTIMATE's plan of %d here: the wisdom check is vacuous)\n", n);
+  fftw_destroy_plan(own);
   fftw_free(r);
   fftw_free(z);
 }

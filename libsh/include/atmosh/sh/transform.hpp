@@ -47,7 +47,8 @@ struct GridPlan;
 enum class LatitudeRule { gauss, fejer, clenshaw_curtis };
 
 /// How the FFTs in longitude are planned (FFTW3).
-/// estimate (default): the method and FFTW's plans follow from nphi alone (FFTW_ESTIMATE), so
+/// estimate (default): the method and FFTW's plans follow from nphi alone (FFTW_ESTIMATE, made
+///   with the process's FFTW wisdom set aside, since FFTW_ESTIMATE plans follow wisdom), so
 ///   the same input gives the same bits in every run.
 /// measure: FFTW chooses its plans by timing candidates (FFTW_MEASURE) at the first transform
 ///   of each nphi in the process (0.2-1 s at nphi = 512 ... 3072, once; kept to exit).
@@ -56,7 +57,10 @@ enum class LatitudeRule { gauss, fejer, clenshaw_curtis };
 ///   and so the last bits of the results (~1e-16 relative), may differ between runs and
 ///   machines. Within one process every transform of a size uses the same plans. The wisdom
 ///   FFTW_MEASURE records is dropped again (the process's FFTW wisdom is put back as it
-///   was), so the default plans, and other code's FFTW_ESTIMATE plans, do not follow it.
+///   was), so other code's FFTW_ESTIMATE plans do not follow it.
+/// Both set the process's FFTW wisdom aside and put it back while libsh plans (under libsh's
+/// lock, see below): other code must not plan FFTW transforms, or use wisdom, concurrently
+/// with the first transform of a new nphi.
 enum class FftPlanning { estimate, measure };
 
 struct GaussGrid {
