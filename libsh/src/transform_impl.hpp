@@ -24,13 +24,15 @@ void fft(double* re, double* im, int n, int sign);
 bool fft_plans_made(int n, bool measured);
 std::string fft_plan_text(int n, bool measured);
 /// Real FFT of any size n >= 1 through FFTW3. The plans are made once per size (FFTW's
-/// planner is not thread safe: under a process-wide lock) with FFTW_ESTIMATE, and the
-/// method is chosen from the factors of n alone (transform.cpp), so the same input gives
-/// the same bits from run to run; with `measured`, FFTW_MEASURE plans of the same method
-/// instead (kept apart from the others; faster for some sizes, chosen by timing, so the
-/// bits may differ between runs). Executing them is thread safe. Sizes with a prime factor
-/// above 5 transform two rings at once (forward2 / inverse2: one complex FFT of size n,
-/// or Bluestein's chirp convolution where a prime factor exceeds 13). Each object owns
+/// planner is not thread safe: under a process-wide lock) with FFTW_ESTIMATE and the
+/// process's wisdom set aside, and the method is chosen from the factors of n alone
+/// (transform.cpp), so the same input gives the same bits from run to run; with `measured`,
+/// FFTW_MEASURE plans of the same method instead (kept apart from the others; faster for
+/// some sizes, chosen by timing, so the bits may differ between runs; the wisdom they
+/// record is dropped). Executing them is thread safe. Powers of two from 16 and sizes with
+/// a prime factor above 5 transform two rings at once (forward2 / inverse2: one split-format
+/// or interleaved complex FFT of size n, or Bluestein's chirp convolution where a prime
+/// factor exceeds 13). Each object owns
 /// aligned work arrays: one per thread. libsh destroys only its own plans at exit.
 class RealFft {
  public:
