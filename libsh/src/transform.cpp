@@ -568,9 +568,10 @@ __attribute__((always_inline)) inline void ana_kernel(int K0, int kmax, int npla
       // (the block's values are loaded once: GCC otherwise folds each of them into both of
       // its FMAs as a memory operand, 11 loads per block instead of 7, and at W = 8 the
       // loads rather than the FMAs then set the pace; 32 registers hold them. With 16 at
-      // W = 4 the folded form is kept.)
+      // W = 4 the folded form is kept, as in builds without the AVX-512 clone, where the
+      // 8-lane vectors are not registers.)
       D csq = g.csq, ec = g.ec, es = g.es, oc = g.oc, os = g.os;
-      if constexpr (W == 8) asm("" : "+v"(csq), "+v"(ec), "+v"(es), "+v"(oc), "+v"(os));
+      if constexpr (W == 8 && ATMOSH_HAS_DISPATCH) asm("" : "+v"(csq), "+v"(ec), "+v"(es), "+v"(oc), "+v"(os));
       D l2 = g.lam2, l1 = g.lam1;
       c0 += l2 * ec;
       c1 += l2 * es;
