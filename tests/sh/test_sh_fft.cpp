@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <complex>
 #include <cstdio>
 #include <cstdlib>
@@ -36,6 +37,14 @@ long double inverse_sum(const std::vector<double>& cs, int count, int j, int n) 
     v += cs[2 * m] * std::cos(p) + (m > 0 ? cs[2 * m + 1] * std::sin(p) : 0.0L);
   }
   return v;
+}
+// bands^2 coefficients uniform in [-1, 1) from the seed
+std::vector<double> uniform_coeffs(int bands, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> U(-1, 1);
+  std::vector<double> c(static_cast<std::size_t>(bands) * bands);
+  for (auto& v : c) v = U(rng);
+  return c;
 }
 }  // namespace
 
@@ -414,10 +423,7 @@ TEST(Transform, PolarStartsFoundByConcurrentCallsGiveTheBitsOfFreshPlans) {
   const GaussGrid g = gauss_grid(L, 0, 600);
   GaussGrid bare = g;
   bare.plan.reset();
-  std::mt19937_64 rng(61);
-  std::uniform_real_distribution<double> U(-1, 1);
-  std::vector<double> c(static_cast<std::size_t>(L) * L);
-  for (auto& v : c) v = U(rng);
+  const auto c = uniform_coeffs(L, 61);
   const auto f_ref = synthesise(bare, c.data());
   const auto a_ref = analyse(bare, f_ref.data());
   std::vector<double> f1(f_ref.size()), f2(f_ref.size()), a1(c.size()), a2(c.size());
@@ -447,11 +453,8 @@ TEST(Transform, MeasuredFftPlansGiveTheTransformsToRounding) {
   // method (512: split, 768: real rows, 525: paired, 511: chirp). Synthesis and analysis
   // agree with those of the default plans to rounding, round trips stay exact, and repeated
   // calls in the process give the same bits (the plans are made once per size and kept).
-  std::mt19937_64 rng(83);
-  std::uniform_real_distribution<double> U(-1, 1);
   const int L = 96;
-  std::vector<double> c(L * L);
-  for (auto& v : c) v = U(rng);
+  const auto c = uniform_coeffs(L, 83);
   for (int nphi : {512, 768, 525, 511}) {
     SCOPED_TRACE(nphi);
     const GaussGrid g = gauss_grid(L, 0, nphi);
@@ -502,11 +505,10 @@ TEST(Transform, FftPlanningOfTheGridIsHonouredAndDefaultPlansIgnoreWisdom) {
   // process has wisdom for the very problem (an FFTW_MEASURE r2c of 1200 of the test's own,
   // which FFTW_ESTIMATE plans would then follow), libsh's is the plan FFTW_ESTIMATE makes
   // with no wisdom (fftw_sprint_plan).
-  std::mt19937_64 rng(89);
-  std::uniform_real_distribution<double> U(-1, 1);
   const int L = 40;
-  std::vector<double> c(L * L);
-  for (auto& v : c) v = U(rng);
+  const auto c = uniform_coeffs(L, 89);
+  std::mt19937_64 rng(90);
+  std::uniform_real_distribution<double> U(-1, 1);
   for (const auto& [n, synthesis_first] : {std::pair{1296, false}, std::pair{1320, true}}) {
     ASSERT_FALSE(detail::fft_plans_made(n, true)) << n;
     ASSERT_FALSE(detail::fft_plans_made(n, false)) << n;
