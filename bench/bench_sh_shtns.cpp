@@ -4,11 +4,14 @@
 // program, to be run interleaved and repeated, e.g.
 //   build/bin/bench_sh_shtns --benchmark_enable_random_interleaving=true \
 //     --benchmark_repetitions=5 --benchmark_min_time=0.2
-// and compared by CPU time (docs/sh.md). Without ATMOSH_SHTNS_DIR only the libsh halves run.
+// and compared by CPU time (docs/sh.md). SHTns runs in its native layout (BM_shtns_Analysis,
+// BM_shtns_Synthesis) and on libsh's own ring-contiguous array (…Rings). Without
+// ATMOSH_SHTNS_DIR only the libsh halves run.
 #include <benchmark/benchmark.h>
 
 #include <complex>
 #include <map>
+#include <tuple>
 #include <memory>
 #include <random>
 #include <vector>
@@ -72,14 +75,18 @@ void BM_libsh_RotationApply(benchmark::State& st) {
 }
 
 #if ATMOSH_HAVE_SHTNS
+// layout: SHT_NATIVE_LAYOUT (SHTns's own: samples latitude-contiguous, v[j * nlat + i], the
+// layout its FFTs are fastest in) or SHT_PHI_CONTIGUOUS (v[i * nphi + j], ring 0 nearest +z:
+// the same array as libsh's grid, equirect images and (lat, lon) arrays; checked to give libsh's
+// coefficients, up to SHTns's complex convention, to ~1e-15).
 struct Shtns {
   shtns_cfg cfg;
   double* v;
   cplx* q;
-  Shtns(int L, int nphi) {
+  Shtns(int L, int nphi, int layout) {
     shtns_use_threads(1);
     cfg = shtns_create(L - 1, L - 1, 1, sht_orthonormal);
-    shtns_set_grid(cfg, sht_gauss, 1.e-10, L, nphi);
+    shtns_set_grid(cfg, static_cast<shtns_type>(sht_gauss | layout), 1.e-10, L, nphi);
     v = static_cast<double*>(fftw_malloc(sizeof(double) * L * nphi));
     q = static_cast<cplx*>(fftw_malloc(sizeof(cplx) * cfg->nlm));
     std::mt19937_64 rng(27);
@@ -95,28 +102,35 @@ struct Shtns {
 };
 // SHTns's set-up (its own FFTW planning and choice of algorithm by timing) is slow: one per
 // size for the whole run, kept until exit.
-Shtns& shtns_for(int L, int nphi) {
-  static std::map<std::pair<int, int>, std::unique_ptr<Shtns>> made;
-  auto& p = made[{L, nphi}];
-  if (!p) p = std::make_unique<Shtns>(L, nphi);
+Shtns& shtns_for(int L, int nphi, int layout) {
+  static std::map<std::tuple<int, int, int>, std::unique_ptr<Shtns>> made;
+  auto& p = made[{L, nphi, layout}];
+  if (!p) p = std::make_unique<Shtns>(L, nphi, layout);
   return *p;
 }
-void BM_shtns_Analysis(benchmark::State& st) {
+template <int Layout>
+void shtns_analysis(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0)), nphi = st.range(1) ? static_cast<int>(st.range(1)) : 2 * L;
-  Shtns& s = shtns_for(L, nphi);
+  Shtns& s = shtns_for(L, nphi, Layout);
   for (auto _ : st) {
     spat_to_SH(s.cfg, s.v, s.q);
     benchmark::DoNotOptimize(s.q);
   }
 }
-void BM_shtns_Synthesis(benchmark::State& st) {
+template <int Layout>
+void shtns_synthesis(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0)), nphi = st.range(1) ? static_cast<int>(st.range(1)) : 2 * L;
-  Shtns& s = shtns_for(L, nphi);
+  Shtns& s = shtns_for(L, nphi, Layout);
   for (auto _ : st) {
     SH_to_spat(s.cfg, s.q, s.v);
     benchmark::DoNotOptimize(s.v);
   }
 }
+void BM_shtns_Analysis(benchmark::State& st) { shtns_analysis<SHT_NATIVE_LAYOUT>(st); }
+void BM_shtns_Synthesis(benchmark::State& st) { shtns_synthesis<SHT_NATIVE_LAYOUT>(st); }
+// the same sample array as libsh (rings contiguous)
+void BM_shtns_AnalysisRings(benchmark::State& st) { shtns_analysis<SHT_PHI_CONTIGUOUS>(st); }
+void BM_shtns_SynthesisRings(benchmark::State& st) { shtns_synthesis<SHT_PHI_CONTIGUOUS>(st); }
 void BM_shtns_RotationApply(benchmark::State& st) {
   const int L = static_cast<int>(st.range(0));
   shtns_rot rot = shtns_rotation_create(L - 1, L - 1, sht_orthonormal);
@@ -137,6 +151,8 @@ BENCHMARK(BM_shtns_Analysis)
 BENCHMARK(BM_shtns_Synthesis)
     ->Args({256, 0})->Args({256, 511})->Args({256, 525})->Args({256, 768})->Args({1024, 0})->Args({1024, 2047})
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_shtns_AnalysisRings)->Args({256, 0})->Args({256, 768})->Args({1024, 0})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_shtns_SynthesisRings)->Args({256, 0})->Args({256, 768})->Args({1024, 0})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_shtns_RotationApply)->Arg(1000)->Unit(benchmark::kMillisecond)->Iterations(3);
 #endif
 }  // namespace
